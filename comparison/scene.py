@@ -1,0 +1,177 @@
+"""TOML scenes: a dimensional wall given storey by storey.
+
+Format (see ``examples/three-storey.toml``)::
+
+    name = "three-storey wall"     # optional label
+
+    [wall]
+    length = 6.0          # L
+    unit_weight = 18.0    # gamma, force per volume (optional, default 1)
+    friction = 0.6        # f
+
+    [block]
+    length = 0.30         # l (the overlap is l/2)
+    height = 0.10         # b
+
+    [[storey]]            # storey 1 is the top one, as in the paper
+    rows = 20
+    thickness = 0.10      # b_i (optional, default: the block height)
+    overload = 2.0        # q_i, floor load per unit length on top of the storey (optional, default 0)
+
+Any unit system works as long as it is consistent; the load factor does not
+depend on it. Every error names the key and, where it can, its line.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from comparison.spec import StoreySpec, WallSpec
+
+_ALLOWED: dict[str, set[str]] = {
+    "": {"name", "wall", "block", "storey"},
+    "wall": {"length", "unit_weight", "friction"},
+    "block": {"length", "height"},
+    "storey": {"rows", "thickness", "overload"},
+}
+_REQUIRED: dict[str, set[str]] = {
+    "wall": {"length", "friction"},
+    "block": {"length", "height"},
+    "storey": {"rows"},
+}
+
+
+def _key_line(text: str, table: str, key: str, index: int = 0) -> int | None:
+    """Line number (1-based) of ``key`` inside the ``index``-th ``[table]``."""
+    current, seen = "", -1
+    header = re.compile(r"^\s*\[\[?\s*([A-Za-z0-9_.\-\"]+)\s*\]\]?")
+    assign = re.compile(r"^\s*([A-Za-z0-9_\-\"]+)\s*=")
+    for number, line in enumerate(text.splitlines(), start=1):
+        h = header.match(line)
+        if h:
+            current = h.group(1).strip('"')
+            if current == table:
+                seen += 1
+            continue
+        a = assign.match(line)
+        if a and a.group(1).strip('"') == key and current == table and (table == "" or seen == index):
+            return number
+    return None
+
+
+def _table_line(text: str, table: str, index: int = 0) -> int | None:
+    seen = -1
+    for number, line in enumerate(text.splitlines(), start=1):
+        if re.match(rf"^\s*\[\[?\s*{re.escape(table)}\s*\]\]?", line):
+            seen += 1
+            if seen == index:
+                return number
+    return None
+
+
+class SceneError(ValueError):
+    """A malformed scene file; the message names the file, key and line."""
+
+
+def load_scene(path: str | Path) -> WallSpec:
+    """Read a TOML scene into a :class:`WallSpec`.
+
+    Raises:
+        SceneError: unreadable file, TOML syntax error, unknown or missing
+            key, or an invalid value; the message gives the key and line.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise SceneError(f"scene {path}: cannot read ({exc.strerror})") from None
+    return parse_scene(text, source=str(path))
+
+
+def parse_scene(text: str, source: str = "<scene>") -> WallSpec:
+    """Parse the text of a TOML scene; see :func:`load_scene`."""
+    try:
+        data: dict[str, Any] = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"scene {source}: malformed TOML: {exc}") from None
+
+    def fail(msg: str, table: str = "", key: str | None = None, index: int = 0) -> SceneError:
+        line = _key_line(text, table, key, index) if key else _table_line(text, table, index)
+        where = f" (line {line})" if line else ""
+        return SceneError(f"scene {source}{where}: {msg}")
+
+    for key in data:
+        if key not in _ALLOWED[""]:
+            raise fail(f"unknown key {key!r}", "", key) if _key_line(text, "", key) else fail(
+                f"unknown table [{key}]", key
+            )
+    tables: dict[str, list[dict[str, Any]]] = {}
+    for table in ("wall", "block"):
+        if table not in data:
+            raise SceneError(f"scene {source}: missing table [{table}]")
+        if not isinstance(data[table], dict):
+            raise fail(f"[{table}] must be a table", table)
+        tables[table] = [data[table]]
+    storeys = data.get("storey")
+    if not storeys:
+        raise SceneError(f"scene {source}: no [[storey]] given; a wall needs at least one storey")
+    if not isinstance(storeys, list):
+        raise fail("storey must be an array of tables, written [[storey]]", "storey")
+    tables["storey"] = storeys
+
+    for table, entries in tables.items():
+        for index, entry in enumerate(entries):
+            for key in entry:
+                if key not in _ALLOWED[table]:
+                    raise fail(f"unknown key {key!r} in [{table}]", table, key, index)
+            for key in sorted(_REQUIRED[table] - set(entry)):
+                raise fail(f"missing key {key!r} in [{table}]", table, None, index)
+
+    def value(table: str, key: str, index: int = 0, default: Any = None) -> Any:
+        v = tables[table][index].get(key, default)
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise fail(f"{table}.{key} must be a number, got {v!r}", table, key, index)
+        return v
+
+    name = data.get("name", Path(source).stem)
+    if not isinstance(name, str):
+        raise fail(f"name must be a string, got {name!r}", "", "name")
+    height = value("block", "height")
+    built: list[StoreySpec] = []
+    for i in range(len(storeys)):
+        try:
+            built.append(
+                StoreySpec(
+                    rows=value("storey", "rows", i),
+                    thickness=value("storey", "thickness", i, height),
+                    overload=value("storey", "overload", i, 0.0),
+                )
+            )
+        except ValueError as exc:
+            key = str(exc).split(" must", 1)[0]
+            raise fail(f"storey {i + 1}: {exc}", "storey", key, i) from None
+    try:
+        return WallSpec(
+            length=value("wall", "length"),
+            block_length=value("block", "length"),
+            block_height=height,
+            storeys=tuple(built),
+            unit_weight=value("wall", "unit_weight", 0, 1.0),
+            friction=value("wall", "friction"),
+            name=name,
+        )
+    except ValueError as exc:
+        msg = str(exc)
+        for table, key, label in (
+            ("wall", "length", "length"),
+            ("block", "length", "block length"),
+            ("block", "height", "block height"),
+            ("wall", "unit_weight", "unit weight"),
+            ("wall", "friction", "friction f"),
+        ):
+            if msg.startswith(label + " "):
+                raise fail(f"{table}.{key}: {msg}", table, key) from None
+        raise SceneError(f"scene {source}: {msg}") from None

@@ -1,0 +1,1 @@
+"""Macro-block model of Argiento, Maione & Casapulla (2018)."""

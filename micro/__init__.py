@@ -1,0 +1,1 @@
+"""Rigid-block limit analysis of running-bond walls by linear programming."""
