@@ -1,0 +1,278 @@
+"""The macro-block model for one dimensional wall: input, solve, result."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from macro.model import DEFAULT_SEARCH, TERM_NAMES, SearchSettings, evaluate, hinge_problems, minimise
+
+#: Tolerance on ``alpha_c/alpha_b`` above which the mechanism reads as pure rocking.
+ROCKING_TOL = 1e-9
+
+
+def _check_positive(name: str, value: float) -> float:
+    x = float(value)
+    if not math.isfinite(x) or x <= 0.0:
+        raise ValueError(f"{name} must be a positive number, got {value!r}")
+    return x
+
+
+@dataclass(frozen=True)
+class MacroWall:
+    """A dimensional wall for the macro-block model.
+
+    Storey tuples are ordered as in the paper, storey 1 at the top.
+
+    Attributes:
+        length: wall length ``L``.
+        block_length: unit block length ``l``; the overlap is ``v = l/2``.
+        block_height: unit block height ``b``.
+        rows: rows ``n_i`` of each storey (positive integers).
+        thickness: block thickness ``b_i`` of each storey.
+        overload: floor load ``q_i`` per unit length on top of each storey.
+        unit_weight: specific weight ``gamma``.
+        friction: friction coefficient ``f``.
+    """
+
+    length: float
+    block_length: float
+    block_height: float
+    rows: tuple[int, ...]
+    thickness: tuple[float, ...]
+    overload: tuple[float, ...]
+    unit_weight: float = 1.0
+    friction: float = 0.6
+
+    def __post_init__(self) -> None:
+        for name, label in (
+            ("length", "length"),
+            ("block_length", "block length"),
+            ("block_height", "block height"),
+            ("unit_weight", "unit weight"),
+            ("friction", "friction f"),
+        ):
+            object.__setattr__(self, name, _check_positive(label, getattr(self, name)))
+        rows, thk, q = tuple(self.rows), tuple(self.thickness), tuple(self.overload)
+        if not rows:
+            raise ValueError("storeys: a wall needs at least one storey")
+        if not (len(rows) == len(thk) == len(q)):
+            raise ValueError(
+                f"storeys: rows, thickness and overload need one value per storey, got {len(rows)}, {len(thk)}, {len(q)}"
+            )
+        for r in rows:
+            if isinstance(r, bool) or not float(r).is_integer() or r <= 0:
+                raise ValueError(f"rows must be a positive integer, got {r!r}")
+        thk = tuple(_check_positive("thickness", x) for x in thk)
+        for x in q:
+            if not math.isfinite(float(x)) or float(x) < 0.0:
+                raise ValueError(f"overload must be zero or positive, got {x!r}")
+        object.__setattr__(self, "rows", tuple(int(r) for r in rows))
+        object.__setattr__(self, "thickness", thk)
+        object.__setattr__(self, "overload", tuple(float(x) for x in q))
+
+    @property
+    def storeys(self) -> int:
+        """Number of storeys ``N``."""
+        return len(self.rows)
+
+    @property
+    def overlap(self) -> float:
+        """Staggering length ``v = l/2``."""
+        return 0.5 * self.block_length
+
+    @property
+    def alpha_b(self) -> float:
+        """``atan(v/b)`` in radians: the crack angle of pure rocking."""
+        return math.atan(self.overlap / self.block_height)
+
+
+@dataclass(frozen=True)
+class StoreyTerms:
+    """Every term of Eq. (10) for one storey of the mechanism (Table 2).
+
+    ``x_*`` are horizontal and ``y_*`` vertical lever arms about the hinge O.
+    ``F_g`` and ``F_q`` are the unreduced resultants of Eqs. (5)-(6); Eq. (10)
+    multiplies their moments by ``MacroResult.friction_reduction``.
+    """
+
+    storey: int
+    H_c: float
+    n_c: float
+    W_A: float
+    x_WA: float
+    y_WA: float
+    W_B: float
+    x_WB: float
+    y_WB: float
+    W_C: float
+    x_WC: float
+    y_WC: float
+    W_D: float
+    x_WD: float
+    y_WD: float
+    Q: float
+    x_Q: float
+    y_Q: float
+    F_g: float
+    y_Fg: float
+    F_q: float
+    y_Fq: float
+
+
+@dataclass(frozen=True)
+class HingeResult:
+    """The minimum of Eq. (10) with the hinge at the base of one storey."""
+
+    hinge_storey: int
+    rocking_load_factor: float
+    tan_alpha_c: float
+    alpha_c_deg: float
+
+
+@dataclass(frozen=True)
+class MacroResult:
+    """Collapse load factor of the macro-block model and how it was reached.
+
+    Attributes:
+        load_factor: governing load factor, ``min(rocking_load_factor, f)``:
+            no mechanism carries more than the friction coefficient, which is
+            the load factor of a whole wall sliding on a bed joint.
+        rocking_load_factor: minimum of Eq. (10) over ``tan(alpha_c)`` and the
+            hinge storey.
+        sliding_load_factor: ``lambda_s`` of Eq. (12) at the optimum crack.
+        tan_alpha_c: crack slope at the optimum; ``alpha_c_deg`` the angle.
+        alpha_b_deg: ``atan(v/b)``; ``alpha_ratio = alpha_c/alpha_b``.
+        hinge_storey: storey whose base holds the hinge (1 = top).
+        mechanism: ``"rocking-sliding"``, ``"rocking"`` (``alpha_c = alpha_b``,
+            no friction) or ``"sliding"`` (``f`` below Eq. 10's minimum).
+        status: ``"optimal"``: the search covered every smooth piece.
+        friction_reduction: ``1 - alpha_c/alpha_b`` of Eq. (8).
+        stabilising_moment, overturning_moment, friction_moment: the sums of
+            Eq. (10)'s numerator (weights and loads), denominator, and the
+            unreduced friction moment, so that
+            ``rocking_load_factor = (stabilising + reduction * friction) / overturning``.
+        storeys: the terms of each storey of the mechanism (1..hinge_storey).
+        hinges: the minimum for every hinge storey.
+        solve_seconds: wall-clock time of the solve.
+    """
+
+    load_factor: float
+    rocking_load_factor: float
+    sliding_load_factor: float
+    tan_alpha_c: float
+    alpha_c_deg: float
+    alpha_b_deg: float
+    alpha_ratio: float
+    hinge_storey: int
+    mechanism: str
+    status: str
+    friction_reduction: float
+    stabilising_moment: float
+    overturning_moment: float
+    friction_moment: float
+    storeys: tuple[StoreyTerms, ...]
+    hinges: tuple[HingeResult, ...]
+    wall: MacroWall = field(repr=False)
+    solve_seconds: float = 0.0
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary of the result."""
+        d = asdict(self)
+        d["wall"] = asdict(self.wall)
+        return d
+
+
+def _problems(wall: MacroWall) -> Any:
+    N = wall.storeys
+    rep = lambda x: np.full(N, float(x))  # noqa: E731
+    tile = lambda xs: np.tile(np.asarray(xs, dtype=float), (N, 1))  # noqa: E731
+    return hinge_problems(
+        length=rep(wall.length),
+        overlap=rep(wall.overlap),
+        block_height=rep(wall.block_height),
+        unit_weight=rep(wall.unit_weight),
+        friction=rep(wall.friction),
+        rows=tile(wall.rows),
+        thickness=tile(wall.thickness),
+        overload=tile(wall.overload),
+        hinge=np.arange(1, N + 1),
+    )
+
+
+def load_factor_curve(wall: MacroWall, hinge_storey: int, tan_alpha_c: np.ndarray) -> dict[str, np.ndarray]:
+    """Eq. (10) and Eq. (12) along given crack slopes, for plots and checks.
+
+    Args:
+        wall: the wall.
+        hinge_storey: the hinge storey ``k`` (1 = top).
+        tan_alpha_c: crack slopes, any shape after flattening.
+
+    Returns:
+        ``lambda_r`` and ``lambda_s`` with the shape of ``tan_alpha_c``.
+    """
+    if not 1 <= hinge_storey <= wall.storeys:
+        raise ValueError(f"hinge_storey must be in 1..{wall.storeys}, got {hinge_storey!r}")
+    pb = _problems(wall)
+    sub = _problems(wall).select(slice(hinge_storey - 1, hinge_storey))
+    tau = np.asarray(tan_alpha_c, dtype=float)
+    out = evaluate(tau.reshape(1, -1), sub)
+    return {key: out[key].reshape(tau.shape) for key in ("lambda_r", "lambda_s")}
+
+
+def solve(wall: MacroWall, settings: SearchSettings = DEFAULT_SEARCH) -> MacroResult:
+    """Minimise Eq. (10) over the crack slope and the hinge storey.
+
+    For each hinge storey the admissible interval of Eq. (11) is split at the
+    kinks ``tan(alpha_pi)`` and searched globally (see :class:`SearchSettings`).
+
+    Args:
+        wall: the wall.
+        settings: the search's resolution.
+
+    Returns:
+        The governing :class:`MacroResult`.
+    """
+    start = time.perf_counter()
+    pb = _problems(wall)
+    lam, tau = minimise(pb, settings)
+    k = int(np.argmin(lam))
+    hinges = tuple(
+        HingeResult(i + 1, float(lam[i]), float(tau[i]), math.degrees(math.atan(tau[i]))) for i in range(wall.storeys)
+    )
+    at = evaluate(np.array([[tau[k]]]), pb.select(slice(k, k + 1)), detail=True)
+    storeys = tuple(
+        StoreyTerms(storey=i + 1, **{name: float(at[name][0, 0, i]) for name in TERM_NAMES}) for i in range(k + 1)
+    )
+    lam_r = float(lam[k])
+    ratio = math.atan(tau[k]) / wall.alpha_b
+    if wall.friction < lam_r:
+        mechanism = "sliding"
+    elif ratio >= 1.0 - ROCKING_TOL:
+        mechanism = "rocking"
+    else:
+        mechanism = "rocking-sliding"
+    return MacroResult(
+        load_factor=min(lam_r, wall.friction),
+        rocking_load_factor=lam_r,
+        sliding_load_factor=float(at["lambda_s"][0, 0]),
+        tan_alpha_c=float(tau[k]),
+        alpha_c_deg=math.degrees(math.atan(tau[k])),
+        alpha_b_deg=math.degrees(wall.alpha_b),
+        alpha_ratio=ratio,
+        hinge_storey=k + 1,
+        mechanism=mechanism,
+        status="optimal",
+        friction_reduction=float(at["reduction"][0, 0]),
+        stabilising_moment=float(at["stabilising"][0, 0]),
+        overturning_moment=float(at["overturning"][0, 0]),
+        friction_moment=float(at["friction_moment"][0, 0]),
+        storeys=storeys,
+        hinges=hinges,
+        wall=wall,
+        solve_seconds=time.perf_counter() - start,
+    )
