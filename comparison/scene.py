@@ -139,7 +139,19 @@ def parse_scene(text: str, source: str = "<scene>") -> WallSpec:
     name = data.get("name", Path(source).stem)
     if not isinstance(name, str):
         raise fail(f"name must be a string, got {name!r}", "", "name")
-    height = value("block", "height")
+    scalars = {}
+    for table, key, label, default in (
+        ("wall", "length", "length", None),
+        ("block", "length", "block length", None),
+        ("block", "height", "block height", None),
+        ("wall", "unit_weight", "unit weight", 1.0),
+        ("wall", "friction", "friction f", None),
+    ):
+        x = value(table, key, 0, default)
+        if x <= 0:
+            raise fail(f"{table}.{key}: {label} must be a positive number, got {x!r}", table, key)
+        scalars[(table, key)] = x
+    height = scalars[("block", "height")]
     built: list[StoreySpec] = []
     for i in range(len(storeys)):
         try:
@@ -153,25 +165,12 @@ def parse_scene(text: str, source: str = "<scene>") -> WallSpec:
         except ValueError as exc:
             key = str(exc).split(" must", 1)[0]
             raise fail(f"storey {i + 1}: {exc}", "storey", key, i) from None
-    try:
-        return WallSpec(
-            length=value("wall", "length"),
-            block_length=value("block", "length"),
-            block_height=height,
-            storeys=tuple(built),
-            unit_weight=value("wall", "unit_weight", 0, 1.0),
-            friction=value("wall", "friction"),
-            name=name,
-        )
-    except ValueError as exc:
-        msg = str(exc)
-        for table, key, label in (
-            ("wall", "length", "length"),
-            ("block", "length", "block length"),
-            ("block", "height", "block height"),
-            ("wall", "unit_weight", "unit weight"),
-            ("wall", "friction", "friction f"),
-        ):
-            if msg.startswith(label + " "):
-                raise fail(f"{table}.{key}: {msg}", table, key) from None
-        raise SceneError(f"scene {source}: {msg}") from None
+    return WallSpec(
+        length=scalars[("wall", "length")],
+        block_length=scalars[("block", "length")],
+        block_height=height,
+        storeys=tuple(built),
+        unit_weight=scalars[("wall", "unit_weight")],
+        friction=scalars[("wall", "friction")],
+        name=name,
+    )
