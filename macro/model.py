@@ -246,7 +246,24 @@ def minimise(pb: HingeProblems, settings: SearchSettings = DEFAULT_SEARCH) -> tu
     a_hi = pb.alpha_b
     kinks = np.clip(np.where(np.isnan(pb.breakpoints), a_lo, np.arctan(pb.breakpoints)), a_lo, a_hi)
     edges = np.sort(np.concatenate([a_lo, kinks, a_hi], axis=1), axis=1)
-    start, end = edges[:, :-1], edges[:, 1:]  # (P, pieces); empty pieces have zero width
+    # Search only the pieces of non-zero width (kinks outside Eq. 11 leave empty
+    # ones); a one-row mechanism, whose interval is a point, keeps its first piece.
+    keep = edges[:, 1:] > edges[:, :-1]
+    keep[:, 0] |= ~keep.any(axis=1)
+    owner, piece = np.nonzero(keep)
+    best_l, best_a = _search_pieces(pb.select(owner), edges[owner, piece], edges[owner, piece + 1], settings)
+    lam = np.full(keep.shape, np.inf)
+    lam[owner, piece] = best_l
+    alpha = np.zeros(keep.shape)
+    alpha[owner, piece] = best_a
+    j = np.argmin(lam, axis=1)
+    rows = np.arange(pb.size)
+    return lam[rows, j], np.tan(alpha[rows, j])
+
+
+def _search_pieces(pb: HingeProblems, start: Array, end: Array, settings: SearchSettings) -> tuple[Array, Array]:
+    """Minimum of Eq. (10) of each problem over its angle interval ``[start, end]`` (shape ``(P,)``)."""
+    start, end = start[:, None], end[:, None]
     u = np.linspace(0.0, 1.0, settings.initial_points)
     alpha = start[..., None] + (end - start)[..., None] * u
     lam = _lambda(alpha, pb)
@@ -286,6 +303,4 @@ def minimise(pb: HingeProblems, settings: SearchSettings = DEFAULT_SEARCH) -> tu
             best_a, best_l = np.where(take, x, best_a), np.where(take, fx, best_l)
     else:
         raise ValueError(f"search method must be 'zoom' or 'golden', got {settings.method!r}")
-    piece = np.argmin(best_l, axis=1)
-    rows = np.arange(pb.size)
-    return best_l[rows, piece], np.tan(best_a[rows, piece])
+    return best_l[:, 0], best_a[:, 0]
