@@ -74,6 +74,19 @@ class HingeProblems:
     tau_high: Array  # v/b = tan(alpha_b), upper end of Eq. (11)
     alpha_b: Array  # atan(v/b)
     breakpoints: Array  # tan(alpha_pi) = L/(T_i b), shape (P, N); NaN below the hinge
+    # crack-independent coefficients of the fused Eq. (10) in :func:`load_factor`
+    row_weight: Array  # b b_i gamma, weight of one row per unit length
+    coef_B: Array  # moment of W_B per uncrossed row about O: row_weight (L^2 - v^2)/2
+    coef_By: Array  # row_weight (L - v) b
+    coef_C: Array  # W_C = tan(alpha*) n_c coef_C, coef_C = row_weight b B_i
+    coef_D: Array  # W_D = tan(alpha*) n_c^2 coef_D, coef_D = row_weight b / 2
+    coef_g: Array  # F_g y_Fg = coef_g n_c (n_c + 1)(n_c/3 + B_i), coef_g = v row_weight f b / 2
+    coef_q: Array  # v f b
+    moment_A: Array  # sum_i W_Ai x_WAi, shape (P, 1)
+    overturn_A: Array  # sum_i W_Ai y_WAi, shape (P, 1)
+    floor_x: Array  # Q_i x_Qi when the floor moves whole: q_i L^2 / 2
+    floor_y: Array  # Q_i y_Qi when the floor moves whole: q_i L T_i b
+    floor_t: Array  # q_i (T_i b)^2 / 2: Q_i x_Qi = floor_t tau^2, Q_i y_Qi = 2 floor_t tau otherwise
 
     @property
     def size(self) -> int:
@@ -113,15 +126,35 @@ def hinge_problems(
     gam = np.asarray(unit_weight, dtype=float)[:, None]
     top = np.cumsum(n[:, ::-1], axis=1)[:, ::-1]  # T_i
     below = top - n  # B_i
-    weight_row = n * thk * b * gam  # storey self weight per unit length
+    K = b * thk * gam  # weight of one row per unit length
+    weight_row = n * K  # storey self weight per unit length
     load_above = np.cumsum(q, axis=1) + np.cumsum(weight_row, axis=1) - weight_row
     n_tot = n.sum(axis=1)
     v = np.asarray(overlap, dtype=float)
     L = np.asarray(length, dtype=float)
     with np.errstate(divide="ignore"):
         bp = np.where(in_mech, L[:, None] / (top * b), np.nan)
-    per_storey = (n, thk, q, below, load_above)
-    n, thk, q, below, load_above = (a[:, None, :] for a in per_storey)
+    f = np.asarray(friction, dtype=float)[:, None]
+    Lc, vc = L[:, None], v[:, None]
+    wa = weight_row * vc  # W_Ai
+    per_storey = dict(
+        rows=n,
+        thickness=thk,
+        overload=q,
+        below=below,
+        load_above=load_above,
+        row_weight=K,
+        coef_B=0.5 * K * (Lc**2 - vc**2),
+        coef_By=K * (Lc - vc) * b,
+        coef_C=K * b * below,
+        coef_D=0.5 * K * b,
+        coef_g=0.5 * vc * K * f * b,
+        coef_q=np.broadcast_to(vc * f * b, n.shape),
+        floor_x=0.5 * q * Lc**2,
+        floor_y=q * Lc * top * b,
+        floor_t=0.5 * q * (top * b) ** 2,
+    )
+    extra = {k: a[:, None, :] for k, a in per_storey.items()}
     col = lambda a: np.asarray(a, dtype=float)[:, None]  # noqa: E731
     return HingeProblems(
         length=col(L),
@@ -129,16 +162,39 @@ def hinge_problems(
         block_height=b,
         unit_weight=gam,
         friction=col(friction),
-        rows=n,
-        thickness=thk,
-        overload=q,
-        below=below,
-        load_above=load_above,
+        moment_A=(0.5 * vc * wa).sum(axis=1, keepdims=True),
+        overturn_A=(wa * (0.5 * n + below) * b).sum(axis=1, keepdims=True),
+        **extra,
         tau_low=col(v / (n_tot * b[:, 0])),
         tau_high=col(v / b[:, 0]),
         alpha_b=col(np.arctan(v / b[:, 0])),
         breakpoints=bp,
     )
+
+
+def load_factor(tau: Array, pb: HingeProblems) -> Array:
+    """Eq. (10) at crack slopes ``tau`` (shape ``(P, G)``), fused for speed.
+
+    The same sums as :func:`evaluate` (which keeps every Table 2 term apart for
+    the audit trail), regrouped around the crack-independent coefficients of
+    :class:`HingeProblems`; a test pins the two together.
+    """
+    t = tau[..., None]
+    b, v, B, n = pb.block_height[..., None], pb.overlap[..., None], pb.below, pb.rows
+    ts = t - pb.tau_low[..., None]
+    e = pb.length[..., None] / (b * t)
+    nc = np.clip(e - B, 0.0, n)
+    up = n - nc  # rows above the crack
+    whole = e <= B + n
+    cd = ts * nc
+    nc3 = nc / 3.0
+    stab = up * pb.coef_B + cd * (pb.coef_C * (0.5 * b * ts * B + v) + nc * pb.coef_D * (ts * b * (nc3 + B) + v))
+    stab += np.where(whole, pb.floor_x, pb.floor_t * t * t)
+    over = up * pb.coef_By * (0.5 * (n + nc) + B) + cd * b * (pb.coef_C * (0.5 * nc + B) + nc * pb.coef_D * (2.0 * nc3 + B))
+    over += np.where(whole, pb.floor_y, 2.0 * pb.floor_t * t)
+    fric = nc * (pb.coef_g * (nc + 1.0) * (nc3 + B) + (up * pb.row_weight + pb.load_above) * (0.5 * nc + B) * pb.coef_q)
+    reduction = 1.0 - np.arctan(tau) / pb.alpha_b
+    return (pb.moment_A + stab.sum(axis=-1) + reduction * fric.sum(axis=-1)) / (pb.overturn_A + over.sum(axis=-1))
 
 
 def evaluate(tau: Array, pb: HingeProblems, detail: bool = False, sliding: bool = True) -> dict[str, Array]:
@@ -233,7 +289,7 @@ _INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
 def _lambda(alpha: Array, pb: HingeProblems) -> Array:
     """Eq. (10) at crack angles of shape ``(P, pieces, G)``."""
     P = alpha.shape[0]
-    return evaluate(np.tan(alpha.reshape(P, -1)), pb, sliding=False)["lambda_r"].reshape(alpha.shape)
+    return load_factor(np.tan(alpha.reshape(P, -1)), pb).reshape(alpha.shape)
 
 
 def minimise(pb: HingeProblems, settings: SearchSettings = DEFAULT_SEARCH) -> tuple[Array, Array]:

@@ -166,3 +166,20 @@ def test_wall_bad_input(field: str, value: object, message: str) -> None:
     base[field] = value
     with pytest.raises(ValueError, match=message):
         macro.MacroWall(**base)  # type: ignore[arg-type]
+
+
+def test_fused_eq10_matches_term_by_term() -> None:
+    """The search's fused Eq. (10) equals the Table 2 terms summed one by one."""
+    from macro.model import evaluate, load_factor
+    from macro.solve import _problems
+
+    rng = np.random.default_rng(3)
+    for _ in range(60):
+        n = int(rng.integers(1, 5))
+        w = WallSpec.from_paper(
+            t=rng.uniform(0.3, 4), m=rng.choice([0.25, 1 / 3, 0.5, 1.0]), rows=n * int(rng.integers(1, 30)),
+            f=rng.uniform(0.2, 1.0), p=rng.uniform(0, 8), storeys=n,
+        ).to_macro()  # fmt: skip
+        pb = _problems(w)
+        tau = np.tan(rng.uniform(0.0, 1.2, (pb.size, 40)))
+        np.testing.assert_allclose(load_factor(tau, pb), evaluate(tau, pb)["lambda_r"], rtol=1e-12)
