@@ -1,0 +1,464 @@
+"""Back ends for the limit-analysis LP behind one small interface.
+
+Modelled on cvxpy's solver layer: one adapter per back end, each of which
+
+* builds its native model ONCE from a :class:`micro.lp.LimitLP` (persistent;
+  bounds and rows can be changed between solves — see :meth:`HighsBackend.set_col_bounds`);
+* maps its native status onto the shared :class:`Status`;
+* maps its native dual signs onto the shared convention for the duals of the
+  equilibrium rows (see :class:`RawSolution`).
+
+Back ends (names accepted by :func:`make_backend`):
+
+``highs``          HiGHS interior point (IPX) with crossover — the fastest
+                   accurate choice on walls of more than a few hundred blocks
+                   (default);
+``highs-ipm``      the same, named explicitly;
+``highs-simplex``  HiGHS dual simplex (warm-startable: the one the iterated
+                   non-associative scheme will need);
+``clarabel``       Clarabel's direct API (interior point), with tightened
+                   tolerances (see :data:`CLARABEL_TIGHT`);
+``cvxpy``          the readable reference formulation in cvxpy expressions,
+                   solved by Clarabel (``cvxpy`` / ``cvxpy-clarabel``) or by
+                   HiGHS (``cvxpy-highs``) through cvxpy.
+"""
+
+from __future__ import annotations
+
+import enum
+import time
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from micro.lp import LimitLP
+
+FloatArray = NDArray[np.float64]
+
+
+class Status(str, enum.Enum):
+    """Solver outcome, shared by every back end."""
+
+    OPTIMAL = "optimal"
+    INFEASIBLE = "infeasible"
+    UNBOUNDED = "unbounded"
+    TIME_LIMIT = "time_limit"
+    ITERATION_LIMIT = "iteration_limit"
+    INACCURATE = "inaccurate"
+    SOLVER_ERROR = "solver_error"
+
+    def __str__(self) -> str:  # pragma: no cover - trivial
+        return self.value
+
+
+@dataclass(frozen=True, eq=False)
+class RawSolution:
+    """What a back end returns for one direction of the live load.
+
+    Shared dual convention: ``velocities`` are the duals of the equilibrium
+    rows, signed so that they ARE the (generalised) block velocities
+    ``(u, v, omega)`` per block of the collapse mechanism, scaled by the LP's
+    own normalisation: the live load does work ``+1``
+    (``(d * f_L) . velocities = 1``) and the dead load ``-lambda``.
+
+    Attributes:
+        status: shared status.
+        native_status: the back end's own status string.
+        load_factor: ``lambda`` for this direction (``NaN`` unless optimal).
+        x: primal solution ``[n; s; lambda]`` in scaled units, or ``None``.
+        velocities: duals of the equilibrium rows (see above), or ``None``.
+        iterations: solver iterations (simplex + IPM + crossover where given).
+        solve_seconds: wall time of the solve call(s).
+        info: extra back-end facts (residuals, algorithm, ...).
+    """
+
+    status: Status
+    native_status: str
+    load_factor: float
+    x: FloatArray | None = field(repr=False)
+    velocities: FloatArray | None = field(repr=False)
+    iterations: int
+    solve_seconds: float
+    info: dict[str, Any] = field(default_factory=dict, repr=False)
+
+
+class Backend(Protocol):
+    """The interface every back end implements."""
+
+    name: str
+    #: multiply the native equilibrium-row duals by this to get velocities
+    dual_sign: float
+
+    def solve(self, direction: int) -> RawSolution:
+        """Solve for the live load in ``+x`` (``direction=+1``) or ``-x`` (``-1``)."""
+        ...
+
+
+def _failed(status: Status, native: str, seconds: float, iterations: int = 0, **info: Any) -> RawSolution:
+    return RawSolution(status, native, float("nan"), None, None, iterations, seconds, dict(info))
+
+
+# =========================================================================== HiGHS
+class HighsBackend:
+    """HiGHS through ``highspy`` (persistent model).
+
+    The model is passed once; :meth:`solve` only changes the cost of the
+    ``lambda`` column and runs. With ``algorithm="simplex"`` HiGHS keeps its
+    basis between runs (warm start after bound changes, as the iterated
+    non-associative scheme needs).
+
+    HiGHS dual convention (pinned by ``tests/micro/test_duals.py``): for
+    ``min c.x`` it returns row duals ``y`` with ``c = A^T y + z``; with
+    ``c_lambda = -d`` this gives ``(d f_L) . y = -1``, so velocities are
+    ``-y`` (:attr:`dual_sign` ``= -1``).
+
+    Args:
+        lp: the assembled LP.
+        algorithm: ``"ipm"`` (IPX + crossover) or ``"simplex"`` (dual simplex).
+        time_limit: seconds per solve (``None``: unlimited).
+        options: extra HiGHS options (name -> value).
+    """
+
+    dual_sign = -1.0
+
+    def __init__(
+        self,
+        lp: LimitLP,
+        *,
+        algorithm: str = "ipm",
+        time_limit: float | None = None,
+        options: dict[str, Any] | None = None,
+    ) -> None:
+        import highspy
+
+        if algorithm not in ("ipm", "simplex"):
+            raise ValueError(f"algorithm must be 'ipm' or 'simplex', got {algorithm!r}")
+        self.lp = lp
+        self.algorithm = algorithm
+        self.name = f"highs-{algorithm}"
+        self._hs = highspy
+        h = highspy.Highs()
+        h.setOptionValue("output_flag", False)
+        h.setOptionValue("solver", algorithm)
+        if algorithm == "ipm":
+            h.setOptionValue("run_crossover", "on")
+        if time_limit is not None:
+            h.setOptionValue("time_limit", float(time_limit))
+        for k, v in (options or {}).items():
+            h.setOptionValue(k, v)
+        A = lp.A.tocsc()
+        m = highspy.HighsLp()
+        m.num_col_ = lp.n_cols
+        m.num_row_ = lp.n_rows
+        m.col_cost_ = lp.cost(+1)
+        m.col_lower_ = _highs_inf(lp.col_lower, highspy.kHighsInf)
+        m.col_upper_ = _highs_inf(lp.col_upper, highspy.kHighsInf)
+        m.row_lower_ = _highs_inf(lp.row_lower, highspy.kHighsInf)
+        m.row_upper_ = _highs_inf(lp.row_upper, highspy.kHighsInf)
+        m.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+        m.a_matrix_.num_col_ = lp.n_cols
+        m.a_matrix_.num_row_ = lp.n_rows
+        m.a_matrix_.start_ = A.indptr.astype(np.int32)
+        m.a_matrix_.index_ = A.indices.astype(np.int32)
+        m.a_matrix_.value_ = A.data.astype(np.float64)
+        status = h.passModel(m)
+        if status == highspy.HighsStatus.kError:
+            raise RuntimeError("HiGHS rejected the model (passModel returned kError)")
+        self.highs = h
+
+    # ---- persistent-model updates (for the iterated non-associative scheme)
+    def set_col_bounds(self, cols: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
+        """Change column bounds in place (the basis is kept)."""
+        inf = self._hs.kHighsInf
+        cols = np.asarray(cols, dtype=np.int32)
+        self.highs.changeColsBounds(cols.size, cols, _highs_inf(lower, inf), _highs_inf(upper, inf))
+
+    def set_row_bounds(self, rows: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
+        """Change row bounds in place (the basis is kept)."""
+        inf = self._hs.kHighsInf
+        rows = np.asarray(rows, dtype=np.int32)
+        self.highs.changeRowsBounds(rows.size, rows, _highs_inf(lower, inf), _highs_inf(upper, inf))
+
+    def solve(self, direction: int) -> RawSolution:
+        """Solve for live load direction ``direction`` (``+1`` or ``-1``)."""
+        hs = self._hs
+        h = self.highs
+        h.changeColCost(self.lp.lam_col, -float(direction))
+        t0 = time.perf_counter()
+        h.run()
+        ms = h.getModelStatus()
+        if ms == hs.HighsModelStatus.kUnboundedOrInfeasible:
+            # presolve could not tell which: ask again without presolve
+            h.setOptionValue("presolve", "off")
+            h.clearSolver()
+            h.run()
+            ms = h.getModelStatus()
+            h.setOptionValue("presolve", "choose")
+        secs = time.perf_counter() - t0
+        info = h.getInfo()
+        iters = int(info.simplex_iteration_count) + int(info.ipm_iteration_count) + int(info.crossover_iteration_count)
+        native = h.modelStatusToString(ms)
+        extra = {
+            "algorithm": self.algorithm,
+            "simplex_iterations": int(info.simplex_iteration_count),
+            "ipm_iterations": int(info.ipm_iteration_count),
+            "crossover_iterations": int(info.crossover_iteration_count),
+            "max_primal_infeasibility": float(info.max_primal_infeasibility),
+            "max_dual_infeasibility": float(info.max_dual_infeasibility),
+        }
+        status = _HIGHS_STATUS.get(ms.name, Status.SOLVER_ERROR)
+        if status is not Status.OPTIMAL:
+            return _failed(status, native, secs, iters, **extra)
+        sol = h.getSolution()
+        x = np.asarray(sol.col_value, dtype=float)
+        y = np.asarray(sol.row_dual, dtype=float)[: self.lp.n_eq]
+        lam = float(direction) * float(x[self.lp.lam_col])
+        return RawSolution(status, native, lam, x, self.dual_sign * y, iters, secs, extra)
+
+
+_HIGHS_STATUS = {
+    "kOptimal": Status.OPTIMAL,
+    "kInfeasible": Status.INFEASIBLE,
+    "kUnbounded": Status.UNBOUNDED,
+    "kTimeLimit": Status.TIME_LIMIT,
+    "kIterationLimit": Status.ITERATION_LIMIT,
+    "kUnboundedOrInfeasible": Status.INFEASIBLE,  # only after a presolve-off re-run
+}
+
+
+def _highs_inf(a: np.ndarray, inf: float) -> np.ndarray:
+    a = np.array(a, dtype=np.float64, copy=True)
+    a[np.isposinf(a)] = inf
+    a[np.isneginf(a)] = -inf
+    return a
+
+
+# ======================================================================== Clarabel
+#: Clarabel settings used by the ``clarabel`` back end. The defaults
+#: (1e-8 gap/feasibility) stop with lambda off by ~1e-6..1e-3 relative on
+#: walls of 100..1,000 blocks while reporting Solved; these agree with HiGHS
+#: to better than 1e-7 relative on every test wall.
+CLARABEL_TIGHT: dict[str, Any] = {
+    "tol_gap_abs": 1e-11,
+    "tol_gap_rel": 1e-11,
+    "tol_feas": 1e-11,
+    "tol_ktratio": 1e-9,
+    "max_iter": 400,
+}
+
+
+class ClarabelBackend:
+    """Clarabel's direct API (``min c.x  s.t.  A x + s = b, s in K``).
+
+    Rows: the equilibrium equalities (zero cone), then the friction rows and
+    ``-n <= 0`` (non-negative cone). The problem data are built once; the
+    direction only changes ``c`` (Clarabel cannot warm-start; a new solver
+    object is made per solve).
+
+    Clarabel dual convention (pinned by a test): KKT ``c + A^T z = 0`` with
+    ``z`` the cone duals; with ``c_lambda = -d``: ``(d f_L) . z_eq = +1``, so
+    velocities are ``+z_eq`` (:attr:`dual_sign` ``= +1``).
+
+    Args:
+        lp: the assembled LP.
+        settings: Clarabel settings overriding :data:`CLARABEL_TIGHT`.
+        tight: start from :data:`CLARABEL_TIGHT` (``True``) or from Clarabel's
+            defaults (``False``).
+        time_limit: seconds per solve.
+    """
+
+    dual_sign = 1.0
+
+    def __init__(
+        self,
+        lp: LimitLP,
+        *,
+        settings: dict[str, Any] | None = None,
+        tight: bool = True,
+        time_limit: float | None = None,
+    ) -> None:
+        import clarabel
+
+        self._cl = clarabel
+        self.lp = lp
+        self.name = "clarabel" if tight else "clarabel-default"
+        A = lp.A.tocsr()
+        n_eq, P = lp.n_eq, lp.n_points
+        fr = A[n_eq:]
+        neg_n = sp.csr_matrix((-np.ones(P), (np.arange(P), np.arange(P))), shape=(P, lp.n_cols))
+        self.A = sp.vstack([A[:n_eq], fr, neg_n]).tocsc()
+        self.b = np.concatenate([lp.row_upper[:n_eq], lp.row_upper[n_eq:], np.zeros(P)])
+        self.cones = [clarabel.ZeroConeT(n_eq), clarabel.NonnegativeConeT(fr.shape[0] + P)]
+        self.P = sp.csc_matrix((lp.n_cols, lp.n_cols))
+        s = clarabel.DefaultSettings()
+        s.verbose = False
+        opts = dict(CLARABEL_TIGHT) if tight else {}
+        opts.update(settings or {})
+        if time_limit is not None:
+            opts["time_limit"] = float(time_limit)
+        for k, v in opts.items():
+            if not hasattr(s, k):
+                raise ValueError(f"unknown Clarabel setting {k!r}")
+            setattr(s, k, v)
+        self.settings = s
+
+    def solve(self, direction: int) -> RawSolution:
+        """Solve for live load direction ``direction`` (``+1`` or ``-1``)."""
+        cl = self._cl
+        t0 = time.perf_counter()
+        solver = cl.DefaultSolver(self.P, self.lp.cost(direction), self.A, self.b, self.cones, self.settings)
+        sol = solver.solve()
+        secs = time.perf_counter() - t0
+        native = str(sol.status).split(".")[-1]
+        status = _CLARABEL_STATUS.get(native, Status.SOLVER_ERROR)
+        extra = {"r_prim": float(sol.r_prim), "r_dual": float(sol.r_dual), "solver_time": float(sol.solve_time)}
+        if status is not Status.OPTIMAL:
+            return _failed(status, native, secs, int(sol.iterations), **extra)
+        x = np.asarray(sol.x, dtype=float)
+        z = np.asarray(sol.z, dtype=float)[: self.lp.n_eq]
+        lam = float(direction) * float(x[self.lp.lam_col])
+        return RawSolution(status, native, lam, x, self.dual_sign * z, int(sol.iterations), secs, extra)
+
+
+_CLARABEL_STATUS = {
+    "Solved": Status.OPTIMAL,
+    "AlmostSolved": Status.INACCURATE,
+    "PrimalInfeasible": Status.INFEASIBLE,
+    "AlmostPrimalInfeasible": Status.INACCURATE,
+    "DualInfeasible": Status.UNBOUNDED,
+    "AlmostDualInfeasible": Status.INACCURATE,
+    "MaxIterations": Status.ITERATION_LIMIT,
+    "MaxTime": Status.TIME_LIMIT,
+    "NumericalError": Status.SOLVER_ERROR,
+    "InsufficientProgress": Status.INACCURATE,
+    "CallbackTerminated": Status.SOLVER_ERROR,
+    "Unsolved": Status.SOLVER_ERROR,
+}
+
+
+# =========================================================================== cvxpy
+class CvxpyBackend:
+    """The reference formulation written with cvxpy expressions.
+
+    ::
+
+        maximise   d * lam
+        subject to B_n @ n + B_s @ s + lam * f_L == -f_D    (equilibrium)
+                   s <= mu * n,  -s <= mu * n,  n >= 0       (Coulomb)
+
+    The direction ``d`` is a cvxpy Parameter, so the problem is compiled once
+    (DPP) and re-solved for the other direction.
+
+    cvxpy dual convention (pinned by a test): for this ``Maximize`` problem,
+    the dual of the equality ``B x + lam f_L == -f_D`` satisfies
+    ``(d f_L) . y = +1``, so velocities are ``+y`` (:attr:`dual_sign`).
+
+    Args:
+        lp: the assembled LP.
+        solver: ``"CLARABEL"`` or ``"HIGHS"``.
+        tight: use :data:`CLARABEL_TIGHT` tolerances with Clarabel (``False``:
+            cvxpy's defaults — the "plain" baseline).
+        solver_options: extra keyword arguments for ``Problem.solve``.
+    """
+
+    dual_sign = 1.0
+
+    def __init__(
+        self,
+        lp: LimitLP,
+        *,
+        solver: str = "CLARABEL",
+        tight: bool = True,
+        solver_options: dict[str, Any] | None = None,
+    ) -> None:
+        import cvxpy as cp
+
+        self._cp = cp
+        self.lp = lp
+        solver = solver.upper()
+        if solver not in ("CLARABEL", "HIGHS"):
+            raise ValueError(f"cvxpy solver must be CLARABEL or HIGHS, got {solver!r}")
+        self.solver = solver
+        self.name = f"cvxpy-{solver.lower()}" + ("" if tight or solver != "CLARABEL" else "-default")
+        P = lp.n_points
+        B = lp.A[: lp.n_eq].tocsc()
+        Bn, Bs = B[:, :P], B[:, P : 2 * P]
+        mu = lp.mu
+        self.n = cp.Variable(P, nonneg=True, name="n")
+        self.s = cp.Variable(P, name="s")
+        self.lam = cp.Variable(name="lam")
+        self.d = cp.Parameter(value=1.0, name="direction")
+        self.equilibrium = Bn @ self.n + Bs @ self.s + self.lam * lp.live == -lp.dead
+        self.friction = [self.s - cp.multiply(mu, self.n) <= 0, -self.s - cp.multiply(mu, self.n) <= 0]
+        self.problem = cp.Problem(cp.Maximize(self.d * self.lam), [self.equilibrium, *self.friction])
+        opts: dict[str, Any] = {}
+        if solver == "CLARABEL" and tight:
+            opts.update(CLARABEL_TIGHT)
+        opts.update(solver_options or {})
+        self.options = opts
+
+    def solve(self, direction: int) -> RawSolution:
+        """Solve for live load direction ``direction`` (``+1`` or ``-1``)."""
+        cp = self._cp
+        self.d.value = float(direction)
+        t0 = time.perf_counter()
+        try:
+            self.problem.solve(solver=self.solver, **self.options)
+        except cp.error.SolverError as exc:
+            return _failed(Status.SOLVER_ERROR, f"SolverError: {exc}", time.perf_counter() - t0)
+        secs = time.perf_counter() - t0
+        native = str(self.problem.status)
+        status = _CVXPY_STATUS.get(native, Status.SOLVER_ERROR)
+        stats = self.problem.solver_stats
+        iters = int(stats.num_iters or 0) if stats is not None else 0
+        extra = {"solve_time_solver": float(stats.solve_time or 0.0) if stats is not None else float("nan")}
+        if status is not Status.OPTIMAL:
+            return _failed(status, native, secs, iters, **extra)
+        x = np.concatenate([self.n.value, self.s.value, [float(self.lam.value)]])
+        y = np.asarray(self.equilibrium.dual_value, dtype=float)
+        lam = float(direction) * float(self.lam.value)
+        return RawSolution(status, native, lam, x, self.dual_sign * y, iters, secs, extra)
+
+
+_CVXPY_STATUS = {
+    "optimal": Status.OPTIMAL,
+    "optimal_inaccurate": Status.INACCURATE,
+    "infeasible": Status.INFEASIBLE,
+    "infeasible_inaccurate": Status.INACCURATE,
+    "unbounded": Status.UNBOUNDED,
+    "unbounded_inaccurate": Status.INACCURATE,
+    "user_limit": Status.TIME_LIMIT,
+    "solver_error": Status.SOLVER_ERROR,
+}
+
+
+# ========================================================================= factory
+#: Names accepted by :func:`make_backend` (and the CLI's ``--solver``).
+SOLVERS = ("highs", "highs-simplex", "highs-ipm", "clarabel", "cvxpy")
+_ALL = (*SOLVERS, "cvxpy-clarabel", "cvxpy-highs", "clarabel-default", "cvxpy-clarabel-default")
+
+
+def make_backend(lp: LimitLP, solver: str = "highs", *, time_limit: float | None = None) -> Backend:
+    """Make the back end called ``solver`` for ``lp``.
+
+    Raises:
+        ValueError: an unknown solver name (the message lists the valid ones).
+    """
+    if solver in ("highs", "highs-ipm"):
+        return HighsBackend(lp, algorithm="ipm", time_limit=time_limit)
+    if solver == "highs-simplex":
+        return HighsBackend(lp, algorithm="simplex", time_limit=time_limit)
+    if solver == "clarabel":
+        return ClarabelBackend(lp, time_limit=time_limit)
+    if solver == "clarabel-default":
+        return ClarabelBackend(lp, tight=False, time_limit=time_limit)
+    if solver in ("cvxpy", "cvxpy-clarabel"):
+        return CvxpyBackend(lp, solver="CLARABEL")
+    if solver == "cvxpy-clarabel-default":
+        return CvxpyBackend(lp, solver="CLARABEL", tight=False)
+    if solver == "cvxpy-highs":
+        return CvxpyBackend(lp, solver="HIGHS")
+    raise ValueError(f"solver must be one of {', '.join(_ALL)}; got {solver!r}")
