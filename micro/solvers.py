@@ -68,7 +68,7 @@ class RawSolution:
         status: shared status.
         native_status: the back end's own status string.
         load_factor: ``lambda`` for this direction (``NaN`` unless optimal).
-        x: primal solution ``[n; s; lambda]`` in scaled units, or ``None``.
+        n, s: point forces (normal, shear) in scaled units, or ``None``.
         velocities: duals of the equilibrium rows (see above), or ``None``.
         iterations: solver iterations (simplex + IPM + crossover where given).
         solve_seconds: wall time of the solve call(s).
@@ -78,7 +78,8 @@ class RawSolution:
     status: Status
     native_status: str
     load_factor: float
-    x: FloatArray | None = field(repr=False)
+    n: FloatArray | None = field(repr=False)
+    s: FloatArray | None = field(repr=False)
     velocities: FloatArray | None = field(repr=False)
     iterations: int
     solve_seconds: float
@@ -97,8 +98,36 @@ class Backend(Protocol):
         ...
 
 
+#: Largest primal violation (equilibrium, ``n >= 0``, Coulomb; scaled units:
+#: full-block weights) accepted from a back end that reports optimal. Beyond
+#: it the status becomes ``inaccurate`` and the load factor NaN: HiGHS was seen
+#: to report "Optimal" with unscaled equilibrium residuals of 1e-3.
+MAX_RESIDUAL = 1e-6
+
+
 def _failed(status: Status, native: str, seconds: float, iterations: int = 0, **info: Any) -> RawSolution:
-    return RawSolution(status, native, float("nan"), None, None, iterations, seconds, dict(info))
+    return RawSolution(status, native, float("nan"), None, None, None, iterations, seconds, dict(info))
+
+
+def _finish(
+    lp: LimitLP,
+    direction: int,
+    native: str,
+    lam: float,
+    n: FloatArray,
+    s: FloatArray,
+    velocities: FloatArray,
+    iterations: int,
+    seconds: float,
+    info: dict[str, Any],
+) -> RawSolution:
+    """Check an optimal solution independently of the back end and package it."""
+    res = lp.primal_residual(n, s, lam)
+    live_work = float(direction) * float(lp.live @ velocities)
+    info = {**info, "primal_residual": res, "live_work": live_work, "raw_load_factor": float(direction) * lam}
+    if not np.isfinite(res) or res > MAX_RESIDUAL:
+        return RawSolution(Status.INACCURATE, native, float("nan"), n, s, velocities, iterations, seconds, info)
+    return RawSolution(Status.OPTIMAL, native, float(direction) * lam, n, s, velocities, iterations, seconds, info)
 
 
 # =========================================================================== HiGHS
@@ -149,6 +178,10 @@ class HighsBackend:
             h.setOptionValue("time_limit", float(time_limit))
         for k, v in (options or {}).items():
             h.setOptionValue(k, v)
+        if algorithm == "simplex":
+            # default 1e-7 tolerances gave "Optimal" with 1e-3 unscaled residuals
+            h.setOptionValue("primal_feasibility_tolerance", 1e-10)
+            h.setOptionValue("dual_feasibility_tolerance", 1e-10)
         A = lp.A.tocsc()
         m = highspy.HighsLp()
         m.num_col_ = lp.n_cols
@@ -156,8 +189,8 @@ class HighsBackend:
         m.col_cost_ = lp.cost(+1)
         m.col_lower_ = _highs_inf(lp.col_lower, highspy.kHighsInf)
         m.col_upper_ = _highs_inf(lp.col_upper, highspy.kHighsInf)
-        m.row_lower_ = _highs_inf(lp.row_lower, highspy.kHighsInf)
-        m.row_upper_ = _highs_inf(lp.row_upper, highspy.kHighsInf)
+        m.row_lower_ = lp.rhs.copy()
+        m.row_upper_ = lp.rhs.copy()
         m.a_matrix_.format_ = highspy.MatrixFormat.kColwise
         m.a_matrix_.num_col_ = lp.n_cols
         m.a_matrix_.num_row_ = lp.n_rows
@@ -170,6 +203,27 @@ class HighsBackend:
         self.highs = h
 
     # ---- persistent-model updates (for the iterated non-associative scheme)
+    def add_columns(self, cols: sp.csc_matrix, lower: np.ndarray, upper: np.ndarray) -> None:
+        """Append columns (zero cost) to the persistent model, e.g. the ``n``,
+        ``s`` columns ``[B_n, B_s]`` of the non-associative scheme.
+
+        Columns ``n_cols .. n_cols + P - 1`` are then read back as extra
+        normal forces and the next ``P`` as extra shear forces.
+        """
+        cols = sp.csc_matrix(cols)
+        inf = self._hs.kHighsInf
+        k = cols.shape[1]
+        self.highs.addCols(
+            k,
+            np.zeros(k),
+            _highs_inf(lower, inf),
+            _highs_inf(upper, inf),
+            int(cols.nnz),
+            cols.indptr[:-1].astype(np.int32),
+            cols.indices.astype(np.int32),
+            cols.data.astype(np.float64),
+        )
+
     def set_col_bounds(self, cols: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
         """Change column bounds in place (the basis is kept)."""
         inf = self._hs.kHighsInf
@@ -215,8 +269,13 @@ class HighsBackend:
         sol = h.getSolution()
         x = np.asarray(sol.col_value, dtype=float)
         y = np.asarray(sol.row_dual, dtype=float)[: self.lp.n_eq]
-        lam = float(direction) * float(x[self.lp.lam_col])
-        return RawSolution(status, native, lam, x, self.dual_sign * y, iters, secs, extra)
+        n, s = self.lp.forces(x[: 2 * self.lp.n_points])
+        if x.size > self.lp.n_cols:  # columns added for the non-associative scheme
+            P = self.lp.n_points
+            n = n + x[self.lp.n_cols : self.lp.n_cols + P]
+            s = s + x[self.lp.n_cols + P : self.lp.n_cols + 2 * P]
+        lam = float(x[self.lp.lam_col])
+        return _finish(self.lp, direction, native, lam, n, s, self.dual_sign * y, iters, secs, extra)
 
 
 _HIGHS_STATUS = {
@@ -253,8 +312,8 @@ CLARABEL_TIGHT: dict[str, Any] = {
 class ClarabelBackend:
     """Clarabel's direct API (``min c.x  s.t.  A x + s = b, s in K``).
 
-    Rows: the equilibrium equalities (zero cone), then the friction rows and
-    ``-n <= 0`` (non-negative cone). The problem data are built once; the
+    Rows: the equilibrium equalities (zero cone), then ``-g <= 0`` for the
+    friction-cone generators (non-negative cone). The problem data are built once; the
     direction only changes ``c`` (Clarabel cannot warm-start; a new solver
     object is made per solve).
 
@@ -285,13 +344,11 @@ class ClarabelBackend:
         self._cl = clarabel
         self.lp = lp
         self.name = "clarabel" if tight else "clarabel-default"
-        A = lp.A.tocsr()
         n_eq, P = lp.n_eq, lp.n_points
-        fr = A[n_eq:]
-        neg_n = sp.csr_matrix((-np.ones(P), (np.arange(P), np.arange(P))), shape=(P, lp.n_cols))
-        self.A = sp.vstack([A[:n_eq], fr, neg_n]).tocsc()
-        self.b = np.concatenate([lp.row_upper[:n_eq], lp.row_upper[n_eq:], np.zeros(P)])
-        self.cones = [clarabel.ZeroConeT(n_eq), clarabel.NonnegativeConeT(fr.shape[0] + P)]
+        neg_g = sp.csc_matrix((-np.ones(2 * P), (np.arange(2 * P), np.arange(2 * P))), shape=(2 * P, lp.n_cols))
+        self.A = sp.vstack([lp.A, neg_g], format="csc")
+        self.b = np.concatenate([lp.rhs, np.zeros(2 * P)])
+        self.cones = [clarabel.ZeroConeT(n_eq), clarabel.NonnegativeConeT(2 * P)]
         self.P = sp.csc_matrix((lp.n_cols, lp.n_cols))
         s = clarabel.DefaultSettings()
         s.verbose = False
@@ -319,8 +376,9 @@ class ClarabelBackend:
             return _failed(status, native, secs, int(sol.iterations), **extra)
         x = np.asarray(sol.x, dtype=float)
         z = np.asarray(sol.z, dtype=float)[: self.lp.n_eq]
-        lam = float(direction) * float(x[self.lp.lam_col])
-        return RawSolution(status, native, lam, x, self.dual_sign * z, int(sol.iterations), secs, extra)
+        n, s = self.lp.forces(x)
+        lam = float(x[self.lp.lam_col])
+        return _finish(self.lp, direction, native, lam, n, s, self.dual_sign * z, int(sol.iterations), secs, extra)
 
 
 _CLARABEL_STATUS = {
@@ -384,14 +442,13 @@ class CvxpyBackend:
         self.solver = solver
         self.name = f"cvxpy-{solver.lower()}" + ("" if tight or solver != "CLARABEL" else "-default")
         P = lp.n_points
-        B = lp.A[: lp.n_eq].tocsc()
-        Bn, Bs = B[:, :P], B[:, P : 2 * P]
+        Bn, Bs = lp.equilibrium_matrix()
         mu = lp.mu
         self.n = cp.Variable(P, nonneg=True, name="n")
         self.s = cp.Variable(P, name="s")
         self.lam = cp.Variable(name="lam")
         self.d = cp.Parameter(value=1.0, name="direction")
-        self.equilibrium = Bn @ self.n + Bs @ self.s + self.lam * lp.live == -lp.dead
+        self.equilibrium = Bn @ self.n + Bs @ self.s + self.lam * lp.live == lp.rhs
         self.friction = [self.s - cp.multiply(mu, self.n) <= 0, -self.s - cp.multiply(mu, self.n) <= 0]
         self.problem = cp.Problem(cp.Maximize(self.d * self.lam), [self.equilibrium, *self.friction])
         opts: dict[str, Any] = {}
@@ -417,10 +474,10 @@ class CvxpyBackend:
         extra = {"solve_time_solver": float(stats.solve_time or 0.0) if stats is not None else float("nan")}
         if status is not Status.OPTIMAL:
             return _failed(status, native, secs, iters, **extra)
-        x = np.concatenate([self.n.value, self.s.value, [float(self.lam.value)]])
         y = np.asarray(self.equilibrium.dual_value, dtype=float)
-        lam = float(direction) * float(self.lam.value)
-        return RawSolution(status, native, lam, x, self.dual_sign * y, iters, secs, extra)
+        n = np.asarray(self.n.value, dtype=float)
+        s = np.asarray(self.s.value, dtype=float)
+        return _finish(self.lp, direction, native, float(self.lam.value), n, s, self.dual_sign * y, iters, secs, extra)
 
 
 _CVXPY_STATUS = {
