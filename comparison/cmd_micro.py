@@ -32,7 +32,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     g.add_argument("--friction", default="associative", metavar="LAW",
                    help="friction law: associative (default; the only one so far)")
     g.add_argument("--solver", default="highs", metavar="NAME",
-                   help=f"LP back end: {', '.join(SOLVERS)} (default highs = HiGHS interior point + crossover)")
+                   help=f"LP back end: {', '.join(SOLVERS)} (default highs = HiGHS interior point, no crossover)")
     g.add_argument("--first-course", default="full", metavar="full|half",
                    help="the bottom course starts with a full (default) or a half block")
     g.add_argument("--head-joints", default="frictional", metavar="frictional|frictionless",

@@ -170,7 +170,7 @@ def solve_associative(
     Args:
         wall: the block assemblage (:func:`micro.build_wall`).
         solver: back end, one of :data:`micro.solvers.SOLVERS` (default
-            ``"highs"``: HiGHS interior point with crossover).
+            ``"highs"``: HiGHS interior point without crossover).
         directions: ``"auto"`` (both, unless the wall is mirror-symmetric),
             ``"both"``, ``"+x"`` or ``"-x"``.
         time_limit: seconds per solve (``None``: unlimited).
