@@ -125,10 +125,13 @@ class LimitLP:
         """``(B_n, B_s)``: equilibrium columns of the normal and shear forces."""
         return self.Bn, self.Bs
 
-    def primal_residual(self, n: FloatArray, s: FloatArray, lam: float) -> float:
-        """Largest violation of equilibrium, ``n >= 0`` and Coulomb (scaled)."""
+    def primal_residual(self, n: FloatArray, s: FloatArray, lam: float, *, coulomb: bool = True) -> float:
+        """Largest violation of equilibrium, ``n >= 0`` and (unless
+        ``coulomb=False``) associative Coulomb ``|s| <= mu n`` (scaled units)."""
         r = self.Bn @ n + self.Bs @ s + lam * self.live - self.rhs
         viol = max(float(np.max(np.abs(r), initial=0.0)), float(np.max(-n, initial=0.0)))
+        if not coulomb:
+            return viol
         return max(viol, float(np.max(np.abs(s) - self.mu * n, initial=0.0)))
 
 

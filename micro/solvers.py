@@ -120,9 +120,11 @@ def _finish(
     iterations: int,
     seconds: float,
     info: dict[str, Any],
+    *,
+    coulomb: bool = True,
 ) -> RawSolution:
     """Check an optimal solution independently of the back end and package it."""
-    res = lp.primal_residual(n, s, lam)
+    res = lp.primal_residual(n, s, lam, coulomb=coulomb)
     live_work = float(direction) * float(lp.live @ velocities)
     info = {**info, "primal_residual": res, "live_work": live_work, "raw_load_factor": float(direction) * lam}
     if not np.isfinite(res) or res > MAX_RESIDUAL:
@@ -279,7 +281,9 @@ class HighsBackend:
             n = n + x[self.lp.n_cols : self.lp.n_cols + P]
             s = s + x[self.lp.n_cols + P : self.lp.n_cols + 2 * P]
         lam = float(x[self.lp.lam_col])
-        return _finish(self.lp, direction, native, lam, n, s, self.dual_sign * y, iters, secs, extra)
+        # with added columns the friction law is no longer |s| <= mu n
+        return _finish(self.lp, direction, native, lam, n, s, self.dual_sign * y, iters, secs, extra,
+                       coulomb=x.size == self.lp.n_cols)
 
 
 _HIGHS_STATUS = {
@@ -374,22 +378,44 @@ class ClarabelBackend:
         self.settings = s
 
     def solve(self, direction: int) -> RawSolution:
-        """Solve for live load direction ``direction`` (``+1`` or ``-1``)."""
-        cl = self._cl
+        """Solve for live load direction ``direction`` (``+1`` or ``-1``).
+
+        With the tight settings, a stop short of them (``AlmostSolved``,
+        ``InsufficientProgress``; seen when base sliding governs exactly, a
+        very degenerate optimum) is retried once with Clarabel's default
+        static regularisation and 1e-9 tolerances; ``info["fallback"]`` says
+        so. A second failure is reported as it is.
+        """
         t0 = time.perf_counter()
-        solver = cl.DefaultSolver(self.P, self.lp.cost(direction), self.A, self.b, self.cones, self.settings)
-        sol = solver.solve()
-        secs = time.perf_counter() - t0
+        sol = self._run(direction, self.settings)
         native = str(sol.status).split(".")[-1]
+        iters = int(sol.iterations)
+        extra: dict[str, Any] = {}
+        if self.name == "clarabel" and native in ("AlmostSolved", "InsufficientProgress"):
+            s = self._cl.DefaultSettings()
+            for k in dir(self.settings):
+                if not k.startswith("_") and hasattr(s, k) and not callable(getattr(s, k)):
+                    setattr(s, k, getattr(self.settings, k))
+            s.static_regularization_constant = 1e-8
+            s.tol_gap_abs = s.tol_gap_rel = s.tol_feas = 1e-9
+            sol = self._run(direction, s)
+            extra["fallback"] = f"{native} with the tight settings; re-solved with static regularisation 1e-8, tol 1e-9"
+            native = str(sol.status).split(".")[-1]
+            iters += int(sol.iterations)
+        secs = time.perf_counter() - t0
         status = _CLARABEL_STATUS.get(native, Status.SOLVER_ERROR)
-        extra = {"r_prim": float(sol.r_prim), "r_dual": float(sol.r_dual), "solver_time": float(sol.solve_time)}
+        extra.update({"r_prim": float(sol.r_prim), "r_dual": float(sol.r_dual), "solver_time": float(sol.solve_time)})
         if status is not Status.OPTIMAL:
-            return _failed(status, native, secs, int(sol.iterations), **extra)
+            return _failed(status, native, secs, iters, **extra)
         x = np.asarray(sol.x, dtype=float)
         z = np.asarray(sol.z, dtype=float)[: self.lp.n_eq]
-        n, s = self.lp.forces(x)
+        n, s_ = self.lp.forces(x)
         lam = float(x[self.lp.lam_col])
-        return _finish(self.lp, direction, native, lam, n, s, self.dual_sign * z, int(sol.iterations), secs, extra)
+        return _finish(self.lp, direction, native, lam, n, s_, self.dual_sign * z, iters, secs, extra)
+
+    def _run(self, direction: int, settings: Any) -> Any:
+        solver = self._cl.DefaultSolver(self.P, self.lp.cost(direction), self.A, self.b, self.cones, settings)
+        return solver.solve()
 
 
 _CLARABEL_STATUS = {
