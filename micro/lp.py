@@ -206,6 +206,8 @@ def assemble(wall: BlockWall) -> LimitLP:
     inf = np.inf
     col_lower = np.concatenate([np.zeros(2 * P), [-inf]])
     col_upper = np.full(2 * P + 1, inf)
+    # mu = 0 (frictionless head joints): g- would duplicate g+; fix it at 0
+    col_upper[P : 2 * P][mu == 0.0] = 0.0
     return LimitLP(
         wall=wall,
         A=A,

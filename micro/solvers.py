@@ -359,12 +359,17 @@ class ClarabelBackend:
         self._cl = clarabel
         self.lp = lp
         self.name = "clarabel" if tight else "clarabel-default"
-        n_eq, P = lp.n_eq, lp.n_points
-        neg_g = sp.csc_matrix((-np.ones(2 * P), (np.arange(2 * P), np.arange(2 * P))), shape=(2 * P, lp.n_cols))
-        self.A = sp.vstack([lp.A, neg_g], format="csc")
-        self.b = np.concatenate([lp.rhs, np.zeros(2 * P)])
-        self.cones = [clarabel.ZeroConeT(n_eq), clarabel.NonnegativeConeT(2 * P)]
-        self.P = sp.csc_matrix((lp.n_cols, lp.n_cols))
+        n_eq = lp.n_eq
+        # columns fixed at zero (g- where mu = 0) are left out: duplicate
+        # columns made Clarabel stop with NumericalError
+        self.active = np.flatnonzero(lp.col_upper > 0.0)
+        A = lp.A[:, self.active]
+        ng = self.active.size - 1  # every active column but lambda is a generator >= 0
+        neg_g = sp.csc_matrix((-np.ones(ng), (np.arange(ng), np.arange(ng))), shape=(ng, self.active.size))
+        self.A = sp.vstack([A, neg_g], format="csc")
+        self.b = np.concatenate([lp.rhs, np.zeros(ng)])
+        self.cones = [clarabel.ZeroConeT(n_eq), clarabel.NonnegativeConeT(ng)]
+        self.P = sp.csc_matrix((self.active.size, self.active.size))
         s = clarabel.DefaultSettings()
         s.verbose = False
         opts = dict(CLARABEL_TIGHT) if tight else {}
@@ -381,8 +386,8 @@ class ClarabelBackend:
         """Solve for live load direction ``direction`` (``+1`` or ``-1``).
 
         With the tight settings, a stop short of them (``AlmostSolved``,
-        ``InsufficientProgress``; seen when base sliding governs exactly, a
-        very degenerate optimum) is retried once with Clarabel's default
+        ``InsufficientProgress``, ``NumericalError``; seen when base sliding
+        governs exactly, a very degenerate optimum) is retried once with Clarabel's default
         static regularisation and 1e-9 tolerances; ``info["fallback"]`` says
         so. A second failure is reported as it is.
         """
@@ -391,7 +396,7 @@ class ClarabelBackend:
         native = str(sol.status).split(".")[-1]
         iters = int(sol.iterations)
         extra: dict[str, Any] = {}
-        if self.name == "clarabel" and native in ("AlmostSolved", "InsufficientProgress"):
+        if self.name == "clarabel" and native in ("AlmostSolved", "InsufficientProgress", "NumericalError"):
             s = self._cl.DefaultSettings()
             for k in dir(self.settings):
                 if not k.startswith("_") and hasattr(s, k) and not callable(getattr(s, k)):
@@ -407,14 +412,16 @@ class ClarabelBackend:
         extra.update({"r_prim": float(sol.r_prim), "r_dual": float(sol.r_dual), "solver_time": float(sol.solve_time)})
         if status is not Status.OPTIMAL:
             return _failed(status, native, secs, iters, **extra)
-        x = np.asarray(sol.x, dtype=float)
+        x = np.zeros(self.lp.n_cols)
+        x[self.active] = np.asarray(sol.x, dtype=float)
         z = np.asarray(sol.z, dtype=float)[: self.lp.n_eq]
         n, s_ = self.lp.forces(x)
         lam = float(x[self.lp.lam_col])
         return _finish(self.lp, direction, native, lam, n, s_, self.dual_sign * z, iters, secs, extra)
 
     def _run(self, direction: int, settings: Any) -> Any:
-        solver = self._cl.DefaultSolver(self.P, self.lp.cost(direction), self.A, self.b, self.cones, settings)
+        c = self.lp.cost(direction)[self.active]
+        solver = self._cl.DefaultSolver(self.P, c, self.A, self.b, self.cones, settings)
         return solver.solve()
 
 
