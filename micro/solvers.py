@@ -10,14 +10,16 @@ Modelled on cvxpy's solver layer: one adapter per back end, each of which
 
 Back ends (names accepted by :func:`make_backend`):
 
-``highs``          HiGHS interior point (IPX) without crossover — the fastest
-                   accurate choice on walls of more than a few hundred blocks
-                   (default);
+``highs``          HiGHS interior point (IPX) without crossover — HiGHS's
+                   fastest accurate algorithm on these LPs (default of
+                   :func:`micro.solve_associative`);
 ``highs-ipm``      the same, named explicitly;
-``highs-simplex``  HiGHS dual simplex (warm-startable: the one the iterated
-                   non-associative scheme will need);
+``highs-simplex``  HiGHS dual simplex with 1e-10 feasibility tolerances
+                   (warm-startable: the one the iterated non-associative
+                   scheme will need; cold, it is slow on large walls);
 ``clarabel``       Clarabel's direct API (interior point), with tightened
-                   tolerances (see :data:`CLARABEL_TIGHT`);
+                   tolerances (see :data:`CLARABEL_TIGHT`) — the fastest
+                   accurate back end measured on every wall size;
 ``cvxpy``          the readable reference formulation in cvxpy expressions,
                    solved by Clarabel (``cvxpy`` / ``cvxpy-clarabel``) or by
                    HiGHS (``cvxpy-highs``) through cvxpy.
