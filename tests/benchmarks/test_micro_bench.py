@@ -28,8 +28,8 @@ WALLS = {
     "set12": lambda: WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75),
     "set13": lambda: WallSpec.from_paper(t=1, m=1 / 2, rows=12, f=0.75),
     "set14": lambda: WallSpec.from_paper(t=1, m=1, rows=12, f=0.75),
-    "w1230": lambda: WallSpec.from_paper(t=1, m=1 / 3, rows=60, f=0.6, storeys=3),
-    "w7575": lambda: WallSpec.from_paper(t=1, m=1 / 3, rows=150, f=0.6, storeys=5),
+    "w1230": lambda: WallSpec.from_paper(t=1, m=1 / 3, rows=60, f=0.6, storeys=3),  # Table 5 reference
+    "w7575": lambda: WallSpec.from_paper(t=1, m=1 / 3, rows=150, f=0.75, storeys=5),  # Table 9 set 15
 }
 SOLVERS = ["highs-ipm", "highs-simplex", "clarabel", "cvxpy", "cvxpy-highs", "cvxpy-clarabel-default", "clarabel-default"]
 SKIP = {
