@@ -47,6 +47,7 @@ class Status(str, enum.Enum):
     OPTIMAL = "optimal"
     INFEASIBLE = "infeasible"
     UNBOUNDED = "unbounded"
+    INFEASIBLE_OR_UNBOUNDED = "infeasible_or_unbounded"
     TIME_LIMIT = "time_limit"
     ITERATION_LIMIT = "iteration_limit"
     INACCURATE = "inaccurate"
@@ -294,7 +295,7 @@ _HIGHS_STATUS = {
     "kUnbounded": Status.UNBOUNDED,
     "kTimeLimit": Status.TIME_LIMIT,
     "kIterationLimit": Status.ITERATION_LIMIT,
-    "kUnboundedOrInfeasible": Status.INFEASIBLE,  # only after a presolve-off re-run
+    "kUnboundedOrInfeasible": Status.INFEASIBLE_OR_UNBOUNDED,  # still ambiguous after a presolve-off re-run
 }
 
 
@@ -533,6 +534,7 @@ _CVXPY_STATUS = {
     "infeasible_inaccurate": Status.INACCURATE,
     "unbounded": Status.UNBOUNDED,
     "unbounded_inaccurate": Status.INACCURATE,
+    "infeasible_or_unbounded": Status.INFEASIBLE_OR_UNBOUNDED,
     "user_limit": Status.TIME_LIMIT,
     "solver_error": Status.SOLVER_ERROR,
 }
