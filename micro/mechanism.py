@@ -8,6 +8,11 @@ every contact point. Velocities are given in the LP's scaled units (lengths in
 block heights, forces in reference block weights) and normalised so that the
 live load does unit work; the dead load then does work ``-lambda`` and, with
 associative friction, the dissipation is zero (virtual work balances).
+
+Interior-point back ends (``highs`` IPM without crossover, ``clarabel``,
+``cvxpy``) return a maximally complementary dual: when several collapse
+mechanisms share the optimal load factor it is a blend of them, with many
+contacts moving slightly. ``highs-simplex`` returns a vertex (one mechanism).
 """
 
 from __future__ import annotations
@@ -61,7 +66,9 @@ class Mechanism:
         return {name: int(c[i]) for i, name in enumerate(CONTACT_STATE_NAMES)}
 
 
-def mechanism_from_duals(lp: LimitLP, velocities: FloatArray, direction: int) -> Mechanism:
+def mechanism_from_duals(
+    lp: LimitLP, velocities: FloatArray, direction: int, *, state_tol: float = STATE_TOL
+) -> Mechanism:
     """Normalise the dual velocities and classify every contact.
 
     Args:
@@ -69,6 +76,8 @@ def mechanism_from_duals(lp: LimitLP, velocities: FloatArray, direction: int) ->
         velocities: duals of the equilibrium rows in the shared convention
             (:class:`micro.solvers.RawSolution`), length ``3 * n_blocks``.
         direction: ``+1`` or ``-1``, the live load direction solved.
+        state_tol: a relative velocity counts as non-zero above this fraction
+            of the largest one.
 
     Returns:
         The :class:`Mechanism` with the live load doing unit work.
@@ -80,7 +89,7 @@ def mechanism_from_duals(lp: LimitLP, velocities: FloatArray, direction: int) ->
     dn = lp.Bn.T @ y
     ds = lp.Bs.T @ y
     scale = max(float(np.max(np.abs(dn), initial=0.0)), float(np.max(np.abs(ds), initial=0.0)))
-    tol = STATE_TOL * scale if scale > 0 else 0.0
+    tol = state_tol * scale if scale > 0 else 0.0
     dn2 = np.abs(dn).reshape(-1, 2).max(axis=1)
     ds2 = np.abs(ds).reshape(-1, 2).max(axis=1)
     state = np.full(dn2.size, CLOSED, dtype=np.int64)
