@@ -81,14 +81,14 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
 
 def build_parser() -> argparse.ArgumentParser:
     """The full ``xcheck`` parser with every subcommand registered."""
-    from comparison import cmd_macro, cmd_report
+    from comparison import cmd_macro, cmd_micro, cmd_report
 
     parser = _Parser(
         prog="xcheck",
         description="Macro-block model vs rigid-block limit analysis of dry-joint masonry walls.",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for module in (cmd_macro, cmd_report):
+    for module in (cmd_macro, cmd_micro, cmd_report):
         module.register(sub)
     return parser
 

@@ -1,1 +1,34 @@
-"""Rigid-block limit analysis of running-bond walls by linear programming."""
+"""Rigid-block limit analysis of running-bond walls by linear programming.
+
+Build a wall block by block with :func:`build_wall` and compute its collapse
+load factor under a horizontal (seismic) live load with associative friction
+with :func:`solve_associative`::
+
+    import micro
+    wall = micro.build_wall(length=12, block_length=3, block_height=1, rows=(12,),
+                            thickness=(1,), overload=(0,), unit_weight=1, friction=0.75)
+    result = micro.solve_associative(wall, solver="highs")
+    result.load_factor, result.direction, result.status
+"""
+
+from micro.analysis import DirectionResult, LimitResult, solve_associative
+from micro.geometry import BlockWall, build_wall, estimate_bytes
+from micro.lp import LimitLP, assemble
+from micro.mechanism import Mechanism, mechanism_from_duals
+from micro.solvers import SOLVERS, Status, make_backend
+
+__all__ = [
+    "SOLVERS",
+    "BlockWall",
+    "DirectionResult",
+    "LimitLP",
+    "LimitResult",
+    "Mechanism",
+    "Status",
+    "assemble",
+    "build_wall",
+    "estimate_bytes",
+    "make_backend",
+    "mechanism_from_duals",
+    "solve_associative",
+]
