@@ -1,122 +1,440 @@
-"""The validation report: the paper's tables recomputed and set beside the published values."""
+"""The validation report: the paper's cases through both models, set beside the published values.
+
+:func:`build_report` runs (through the caching :class:`~comparison.runner.Runner`)
+the macro model, the associative micro LP and, where the package provides it,
+the non-associative iterated LP on the paper's cases, and writes
+``REPORT.md``, one CSV per table, ``report.json`` with every number shown and
+the figures. ``quick`` keeps the small walls only (Sets 11-14 and 12-row
+variants) for the micro model; the macro model always runs every case.
+"""
 
 from __future__ import annotations
 
 import csv
 import json
+import math
+import os
 import platform
 import time
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import macro
+from comparison import figures
 from comparison.cases import CASES, MODELS, SET4_HINGE_LOAD_FACTORS, PaperCase, case, cases_in_table
+from comparison.runner import MACRO, MICRO_ASSOC, MICRO_NONASSOC, Method, Record, Runner
+from comparison.spec import WallSpec
+
+# ----------------------------------------------------------------- tables
 
 
-@dataclass(frozen=True)
-class MacroRow:
-    """One case's macro result beside the paper's."""
+@dataclass
+class Table:
+    """A report table: markdown for the reader, records for CSV/JSON."""
 
-    case: PaperCase
-    result: macro.MacroResult
-    result_storey_p: macro.MacroResult
+    name: str
+    title: str
+    header: list[str]
+    rows: list[list[Any]] = field(default_factory=list)
+    note: str = ""
+    keys: int = 1  # leading columns that name a row
 
-    def published(self, quantity: str = "lambda") -> float | None:
-        v = self.case.value("proposed", quantity)
-        return None if v is None else v.value
+    def row_id(self, row: Sequence[Any]) -> str:
+        """The name of a row: its leading ``keys`` cells."""
+        return " / ".join(str(c) for c in row[: self.keys])
+
+    def add(self, *cells: Any) -> None:
+        self.rows.append(list(cells))
+
+    def markdown(self) -> str:
+        out = [f"### {self.title}", "", "| " + " | ".join(self.header) + " |", "|" + "|".join("---" for _ in self.header) + "|"]
+        out += ["| " + " | ".join(_fmt(c) for c in r) + " |" for r in self.rows]
+        if self.note:
+            out += ["", self.note]
+        return "\n".join(out)
+
+    def records(self) -> list[dict[str, Any]]:
+        return [{"row": self.row_id(r)} | {h: _plain(c) for h, c in zip(self.header, r, strict=True)} for r in self.rows]
 
 
-def pct(ours: float, ref: float | None) -> str:
-    """Signed percentage difference of ``ours`` against ``ref``."""
-    return "" if ref is None else f"{100.0 * (ours - ref) / ref:+.1f}"
+def _fmt(c: Any) -> str:
+    if c is None:
+        return "–"
+    if isinstance(c, float):
+        if not math.isfinite(c):
+            return "n/a"
+        return f"{c:.4f}" if abs(c) < 10 else f"{c:.2f}"
+    return str(c)
 
 
-def macro_rows() -> list[MacroRow]:
-    """Solve every paper case with the macro model (both readings of p)."""
-    return [MacroRow(c, macro.solve(c.spec().to_macro()), macro.solve(c.spec("storey").to_macro())) for c in CASES]
+def _plain(c: Any) -> Any:
+    if isinstance(c, float) and not math.isfinite(c):
+        return None
+    return c
 
 
-def _table(header: list[str], rows: list[list[str]]) -> str:
-    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    out += ["| " + " | ".join(r) + " |" for r in rows]
-    return "\n".join(out)
+def pct(ours: float | None, ref: float | None) -> str | None:
+    """Signed percentage difference of ``ours`` against ``ref`` (one decimal)."""
+    if ours is None or ref is None or not math.isfinite(ours) or not math.isfinite(ref) or ref == 0:
+        return None
+    return f"{100.0 * (ours - ref) / ref:+.1f}"
 
 
-def table5(rows: list[MacroRow]) -> str:
-    """Table 5 (sensitivity) recomputed."""
-    body = []
-    for r in rows:
-        if "5" not in r.case.tables:
-            continue
-        c, res = r.case, r.result
-        body.append(
-            [
-                c.label,
-                f"t={c.t:g} m={c.m:.3g} o={c.rows} p={c.p:g} f={c.f:g}",
-                f"{r.published():.3f}",
-                f"{res.rocking_load_factor:.4f}",
-                pct(res.rocking_load_factor, r.published()),
-                f"{r.published('alpha_c_deg'):.2f}",
-                f"{res.alpha_c_deg:.2f}",
-                f"{r.published('alpha_ratio'):.2f}",
-                f"{res.alpha_ratio:.3f}",
-                f"{int(r.published('hinge_storey') or 0)}",
-                f"{res.hinge_storey}",
-                f"{res.load_factor:.4f}",
-                res.mechanism,
-            ]
-        )
-    return _table(
-        ["Set", "parameters", "λ paper", "λ ours (Eq. 10)", "Δ %", "α_c paper", "α_c ours", "α_c/α_b paper", "ours", "hinge paper", "ours", "λ = min(λ_r, f)", "mechanism"],
-        body,
+# ------------------------------------------------------------------ study
+
+
+def micro_methods() -> list[Method]:
+    """The micro methods this installation provides (the non-associative one when present)."""
+    import micro
+
+    return [MICRO_ASSOC] + ([MICRO_NONASSOC] if hasattr(micro, "solve_nonassociative") else [])
+
+
+@dataclass
+class Study:
+    """Everything the report computes, through one runner."""
+
+    runner: Runner
+    quick: bool
+    methods: list[Method]
+    macro_results: dict[str, macro.MacroResult] = field(default_factory=dict)
+    records: list[Record] = field(default_factory=list)
+
+    @property
+    def reference(self) -> Method:
+        """The best micro reference: non-associative when available."""
+        return self.methods[-1]
+
+    def micro_cases(self) -> list[PaperCase]:
+        return [c for c in CASES if not self.quick or c.rows <= 12]
+
+    def run(self, spec: WallSpec, method: Method) -> Record:
+        r = self.runner.run(spec, method)
+        self.records.append(r)
+        return r
+
+
+# ------------------------------------------------------------ report parts
+
+
+def table5(study: Study) -> Table:
+    t = Table(
+        "table5",
+        "Table 5: sensitivity analysis, macro model (three storeys; reference t = 1, m = 1/3, o = 60, p = 0, f = 0.6)",
+        ["Set", "parameters", "λ paper", "λ ours (Eq. 10)", "Δ %", "α_c paper", "α_c ours", "α_c/α_b paper", "α_c/α_b ours", "hinge paper", "hinge ours", "λ = min(λ_r, f)", "mechanism"],
     )
+    for c in cases_in_table("5"):
+        r = study.macro_results[c.case]
+        pub = {q: c.value("proposed", q) for q in ("lambda", "alpha_c_deg", "alpha_ratio", "hinge_storey")}
+        t.add(
+            c.label, f"t={c.t:g} m={c.m:.3g} o={c.rows} p={c.p:g} f={c.f:g}", pub["lambda"].value, r.rocking_load_factor,  # type: ignore[union-attr]
+            pct(r.rocking_load_factor, pub["lambda"].value), pub["alpha_c_deg"].value, r.alpha_c_deg,  # type: ignore[union-attr]
+            pub["alpha_ratio"].value, r.alpha_ratio, int(pub["hinge_storey"].value), r.hinge_storey, r.load_factor, r.mechanism,  # type: ignore[union-attr]
+        )  # fmt: skip
+    set4 = study.macro_results["4"]
+    t.note = (
+        f"Set 4, λ with the hinge at storeys 1, 2, 3: paper {', '.join(f'{x:.3f}' for x in SET4_HINGE_LOAD_FACTORS)}; "
+        f"ours {', '.join(f'{h.rocking_load_factor:.4f}' for h in set4.hinges)}."
+    )
+    return t
 
 
-def table7(rows: list[MacroRow]) -> str:
-    """Table 7: Orduña's micro model against the macro model, published and ours."""
-    body = []
-    for r in rows:
-        if "7" not in r.case.tables:
-            continue
-        micro = r.case.value("orduna_micro")
-        assert micro is not None
-        lam = r.result.load_factor
-        body.append(
-            [r.case.label, f"{micro.value:.2f}", f"{r.published():.2f}", pct(r.published() or 0, micro.value), f"{lam:.4f}", pct(lam, micro.value), pct(lam, r.published())]
-        )
-    return _table(["Set", "micro (Orduña)", "macro paper", "Δ % paper", "macro ours", "Δ % ours vs micro", "Δ % ours vs paper"], body)
+def table7(study: Study) -> Table:
+    ref = study.reference
+    hdr = ["Set", "Orduña micro", "paper macro", "Δ % paper", "macro ours", "Δ % ours vs Orduña"]
+    for m in study.methods:
+        hdr += [f"{m.kind} ours", f"Δ % vs Orduña ({m.kind})"]
+    hdr += [f"Δ % macro vs {ref.kind}"]
+    t = Table("table7", "Table 7: micro-block against macro-block model (one storey, o = 12, f = 0.75)", hdr)
+    for c in cases_in_table("7"):
+        micro_pub = c.value("orduna_micro").value  # type: ignore[union-attr]
+        paper = c.value("proposed").value  # type: ignore[union-attr]
+        lam = study.macro_results[c.case].load_factor
+        row: list[Any] = [c.label, micro_pub, paper, pct(paper, micro_pub), lam, pct(lam, micro_pub)]
+        ours = None
+        for m in study.methods:
+            ours = study.run(c.spec(), m).load_factor
+            row += [ours, pct(ours, micro_pub)]
+        row.append(pct(lam, ours))
+        t.add(*row)
+    return t
 
 
-def table8() -> str:
-    """Table 8: the other macro-block models against Orduña's micro model (published)."""
-    body = []
+def bond_variants(study: Study) -> Table:
+    t = Table(
+        "bond_variants",
+        "Micro model variants on Table 7's walls: bond phase and head-joint friction",
+        ["Set", "method", "Orduña micro", "full first, frictional heads", "half first", "frictionless heads"],
+        keys=2,
+    )
+    for c in cases_in_table("7"):
+        pub = c.value("orduna_micro").value  # type: ignore[union-attr]
+        for m in study.methods:
+            cells = [study.run(c.spec(), v).load_factor for v in (m, replace(m, first_course="half"), replace(m, head_joints="frictionless"))]
+            t.add(c.label, m.kind, pub, *cells)
+    return t
+
+
+def table8(study: Study) -> Table:
+    ref = study.reference
+    t = Table(
+        "table8",
+        f"Table 8: other macro-block models (published) against Orduña's micro model and our {ref.kind}",
+        ["Set", "Orduña micro", f"ours {ref.kind}", "Orduña macro", "Δ %", "De Buhan & de Felice", "Δ %", "Speranza", "Δ %", "Δ % Speranza vs ours"],
+    )
     for c in cases_in_table("8"):
-        micro = c.value("orduna_micro")
-        assert micro is not None
-        cells = [c.label, f"{micro.value:.2f}"]
+        micro_pub = c.value("orduna_micro").value  # type: ignore[union-attr]
+        ours = study.run(c.spec(), ref).load_factor
+        cells: list[Any] = [c.label, micro_pub, ours]
         for model in ("orduna_macro", "debuhan_defelice", "speranza"):
-            v = c.value(model)
-            assert v is not None
-            cells += [f"{v.value:.2f}", pct(v.value, micro.value)]
-        body.append(cells)
-    return _table(["Set", "micro (Orduña)", "Orduña macro", "Δ %", "De Buhan & de Felice", "Δ %", "Speranza", "Δ %"], body)
+            v = c.value(model).value  # type: ignore[union-attr]
+            cells += [v, pct(v, micro_pub)]
+        cells.append(pct(c.value("speranza").value, ours))  # type: ignore[union-attr]
+        t.add(*cells)
+    return t
 
 
-def table9(rows: list[MacroRow]) -> str:
-    """Table 9: five-storey walls, the proposed model and Speranza's."""
-    body = []
-    for r in rows:
-        if "9" not in r.case.tables:
+def table9(study: Study) -> Table:
+    hdr = ["Set", "p", "λ paper", "λ ours (m = 1/3)", "Δ %", "λ ours, m = 1/2", "Speranza", "Δ % ours vs Speranza"]
+    if not study.quick:
+        hdr += [f"{m.kind} ours" for m in study.methods] + [f"Δ % macro vs {study.reference.kind}"]
+    t = Table("table9", "Table 9: five-storey walls (t = 1, m = 1/3, o = 150, f = 0.75)", hdr)
+    for c in cases_in_table("9"):
+        r = study.macro_results[c.case]
+        paper = c.value("proposed").value  # type: ignore[union-attr]
+        sp = c.value("speranza").value  # type: ignore[union-attr]
+        alt = macro.solve(WallSpec.from_paper(t=c.t, m=0.5, rows=c.rows, f=c.f, p=c.p, storeys=c.storeys).to_macro())
+        row: list[Any] = [c.label, f"{c.p:g}", paper, r.load_factor, pct(r.load_factor, paper), alt.load_factor, sp, pct(r.load_factor, sp)]
+        if not study.quick:
+            lams = [study.run(c.spec(), m).load_factor for m in study.methods]
+            row += lams + [pct(r.load_factor, lams[-1])]
+        t.add(*row)
+    return t
+
+
+def all_cases(study: Study) -> Table:
+    hdr = ["Case", "storeys", "t", "m", "o", "p", "f", "macro λ", "macro mechanism"]
+    for m in study.methods:
+        hdr += [f"{m.kind} λ", f"{m.kind} s"]
+    hdr += [f"Δ % macro vs {study.reference.kind}", "blocks"]
+    t = Table("all_cases", "All cases: macro against micro (micro values the paper does not have)", hdr)
+    for c in study.micro_cases():
+        r = study.macro_results[c.case]
+        row: list[Any] = [c.label, c.storeys, f"{c.t:g}", f"{c.m:.4g}", c.rows, f"{c.p:g}", f"{c.f:g}", r.load_factor, r.mechanism]
+        last = None
+        blocks = None
+        for m in study.methods:
+            rec = study.run(c.spec(), m)
+            row += [rec.load_factor, rec.get("build_seconds", 0.0) + rec.get("solve_seconds", rec.seconds) if rec.status != "not_applicable" else None]
+            last = rec
+            blocks = rec.get("blocks", blocks)
+        row += [pct(r.load_factor, last.load_factor if last else None), blocks]
+        t.add(*row)
+    t.note = "n/a: the micro wall cannot be built (wall length not a whole number of half blocks, e.g. Set 8: L = 20, v = 1.5)."
+    return t
+
+
+def failure_modes(study: Study) -> Table:
+    ref = study.methods[0]
+    t = Table(
+        "failure_modes",
+        f"Failure modes: macro crack and hinge against the {ref.kind} mechanism",
+        ["Case", "macro α_c", "macro α_c*", "macro hinge", "micro crack slope angle", "micro conventional angle", "micro hinge", "moving blocks %", "courses moving whole", "micro sliding contacts", "micro opening contacts"],
+    )
+    for c in study.micro_cases():
+        r = study.macro_results[c.case]
+        rec = study.run(c.spec(), ref)
+        star = math.degrees(math.atan(r.tan_alpha_c - r.wall.overlap / (sum(r.wall.rows[: r.hinge_storey]) * r.wall.block_height)))
+        states = rec.get("contact_states") or {}
+        frac = rec.get("failure_moving_fraction")
+        t.add(
+            c.label, r.alpha_c_deg, star, r.hinge_storey, rec.get("failure_crack_angle_deg"), rec.get("failure_conventional_angle_deg"),
+            rec.get("failure_hinge_storey"), None if frac is None else 100.0 * frac, rec.get("failure_whole_length_courses"),
+            states.get("sliding"), states.get("opening"),
+        )  # fmt: skip
+    t.note = (
+        "α_c: the macro crack through the hinge (Eq. 10's variable); α_c*: its stepped crack (Eq. 9). "
+        "Micro: a block moves when its corner speed exceeds 1e-3 of the largest; the crack slope is a line "
+        "fitted, course by course, to the far edge of the moving blocks (to compare with α_c*); the conventional "
+        "angle joins the hinge to the crack's highest point (to compare with α_c)."
+    )
+    return t
+
+
+# --------------------------------------------------------------- figures
+
+
+def _base(quick: bool) -> dict[str, Any]:
+    if quick:
+        return dict(t=1.0, m=1 / 3, rows=12, f=0.75, p=0.0, storeys=1)
+    return dict(t=1.0, m=1 / 3, rows=60, f=0.6, p=0.0, storeys=3)
+
+
+SWEEPS_FULL = {
+    "f": [0.4, 0.5, 0.6, 0.7, 0.8],
+    "t": [0.5, 1.0, 1.25, 2.0, 2.5],
+    "m": [0.25, 1 / 3, 0.5, 1.0],
+    "rows": [12, 24, 36, 45, 60],
+    "p": [0.0, 1.0, 2.0, 4.0, 8.0],
+}
+SWEEPS_QUICK = {
+    "f": [0.5, 0.6, 0.75, 0.9],
+    "t": [0.5, 1.0, 2.0],
+    "m": [0.25, 1 / 3, 0.5, 1.0],
+    "rows": [6, 9, 12, 18, 24],
+    "p": [0.0, 1.0, 4.0],
+}
+
+
+def sensitivity(study: Study, out: Path) -> Table:
+    base = _base(study.quick)
+    sweeps = SWEEPS_QUICK if study.quick else SWEEPS_FULL
+    t = Table(
+        "sensitivity",
+        "Sensitivity: λ against each parameter, macro and micro",
+        ["parameter", "value", "macro λ", *[f"{m.kind} λ" for m in study.methods]],
+        keys=2,
+    )
+    panels: dict[str, dict[str, tuple[list[float], list[float]]]] = {}
+    for param, values in sweeps.items():
+        series: dict[str, tuple[list[float], list[float]]] = {"macro": ([], [])}
+        for m in study.methods:
+            series[m.kind] = ([], [])
+        for v in values:
+            spec = WallSpec.from_paper(**{**base, param: v}, name=f"{param}={v:.4g}")  # type: ignore[arg-type]
+            lam_macro = macro.solve(spec.to_macro()).load_factor
+            series["macro"][0].append(v)
+            series["macro"][1].append(lam_macro)
+            cells = []
+            for m in study.methods:
+                rec = study.run(spec, m)
+                series[m.kind][0].append(v)
+                series[m.kind][1].append(rec.load_factor)
+                cells.append(rec.load_factor)
+            t.add(param, f"{v:.4g}", lam_macro, *cells)
+        panels[param] = series
+    published = None
+    if not study.quick:
+        ref = {c.case: c for c in cases_in_table("5")}
+        pick = {"f": ("1", "Ref", "2"), "p": ("Ref", "3", "4"), "rows": ("5", "6", "Ref"), "t": ("Ref", "7", "8"), "m": ("Ref", "9", "10")}
+        published = {
+            k: ([getattr(ref[n], "rows" if k == "rows" else k) for n in names], [ref[n].value("proposed").value for n in names])  # type: ignore[union-attr]
+            for k, names in pick.items()
+        }
+    figures.sensitivity(panels, out / "sensitivity.png", published)
+    t.note = f"Base wall: {', '.join(f'{k} = {v:.4g}' for k, v in base.items())}. Figure: `sensitivity.png`."
+    return t
+
+
+def speed_accuracy(study: Study, out: Path) -> Table:
+    """Each method, back end and block resolution against the finest micro reference."""
+    base = _base(study.quick)
+    resolutions = [3, 6, 9, 12] if study.quick else [12, 24, 36, 60]
+    solvers = ["highs", "clarabel", "cvxpy"] + (["highs-simplex"] if study.quick else [])
+    finest = WallSpec.from_paper(**{**base, "rows": resolutions[-1]}, name="finest")  # type: ignore[arg-type]
+    ref_rec = study.run(finest, study.reference)
+    lam_ref = ref_rec.load_factor
+    t = Table(
+        "speed_accuracy",
+        f"Speed against accuracy (reference: {study.reference.kind}, {resolutions[-1]} rows, λ = {lam_ref:.4f})",
+        ["method", "rows", "blocks", "seconds", "λ", "rel. error of λ"],
+        keys=2,
+    )
+    points: list[figures.SpeedPoint] = []
+
+    def add(label: str, family: str, rows: int, blocks: Any, seconds: float, lam: float) -> None:
+        err = abs(lam - lam_ref) / lam_ref if math.isfinite(lam) else float("nan")
+        t.add(label, rows, blocks, seconds, lam, err)
+        points.append(figures.SpeedPoint(f"{rows} rows" if family.startswith("micro") else label, family, seconds, err))
+
+    spec = WallSpec.from_paper(**base, name="macro")  # type: ignore[arg-type]
+    t0 = time.perf_counter()
+    n = 20
+    for _ in range(n):
+        r = macro.solve(spec.to_macro())
+    add("macro", "macro", base["rows"], None, (time.perf_counter() - t0) / n, r.load_factor)
+    for rows in resolutions:
+        spec = WallSpec.from_paper(**{**base, "rows": rows}, name=f"{rows} rows")  # type: ignore[arg-type]
+        for solver in solvers:
+            rec = study.run(spec, replace(MICRO_ASSOC, solver=solver))
+            add(f"micro-assoc {solver}", f"micro-assoc {solver}", rows, rec.get("blocks"), rec.seconds, rec.load_factor)
+        for m in study.methods[1:]:
+            rec = study.run(spec, m)
+            add(m.label, m.kind, rows, rec.get("blocks"), rec.seconds, rec.load_factor)
+    figures.speed_accuracy(points, f"{study.reference.kind}, {resolutions[-1]} rows", out / "speed_accuracy.png")
+    t.note = "Seconds: build and solve as run (first computation, not a cache read); figure: `speed_accuracy.png`."
+    return t
+
+
+def mechanisms(study: Study, out: Path) -> list[str]:
+    """One figure per case: the micro mechanism with the macro crack drawn over it."""
+    from micro.plot import draw_mechanism
+
+    plt = figures._plt()
+    names = []
+    for c in study.micro_cases():
+        spec = c.spec()
+        mech = study.runner.mechanism(spec, study.methods[0])
+        if mech is None:
             continue
-        sp = r.case.value("speranza")
-        assert sp is not None
-        c = r.case
-        alt = macro.solve(type(c.spec()).from_paper(t=c.t, m=0.5, rows=c.rows, f=c.f, p=c.p, storeys=c.storeys).to_macro())
-        body.append(
-            [c.label, f"{c.p:g}", f"{r.published():.2f}", f"{r.result.load_factor:.4f}", pct(r.result.load_factor, r.published()), f"{alt.load_factor:.4f}", f"{sp.value:.2f}", pct(r.result.load_factor, sp.value)]
-        )
-    return _table(["Set", "p", "λ paper", "λ ours (m = 1/3)", "Δ %", "λ ours with m = 1/2", "Speranza", "Δ % ours vs Speranza"], body)
+        wall = spec.to_micro()
+        r = study.macro_results[c.case]
+        fig, ax = plt.subplots(figsize=(7, 7 * min(1.4, max(0.4, wall.height / wall.length))), dpi=100)
+        draw_mechanism(ax, wall, mech["velocities"], fig=fig)
+        direction = str(mech["direction"])
+        _draw_macro_crack(ax, r, direction)
+        ax.set_title(f"{c.label}: micro λ = {study.run(spec, study.methods[0]).load_factor:.3f}, macro λ = {r.load_factor:.3f} (α_c = {r.alpha_c_deg:.1f}°)", fontsize=9)
+        ax.legend(fontsize=7, loc="upper right")
+        name = f"mechanism_{c.case.lower()}.png"
+        fig.savefig(out / name, bbox_inches="tight")
+        plt.close(fig)
+        names.append(name)
+    return names
 
+
+def _draw_macro_crack(ax: Any, r: macro.MacroResult, direction: str) -> None:
+    w = r.wall
+    k = r.hinge_storey
+    base = sum(w.rows[k:]) * w.block_height
+    height = sum(w.rows[:k]) * w.block_height
+    L, v = w.length, w.overlap
+    tau_star = r.tan_alpha_c - v / height
+    ys = [0.0, height]
+    lines = {
+        "macro crack through the hinge (α_c)": [0.0, r.tan_alpha_c * height],
+        "macro stepped crack (α_c*)": [v, v + tau_star * height],
+    }
+    for (label, xs), style in zip(lines.items(), ("--", "-"), strict=True):
+        xs_c = [min(x, L) for x in xs]
+        ys_c = [ys[0], ys[0] + (ys[1] - ys[0]) * (xs_c[1] - xs[0]) / (xs[1] - xs[0]) if xs[1] != xs[0] else ys[1]]
+        if direction == "+x":
+            xs_c = [L - x for x in xs_c]
+        ax.plot(xs_c, [base + y for y in ys_c], style, color="red", lw=1.5, label=label)
+
+
+def histories(study: Study, out: Path) -> Table | None:
+    """Convergence histories of the iterated LP (when the non-associative method exists)."""
+    if len(study.methods) < 2:
+        return None
+    m = study.methods[-1]
+    series: dict[str, list[float]] = {}
+    t = Table("histories", "Iterated LP: iterations and status", ["case", "status", "iterations", "λ", "band min", "band max"])
+    for c in study.micro_cases():
+        rec = study.run(c.spec(), m)
+        hist = rec.get("history_load_factor")
+        if hist:
+            series[c.label] = hist
+        band = rec.get("band") or [None, None]
+        t.add(c.label, rec.status, rec.get("iterations"), rec.load_factor, band[0], band[1])
+    if series:
+        figures.histories(series, out / "histories.png", "λ per iteration of the iterated LP")
+    t.note = "Figure: `histories.png`."
+    return t
+
+
+# ------------------------------------------------------------------ text
 
 DISCREPANCIES = """\
 * **Set 1 (f = 0.4).** Eq. (10)'s minimum is 0.519, as published, but it exceeds
@@ -144,74 +462,111 @@ DISCREPANCIES = """\
   of Table 6 (m = 1/3), not 0.47. With m = 1/2 it gives 0.467, 0.465, 0.465, i.e. the
   published 0.47 for all three sets: Table 9 was most likely computed with m = 1/2.
   We keep m = 1/3 as Table 6 states.
-* **α_c/α_b.** Ours uses the angles (α_c/α_b), as Eq. (8) does; the published ratios
-  agree within rounding.
 """
 
 
-def write_macro_report(out_dir: Path, quick: bool = False) -> Path:
-    """Write ``REPORT.md`` and the CSV/JSON of every number it shows."""
+def _findings(study: Study, tables: dict[str, Table]) -> str:
+    lines = []
+    sens = tables.get("sensitivity")
+    if sens is not None:
+        rows = [r for r in sens.rows if r[0] == "rows"]
+        if rows:
+            lo, hi = rows[0], rows[-1]
+            lines.append(
+                f"* **Number of rows.** From o = {lo[1]} to o = {hi[1]} the macro λ moves from {lo[2]:.3f} to {hi[2]:.3f}, "
+                f"the {study.methods[-1].kind} λ from {lo[-1]:.3f} to {hi[-1]:.3f}: the macro model, calibrated on 12-row walls, "
+                "does not see the loss of strength of walls made of smaller blocks, and is on the unsafe side there."
+            )
+    t7 = tables.get("table7")
+    if t7 is not None:
+        lines.append(
+            "* **Table 7.** The associative LP overestimates Orduña's non-associative values, as it must "
+            "(friction with dilatancy); the macro model sits close to the micro references on these 12-row walls."
+        )
+    return "\n".join(lines)
+
+
+# ------------------------------------------------------------------ entry
+
+
+def build_report(
+    out_dir: Path,
+    *,
+    quick: bool = False,
+    cache_dir: Path | None = Path(".xcheck-cache"),
+    progress: Callable[[str], None] | None = None,
+) -> Path:
+    """Compute everything and write ``REPORT.md``, CSVs, ``report.json`` and the figures.
+
+    Args:
+        out_dir: where to write.
+        quick: small walls only for the micro model.
+        cache_dir: the result cache (``None``: no cache).
+        progress: called with one line per computation.
+
+    Returns:
+        The path of ``REPORT.md``.
+    """
     start = time.perf_counter()
     out_dir.mkdir(parents=True, exist_ok=True)
-    rows = macro_rows()
-    set4 = next(r for r in rows if r.case.case == "4").result
-    records = []
-    for r in rows:
-        d = {
-            "case": r.case.case,
-            "tables": ",".join(r.case.tables),
-            "t": r.case.t,
-            "m": r.case.m,
-            "rows": r.case.rows,
-            "f": r.case.f,
-            "p": r.case.p,
-            "storeys": r.case.storeys,
-            "macro_load_factor": r.result.load_factor,
-            "macro_rocking_load_factor": r.result.rocking_load_factor,
-            "macro_sliding_load_factor": r.result.sliding_load_factor,
-            "macro_alpha_c_deg": r.result.alpha_c_deg,
-            "macro_alpha_ratio": r.result.alpha_ratio,
-            "macro_hinge_storey": r.result.hinge_storey,
-            "macro_mechanism": r.result.mechanism,
-            "macro_rocking_load_factor_p_storey": r.result_storey_p.rocking_load_factor,
-        }
-        for v in r.case.published:
-            d[f"published_{v.model}_{v.quantity}_table{v.table}"] = v.value
-        records.append(d)
-    keys = sorted({k for d in records for k in d}, key=lambda k: (not k.startswith(("case", "tables")), k))
-    with (out_dir / "macro_cases.csv").open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=keys)
-        w.writeheader()
-        w.writerows(records)
-    (out_dir / "macro_cases.json").write_text(json.dumps(records, indent=2))
+    study = Study(Runner(cache_dir, progress), quick, micro_methods())
+    study.macro_results = {c.case: macro.solve(c.spec().to_macro()) for c in CASES}
+    tables: dict[str, Table] = {}
+    for build in (table5, table7, bond_variants, table8, table9, all_cases, failure_modes):
+        tb = build(study)
+        tables[tb.name] = tb
+    tables["sensitivity"] = sensitivity(study, out_dir)
+    tables["speed_accuracy"] = speed_accuracy(study, out_dir)
+    hist = histories(study, out_dir)
+    if hist is not None:
+        tables["histories"] = hist
+    mech_figs = mechanisms(study, out_dir)
+
+    for tb in tables.values():
+        with (out_dir / f"{tb.name}.csv").open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(tb.header)
+            w.writerows([[_plain(c) for c in r] for r in tb.rows])
     elapsed = time.perf_counter() - start
-    text = f"""# Macro-block model against the paper
+    meta = {
+        "quick": quick,
+        "methods": [m.label for m in [MACRO, *study.methods]],
+        "python": platform.python_version(),
+        "machine": platform.machine(),
+        "cpus": os.cpu_count(),
+        "seconds": elapsed,
+        "computed": study.runner.computed,
+        "cached": study.runner.hits,
+    }
+    (out_dir / "report.json").write_text(
+        json.dumps({"meta": meta, "tables": {k: v.records() for k, v in tables.items()}}, indent=1, default=str)
+    )
+    figs = "\n".join(f"![{n}]({n})" for n in ["sensitivity.png", "speed_accuracy.png"] + (["histories.png"] if hist else []))
+    mech = " ".join(f"[{n}]({n})" for n in mech_figs)
+    order = ["table7", "bond_variants", "table8", "table9", "table5", "all_cases", "failure_modes", "sensitivity", "speed_accuracy", "histories"]
+    body = "\n\n".join(tables[k].markdown() for k in order if k in tables)
+    text = f"""# Macro-block against rigid-block limit analysis: validation report
 
-Argiento, Maione & Casapulla (2018), *Formulating the in-plane frictional
-resistances and collapse mechanisms for multi-storey masonry block walls*,
-Frattura ed Integrità Strutturale 46, 226-239: Eq. (10) minimised globally over
-the crack angle (every smooth piece between the kinks α_pi bracketed) and the
-hinge storey. Δ % is ours against the published value. Every number below is in
-`macro_cases.csv` / `macro_cases.json`.
+Argiento, Maione & Casapulla (2018), *Formulating the in-plane frictional resistances and
+collapse mechanisms for multi-storey masonry block walls*, Frattura ed Integrità Strutturale
+46, 226-239, recomputed. Methods: {", ".join(meta["methods"])}.
+{"**Quick run: the micro model on the small walls only.**" if quick else ""}
+Δ % is the first value against the second named. Every number shown is in `report.json`
+and in one CSV per table; `n/a` marks a wall the method cannot build or a failed solve.
 
-## Table 5: sensitivity analysis (three storeys, reference t = 1, m = 1/3, o = 60, p = 0, f = 0.6)
+## Findings
 
-{table5(rows)}
+{_findings(study, tables)}
 
-Set 4, λ for the hinge at storeys 1, 2, 3: paper {", ".join(f"{x:.3f}" for x in SET4_HINGE_LOAD_FACTORS)};
-ours {", ".join(f"{h.rocking_load_factor:.4f}" for h in set4.hinges)}.
+## Tables
 
-## Table 7: Orduña's micro-block model against the macro-block model (f = 0.75, one storey, o = 12)
+{body}
 
-{table7(rows)}
+## Figures
 
-## Table 8: other macro-block models against Orduña's micro-block model (published)
+{figs}
 
-{table8()}
-
-## Table 9: five-storey walls (t = 1, m = 1/3, o = 150, f = 0.75)
-
-{table9(rows)}
+Micro mechanisms with the macro crack drawn over them: {mech}
 
 ## Where the paper and the model differ
 
@@ -220,14 +575,15 @@ ours {", ".join(f"{h.rocking_load_factor:.4f}" for h in set4.hinges)}.
 
 {chr(10).join(f"* `{k}`: {v}" for k, v in MODELS.items())}
 
-## Machine
+## Machine and timings
 
-Python {platform.python_version()} on {platform.machine()} ({platform.system()}); all {len(rows)} cases
-solved twice (two readings of p) in {elapsed:.2f} s.
+Python {meta["python"]} on {meta["machine"]}, {meta["cpus"]} CPUs. This run: {elapsed:.1f} s,
+{meta["computed"]} computations, {meta["cached"]} read from the cache (`.xcheck-cache/`, keyed by the
+wall, the method and the source of the packages it runs).
 """
     path = out_dir / "REPORT.md"
     path.write_text(text)
     return path
 
 
-__all__ = ["case", "macro_rows", "table5", "table7", "table8", "table9", "write_macro_report"]
+__all__ = ["Study", "Table", "build_report", "case", "pct"]

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import enum
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -510,7 +511,10 @@ class CvxpyBackend:
         self.d.value = float(direction)
         t0 = time.perf_counter()
         try:
-            self.problem.solve(solver=self.solver, **self.options)
+            with warnings.catch_warnings():
+                # cvxpy warns "Solution may be inaccurate"; the status below says so
+                warnings.filterwarnings("ignore", message="Solution may be inaccurate")
+                self.problem.solve(solver=self.solver, **self.options)
         except cp.error.SolverError as exc:
             return _failed(Status.SOLVER_ERROR, f"SolverError: {exc}", time.perf_counter() - t0)
         secs = time.perf_counter() - t0

@@ -138,10 +138,15 @@ def test_console_script_no_traceback() -> None:
     assert "Traceback" not in p.stderr and p.stderr.count("\n") == 1 and "rows" in p.stderr
 
 
-def test_report_writes_tables(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, _ = run(capsys, "report", "--out", str(tmp_path), "--quick")
-    assert code == 0
+def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = run(capsys, "report", "--out", str(tmp_path), "--quick", "--cache", str(tmp_path / "cache"))
+    assert code == 0 and "REPORT.md" in out
+    assert "micro-assoc" in err  # progress lines
     text = (tmp_path / "REPORT.md").read_text()
-    for heading in ("Table 5", "Table 7", "Table 8", "Table 9", "Where the paper and the model differ"):
+    for heading in ("Table 5", "Table 7", "Table 8", "Table 9", "Failure modes", "Where the paper and the model differ"):
         assert heading in text
-    assert (tmp_path / "macro_cases.csv").read_text().count("\n") == 19
+    for name in ("table7.csv", "report.json", "sensitivity.png", "speed_accuracy.png", "mechanism_12.png"):
+        assert (tmp_path / name).stat().st_size > 0, name
+    # a second run reads everything from the cache
+    code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", "--cache", str(tmp_path / "cache"))
+    assert code == 0 and err == ""
