@@ -47,7 +47,8 @@ def speed_accuracy(points: Sequence[SpeedPoint], reference: str, path: Path) -> 
     ax.set_xlabel(f"|Δλ| / λ against {reference} (errors below {floor:g} drawn at {floor:g})")
     ax.set_ylabel("time [s]")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
@@ -73,7 +74,8 @@ def sensitivity(panels: Mapping[str, Mapping[str, tuple[Sequence[float], Sequenc
         ax.grid(True, alpha=0.3)
     for ax in axes.ravel()[n:]:
         ax.axis("off")
-    axes.ravel()[0].legend(fontsize=7)
+    if axes.ravel()[0].get_legend_handles_labels()[0]:
+        axes.ravel()[0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
@@ -90,7 +92,8 @@ def histories(series: Mapping[str, Sequence[float]], path: Path, title: str = ""
     ax.set_ylabel("λ")
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)

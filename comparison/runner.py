@@ -137,9 +137,17 @@ class Runner:
         progress: called with one line per computation (``None``: silent).
     """
 
-    def __init__(self, cache_dir: Path | None = Path(".xcheck-cache"), progress: Callable[[str], None] | None = None) -> None:
+    def __init__(
+        self,
+        cache_dir: Path | None = Path(".xcheck-cache"),
+        progress: Callable[[str], None] | None = None,
+        *,
+        plan_only: bool = False,
+    ) -> None:
         self.cache_dir = cache_dir
         self.progress = progress
+        self.plan_only = plan_only
+        self.planned: dict[Path, tuple[WallSpec, Method]] = {}
         self.computed = 0
         self.hits = 0
 
@@ -153,6 +161,10 @@ class Runner:
     def run(self, spec: WallSpec, method: Method) -> Record:
         """The record of ``method`` on ``spec``, from the cache when it is there."""
         path = self._path(spec, method)
+        if self.plan_only:
+            if path is not None and not path.exists():
+                self.planned.setdefault(path, (spec, method))
+            return Record(spec.name or "wall", method.label, float("nan"), "planned", 0.0)
         if path is not None and path.exists():
             d = json.loads(path.read_text())
             self.hits += 1
@@ -170,8 +182,28 @@ class Runner:
                 np.savez_compressed(path.with_suffix(".npz"), **mechanism)
         return record
 
+    def prefetch(self, items: list[tuple[WallSpec, Method]], workers: int) -> None:
+        """Compute the records of ``items`` missing from the cache in ``workers`` processes.
+
+        The largest walls go first, so that the processes finish together.
+        """
+        if self.cache_dir is None or not items:
+            return
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        order = sorted(items, key=lambda it: -sum(s.rows for s in it[0].storeys) * it[0].length / it[0].block_length)
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            futures = [pool.submit(_prefetch_one, self.cache_dir, spec, method) for spec, method in order]
+            for done, fut in enumerate(as_completed(futures), start=1):
+                line = fut.result()
+                self.computed += 1
+                if self.progress:
+                    self.progress(f"[{done}/{len(futures)}] {line}")
+
     def mechanism(self, spec: WallSpec, method: Method) -> dict[str, np.ndarray] | None:
         """The cached mechanism arrays of a micro record (``velocities``), if any."""
+        if self.plan_only:
+            return None
         path = self._path(spec, method)
         if path is None:
             _, mech = _compute(spec, method)
@@ -183,6 +215,12 @@ class Runner:
             return None
         with np.load(npz) as data:
             return {k: data[k] for k in data.files}
+
+
+def _prefetch_one(cache_dir: Path, spec: WallSpec, method: Method) -> str:
+    lines: list[str] = []
+    Runner(cache_dir, lines.append).run(spec, method)
+    return lines[0] if lines else f"{spec.name}: {method.label}: cached"
 
 
 def _nan(x: float | None) -> float:
