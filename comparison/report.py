@@ -237,7 +237,7 @@ def all_cases(study: Study) -> Table:
 
 
 def failure_modes(study: Study) -> Table:
-    ref = study.methods[0]
+    ref = study.reference
     t = Table(
         "failure_modes",
         f"Failure modes: macro crack and hinge against the {ref.kind} mechanism",
@@ -376,7 +376,7 @@ def mechanisms(study: Study, out: Path) -> list[str]:
     names = []
     for c in study.micro_cases():
         spec = c.spec()
-        mech = study.runner.mechanism(spec, study.methods[0])
+        mech = study.runner.mechanism(spec, study.reference)
         if mech is None:
             continue
         wall = spec.to_micro()
@@ -385,7 +385,7 @@ def mechanisms(study: Study, out: Path) -> list[str]:
         draw_mechanism(ax, wall, mech["velocities"], fig=fig)
         direction = str(mech["direction"])
         _draw_macro_crack(ax, r, direction)
-        ax.set_title(f"{c.label}: micro λ = {study.run(spec, study.methods[0]).load_factor:.3f}, macro λ = {r.load_factor:.3f} (α_c = {r.alpha_c_deg:.1f}°)", fontsize=9)
+        ax.set_title(f"{c.label}: {study.reference.kind} λ = {study.run(spec, study.reference).load_factor:.3f}, macro λ = {r.load_factor:.3f} (α_c = {r.alpha_c_deg:.1f}°)", fontsize=9)
         ax.legend(fontsize=7, loc="upper right")
         name = f"mechanism_{c.case.lower()}.png"
         fig.savefig(out / name, bbox_inches="tight")
