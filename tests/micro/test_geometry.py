@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import pytest
@@ -90,16 +89,15 @@ def test_paper_block_counts() -> None:
     assert WallSpec.from_paper(t=1, m=1 / 3, rows=60, f=0.6, storeys=3).to_micro().n_blocks == 1230
 
 
-def test_table9_wall_assembles_in_under_a_second() -> None:
+def test_table9_wall_assembles() -> None:
+    """Sizes of the 7,575-block wall (its build time is a benchmark: tests/benchmarks)."""
     from comparison.spec import WallSpec
 
-    spec = WallSpec.from_paper(t=1, m=1 / 3, rows=150, f=0.6, storeys=5)
-    t0 = time.perf_counter()
-    w = spec.to_micro()
+    w = WallSpec.from_paper(t=1, m=1 / 3, rows=150, f=0.6, storeys=5).to_micro()
     lp = micro.assemble(w)
-    assert time.perf_counter() - t0 < 1.0
     assert w.n_blocks == 7575
     assert lp.n_rows == 3 * 7575
+    assert lp.n_cols == 2 * lp.n_points + 1
 
 
 @pytest.mark.parametrize(
