@@ -284,7 +284,10 @@ def _compute(spec: WallSpec, method: Method) -> tuple[Record, dict[str, np.ndarr
             "message": res.message,
         }
         lam, status, direction = res.load_factor, res.status, res.direction
-        velocities = gov.mechanism.velocities if gov is not None and gov.mechanism is not None else None
+        velocities = None
+        if gov is not None and gov.mechanism is not None:
+            velocities = gov.mechanism.velocities
+            values["contact_states"] = gov.mechanism.state_counts()
     mech = None
     if velocities is not None and direction:
         from comparison.failure import failure_mode
