@@ -292,12 +292,29 @@ def _lambda(alpha: Array, pb: HingeProblems) -> Array:
     return load_factor(np.tan(alpha.reshape(P, -1)), pb).reshape(alpha.shape)
 
 
-def minimise(pb: HingeProblems, settings: SearchSettings = DEFAULT_SEARCH) -> tuple[Array, Array]:
-    """Global minimum of Eq. (10) over Eq. (11) for every problem of a batch.
+@dataclass(frozen=True)
+class PieceSamples:
+    """Round 0 of the search: every non-empty smooth piece of every problem sampled.
 
-    Returns:
-        ``(lambda_r, tau)`` at the minimum, shape ``(P,)``.
+    All arrays have one entry per piece. ``bound`` estimates from below the
+    minimum the refinement can reach (it searches the two cells around the
+    best sample): the best sample less half the second difference there, i.e.
+    four times the drop a quadratic of that curvature can hide between two
+    samples.
     """
+
+    owner: NDArray[np.int_]  # problem of each piece
+    start: Array  # piece ends (angles)
+    end: Array
+    best_a: Array  # best sample
+    best_l: Array
+    left: Array  # the two cells around the best sample
+    right: Array
+    bound: Array
+
+
+def sample_pieces(pb: HingeProblems, settings: SearchSettings = DEFAULT_SEARCH) -> PieceSamples:
+    """Cut every problem's interval of Eq. (11) at the kinks and sample each piece."""
     a_lo = np.arctan(pb.tau_low)  # (P, 1)
     a_hi = pb.alpha_b
     kinks = np.clip(np.where(np.isnan(pb.breakpoints), a_lo, np.arctan(pb.breakpoints)), a_lo, a_hi)
@@ -307,26 +324,70 @@ def minimise(pb: HingeProblems, settings: SearchSettings = DEFAULT_SEARCH) -> tu
     keep = edges[:, 1:] > edges[:, :-1]
     keep[:, 0] |= ~keep.any(axis=1)
     owner, piece = np.nonzero(keep)
-    best_l, best_a = _search_pieces(pb.select(owner), edges[owner, piece], edges[owner, piece + 1], settings)
-    lam = np.full(keep.shape, np.inf)
-    lam[owner, piece] = best_l
-    alpha = np.zeros(keep.shape)
-    alpha[owner, piece] = best_a
-    j = np.argmin(lam, axis=1)
-    rows = np.arange(pb.size)
-    return lam[rows, j], np.tan(alpha[rows, j])
-
-
-def _search_pieces(pb: HingeProblems, start: Array, end: Array, settings: SearchSettings) -> tuple[Array, Array]:
-    """Minimum of Eq. (10) of each problem over its angle interval ``[start, end]`` (shape ``(P,)``)."""
-    start, end = start[:, None], end[:, None]
+    start, end = edges[owner, piece][:, None], edges[owner, piece + 1][:, None]
     u = np.linspace(0.0, 1.0, settings.initial_points)
     alpha = start[..., None] + (end - start)[..., None] * u
-    lam = _lambda(alpha, pb)
-    j = np.argmin(lam, axis=2)[..., None]
-    best_a, best_l = np.take_along_axis(alpha, j, 2)[..., 0], np.take_along_axis(lam, j, 2)[..., 0]
+    lam = _lambda(alpha, pb.select(owner))[:, 0, :]
+    j = np.argmin(lam, axis=1)
+    q = np.arange(owner.size)
+    best_a, best_l = alpha[q, 0, j], lam[q, j]
+    start, end = start[:, 0], end[:, 0]
     cell = (end - start) / (settings.initial_points - 1)
-    left, right = np.maximum(best_a - cell, start), np.minimum(best_a + cell, end)
+    if lam.shape[1] > 2:  # second difference around the best sample: the refinement looks there only
+        c = np.clip(j, 1, lam.shape[1] - 2)
+        curvature = np.abs(lam[q, c - 1] - 2.0 * lam[q, c] + lam[q, c + 1])
+    else:
+        curvature = np.zeros(owner.size)
+    return PieceSamples(
+        owner=owner,
+        start=start,
+        end=end,
+        best_a=best_a,
+        best_l=best_l,
+        left=np.maximum(best_a - cell, start),
+        right=np.minimum(best_a + cell, end),
+        bound=best_l - 0.5 * curvature,
+    )
+
+
+def minimise(
+    pb: HingeProblems,
+    settings: SearchSettings = DEFAULT_SEARCH,
+    *,
+    samples: PieceSamples | None = None,
+    upper_bound: Array | None = None,
+) -> tuple[Array, Array]:
+    """Global minimum of Eq. (10) over Eq. (11) for every problem of a batch.
+
+    Args:
+        pb: the problems.
+        settings: the search.
+        samples: round 0 if already computed (:func:`sample_pieces`).
+        upper_bound: per problem, a value of Eq. (10) already reached (for
+            instance by another hinge of the same wall): pieces whose
+            ``bound`` lies above it are not refined, as they cannot hold the
+            minimum. ``None`` refines every piece.
+
+    Returns:
+        ``(lambda_r, tau)`` at the minimum, shape ``(P,)``; a problem none of
+        whose pieces was refined returns its best sample.
+    """
+    s = samples if samples is not None else sample_pieces(pb, settings)
+    lam, alpha = s.best_l.copy(), s.best_a.copy()
+    todo = np.ones(s.owner.size, dtype=bool) if upper_bound is None else s.bound <= upper_bound[s.owner]
+    if todo.any():
+        sub = pb.select(s.owner[todo])
+        lam[todo], alpha[todo] = _refine(sub, s.start[todo], s.end[todo], s.best_a[todo], s.best_l[todo], s.left[todo], s.right[todo], settings)
+    order = np.lexsort((lam, s.owner))
+    first = order[np.r_[True, s.owner[order][1:] != s.owner[order][:-1]]]
+    return lam[first], np.tan(alpha[first])
+
+
+def _refine(
+    pb: HingeProblems, start: Array, end: Array, best_a: Array, best_l: Array, left: Array, right: Array, settings: SearchSettings
+) -> tuple[Array, Array]:
+    """Refine each piece's best sample within its two neighbouring cells (shape ``(Q,)``)."""
+    start, end, best_a, best_l, left, right = (x[:, None] for x in (start, end, best_a, best_l, left, right))
     if settings.method == "zoom":
         w = np.linspace(0.0, 1.0, settings.zoom_points)
         for _ in range(settings.rounds):

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from macro.model import SearchSettings, evaluate, hinge_problems, minimise
+from macro.model import SearchSettings, evaluate, hinge_problems, minimise, sample_pieces
 
 #: Search used by :func:`sweep`: coarser than the scalar default, still
 #: below 1e-9 relative error in the load factor on the paper's walls.
@@ -95,6 +95,7 @@ def sweep(
         lam = np.empty((N, n_w))
         tau = np.empty((N, n_w))
         lam_s = np.empty((N, n_w))
+        problems, samples = [], []
         for k in range(1, N + 1):  # the hinge storey; storeys below it drop out
             pb = hinge_problems(
                 length=o[sl] / t[sl],
@@ -107,8 +108,16 @@ def sweep(
                 overload=np.repeat(q[:, None], k, axis=1),
                 hinge=np.full(n_w, k),
             )
-            lam[k - 1], tau[k - 1] = minimise(pb, settings)
-            lam_s[k - 1] = evaluate(tau[k - 1][:, None], pb)["lambda_s"][:, 0]
+            problems.append(pb)
+            samples.append(sample_pieces(pb, settings))
+        # the best sample of any hinge bounds the wall's minimum from above:
+        # pieces (and whole hinges) that cannot go below it are not refined
+        best = np.full(n_w, np.inf)
+        for sm in samples:
+            np.minimum.at(best, sm.owner, sm.best_l)
+        for k, (pb, sm) in enumerate(zip(problems, samples, strict=True)):
+            lam[k], tau[k] = minimise(pb, settings, samples=sm, upper_bound=best)
+            lam_s[k] = evaluate(tau[k][:, None], pb)["lambda_s"][:, 0]
         best = np.argmin(lam, axis=0)
         r = np.arange(n_w)
         out["lam"][sl] = lam[best, r]
