@@ -83,7 +83,7 @@ STATUSES = (CONVERGED, CYCLING, MAX_ITERATIONS, SOLVER_FAILURE)
 #: Published rebuilt yield conditions implemented here.
 SCHEMES = ("a", "b")
 #: Default relaxation ``beta`` per scheme (``n̄ = beta n_k + (1 - beta) n_(k-1)``).
-DEFAULT_RELAXATION = {"a": 1.0, "b": 0.6}
+DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 
 _DIR_NAME = {1: "+x", -1: "-x"}
 
@@ -159,6 +159,8 @@ class NonAssocDirection:
         mechanism: the final LP's mechanism, or ``None``.
         seconds: wall time of the whole sequence incl. the cold check.
         message: a one-line explanation.
+        cold_algorithm: ``"ipm"`` or ``"simplex"`` (when IPX gave up).
+        fallback_steps: scheme (b) LPs replaced by a scheme (a) step.
     """
 
     direction: str
@@ -181,6 +183,8 @@ class NonAssocDirection:
     mechanism: Mechanism | None = field(repr=False)
     seconds: float
     message: str = ""
+    cold_algorithm: str = ""
+    fallback_steps: int = 0
 
     @property
     def converged(self) -> bool:
@@ -282,6 +286,8 @@ class NonAssociativeResult:
             "coulomb_residual": num(self.coulomb_residual),
             "dilatancy_residual": num(self.dilatancy_residual),
             "stop_reason": g.stop_reason,
+            "cold_algorithm": g.cold_algorithm,
+            "fallback_steps": g.fallback_steps,
             "blocks": self.blocks,
             "contacts": self.contacts,
             "points": self.points,
@@ -323,6 +329,7 @@ def solve_nonassociative(
     coulomb_tol: float = 1e-6,
     window: int = 10,
     directions: Literal["auto", "both", "+x", "-x"] = "auto",
+    start: Literal["interior", "vertex"] = "interior",
     cold_check: bool = True,
     cold_tol: float = 1e-6,
     time_limit: float | None = None,
@@ -346,6 +353,16 @@ def solve_nonassociative(
         window: iterations per window of the oscillation / stagnation tests.
         directions: ``"auto"`` (both unless mirror-symmetric), ``"both"``,
             ``"+x"`` or ``"-x"``.
+        start: how the associative LP (iterate 0, which gives the first
+            ``nbar``) is solved: ``"interior"`` (default; interior point
+            without crossover: the centre of the optimal face, ~2 s on 1,230
+            blocks; the first non-associative LP is then solved by IPM +
+            crossover) or ``"vertex"`` (IPM + crossover + dual simplex: a
+            basic optimal solution as a simplex code returns, whose basis
+            warm-starts the first non-associative LP; that warm start took
+            13,000 simplex iterations / 5 s on 1,230 blocks). The
+            non-associative solution is not unique and the two starts can
+            end at different load factors (~1-2 %).
         cold_check: re-solve the final iterate cold and compare.
         cold_tol: relative warm/cold difference beyond which the result is a
             ``solver_failure``.
@@ -381,6 +398,8 @@ def solve_nonassociative(
         raise ValueError(f"window must be an integer >= 3, got {window!r}")
     if directions not in ("auto", "both", "+x", "-x"):
         raise ValueError(f"directions must be 'auto', 'both', '+x' or '-x', got {directions!r}")
+    if start not in ("interior", "vertex"):
+        raise ValueError(f"start must be 'interior' or 'vertex', got {start!r}")
     if time_limit is not None and (not math.isfinite(time_limit) or time_limit <= 0):
         raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit!r}")
 
@@ -397,7 +416,7 @@ def solve_nonassociative(
     opts = dict(scheme=scheme, relaxation=beta, alpha0=float(alpha0), alpha_min=float(alpha_min),
                 alpha_factor=float(alpha_factor), cohesion=float(cohesion), max_iterations=max_iterations,
                 lambda_tol=float(lambda_tol), force_tol=float(force_tol), coulomb_tol=float(coulomb_tol),
-                window=window, cold_check=cold_check, cold_tol=float(cold_tol), time_limit=time_limit)
+                window=window, start=start, cold_check=cold_check, cold_tol=float(cold_tol), time_limit=time_limit)
     results = tuple(_Sequence(lp, d, opts).run() for d in dirs)
     solve_secs = time.perf_counter() - t0 - build
     failing = [r for r in results if not r.converged]
@@ -435,6 +454,9 @@ class _Sequence:
         self.history: list[IterationRecord] = []
         self.fallbacks = 0
         self.c0 = 0.0
+        self.cold_algorithm = ""
+        self.good_basis: Any = None
+        self.in_fallback = False
 
     # ---------------------------------------------------------------- model
     def _build(self) -> HighsBackend:
@@ -477,6 +499,9 @@ class _Sequence:
         if self.o["scheme"] == "a":
             be.set_col_bounds(self.s_cols, -mu * nbar, mu * nbar)
         else:
+            if self.in_fallback:
+                be.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
+                self.in_fallback = False
             if alpha != alpha_prev:
                 rows = self.f_rows
                 cols = np.repeat(self.n_cols, 2)
@@ -503,13 +528,13 @@ class _Sequence:
     def _fallback_a_step(self, be: HighsBackend, nbar: FloatArray) -> dict[str, Any]:
         """One LP of scheme (a) inside the scheme (b) model: friction rows
         switched off (infinite bounds), ``|s| <= mu nbar`` as ``s`` bounds;
-        restored afterwards. Bound changes only."""
+        restored by the next :meth:`_set_capacity`. Bound changes only."""
         P, mu = self.P, self.lp.mu
         nbar = np.maximum(nbar, 0.0)
         be.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.full(2 * P, np.inf))
         be.set_col_bounds(self.s_cols, -mu * nbar, mu * nbar)
         raw = be.run_raw()
-        be.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
+        self.in_fallback = True  # the model now holds a scheme (a) LP (for the cold check)
         return raw
 
     # ------------------------------------------------------------------ run
@@ -517,10 +542,24 @@ class _Sequence:
         t_start = time.perf_counter()
         lp, P, o = self.lp, self.P, self.o
         be = self._build()
-        # ---- iterate 0: the associative LP (IPM, no crossover)
-        raw = be.run_raw()
+        # ---- iterate 0: the associative LP. "interior": IPM without
+        # crossover (the centre of the optimal face); "vertex": IPM +
+        # crossover + dual simplex clean-up (a basic optimal solution, as a
+        # simplex code would return)
+        vertex = o["start"] == "vertex"
+        algo0 = "ipm+crossover+simplex" if vertex else "ipm"
+        if vertex:
+            be.set_algorithm("ipm", crossover=True)
+            first = be.run_raw()
+            be.set_algorithm("simplex")
+            raw = be.run_raw()
+            raw["seconds"] += first["seconds"]
+            raw["ipm_iterations"] = first["ipm_iterations"]
+            raw["simplex_iterations"] += first["simplex_iterations"] + first["crossover_iterations"]
+        else:
+            raw = be.run_raw()
         if raw["status"] is not Status.OPTIMAL:
-            self._record(0, float("nan"), float("nan"), float("nan"), float("nan"), 0.0, raw, "ipm")
+            self._record(0, float("nan"), float("nan"), float("nan"), float("nan"), 0.0, raw, algo0)
             return self._fail("associative_failed", f"the associative LP failed ({raw['native_status']})",
                               t_start, float("nan"))
         x = raw["x"]
@@ -528,7 +567,7 @@ class _Sequence:
         n0, s0 = self._forces(x)
         # scheme (b)'s cohesion, relative to the largest associative normal force
         self.c0 = o["cohesion"] * max(float(np.max(n0, initial=0.0)), 1e-12)
-        self._record(0, lam_assoc, float("nan"), float("nan"), self._coulomb(n0, s0), 0.0, raw, "ipm")
+        self._record(0, lam_assoc, float("nan"), float("nan"), self._coulomb(n0, s0), 0.0, raw, algo0)
         if lam_assoc < 0:
             return self._fail("associative_failed", "equilibrium needs a live load in the opposite direction",
                               t_start, lam_assoc)
@@ -539,7 +578,10 @@ class _Sequence:
             be.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
         alpha = o["alpha0"] if o["scheme"] == "b" else 0.0
         self._set_capacity(be, n0, alpha, o["alpha0"])
-        be.set_algorithm("ipm", crossover=True)
+        if not vertex:
+            be.set_algorithm("ipm", crossover=True)
+        user_limit = float(o["time_limit"]) if o["time_limit"] is not None else float("inf")
+        warm_limit = user_limit
         lams: list[float] = []
         dns: list[float] = []
         n_prev, n_prev2 = n0, n0
@@ -555,9 +597,12 @@ class _Sequence:
                 self._set_capacity(be, nbar, new_alpha, alpha)
                 alpha = new_alpha
             t_upd = time.perf_counter() - t_it
+            if k > 1:
+                be.highs.setOptionValue("time_limit", warm_limit)
             raw = be.run_raw()
+            be.highs.setOptionValue("time_limit", user_limit)
             algo = "simplex-warm"
-            if k == 1:
+            if k == 1 and not vertex:
                 # crossover basis -> dual simplex clean-up (crossover alone is not accurate)
                 be.set_algorithm("simplex")
                 ipm_raw = raw
@@ -566,12 +611,15 @@ class _Sequence:
                 raw["seconds"] += ipm_raw["seconds"]
                 raw["simplex_iterations"] += ipm_raw["simplex_iterations"] + ipm_raw["crossover_iterations"]
                 algo = "ipm+crossover+simplex"
+            spent = 0.0 if raw["status"] is Status.OPTIMAL else raw["seconds"]
             if raw["status"] is not Status.OPTIMAL and k > 1 and o["scheme"] == "b":
                 # scheme (b) caps every point at n <= nbar (1 + alpha) / alpha
                 # + c0 / (alpha mu): with nbar ~ 0 the support pattern can only
                 # shrink until no equilibrium is left (HiGHS says "Infeasible",
                 # or "Unknown" when it is nearly so). Fall back to one step of
                 # scheme (a) from the last forces (bounds only), then go on with (b).
+                if self.good_basis is not None:
+                    be.highs.setBasis(self.good_basis)  # the failed run's basis may be garbage
                 raw = self._fallback_a_step(be, n_prev)
                 algo = "fallback-a"
                 self.fallbacks += 1
@@ -586,13 +634,19 @@ class _Sequence:
                 # rows): restart cold by interior point + crossover, then clean up
                 raw = self._restart(be)
                 algo = "ipm-restart"
-            raw["seconds"] += t_upd
+            raw["seconds"] += t_upd + spent
             if raw["status"] is not Status.OPTIMAL:
                 self._record(k, float("nan"), float("nan"), float("nan"), float("nan"), alpha, raw, algo)
                 stop = "lp_failed"
                 break
             x = raw["x"]
             last_raw = raw
+            if k == 1:
+                # a warm run that takes 10x the first (cold) one is stuck (seen:
+                # 13 s to declare a 150-block LP infeasible): stop it and recover
+                warm_limit = min(user_limit, max(1.0, 10.0 * raw["seconds"]))
+            if o["scheme"] == "b":
+                self.good_basis = be.highs.getBasis()
             lam = float(x[lp.lam_col]) * self.d
             n, s = self._forces(x)
             nscale = max(float(np.max(n, initial=0.0)), 1e-12)
@@ -671,6 +725,12 @@ class _Sequence:
         if o["cold_check"]:
             cb = be.cold_copy("ipm")
             craw = cb.run_raw()
+            self.cold_algorithm = "ipm"
+            if craw["status"] is not Status.OPTIMAL:
+                # IPX gave up (seen on scheme (b)'s near-degenerate rows): dual simplex, no basis
+                cb = be.cold_copy("simplex")
+                craw = cb.run_raw()
+                self.cold_algorithm = "simplex"
             if craw["status"] is Status.OPTIMAL:
                 cold = float(craw["x"][lp.lam_col]) * self.d
                 rel = abs(cold - lam) / max(abs(cold), 1e-12)
@@ -693,7 +753,7 @@ class _Sequence:
         return NonAssocDirection(
             _DIR_NAME[self.d], status, stop, lam_out, lam, None if status == CONVERGED else band, lam_assoc,
             len(self.history) - 1, tuple(self.history), cold, rel, coul, dil, eq_res, int(sliding.sum()),
-            n * fs, s * fs, mech, time.perf_counter() - t_start, msg,
+            n * fs, s * fs, mech, time.perf_counter() - t_start, msg, self.cold_algorithm, self.fallbacks,
         )
 
 
