@@ -708,7 +708,7 @@ class _Sequence:
             MAX_ITERATIONS if stop == "max_iterations" else CYCLING)
         # ---- final-state checks
         coul = self._coulomb(n, s)
-        eq = lp.Bn @ n + lp.Bs @ s + lam * lp.live - lp.rhs
+        eq = lp.Bn @ n + lp.Bs @ s + (lam * self.d) * lp.live - lp.rhs  # the LP column holds d * lambda
         eq_res = float(np.max(np.abs(eq), initial=0.0))
         v = be.dual_sign * row_dual[: lp.n_eq]
         mech = mechanism_from_duals(lp, v, self.d)
