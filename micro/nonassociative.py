@@ -105,6 +105,12 @@ class IterationRecord:
         algorithm: ``"ipm"``, ``"ipm+crossover+simplex"`` or ``"simplex-warm"``
             (``"simplex-cold"`` after a failed warm run).
         status: the LP's status (:class:`micro.solvers.Status` value).
+        certificate: ``""`` (not tried), ``"not found"`` (no Coulomb-
+            admissible optimal field at this iterate, or the try hit its
+            time limit) or ``"certified"``
+            (see :meth:`_Sequence._certify`); ``coulomb_residual`` is then
+            that of the certified field.
+        certificate_seconds, certificate_simplex_iterations: cost of the try.
     """
 
     iteration: int
@@ -118,6 +124,9 @@ class IterationRecord:
     seconds: float
     algorithm: str
     status: str
+    certificate: str = ""
+    certificate_seconds: float = 0.0
+    certificate_simplex_iterations: int = 0
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready (NaN -> None)."""
@@ -330,6 +339,7 @@ def solve_nonassociative(
     window: int = 10,
     directions: Literal["auto", "both", "+x", "-x"] = "auto",
     start: Literal["interior", "vertex"] = "interior",
+    certify: bool = True,
     cold_check: bool = True,
     cold_tol: float = 1e-6,
     time_limit: float | None = None,
@@ -363,6 +373,13 @@ def solve_nonassociative(
             13,000 simplex iterations / 5 s on 1,230 blocks). The
             non-associative solution is not unique and the two starts can
             end at different load factors (~1-2 %).
+        certify: when a scheme (a) sequence stops without converging
+            (cycling, max_iterations), look for another optimal force field
+            of its last LP that satisfies Coulomb with its own normal forces
+            and so closes the non-associative problem exactly at that
+            iterate (``stop_reason="certified"``; see ``_Sequence._certify``).
+            One extra LP (time-limited), at the end only, so the sequence
+            itself is the same with or without it.
         cold_check: re-solve the final iterate cold and compare.
         cold_tol: relative warm/cold difference beyond which the result is a
             ``solver_failure``.
@@ -416,7 +433,7 @@ def solve_nonassociative(
     opts = dict(scheme=scheme, relaxation=beta, alpha0=float(alpha0), alpha_min=float(alpha_min),
                 alpha_factor=float(alpha_factor), cohesion=float(cohesion), max_iterations=max_iterations,
                 lambda_tol=float(lambda_tol), force_tol=float(force_tol), coulomb_tol=float(coulomb_tol),
-                window=window, start=start, cold_check=cold_check, cold_tol=float(cold_tol), time_limit=time_limit)
+                window=window, start=start, certify=bool(certify), cold_check=cold_check, cold_tol=float(cold_tol), time_limit=time_limit)
     results = tuple(_Sequence(lp, d, opts).run() for d in dirs)
     solve_secs = time.perf_counter() - t0 - build
     failing = [r for r in results if not r.converged]
@@ -457,6 +474,7 @@ class _Sequence:
         self.cold_algorithm = ""
         self.good_basis: Any = None
         self.in_fallback = False
+        self.certificate_attempt: dict[str, Any] | None = None
 
     # ---------------------------------------------------------------- model
     def _build(self) -> HighsBackend:
@@ -509,6 +527,65 @@ class _Sequence:
             rhs = self.c0 + (1.0 + alpha) * mu * nbar
             be.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.repeat(rhs, 2))
         del lp
+
+    def _certify(self, be: HighsBackend, raw: dict[str, Any], n_cap: FloatArray, lam: float, *,
+                 time_limit: float) -> tuple[FloatArray, FloatArray, dict[str, Any]] | None:
+        """Look for an exact non-associative collapse state at this iterate.
+
+        The LP just solved (capacities ``|s| <= mu nbar``) has many optimal
+        force fields. Among them, find one with ``|s| <= mu n`` at every point
+        (Coulomb with its own normal forces) and ``n <= nbar`` at the points
+        that slide in this LP's mechanism: ``lambda`` fixed (column bounds),
+        the ``2P`` rows ``+-s - mu n <= 0`` added, ``n`` capped at the sliding
+        points. Any such field is optimal for the LP, so by complementary
+        slackness it forms with the LP's mechanism (its duals) a complete
+        non-associative solution: equilibrium, Coulomb everywhere, slip only
+        where ``|s| = mu n`` (``n = nbar`` there), no dilatancy at compressed
+        points, opening only where ``n = 0``. The model and basis are
+        restored afterwards (rows deleted, bounds reset, basis set back).
+
+        Returns:
+            ``(n, s, raw)`` of the certified field, or ``None`` (infeasible).
+        """
+        lp, P, mu, d = self.lp, self.P, self.lp.mu, self.d
+        h = be.highs
+        basis = h.getBasis()
+        v = be.dual_sign * raw["row_dual"][: lp.n_eq]
+        ds = lp.Bs.T @ v
+        dn = lp.Bn.T @ v
+        scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)))
+        sliding = np.flatnonzero(np.abs(ds) > STATE_TOL * scale)
+        lam_raw = lam * d
+        delta = 1e-9 * max(1.0, abs(lam_raw))
+        nrow0 = h.getNumRow()
+        rows = np.repeat(np.arange(2 * P), 2)
+        cols = np.empty(4 * P, dtype=np.int64)
+        vals = np.empty(4 * P)
+        cols[0::4] = self.s_cols
+        cols[1::4] = self.n_cols
+        cols[2::4] = self.s_cols
+        cols[3::4] = self.n_cols
+        vals[0::4] = 1.0
+        vals[1::4] = -mu
+        vals[2::4] = -1.0
+        vals[3::4] = -mu
+        R = sp.csr_matrix((vals, (rows, cols)), shape=(2 * P, self.nc0 + 2 * P))
+        be.add_rows(R, np.full(2 * P, -np.inf), np.zeros(2 * P))
+        be.set_col_bounds(np.array([lp.lam_col]), np.array([lam_raw - delta]), np.array([lam_raw + delta]))
+        be.set_col_bounds(self.n_cols[sliding], np.zeros(sliding.size), n_cap[sliding])
+        h.setOptionValue("time_limit", float(time_limit))
+        c_raw = be.run_raw()
+        h.setOptionValue("time_limit", float(self.o["time_limit"]) if self.o["time_limit"] else float("inf"))
+        self.certificate_attempt = c_raw
+        out = None
+        if c_raw["status"] is Status.OPTIMAL:
+            n_c, s_c = self._forces(c_raw["x"])
+            out = (n_c, s_c, c_raw)
+        h.deleteRows(2 * P, np.arange(nrow0, nrow0 + 2 * P, dtype=np.int32))
+        be.set_col_bounds(np.array([lp.lam_col]), np.array([-np.inf]), np.array([np.inf]))
+        be.set_col_bounds(self.n_cols[sliding], np.zeros(sliding.size), np.full(sliding.size, np.inf))
+        h.setBasis(basis)
+        return out
 
     def _restart(self, be: HighsBackend) -> dict[str, Any]:
         """Solve the current model from scratch: IPM + crossover, then dual
@@ -578,6 +655,7 @@ class _Sequence:
             be.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
         alpha = o["alpha0"] if o["scheme"] == "b" else 0.0
         self._set_capacity(be, n0, alpha, o["alpha0"])
+        n_cap = np.maximum(n0, 0.0)  # the nbar of the current LP
         if not vertex:
             be.set_algorithm("ipm", crossover=True)
         user_limit = float(o["time_limit"]) if o["time_limit"] is not None else float("inf")
@@ -593,6 +671,7 @@ class _Sequence:
             t_it = time.perf_counter()
             if k > 1:
                 nbar = o["relaxation"] * n_prev + (1.0 - o["relaxation"]) * n_prev2
+                n_cap = np.maximum(nbar, 0.0)
                 new_alpha = max(o["alpha_min"], alpha * o["alpha_factor"]) if o["scheme"] == "b" else 0.0
                 self._set_capacity(be, nbar, new_alpha, alpha)
                 alpha = new_alpha
@@ -621,12 +700,14 @@ class _Sequence:
                 if self.good_basis is not None:
                     be.highs.setBasis(self.good_basis)  # the failed run's basis may be garbage
                 raw = self._fallback_a_step(be, n_prev)
+                n_cap = np.maximum(n_prev, 0.0)
                 algo = "fallback-a"
                 self.fallbacks += 1
             elif raw["status"] is Status.INFEASIBLE and k > 1 and o["relaxation"] < 1.0:
                 # the relaxed capacities admit no equilibrium: rebuild this
                 # iterate from the last forces alone (no relaxation)
                 self._set_capacity(be, n_prev, alpha, alpha)
+                n_cap = np.maximum(n_prev, 0.0)
                 raw = be.run_raw()
                 algo = "simplex-warm-unrelaxed"
             if raw["status"] is not Status.OPTIMAL:
@@ -661,13 +742,11 @@ class _Sequence:
             lam_prev = lam
             self._final = (x, raw["row_dual"], n, s, lam)
             alpha_done = o["scheme"] == "a" or alpha <= o["alpha_min"]
-            if k >= 2 and alpha_done and dlam <= o["lambda_tol"]:
-                if dn <= o["force_tol"]:
-                    stop = "lambda_and_forces"
-                    break
-                if coul <= o["coulomb_tol"]:
-                    stop = "lambda_and_coulomb"
-                    break
+            coul_tol = o["coulomb_tol"] + (self.c0 / nscale if o["scheme"] == "b" else 0.0)
+            if k >= 2 and alpha_done and dlam <= o["lambda_tol"] and coul <= coul_tol:
+                stop = "lambda_and_forces" if dn <= o["force_tol"] else "lambda_and_coulomb"
+                break
+            self._last_lp = (raw, n_cap, lam, algo)
             if alpha_done:
                 cyc = _detect_cycle(lams, dns, o["lambda_tol"], o["window"])
                 if cyc is not None:
@@ -677,6 +756,19 @@ class _Sequence:
             stop = "max_iterations"
             w = lams[-o["window"]:]
             band = (min(w), max(w)) if w else None
+        if (stop not in ("lp_failed", "lambda_and_forces", "lambda_and_coulomb") and last_raw is not None
+                and o["certify"] and (o["scheme"] == "a" or self._last_lp[3] == "fallback-a")):
+            # the sequence did not settle: is its last iterate an exact solution anyway?
+            raw_k, n_cap_k, lam_k, _ = self._last_lp
+            typical = float(np.median([r.seconds for r in self.history[1:]]))
+            cert = self._certify(be, raw_k, n_cap_k, lam_k, time_limit=min(user_limit, max(2.0, 5.0 * typical)))
+            if cert is not None:
+                n_c, s_c, c_raw = cert
+                self.history[-1] = _with_certificate(self.history[-1], c_raw, self._coulomb(n_c, s_c))
+                self._final = (self._final[0], self._final[1], n_c, s_c, lam_k)
+                stop, band = "certified", None
+            else:
+                self.history[-1] = _with_certificate(self.history[-1], None, float("nan"))
         if stop == "lp_failed" or last_raw is None:
             return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold "
                               f"({raw['native_status']})", t_start, lam_assoc, band)
@@ -704,7 +796,7 @@ class _Sequence:
                 t_start: float) -> NonAssocDirection:
         lp, o = self.lp, self.o
         x, row_dual, n, s, lam = self._final
-        status = CONVERGED if stop in ("lambda_and_forces", "lambda_and_coulomb") else (
+        status = CONVERGED if stop in ("lambda_and_forces", "lambda_and_coulomb", "certified") else (
             MAX_ITERATIONS if stop == "max_iterations" else CYCLING)
         # ---- final-state checks
         coul = self._coulomb(n, s)
@@ -755,6 +847,19 @@ class _Sequence:
             len(self.history) - 1, tuple(self.history), cold, rel, coul, dil, eq_res, int(sliding.sum()),
             n * fs, s * fs, mech, time.perf_counter() - t_start, msg, self.cold_algorithm, self.fallbacks,
         )
+
+
+def _with_certificate(rec: IterationRecord, c_raw: dict[str, Any] | None, coulomb: float) -> IterationRecord:
+    """The record with the certificate attempt added (its LP's time and iterations)."""
+    import dataclasses
+
+    if c_raw is None:
+        return dataclasses.replace(rec, certificate="not found")
+    return dataclasses.replace(
+        rec, certificate="certified" if c_raw["status"] is Status.OPTIMAL else "failed",
+        certificate_seconds=float(c_raw["seconds"]), certificate_simplex_iterations=int(c_raw["simplex_iterations"]),
+        coulomb_residual=coulomb if math.isfinite(coulomb) else rec.coulomb_residual,
+    )
 
 
 def _detect_cycle(lams: list[float], dns: list[float], tol: float,
