@@ -144,8 +144,9 @@ class NonAssocDirection:
         direction: ``"+x"`` or ``"-x"``.
         status: one of :data:`STATUSES`.
         stop_reason: what stopped the sequence (``"lambda_and_forces"``,
-            ``"lambda_and_coulomb"``, ``"repeating"``, ``"oscillating"``,
-            ``"stagnation"``, ``"max_iterations"``, ``"lp_failed"``,
+            ``"lambda_and_coulomb"``, ``"certified"``, ``"repeating"``,
+            ``"oscillating"``, ``"stagnation"``, ``"max_iterations"``,
+            ``"time_budget"``, ``"lp_failed"``,
             ``"cold_check_failed"``, ``"associative_failed"``).
         load_factor: ``lambda`` (NaN unless converged).
         last_load_factor: ``lambda`` of the last successful iterate.
@@ -333,6 +334,7 @@ def solve_nonassociative(
     alpha_factor: float = 0.5,
     cohesion: float = 1e-6,
     max_iterations: int = 100,
+    max_seconds: float | None = None,
     lambda_tol: float = 1e-6,
     force_tol: float = 1e-6,
     coulomb_tol: float = 1e-6,
@@ -356,6 +358,9 @@ def solve_nonassociative(
             of the associative solution (scale-free; default one millionth
             of the force level).
         max_iterations: cap on non-associative LPs per direction.
+        max_seconds: wall-time budget per direction (``None``: none); when
+            spent the sequence stops with status ``max_iterations``
+            (``stop_reason="time_budget"``).
         lambda_tol: relative change of ``lambda`` for convergence.
         force_tol: largest change of the normal forces, relative to the
             largest normal force, for convergence.
@@ -415,6 +420,9 @@ def solve_nonassociative(
         raise ValueError(f"window must be an integer >= 3, got {window!r}")
     if directions not in ("auto", "both", "+x", "-x"):
         raise ValueError(f"directions must be 'auto', 'both', '+x' or '-x', got {directions!r}")
+    if max_seconds is not None and (isinstance(max_seconds, bool) or not isinstance(max_seconds, (int, float))
+                                    or not math.isfinite(max_seconds) or max_seconds <= 0):
+        raise ValueError(f"max_seconds must be a positive number of seconds, got {max_seconds!r}")
     if start not in ("interior", "vertex"):
         raise ValueError(f"start must be 'interior' or 'vertex', got {start!r}")
     if time_limit is not None and (not math.isfinite(time_limit) or time_limit <= 0):
@@ -432,6 +440,7 @@ def solve_nonassociative(
         dirs = (1,) if directions == "+x" else (-1,)
     opts = dict(scheme=scheme, relaxation=beta, alpha0=float(alpha0), alpha_min=float(alpha_min),
                 alpha_factor=float(alpha_factor), cohesion=float(cohesion), max_iterations=max_iterations,
+                max_seconds=None if max_seconds is None else float(max_seconds),
                 lambda_tol=float(lambda_tol), force_tol=float(force_tol), coulomb_tol=float(coulomb_tol),
                 window=window, start=start, certify=bool(certify), cold_check=cold_check, cold_tol=float(cold_tol), time_limit=time_limit)
     results = tuple(_Sequence(lp, d, opts).run() for d in dirs)
@@ -752,6 +761,11 @@ class _Sequence:
                 if cyc is not None:
                     stop, band = cyc
                     break
+            if o["max_seconds"] is not None and time.perf_counter() - t_start > o["max_seconds"]:
+                stop = "time_budget"
+                w = lams[-o["window"]:]
+                band = (min(w), max(w))
+                break
         else:
             stop = "max_iterations"
             w = lams[-o["window"]:]
@@ -797,7 +811,7 @@ class _Sequence:
         lp, o = self.lp, self.o
         x, row_dual, n, s, lam = self._final
         status = CONVERGED if stop in ("lambda_and_forces", "lambda_and_coulomb", "certified") else (
-            MAX_ITERATIONS if stop == "max_iterations" else CYCLING)
+            MAX_ITERATIONS if stop in ("max_iterations", "time_budget") else CYCLING)
         # ---- final-state checks
         coul = self._coulomb(n, s)
         eq = lp.Bn @ n + lp.Bs @ s + (lam * self.d) * lp.live - lp.rhs  # the LP column holds d * lambda
@@ -838,7 +852,8 @@ class _Sequence:
             msg = {
                 CONVERGED: "",
                 CYCLING: f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop,
-                MAX_ITERATIONS: f"no convergence in {o['max_iterations']} iterations"
+                MAX_ITERATIONS: (f"no convergence in {o['max_iterations']} iterations" if stop == "max_iterations"
+                                 else f"time budget of {o['max_seconds']:g} s spent after {len(self.history) - 1} LPs")
                 + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else ""),
             }.get(status, stop)
         fs = lp.force_scale

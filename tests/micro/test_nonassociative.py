@@ -238,3 +238,11 @@ def test_cli_bad_options(extra: list[str], capsys: pytest.CaptureFixture[str]) -
                  "--friction", "nonassociative", *extra])
     assert code == 2
     assert "xcheck: error:" in capsys.readouterr().err
+
+
+def test_time_budget_is_not_converged() -> None:
+    r = solve_nonassociative(wall(1.0, 1.0), relaxation=1.0, max_seconds=1e-3)
+    assert r.status == MAX_ITERATIONS and r.governing.stop_reason == "time_budget"
+    assert math.isnan(r.load_factor) and r.lambda_band is not None
+    with pytest.raises(ValueError, match="max_seconds"):
+        solve_nonassociative(wall(1.0, 1.0), max_seconds=0)
