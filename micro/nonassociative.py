@@ -848,14 +848,14 @@ class _Sequence:
             status, stop = SOLVER_FAILURE, "equilibrium_residual"
             msg = f"equilibrium residual {eq_res:.2e} block weights at the final iterate"
         lam_out = lam if status == CONVERGED else float("nan")
-        if not msg:
-            msg = {
-                CONVERGED: "",
-                CYCLING: f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop,
-                MAX_ITERATIONS: (f"no convergence in {o['max_iterations']} iterations" if stop == "max_iterations"
-                                 else f"time budget of {o['max_seconds']:g} s spent after {len(self.history) - 1} LPs")
-                + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else ""),
-            }.get(status, stop)
+        if not msg and status == CYCLING:
+            msg = f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop
+        elif not msg and status == MAX_ITERATIONS:
+            msg = (f"no convergence in {o['max_iterations']} iterations" if stop == "max_iterations"
+                   else f"time budget of {o['max_seconds']:g} s spent after {len(self.history) - 1} LPs")
+            msg += f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else ""
+        elif not msg and status != CONVERGED:
+            msg = stop
         fs = lp.force_scale
         return NonAssocDirection(
             _DIR_NAME[self.d], status, stop, lam_out, lam, None if status == CONVERGED else band, lam_assoc,
