@@ -775,14 +775,14 @@ class _Sequence:
             # the sequence did not settle: is its last iterate an exact solution anyway?
             raw_k, n_cap_k, lam_k, _ = self._last_lp
             typical = float(np.median([r.seconds for r in self.history[1:]]))
-            cert = self._certify(be, raw_k, n_cap_k, lam_k, time_limit=min(user_limit, max(2.0, 5.0 * typical)))
+            cert = self._certify(be, raw_k, n_cap_k, lam_k, time_limit=min(user_limit, max(0.1, 10.0 * typical)))
             if cert is not None:
                 n_c, s_c, c_raw = cert
                 self.history[-1] = _with_certificate(self.history[-1], c_raw, self._coulomb(n_c, s_c))
                 self._final = (self._final[0], self._final[1], n_c, s_c, lam_k)
                 stop, band = "certified", None
             else:
-                self.history[-1] = _with_certificate(self.history[-1], None, float("nan"))
+                self.history[-1] = _with_certificate(self.history[-1], self.certificate_attempt, float("nan"))
         if stop == "lp_failed" or last_raw is None:
             return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold "
                               f"({raw['native_status']})", t_start, lam_assoc, band)
@@ -882,7 +882,7 @@ def _with_certificate(rec: IterationRecord, c_raw: dict[str, Any] | None, coulom
     if c_raw is None:
         return dataclasses.replace(rec, certificate="not found")
     return dataclasses.replace(
-        rec, certificate="certified" if c_raw["status"] is Status.OPTIMAL else "failed",
+        rec, certificate="certified" if c_raw["status"] is Status.OPTIMAL else "not found",
         certificate_seconds=float(c_raw["seconds"]), certificate_simplex_iterations=int(c_raw["simplex_iterations"]),
         coulomb_residual=coulomb if math.isfinite(coulomb) else rec.coulomb_residual,
     )
