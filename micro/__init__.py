@@ -26,6 +26,7 @@ from micro.nonassociative import (
     NonAssocDirection,
     NonAssociativeResult,
     solve_nonassociative,
+    verify_collapse_state,
 )
 from micro.solvers import SOLVERS, Status, make_backend
 
@@ -48,4 +49,5 @@ __all__ = [
     "NonAssocDirection",
     "NonAssociativeResult",
     "solve_nonassociative",
+    "verify_collapse_state",
 ]

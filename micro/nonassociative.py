@@ -921,3 +921,50 @@ def contact_states(result: NonAssocDirection) -> tuple[str, ...] | None:
     if result.mechanism is None:
         return None
     return tuple(CONTACT_STATE_NAMES[i] for i in result.mechanism.contact_state)
+
+
+def verify_collapse_state(lp: LimitLP, result: NonAssocDirection) -> dict[str, float]:
+    """Check a direction's final state against the non-associative collapse
+    conditions, independently of how it was found (scaled units).
+
+    Args:
+        lp: the LP of the wall (:func:`micro.assemble`).
+        result: a direction with forces and a mechanism.
+
+    Returns:
+        Residuals (0 when exact): ``equilibrium`` (block weights),
+        ``coulomb`` (``max(|s| - mu n)`` / ``max n``), ``interpenetration``
+        (``-min opening rate`` / largest rate), ``dilatancy``
+        (``max |n * opening rate|`` / (``max n`` x largest rate)),
+        ``slip_off_yield`` (``max ||s| - mu n|`` over slipping points /
+        ``max n``), ``friction_direction`` (``max(s * slip rate)``, positive
+        when friction would drive the slip, / (``max n`` x largest rate)),
+        ``energy`` (``lambda * live work + dead work - dissipation``
+        relative to ``lambda``) and ``slipping_points``.
+
+    Raises:
+        ValueError: the result has no forces or mechanism (it failed).
+    """
+    if result.normal is None or result.shear is None or result.mechanism is None:
+        raise ValueError(f"direction {result.direction} has no final state ({result.status})")
+    d = 1 if result.direction == "+x" else -1
+    lam = result.last_load_factor
+    n = result.normal / lp.force_scale
+    s = result.shear / lp.force_scale
+    mech = result.mechanism
+    dn, ds = mech.opening_rate, mech.slip_rate
+    rate = max(float(np.max(np.abs(dn), initial=0.0)), float(np.max(np.abs(ds), initial=0.0)), 1e-300)
+    nsc = max(float(np.max(n, initial=0.0)), 1e-300)
+    slip = np.abs(ds) > STATE_TOL * rate
+    eq = lp.Bn @ n + lp.Bs @ s + (lam * d) * lp.live - lp.rhs
+    dissipation = -float(ds @ s)
+    return {
+        "equilibrium": float(np.max(np.abs(eq), initial=0.0)),
+        "coulomb": max(float(np.max(np.abs(s) - lp.mu * n, initial=0.0)), 0.0) / nsc,
+        "interpenetration": max(-float(np.min(dn, initial=0.0)), 0.0) / rate,
+        "dilatancy": float(np.max(np.abs(n * dn), initial=0.0)) / (nsc * rate),
+        "slip_off_yield": float(np.max(np.abs(np.abs(s[slip]) - lp.mu[slip] * n[slip]), initial=0.0)) / nsc,
+        "friction_direction": max(float(np.max(s[slip] * ds[slip], initial=0.0)), 0.0) / (nsc * rate),
+        "energy": abs(lam * mech.live_work + mech.dead_work - dissipation) / max(abs(lam), 1e-12),
+        "slipping_points": float(slip.sum()),
+    }

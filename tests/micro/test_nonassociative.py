@@ -246,3 +246,47 @@ def test_time_budget_is_not_converged() -> None:
     assert math.isnan(r.load_factor) and r.lambda_band is not None
     with pytest.raises(ValueError, match="max_seconds"):
         solve_nonassociative(wall(1.0, 1.0), max_seconds=0)
+
+
+# ------------------------------------------- independent collapse-state check
+@pytest.mark.parametrize("kw, relaxation", [(dict(t=1.0, m=1 / 3), 0.6), (dict(t=1.0, m=1 / 2), 0.6),
+                                            (dict(t=2.0, m=1.0, rows=6, f=0.6), 0.6),
+                                            (dict(t=0.75, m=1 / 2, rows=6), 1.0)])
+def test_converged_states_are_collapse_states(kw: dict, relaxation: float) -> None:
+    """Converged (and certified) states satisfy every non-associative collapse
+    condition, checked from the forces and the mechanism alone."""
+    from micro.nonassociative import verify_collapse_state
+
+    w = wall(**kw)
+    r = solve_nonassociative(w, relaxation=relaxation)
+    assert r.converged, r.message
+    lp = micro.assemble(w)
+    for d in r.directions:
+        v = verify_collapse_state(lp, d)
+        assert v["equilibrium"] <= 1e-7
+        assert v["coulomb"] <= 2e-6
+        assert v["interpenetration"] <= 1e-8
+        assert v["dilatancy"] <= 1e-8
+        assert v["slip_off_yield"] <= 2e-6
+        assert v["friction_direction"] <= 1e-9
+        assert v["energy"] <= 1e-6
+        assert v["slipping_points"] > 0
+
+
+def test_certified_stop() -> None:
+    """A sequence that does not settle but whose last LP admits a Coulomb-admissible optimal field."""
+    r = solve_nonassociative(wall(0.75, 1 / 2, rows=6), relaxation=1.0)
+    assert r.governing.stop_reason == "certified" and r.converged
+    assert r.history[-1].certificate == "certified"
+    assert r.coulomb_residual <= 1e-9
+
+
+def test_not_converged_state_violates_yield() -> None:
+    """The check can fail: the last iterate of a cycling sequence slips off the yield line."""
+    from micro.nonassociative import verify_collapse_state
+
+    w = wall(1.0, 1.0)
+    r = solve_nonassociative(w, relaxation=1.0, certify=False)
+    assert r.status == CYCLING
+    v = verify_collapse_state(micro.assemble(w), r.governing)
+    assert v["slip_off_yield"] > 1e-3 or v["coulomb"] > 1e-3
