@@ -33,6 +33,12 @@ GRID: dict[str, tuple[float, ...]] = {
 }
 
 
+#: Time budget per run and direction (scheme (b) once spent 190 s on a
+#: 294-block wall in fallback steps); a run that spends it is reported as
+#: ``max_iterations`` / ``time_budget``.
+MAX_SECONDS = 20.0
+
+
 @dataclass(frozen=True)
 class Setting:
     """One setting of the iterated LP.
@@ -105,7 +111,7 @@ def _run_one(args: tuple[WallCase, tuple[Setting, ...], int]) -> list[dict[str, 
         t0 = time.perf_counter()
         try:
             r = micro.solve_nonassociative(wall, scheme=s.scheme, relaxation=s.relaxation,  # type: ignore[arg-type]
-                                           max_iterations=max_iterations)
+                                           max_iterations=max_iterations, max_seconds=MAX_SECONDS)
             err = ""
         except Exception as exc:  # noqa: BLE001 - recorded as a failure of the setting
             r, err = None, f"{type(exc).__name__}: {exc}"
@@ -175,6 +181,11 @@ def summarise(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
             "failed_walls": [r["wall"] for r in rs if r["status"] != "converged"],
             "above_assoc": [r["wall"] for r in above],
             "ratio_median": statistics.median(r["load_factor"] / r["lambda_assoc"] for r in conv) if conv else math.nan,
+            "certified": sum(1 for r in conv if r["stop_reason"] == "certified"),
+            "band_median": statistics.median(bands) if (bands := [
+                (r["band_hi"] - r["band_lo"]) / r["band_lo"] for r in rs
+                if r["status"] == "cycling" and math.isfinite(r["band_lo"]) and r["band_lo"] > 0]) else math.nan,
+            "band_max": max(bands) if bands else math.nan,
         }
     spreads = []
     for w in walls:
@@ -214,14 +225,17 @@ def write_reports(rows: Sequence[dict[str, Any]], out: Path, *, seconds: float, 
         + " (p = 0; combinations whose length is not a whole number of half blocks skipped). "
         "Setting = scheme/relaxation beta; scheme (a) `|s| <= mu nbar`, scheme (b) line of slope "
         "-alpha through (nbar, mu nbar), alpha halved 0.3 -> 1e-3; start: interior-point associative solution; "
-        "cap 100 LPs per direction. A wall counts as converged only if every direction solved converged.",
+        f"cap 100 LPs and {MAX_SECONDS:g} s per direction. A wall counts as converged only if every direction solved converged. "
+        "`certified`: the sequence did not settle but its last LP admits a Coulomb-admissible optimal force "
+        "field, which with that LP's mechanism is an exact non-associative collapse state "
+        "(micro.nonassociative._Sequence._certify).",
         "",
         "## Per setting",
         "",
         "| setting | runs | converged | cycling | max_iterations | solver_failure | rate | LPs median (max) of converged "
         "| seconds median (max) | lambda/lambda_assoc median | max warm/cold diff | max Coulomb residual (converged) "
-        "| max dilatancy residual (converged) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| max dilatancy residual (converged) | of which certified | cycling band (max-min)/min median (max) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name in s["settings"]:
         p = per[name]
@@ -231,7 +245,8 @@ def write_reports(rows: Sequence[dict[str, Any]], out: Path, *, seconds: float, 
             f"{c['solver_failure']} | {p['rate'] * 100:.0f} % | {_fmt(p['it_median'], '.0f')} "
             f"({_fmt(p['it_max'], '.0f')}) | {_fmt(p['sec_median'], '.2f')} ({_fmt(p['sec_max'], '.2f')}) | "
             f"{_fmt(p['ratio_median'], '.4f')} | {_fmt(p['warm_cold_max'], '.1e')} | "
-            f"{_fmt(p['coulomb_max_conv'], '.1e')} | {_fmt(p['dilatancy_max_conv'], '.1e')} |"
+            f"{_fmt(p['coulomb_max_conv'], '.1e')} | {_fmt(p['dilatancy_max_conv'], '.1e')} | {p['certified']} | "
+            f"{_fmt(p['band_median'], '.2%')} ({_fmt(p['band_max'], '.2%')}) |"
         )
     lines += [
         "",
