@@ -17,9 +17,14 @@ are implemented (see ``/work/shared/methods.md`` §2):
          ``+s + alpha mu n <= rhs`` and ``-s + alpha mu n <= rhs``; the
          right-hand sides change by ``changeRowsBounds`` and, while ``alpha``
          changes (nine times from 0.3 to 1e-3), the ``2P`` coefficients of
-         ``n`` by ``changeCoeff`` (no change of bounds alone can tilt a row;
-         the cost measured: ~10 ms per 10,000 coefficients, small next to
-         one warm simplex run; see ``NonAssociativeResult.history``).
+         ``n`` by ``changeCoeff`` (no change of bounds alone can tilt a row).
+         Measured: 9 ms for the 14,200 coefficients of the 1,230-block wall,
+         against ~1 s for one warm simplex run, so affordable. The cap
+         ``n <= nbar (1 + alpha)/alpha + c0/(alpha mu)`` that the line implies
+         freezes points with ``nbar ~ 0``; the support can then shrink until
+         the LP is infeasible (seen on every Table 7 wall with ``c0 = 1e-6``).
+         Such an iterate is replaced by one scheme (a) step from the last
+         forces (``algorithm="fallback-a"``; bounds only) and (b) goes on.
 
 Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
 ``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none).
@@ -40,20 +45,34 @@ objectives after hot starts (#3294, #3194).
 
 Convergence (after at least two non-associative iterates, and for scheme (b)
 once ``alpha`` has reached ``alpha_min``): the relative change of ``lambda``
-is below ``lambda_tol`` AND either the largest change of the normal forces
-(relative to the largest normal force) is below ``force_tol`` or the iterate
-already satisfies Coulomb with its own normal forces (``|s| <= mu n`` within
-``coulomb_tol``), which makes it a fixed point of the load factor (the LP has
-many optimal force fields; the forces of a degenerate optimum need not settle
-even when ``lambda`` has). Otherwise the sequence stops as
+is below ``lambda_tol`` AND the iterate satisfies Coulomb with its OWN normal
+forces (``|s| <= mu n`` within ``coulomb_tol``; scheme (b): plus ``c0``).
+``stop_reason`` says whether the largest change of the normal forces was also
+below ``force_tol`` (``"lambda_and_forces"``) or not
+(``"lambda_and_coulomb"``): the LPs are degenerate, their optimal force
+fields are not unique, and the forces of the rigid parts need not settle even
+when ``lambda`` has; Coulomb at the final state is required either way (a
+small max change of n alone let states with 1e-3 Coulomb violations through
+when the relaxation mixes two iterates). Otherwise the sequence stops as
 
 * ``cycling``: the ``lambda`` sequence repeats (period 2..6), oscillates
-  without contracting over two windows, or stagnates (``lambda`` unchanged,
-  forces neither settling nor statically admissible): ``lambda_band`` is
-  ``[min, max]`` over the cycle or window;
-* ``max_iterations``: the cap was reached;
-* ``solver_failure``: an LP failed twice (warm, then cold), or the cold
+  without contracting over two windows, or stagnates (``lambda`` unchanged
+  over a window while the forces make no progress): ``lambda_band`` is
+  ``[min, max]`` over the cycle or the last window;
+* ``max_iterations``: the cap on LPs (or the time budget ``max_seconds``)
+  was reached;
+* ``solver_failure``: an LP failed (warm, then restarted cold), or the cold
   re-solve of the final iterate disagrees with the warm one.
+
+Before a scheme (a) sequence is declared not converged, its last LP gets one
+more chance (``certify``): another optimal force field of that LP with
+``|s| <= mu n`` everywhere and ``n <= nbar`` at the slipping points is looked
+for (one extra LP, rows added then deleted). If one exists, it forms with the
+LP's mechanism an exact non-associative collapse state (complementary
+slackness), the status is ``converged`` and ``stop_reason`` is
+``"certified"``. :func:`verify_collapse_state` checks any final state
+independently (equilibrium, Coulomb, no interpenetration, no dilatancy,
+slip only at the yield line and against the friction force, energy balance).
 
 The load factor of a sequence that did not converge is NaN; the last value
 and the band are reported beside it.
@@ -521,7 +540,9 @@ class _Sequence:
         return float(np.max(np.abs(s) - self.lp.mu * n, initial=0.0)) / scale
 
     def _set_capacity(self, be: HighsBackend, nbar: FloatArray, alpha: float, alpha_prev: float) -> None:
-        lp, P, mu = self.lp, self.P, self.lp.mu
+        """Rebuild the yield condition of every point from ``nbar`` (bounds;
+        for scheme (b) row bounds and, when ``alpha`` changed, coefficients)."""
+        P, mu = self.P, self.lp.mu
         nbar = np.maximum(nbar, 0.0)
         if self.o["scheme"] == "a":
             be.set_col_bounds(self.s_cols, -mu * nbar, mu * nbar)
@@ -535,7 +556,6 @@ class _Sequence:
                 be.change_coeffs(rows, cols, np.repeat(alpha * mu, 2))
             rhs = self.c0 + (1.0 + alpha) * mu * nbar
             be.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.repeat(rhs, 2))
-        del lp
 
     def _certify(self, be: HighsBackend, raw: dict[str, Any], n_cap: FloatArray, lam: float, *,
                  time_limit: float) -> tuple[FloatArray, FloatArray, dict[str, Any]] | None:
