@@ -3,6 +3,7 @@
 Example::
 
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction associative --solver highs --json
+    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --scheme a --json
 """
 
 from __future__ import annotations
@@ -13,8 +14,8 @@ import math
 
 from comparison.cli import UsageError, add_wall_options, wall_from_args
 
-#: Friction laws accepted by ``--friction`` (the non-associative scheme comes next).
-FRICTION_LAWS = ("associative",)
+#: Friction laws accepted by ``--friction``.
+FRICTION_LAWS = ("associative", "nonassociative")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -30,7 +31,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     add_wall_options(p)
     g = p.add_argument_group("micro model")
     g.add_argument("--friction", default="associative", metavar="LAW",
-                   help="friction law: associative (default; the only one so far)")
+                   help="friction law: associative (default) or nonassociative (iterated LP, HiGHS)")
     g.add_argument("--solver", default="highs", metavar="NAME",
                    help=f"LP back end: {', '.join(SOLVERS)} (default highs = HiGHS interior point, no crossover)")
     g.add_argument("--first-course", default="full", metavar="full|half",
@@ -40,6 +41,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     g.add_argument("--time-limit", default=None, metavar="SECONDS", help="time limit per LP solve")
     g.add_argument("--json", action="store_true", help="print one JSON object")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
+    # ---- non-associative friction (issue 4)
+    na = p.add_argument_group("non-associative friction (--friction nonassociative)")
+    na.add_argument("--scheme", default="a", metavar="a|b",
+                    help="rebuilt yield condition of the iterated LP: a (|s| <= mu nbar, default) or "
+                    "b (line of slope -alpha through (nbar, mu nbar))")
+    na.add_argument("--relaxation", default=None, metavar="BETA",
+                    help="nbar = BETA n_k + (1 - BETA) n_(k-1), BETA in (0, 1] (default: a 1, b 0.6)")
+    na.add_argument("--max-iterations", default="100", metavar="N", help="cap on the LPs per direction (default 100)")
     p.set_defaults(handler=run)
 
 
@@ -73,6 +82,8 @@ def run(args: argparse.Namespace) -> int:
         wall = spec.to_micro(first_course=args.first_course, head_joints=args.head_joints)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    if args.friction == "nonassociative":
+        return _run_nonassociative(args, spec, wall, time_limit)
     result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
     if args.plot is not None and result.ok:
         from micro.plot import plot_mechanism
@@ -101,4 +112,52 @@ def run(args: argparse.Namespace) -> int:
                 print("  the wall is mirror-symmetric: -x gives the same load factor")
         else:
             print(f"status {result.status}: {result.message}")
+    return 0 if result.ok else 1
+
+
+# ---------------------------------------------------------------- issue 4
+def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, time_limit: float | None) -> int:
+    """``--friction nonassociative``: the iterated LP (HiGHS only)."""
+    import micro
+    from micro.nonassociative import SCHEMES
+
+    _choice("--scheme", args.scheme, SCHEMES)
+    if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
+        raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
+    relaxation = None
+    if args.relaxation is not None:
+        try:
+            relaxation = float(args.relaxation)
+        except ValueError:
+            raise UsageError(f"--relaxation must be a number in (0, 1], got {args.relaxation!r}") from None
+        if not (0.0 < relaxation <= 1.0):
+            raise UsageError(f"--relaxation must be a number in (0, 1], got {args.relaxation!r}")
+    try:
+        max_it = int(args.max_iterations)
+    except ValueError:
+        raise UsageError(f"--max-iterations must be an integer >= 2, got {args.max_iterations!r}") from None
+    if max_it < 2:
+        raise UsageError(f"--max-iterations must be an integer >= 2, got {args.max_iterations!r}")
+    if args.plot is not None:
+        raise UsageError("--plot is not available with --friction nonassociative yet")
+    result = micro.solve_nonassociative(wall, scheme=args.scheme, relaxation=relaxation,  # type: ignore[arg-type]
+                                        max_iterations=max_it, time_limit=time_limit)
+    if args.json:
+        out = result.summary()
+        out.update(wall=getattr(spec, "name", "") or "", friction=args.friction, first_course=args.first_course,
+                   head_joints=args.head_joints, solver="highs-simplex (warm) + highs-ipm (start, cold check)")
+        print(json.dumps(out))
+    else:
+        g = result.governing
+        if result.ok:
+            print(f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
+                  f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
+                  f"({g.stop_reason}); associative lambda = {result.associative_load_factor:.6f}")
+        else:
+            band = "" if result.lambda_band is None else \
+                f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
+            print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
+        print(f"  warm/cold rel. difference {result.warm_cold_rel_diff:.2e}, Coulomb residual "
+              f"{result.coulomb_residual:.2e}, dilatancy residual {result.dilatancy_residual:.2e}, "
+              f"{result.blocks} blocks, {result.solve_seconds:.3f} s")
     return 0 if result.ok else 1

@@ -290,6 +290,94 @@ class HighsBackend:
                        coulomb=x.size == self.lp.n_cols)
 
 
+    # ---- additions for the iterated non-associative scheme (micro.nonassociative)
+    def add_rows(self, rows: sp.csr_matrix, lower: np.ndarray, upper: np.ndarray) -> None:
+        """Append rows ``lower <= rows @ x <= upper`` to the persistent model
+        (e.g. the two friction rows per point of scheme (b))."""
+        rows = sp.csr_matrix(rows)
+        rows.sort_indices()
+        inf = self._hs.kHighsInf
+        k = rows.shape[0]
+        self.highs.addRows(
+            k,
+            _highs_inf(lower, inf),
+            _highs_inf(upper, inf),
+            int(rows.nnz),
+            rows.indptr[:-1].astype(np.int32),
+            rows.indices.astype(np.int32),
+            rows.data.astype(np.float64),
+        )
+
+    def change_coeffs(self, rows: np.ndarray, cols: np.ndarray, values: np.ndarray) -> None:
+        """Change matrix entries one by one (``Highs.changeCoeff``; the basis is kept)."""
+        h = self.highs
+        for r, c, v in zip(np.asarray(rows).tolist(), np.asarray(cols).tolist(), np.asarray(values).tolist()):
+            h.changeCoeff(r, c, v)
+
+    def set_algorithm(self, algorithm: str, *, crossover: bool = False) -> None:
+        """Switch between ``"ipm"`` (with or without crossover) and ``"simplex"``
+        for the next runs; the model and any basis are kept."""
+        if algorithm not in ("ipm", "simplex"):
+            raise ValueError(f"algorithm must be 'ipm' or 'simplex', got {algorithm!r}")
+        h = self.highs
+        h.setOptionValue("solver", algorithm)
+        h.setOptionValue("run_crossover", "on" if crossover else "off")
+        if algorithm == "simplex":
+            h.setOptionValue("primal_feasibility_tolerance", 1e-10)
+            h.setOptionValue("dual_feasibility_tolerance", 1e-10)
+        self.algorithm = algorithm
+        self.name = f"highs-{algorithm}"
+
+    def run_raw(self) -> dict[str, Any]:
+        """Run HiGHS on the current model as it is (cost, bounds and basis kept)
+        and return the raw outcome without the associative residual check.
+
+        Returns:
+            ``status`` (:class:`Status`), ``native_status``, ``x`` (column
+            values), ``row_dual`` (native sign), ``seconds``,
+            ``simplex_iterations``, ``ipm_iterations``,
+            ``crossover_iterations``; ``x`` and ``row_dual`` are ``None``
+            unless optimal.
+        """
+        h = self.highs
+        t0 = time.perf_counter()
+        h.run()
+        secs = time.perf_counter() - t0
+        ms = h.getModelStatus()
+        info = h.getInfo()
+        status = _HIGHS_STATUS.get(ms.name, Status.SOLVER_ERROR)
+        out: dict[str, Any] = {
+            "status": status,
+            "native_status": h.modelStatusToString(ms),
+            "seconds": secs,
+            "simplex_iterations": int(info.simplex_iteration_count),
+            "ipm_iterations": int(info.ipm_iteration_count),
+            "crossover_iterations": int(info.crossover_iteration_count),
+            "x": None,
+            "row_dual": None,
+        }
+        if status is Status.OPTIMAL:
+            sol = h.getSolution()
+            out["x"] = np.asarray(sol.col_value, dtype=float)
+            out["row_dual"] = np.asarray(sol.row_dual, dtype=float)
+        return out
+
+    def cold_copy(self, algorithm: str = "ipm") -> "HighsBackend":
+        """A new back end holding a copy of the CURRENT model (columns, rows,
+        bounds, cost) and no basis: for re-solving an iterate cold."""
+        import copy
+
+        clone = copy.copy(self)
+        h = self._hs.Highs()
+        h.setOptionValue("output_flag", False)
+        status = h.passModel(self.highs.getLp())
+        if status == self._hs.HighsStatus.kError:
+            raise RuntimeError("HiGHS rejected the copied model")
+        clone.highs = h
+        clone.set_algorithm(algorithm)
+        return clone
+
+
 _HIGHS_STATUS = {
     "kOptimal": Status.OPTIMAL,
     "kInfeasible": Status.INFEASIBLE,

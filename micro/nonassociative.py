@@ -1,0 +1,990 @@
+"""Non-associative (zero-dilatancy) Coulomb friction by a sequence of LPs.
+
+Gilbert, Casapulla & Ahmed (2006) replace the non-associative problem, which
+is not an LP, by a sequence of LPs in which the yield condition of every
+contact point is rebuilt from the normal forces ``nbar`` of the previous
+iterate, until the sequence settles. Two of the published rebuilt conditions
+are implemented (see ``/work/shared/methods.md`` §2):
+
+``"a"``  fixed shear capacity ``|s| <= mu nbar``. Its associated flow rule
+         has no dilatancy. In the persistent HiGHS model it is a pure change
+         of the bounds of the ``s`` columns.
+``"b"``  a line through ``(nbar, mu nbar)`` with a small negative slope,
+         ``|s| <= c0 + (1 + alpha) mu nbar - alpha mu n``, ``alpha`` halved
+         every iteration from ``alpha0`` (0.3) down to ``alpha_min`` (1e-3), a
+         tiny cohesion ``c0`` so that contacts with ``nbar = 0`` keep a
+         feasible point. Two rows per point,
+         ``+s + alpha mu n <= rhs`` and ``-s + alpha mu n <= rhs``; the
+         right-hand sides change by ``changeRowsBounds`` and, while ``alpha``
+         changes (nine times from 0.3 to 1e-3), the ``2P`` coefficients of
+         ``n`` by ``changeCoeff`` (no change of bounds alone can tilt a row).
+         Measured: 9 ms for the 14,200 coefficients of the 1,230-block wall,
+         against ~1 s for one warm simplex run, so affordable. The cap
+         ``n <= nbar (1 + alpha)/alpha + c0/(alpha mu)`` that the line implies
+         freezes points with ``nbar ~ 0``; the support can then shrink until
+         the LP is infeasible (seen on every Table 7 wall with ``c0 = 1e-6``).
+         Such an iterate is replaced by one scheme (a) step from the last
+         forces (``algorithm="fallback-a"``; bounds only) and (b) goes on.
+
+Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
+``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none).
+
+The LP is built ONCE per load direction (:class:`micro.solvers.HighsBackend`
+in generator form with the ``n`` and ``s`` columns ``[B_n, B_s]`` appended,
+and for scheme (b) the ``2P`` friction rows): the associative LP is solved
+first (generator columns free, ``n``, ``s`` fixed at 0) by interior point;
+then the generator columns are fixed at 0 and the ``n``, ``s`` columns
+released. The first non-associative LP is solved by interior point with
+crossover (a basis for a few seconds where a cold dual simplex takes minutes
+on a 1,230-block wall), followed by a dual-simplex clean-up from that basis
+(crossover alone left residuals ~1e-4); every later iterate changes bounds (or
+rows) only and HiGHS' dual simplex restarts from the previous basis. The
+final iterate is re-solved COLD (a fresh copy of the model, interior point,
+no basis) and the two load factors compared: HiGHS has open reports of wrong
+objectives after hot starts (#3294, #3194).
+
+Convergence (after at least two non-associative iterates, and for scheme (b)
+once ``alpha`` has reached ``alpha_min``): the relative change of ``lambda``
+is below ``lambda_tol`` AND the iterate satisfies Coulomb with its OWN normal
+forces (``|s| <= mu n`` within ``coulomb_tol``; scheme (b): plus ``c0``).
+``stop_reason`` says whether the largest change of the normal forces was also
+below ``force_tol`` (``"lambda_and_forces"``) or not
+(``"lambda_and_coulomb"``): the LPs are degenerate, their optimal force
+fields are not unique, and the forces of the rigid parts need not settle even
+when ``lambda`` has; Coulomb at the final state is required either way (a
+small max change of n alone let states with 1e-3 Coulomb violations through
+when the relaxation mixes two iterates). Otherwise the sequence stops as
+
+* ``cycling``: the ``lambda`` sequence repeats (period 2..6), oscillates
+  without contracting over two windows, or stagnates (``lambda`` unchanged
+  over a window while the forces make no progress): ``lambda_band`` is
+  ``[min, max]`` over the cycle or the last window;
+* ``max_iterations``: the cap on LPs (or the time budget ``max_seconds``)
+  was reached;
+* ``solver_failure``: an LP failed (warm, then restarted cold), or the cold
+  re-solve of the final iterate disagrees with the warm one.
+
+Before a scheme (a) sequence is declared not converged, its last LP gets one
+more chance (``certify``): another optimal force field of that LP with
+``|s| <= mu n`` everywhere and ``n <= nbar`` at the slipping points is looked
+for (one extra LP, rows added then deleted). If one exists, it forms with the
+LP's mechanism an exact non-associative collapse state (complementary
+slackness), the status is ``converged`` and ``stop_reason`` is
+``"certified"``. :func:`verify_collapse_state` checks any final state
+independently (equilibrium, Coulomb, no interpenetration, no dilatancy,
+slip only at the yield line and against the friction force, energy balance).
+
+The load factor of a sequence that did not converge is NaN; the last value
+and the band are reported beside it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from micro.geometry import BlockWall
+from micro.lp import LimitLP, assemble
+from micro.mechanism import CONTACT_STATE_NAMES, STATE_TOL, Mechanism, mechanism_from_duals
+from micro.solvers import HighsBackend, Status
+
+FloatArray = NDArray[np.float64]
+
+#: Values of ``status``.
+CONVERGED, CYCLING, MAX_ITERATIONS, SOLVER_FAILURE = "converged", "cycling", "max_iterations", "solver_failure"
+STATUSES = (CONVERGED, CYCLING, MAX_ITERATIONS, SOLVER_FAILURE)
+#: Published rebuilt yield conditions implemented here.
+SCHEMES = ("a", "b")
+#: Default relaxation ``beta`` per scheme (``n̄ = beta n_k + (1 - beta) n_(k-1)``).
+DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
+
+_DIR_NAME = {1: "+x", -1: "-x"}
+
+
+@dataclass(frozen=True)
+class IterationRecord:
+    """One LP of the sequence.
+
+    Attributes:
+        iteration: 0 for the associative LP, then 1, 2, ...
+        load_factor: ``lambda`` of this LP (NaN if it failed).
+        lambda_change: ``|lambda_k - lambda_(k-1)| / |lambda_k|`` (NaN for k = 0).
+        max_dn: ``max |n_k - n_(k-1)|`` relative to ``max n_k`` (NaN for k = 0).
+        coulomb_residual: ``max(|s_k| - mu n_k, 0)`` relative to ``max n_k``.
+        alpha: slope parameter of scheme (b) (0 for scheme (a) and k = 0).
+        simplex_iterations: simplex iterations of this LP.
+        ipm_iterations: interior-point iterations of this LP.
+        seconds: wall time of the solve (and of the model update before it).
+        algorithm: ``"ipm"``, ``"ipm+crossover+simplex"`` or ``"simplex-warm"``
+            (``"simplex-cold"`` after a failed warm run).
+        status: the LP's status (:class:`micro.solvers.Status` value).
+        certificate: ``""`` (not tried), ``"not found"`` (no Coulomb-
+            admissible optimal field at this iterate, or the try hit its
+            time limit) or ``"certified"``
+            (see :meth:`_Sequence._certify`); ``coulomb_residual`` is then
+            that of the certified field.
+        certificate_seconds, certificate_simplex_iterations: cost of the try.
+    """
+
+    iteration: int
+    load_factor: float
+    lambda_change: float
+    max_dn: float
+    coulomb_residual: float
+    alpha: float
+    simplex_iterations: int
+    ipm_iterations: int
+    seconds: float
+    algorithm: str
+    status: str
+    certificate: str = ""
+    certificate_seconds: float = 0.0
+    certificate_simplex_iterations: int = 0
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready (NaN -> None)."""
+        out: dict[str, Any] = {}
+        for k, v in self.__dict__.items():
+            out[k] = None if isinstance(v, float) and not math.isfinite(v) else v
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class NonAssocDirection:
+    """The iterated scheme for one direction of the live load.
+
+    Attributes:
+        direction: ``"+x"`` or ``"-x"``.
+        status: one of :data:`STATUSES`.
+        stop_reason: what stopped the sequence (``"lambda_and_forces"``,
+            ``"lambda_and_coulomb"``, ``"certified"``, ``"repeating"``,
+            ``"oscillating"``, ``"stagnation"``, ``"max_iterations"``,
+            ``"time_budget"``, ``"lp_failed"``,
+            ``"cold_check_failed"``, ``"associative_failed"``).
+        load_factor: ``lambda`` (NaN unless converged).
+        last_load_factor: ``lambda`` of the last successful iterate.
+        lambda_band: ``(min, max)`` of ``lambda`` over the detected cycle or
+            the last window (``None`` when converged).
+        associative_load_factor: ``lambda`` of the associative LP.
+        iterations: non-associative LPs solved.
+        history: every LP, the associative one first.
+        cold_load_factor: ``lambda`` of the final iterate re-solved cold.
+        warm_cold_rel_diff: ``|warm - cold| / |cold|``.
+        coulomb_residual: ``max(|s| - mu n, 0)`` with the final forces,
+            relative to ``max n``.
+        dilatancy_residual: largest ``|opening rate|`` at sliding points in
+            contact (``n > 0``) of the final mechanism, relative to the
+            largest slip rate.
+        equilibrium_residual: largest equilibrium violation (block weights).
+        sliding_points: points of the final mechanism that slide while in
+            contact.
+        normal, shear: final point forces (dimensional), or ``None``.
+        mechanism: the final LP's mechanism, or ``None``.
+        seconds: wall time of the whole sequence incl. the cold check.
+        message: a one-line explanation.
+        cold_algorithm: ``"ipm"`` or ``"simplex"`` (when IPX gave up).
+        fallback_steps: scheme (b) LPs replaced by a scheme (a) step.
+    """
+
+    direction: str
+    status: str
+    stop_reason: str
+    load_factor: float
+    last_load_factor: float
+    lambda_band: tuple[float, float] | None
+    associative_load_factor: float
+    iterations: int
+    history: tuple[IterationRecord, ...] = field(repr=False)
+    cold_load_factor: float
+    warm_cold_rel_diff: float
+    coulomb_residual: float
+    dilatancy_residual: float
+    equilibrium_residual: float
+    sliding_points: int
+    normal: FloatArray | None = field(repr=False)
+    shear: FloatArray | None = field(repr=False)
+    mechanism: Mechanism | None = field(repr=False)
+    seconds: float
+    message: str = ""
+    cold_algorithm: str = ""
+    fallback_steps: int = 0
+
+    @property
+    def converged(self) -> bool:
+        """True when the sequence converged."""
+        return self.status == CONVERGED
+
+
+@dataclass(frozen=True, eq=False)
+class NonAssociativeResult:
+    """Result of the non-associative analysis (governing direction).
+
+    Attributes:
+        load_factor: governing ``lambda`` (NaN unless every direction converged).
+        direction: governing direction (``""`` unless converged).
+        status: :data:`CONVERGED` only if every direction converged, else the
+            status of the first direction that did not.
+        converged: ``status == "converged"``.
+        scheme: ``"a"`` or ``"b"``.
+        relaxation: ``beta``.
+        iterations: non-associative LPs of the governing (or failing) direction.
+        history: its LPs.
+        lambda_band: its band when not converged.
+        associative_load_factor: smallest associative ``lambda`` over the
+            directions solved.
+        cold_load_factor, warm_cold_rel_diff, coulomb_residual,
+            dilatancy_residual: final-state checks of that direction.
+        blocks, contacts, points: sizes.
+        build_seconds: assembly of the LP.
+        solve_seconds: all sequences, incl. cold checks.
+        mirror_symmetric: one direction solved.
+        directions: per-direction results.
+        options: the options used.
+        message: explanation when not converged.
+    """
+
+    load_factor: float
+    direction: str
+    status: str
+    converged: bool
+    scheme: str
+    relaxation: float
+    iterations: int
+    history: tuple[IterationRecord, ...] = field(repr=False)
+    lambda_band: tuple[float, float] | None
+    associative_load_factor: float
+    cold_load_factor: float
+    warm_cold_rel_diff: float
+    coulomb_residual: float
+    dilatancy_residual: float
+    blocks: int
+    contacts: int
+    points: int
+    build_seconds: float
+    solve_seconds: float
+    mirror_symmetric: bool
+    directions: tuple[NonAssocDirection, ...] = field(repr=False)
+    options: dict[str, Any] = field(default_factory=dict, repr=False)
+    message: str = ""
+
+    @property
+    def ok(self) -> bool:
+        """True when converged with a finite load factor."""
+        return self.converged and math.isfinite(self.load_factor)
+
+    @property
+    def governing(self) -> NonAssocDirection:
+        """The direction the summary fields come from."""
+        for d in self.directions:
+            if d.direction == self.direction:
+                return d
+        for d in self.directions:
+            if not d.converged:
+                return d
+        return self.directions[0]
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready summary."""
+
+        def num(v: float) -> float | None:
+            return v if isinstance(v, (int, float)) and math.isfinite(v) else None
+
+        g = self.governing
+        counts: dict[str, int] = {}
+        if g.mechanism is not None:
+            counts = g.mechanism.state_counts()
+        return {
+            "load_factor": num(self.load_factor),
+            "status": self.status,
+            "converged": self.converged,
+            "direction": self.direction,
+            "scheme": self.scheme,
+            "relaxation": self.relaxation,
+            "iterations": self.iterations,
+            "lambda_band": None if self.lambda_band is None else [num(self.lambda_band[0]), num(self.lambda_band[1])],
+            "last_load_factor": num(g.last_load_factor),
+            "associative_load_factor": num(self.associative_load_factor),
+            "cold_load_factor": num(self.cold_load_factor),
+            "warm_cold_rel_diff": num(self.warm_cold_rel_diff),
+            "coulomb_residual": num(self.coulomb_residual),
+            "dilatancy_residual": num(self.dilatancy_residual),
+            "stop_reason": g.stop_reason,
+            "cold_algorithm": g.cold_algorithm,
+            "fallback_steps": g.fallback_steps,
+            "blocks": self.blocks,
+            "contacts": self.contacts,
+            "points": self.points,
+            "build_seconds": self.build_seconds,
+            "solve_seconds": self.solve_seconds,
+            "mirror_symmetric": self.mirror_symmetric,
+            "contact_states": counts,
+            "options": dict(self.options),
+            "history": [r.as_dict() for r in self.history],
+            "directions": {
+                d.direction: {
+                    "status": d.status,
+                    "stop_reason": d.stop_reason,
+                    "load_factor": num(d.load_factor),
+                    "last_load_factor": num(d.last_load_factor),
+                    "associative_load_factor": num(d.associative_load_factor),
+                    "iterations": d.iterations,
+                    "seconds": d.seconds,
+                }
+                for d in self.directions
+            },
+            "message": self.message,
+        }
+
+
+# =============================================================================
+def solve_nonassociative(
+    wall: BlockWall,
+    *,
+    scheme: Literal["a", "b"] = "a",
+    relaxation: float | None = None,
+    alpha0: float = 0.3,
+    alpha_min: float = 1e-3,
+    alpha_factor: float = 0.5,
+    cohesion: float = 1e-6,
+    max_iterations: int = 100,
+    max_seconds: float | None = None,
+    lambda_tol: float = 1e-6,
+    force_tol: float = 1e-6,
+    coulomb_tol: float = 1e-6,
+    window: int = 10,
+    directions: Literal["auto", "both", "+x", "-x"] = "auto",
+    start: Literal["interior", "vertex"] = "interior",
+    certify: bool = True,
+    cold_check: bool = True,
+    cold_tol: float = 1e-6,
+    time_limit: float | None = None,
+) -> NonAssociativeResult:
+    """Collapse load factor of ``wall`` with non-associative (zero-dilatancy) friction.
+
+    Args:
+        wall: the block assemblage (:func:`micro.build_wall`).
+        scheme: rebuilt yield condition, ``"a"`` or ``"b"`` (module docstring).
+        relaxation: ``beta`` in ``(0, 1]`` (``None``: :data:`DEFAULT_RELAXATION`).
+        alpha0, alpha_min, alpha_factor: slope schedule of scheme (b):
+            ``alpha_(k+1) = max(alpha_min, alpha_factor * alpha_k)``.
+        cohesion: ``c0`` of scheme (b) relative to the largest normal force
+            of the associative solution (scale-free; default one millionth
+            of the force level).
+        max_iterations: cap on non-associative LPs per direction.
+        max_seconds: wall-time budget per direction (``None``: none); when
+            spent the sequence stops with status ``max_iterations``
+            (``stop_reason="time_budget"``).
+        lambda_tol: relative change of ``lambda`` for convergence.
+        force_tol: largest change of the normal forces, relative to the
+            largest normal force, for convergence.
+        coulomb_tol: ``max(|s| - mu n, 0) / max n`` accepted as "Coulomb holds".
+        window: iterations per window of the oscillation / stagnation tests.
+        directions: ``"auto"`` (both unless mirror-symmetric), ``"both"``,
+            ``"+x"`` or ``"-x"``.
+        start: how the associative LP (iterate 0, which gives the first
+            ``nbar``) is solved: ``"interior"`` (default; interior point
+            without crossover: the centre of the optimal face, ~2 s on 1,230
+            blocks; the first non-associative LP is then solved by IPM +
+            crossover) or ``"vertex"`` (IPM + crossover + dual simplex: a
+            basic optimal solution as a simplex code returns, whose basis
+            warm-starts the first non-associative LP; that warm start took
+            13,000 simplex iterations / 5 s on 1,230 blocks). The
+            non-associative solution is not unique and the two starts can
+            end at different load factors (~1-2 %).
+        certify: when a scheme (a) sequence stops without converging
+            (cycling, max_iterations), look for another optimal force field
+            of its last LP that satisfies Coulomb with its own normal forces
+            and so closes the non-associative problem exactly at that
+            iterate (``stop_reason="certified"``; see ``_Sequence._certify``).
+            One extra LP (time-limited), at the end only, so the sequence
+            itself is the same with or without it.
+        cold_check: re-solve the final iterate cold and compare.
+        cold_tol: relative warm/cold difference beyond which the result is a
+            ``solver_failure``.
+        time_limit: seconds per LP.
+
+    Returns:
+        The :class:`NonAssociativeResult`; a sequence that did not converge
+        has a NaN load factor and says why.
+
+    Raises:
+        ValueError: a bad option (the message names it).
+    """
+    if scheme not in SCHEMES:
+        raise ValueError(f"scheme must be one of {', '.join(SCHEMES)}, got {scheme!r}")
+    beta = DEFAULT_RELAXATION[scheme] if relaxation is None else relaxation
+    if isinstance(beta, bool) or not isinstance(beta, (int, float)) or not (0.0 < float(beta) <= 1.0):
+        raise ValueError(f"relaxation must be a number in (0, 1], got {relaxation!r}")
+    beta = float(beta)
+    for name, v, lo in (("alpha0", alpha0, 0.0), ("alpha_min", alpha_min, 0.0), ("cohesion", cohesion, -1.0),
+                        ("lambda_tol", lambda_tol, 0.0), ("force_tol", force_tol, 0.0),
+                        ("coulomb_tol", coulomb_tol, 0.0), ("cold_tol", cold_tol, 0.0)):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= lo:
+            raise ValueError(f"{name} must be a positive finite number, got {v!r}")
+    if cohesion < 0:
+        raise ValueError(f"cohesion must be >= 0, got {cohesion!r}")
+    if alpha_min > alpha0:
+        raise ValueError(f"alpha_min ({alpha_min}) must not exceed alpha0 ({alpha0})")
+    if not (0.0 < alpha_factor <= 1.0):
+        raise ValueError(f"alpha_factor must be in (0, 1], got {alpha_factor!r}")
+    if isinstance(max_iterations, bool) or not isinstance(max_iterations, int) or max_iterations < 2:
+        raise ValueError(f"max_iterations must be an integer >= 2, got {max_iterations!r}")
+    if isinstance(window, bool) or not isinstance(window, int) or window < 3:
+        raise ValueError(f"window must be an integer >= 3, got {window!r}")
+    if directions not in ("auto", "both", "+x", "-x"):
+        raise ValueError(f"directions must be 'auto', 'both', '+x' or '-x', got {directions!r}")
+    if max_seconds is not None and (isinstance(max_seconds, bool) or not isinstance(max_seconds, (int, float))
+                                    or not math.isfinite(max_seconds) or max_seconds <= 0):
+        raise ValueError(f"max_seconds must be a positive number of seconds, got {max_seconds!r}")
+    if start not in ("interior", "vertex"):
+        raise ValueError(f"start must be 'interior' or 'vertex', got {start!r}")
+    if time_limit is not None and (not math.isfinite(time_limit) or time_limit <= 0):
+        raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit!r}")
+
+    t0 = time.perf_counter()
+    lp = assemble(wall)
+    build = time.perf_counter() - t0
+    symmetric = wall.mirror_symmetric
+    if directions == "auto":
+        dirs: tuple[int, ...] = (1,) if symmetric else (1, -1)
+    elif directions == "both":
+        dirs = (1, -1)
+    else:
+        dirs = (1,) if directions == "+x" else (-1,)
+    opts = dict(scheme=scheme, relaxation=beta, alpha0=float(alpha0), alpha_min=float(alpha_min),
+                alpha_factor=float(alpha_factor), cohesion=float(cohesion), max_iterations=max_iterations,
+                max_seconds=None if max_seconds is None else float(max_seconds),
+                lambda_tol=float(lambda_tol), force_tol=float(force_tol), coulomb_tol=float(coulomb_tol),
+                window=window, start=start, certify=bool(certify), cold_check=cold_check, cold_tol=float(cold_tol), time_limit=time_limit)
+    results = tuple(_Sequence(lp, d, opts).run() for d in dirs)
+    solve_secs = time.perf_counter() - t0 - build
+    failing = [r for r in results if not r.converged]
+    assoc = min((r.associative_load_factor for r in results), default=float("nan"))
+    if failing:
+        g = failing[0]
+        lam, direction, status = float("nan"), "", g.status
+        msg = f"{g.direction}: {g.message}"
+    else:
+        g = min(results, key=lambda r: r.load_factor)
+        lam, direction, status, msg = g.load_factor, g.direction, CONVERGED, ""
+    return NonAssociativeResult(
+        load_factor=lam, direction=direction, status=status, converged=status == CONVERGED, scheme=scheme,
+        relaxation=beta, iterations=g.iterations, history=g.history, lambda_band=g.lambda_band,
+        associative_load_factor=assoc, cold_load_factor=g.cold_load_factor,
+        warm_cold_rel_diff=g.warm_cold_rel_diff, coulomb_residual=g.coulomb_residual,
+        dilatancy_residual=g.dilatancy_residual, blocks=wall.n_blocks, contacts=wall.n_contacts,
+        points=lp.n_points, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=symmetric,
+        directions=results, options=opts, message=msg,
+    )
+
+
+# =============================================================================
+class _Sequence:
+    """The iterated LP for one load direction (one persistent HiGHS model)."""
+
+    def __init__(self, lp: LimitLP, direction: int, opts: dict[str, Any]) -> None:
+        self.lp = lp
+        self.d = direction
+        self.o = opts
+        self.P = lp.n_points
+        self.nc0 = lp.n_cols  # generator columns + lambda
+        self.n_cols = np.arange(self.nc0, self.nc0 + self.P)
+        self.s_cols = np.arange(self.nc0 + self.P, self.nc0 + 2 * self.P)
+        self.history: list[IterationRecord] = []
+        self.fallbacks = 0
+        self.c0 = 0.0
+        self.cold_algorithm = ""
+        self.good_basis: Any = None
+        self.in_fallback = False
+        self.certificate_attempt: dict[str, Any] | None = None
+
+    # ---------------------------------------------------------------- model
+    def _build(self) -> HighsBackend:
+        lp, P = self.lp, self.P
+        be = HighsBackend(lp, algorithm="ipm", time_limit=self.o["time_limit"])
+        be.highs.changeColCost(lp.lam_col, -float(self.d))
+        be.add_columns(sp.hstack([lp.Bn, lp.Bs], format="csc"), np.zeros(2 * P), np.zeros(2 * P))
+        if self.o["scheme"] == "b":
+            # rows n_eq + 2p (+s) and n_eq + 2p + 1 (-s): +-s + alpha mu n <= rhs
+            a0 = self.o["alpha0"]
+            rows = np.repeat(np.arange(2 * P), 2)
+            cols = np.empty(4 * P, dtype=np.int64)
+            vals = np.empty(4 * P)
+            cols[0::4] = self.n_cols
+            cols[1::4] = self.s_cols
+            cols[2::4] = self.n_cols
+            cols[3::4] = self.s_cols
+            vals[0::4] = a0 * lp.mu
+            vals[1::4] = 1.0
+            vals[2::4] = a0 * lp.mu
+            vals[3::4] = -1.0
+            R = sp.csr_matrix((vals, (rows, cols)), shape=(2 * P, self.nc0 + 2 * P))
+            be.add_rows(R, np.full(2 * P, -np.inf), np.full(2 * P, np.inf))
+            self.f_rows = lp.n_eq + np.arange(2 * P)
+        return be
+
+    def _forces(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        P, nc0, mu = self.P, self.nc0, self.lp.mu
+        n = x[:P] + x[P : 2 * P] + x[nc0 : nc0 + P]
+        s = mu * (x[:P] - x[P : 2 * P]) + x[nc0 + P : nc0 + 2 * P]
+        return n, s
+
+    def _coulomb(self, n: FloatArray, s: FloatArray) -> float:
+        scale = max(float(np.max(n, initial=0.0)), 1e-12)
+        return float(np.max(np.abs(s) - self.lp.mu * n, initial=0.0)) / scale
+
+    def _set_capacity(self, be: HighsBackend, nbar: FloatArray, alpha: float, alpha_prev: float) -> None:
+        """Rebuild the yield condition of every point from ``nbar`` (bounds;
+        for scheme (b) row bounds and, when ``alpha`` changed, coefficients)."""
+        P, mu = self.P, self.lp.mu
+        nbar = np.maximum(nbar, 0.0)
+        if self.o["scheme"] == "a":
+            be.set_col_bounds(self.s_cols, -mu * nbar, mu * nbar)
+        else:
+            if self.in_fallback:
+                be.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
+                self.in_fallback = False
+            if alpha != alpha_prev:
+                rows = self.f_rows
+                cols = np.repeat(self.n_cols, 2)
+                be.change_coeffs(rows, cols, np.repeat(alpha * mu, 2))
+            rhs = self.c0 + (1.0 + alpha) * mu * nbar
+            be.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.repeat(rhs, 2))
+
+    def _certify(self, be: HighsBackend, raw: dict[str, Any], n_cap: FloatArray, lam: float, *,
+                 time_limit: float) -> tuple[FloatArray, FloatArray, dict[str, Any]] | None:
+        """Look for an exact non-associative collapse state at this iterate.
+
+        The LP just solved (capacities ``|s| <= mu nbar``) has many optimal
+        force fields. Among them, find one with ``|s| <= mu n`` at every point
+        (Coulomb with its own normal forces) and ``n <= nbar`` at the points
+        that slide in this LP's mechanism: ``lambda`` fixed (column bounds),
+        the ``2P`` rows ``+-s - mu n <= 0`` added, ``n`` capped at the sliding
+        points. Any such field is optimal for the LP, so by complementary
+        slackness it forms with the LP's mechanism (its duals) a complete
+        non-associative solution: equilibrium, Coulomb everywhere, slip only
+        where ``|s| = mu n`` (``n = nbar`` there), no dilatancy at compressed
+        points, opening only where ``n = 0``. The model and basis are
+        restored afterwards (rows deleted, bounds reset, basis set back).
+
+        Returns:
+            ``(n, s, raw)`` of the certified field, or ``None`` (infeasible).
+        """
+        lp, P, mu, d = self.lp, self.P, self.lp.mu, self.d
+        h = be.highs
+        basis = h.getBasis()
+        v = be.dual_sign * raw["row_dual"][: lp.n_eq]
+        ds = lp.Bs.T @ v
+        dn = lp.Bn.T @ v
+        scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)))
+        sliding = np.flatnonzero(np.abs(ds) > STATE_TOL * scale)
+        lam_raw = lam * d
+        delta = 1e-9 * max(1.0, abs(lam_raw))
+        nrow0 = h.getNumRow()
+        rows = np.repeat(np.arange(2 * P), 2)
+        cols = np.empty(4 * P, dtype=np.int64)
+        vals = np.empty(4 * P)
+        cols[0::4] = self.s_cols
+        cols[1::4] = self.n_cols
+        cols[2::4] = self.s_cols
+        cols[3::4] = self.n_cols
+        vals[0::4] = 1.0
+        vals[1::4] = -mu
+        vals[2::4] = -1.0
+        vals[3::4] = -mu
+        R = sp.csr_matrix((vals, (rows, cols)), shape=(2 * P, self.nc0 + 2 * P))
+        be.add_rows(R, np.full(2 * P, -np.inf), np.zeros(2 * P))
+        be.set_col_bounds(np.array([lp.lam_col]), np.array([lam_raw - delta]), np.array([lam_raw + delta]))
+        be.set_col_bounds(self.n_cols[sliding], np.zeros(sliding.size), n_cap[sliding])
+        _run_limit(be, float(time_limit))
+        c_raw = be.run_raw()
+        _run_limit(be, float(self.o["time_limit"]) if self.o["time_limit"] else float("inf"))
+        self.certificate_attempt = c_raw
+        out = None
+        if c_raw["status"] is Status.OPTIMAL:
+            n_c, s_c = self._forces(c_raw["x"])
+            out = (n_c, s_c, c_raw)
+        h.deleteRows(2 * P, np.arange(nrow0, nrow0 + 2 * P, dtype=np.int32))
+        be.set_col_bounds(np.array([lp.lam_col]), np.array([-np.inf]), np.array([np.inf]))
+        be.set_col_bounds(self.n_cols[sliding], np.zeros(sliding.size), np.full(sliding.size, np.inf))
+        h.setBasis(basis)
+        return out
+
+    def _restart(self, be: HighsBackend) -> dict[str, Any]:
+        """Solve the current model from scratch: IPM + crossover, then dual
+        simplex from the crossover basis (as for the first iterate)."""
+        be.highs.clearSolver()
+        be.set_algorithm("ipm", crossover=True)
+        first = be.run_raw()
+        be.set_algorithm("simplex")
+        if first["status"] is not Status.OPTIMAL and first["status"] is not Status.INFEASIBLE:
+            be.highs.clearSolver()
+        raw = be.run_raw()
+        raw["seconds"] += first["seconds"]
+        raw["ipm_iterations"] = first["ipm_iterations"]
+        raw["simplex_iterations"] += first["simplex_iterations"] + first["crossover_iterations"]
+        return raw
+
+    def _fallback_a_step(self, be: HighsBackend, nbar: FloatArray) -> dict[str, Any]:
+        """One LP of scheme (a) inside the scheme (b) model: friction rows
+        switched off (infinite bounds), ``|s| <= mu nbar`` as ``s`` bounds;
+        restored by the next :meth:`_set_capacity`. Bound changes only."""
+        P, mu = self.P, self.lp.mu
+        nbar = np.maximum(nbar, 0.0)
+        be.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.full(2 * P, np.inf))
+        be.set_col_bounds(self.s_cols, -mu * nbar, mu * nbar)
+        raw = be.run_raw()
+        self.in_fallback = True  # the model now holds a scheme (a) LP (for the cold check)
+        return raw
+
+    # ------------------------------------------------------------------ run
+    def run(self) -> NonAssocDirection:
+        t_start = time.perf_counter()
+        lp, P, o = self.lp, self.P, self.o
+        be = self._build()
+        # ---- iterate 0: the associative LP. "interior": IPM without
+        # crossover (the centre of the optimal face); "vertex": IPM +
+        # crossover + dual simplex clean-up (a basic optimal solution, as a
+        # simplex code would return)
+        vertex = o["start"] == "vertex"
+        algo0 = "ipm+crossover+simplex" if vertex else "ipm"
+        if vertex:
+            be.set_algorithm("ipm", crossover=True)
+            first = be.run_raw()
+            be.set_algorithm("simplex")
+            raw = be.run_raw()
+            raw["seconds"] += first["seconds"]
+            raw["ipm_iterations"] = first["ipm_iterations"]
+            raw["simplex_iterations"] += first["simplex_iterations"] + first["crossover_iterations"]
+        else:
+            raw = be.run_raw()
+        if raw["status"] is not Status.OPTIMAL:
+            self._record(0, float("nan"), float("nan"), float("nan"), float("nan"), 0.0, raw, algo0)
+            return self._fail("associative_failed", f"the associative LP failed ({raw['native_status']})",
+                              t_start, float("nan"))
+        x = raw["x"]
+        lam_assoc = float(x[lp.lam_col]) * self.d
+        n0, s0 = self._forces(x)
+        # scheme (b)'s cohesion, relative to the largest associative normal force
+        self.c0 = o["cohesion"] * max(float(np.max(n0, initial=0.0)), 1e-12)
+        self._record(0, lam_assoc, float("nan"), float("nan"), self._coulomb(n0, s0), 0.0, raw, algo0)
+        if lam_assoc < 0:
+            return self._fail("associative_failed", "equilibrium needs a live load in the opposite direction",
+                              t_start, lam_assoc)
+        # ---- switch to the non-associative model
+        be.set_col_bounds(np.arange(2 * P), np.zeros(2 * P), np.zeros(2 * P))
+        be.set_col_bounds(self.n_cols, np.zeros(P), np.full(P, np.inf))
+        if o["scheme"] == "b":
+            be.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
+        alpha = o["alpha0"] if o["scheme"] == "b" else 0.0
+        self._set_capacity(be, n0, alpha, o["alpha0"])
+        n_cap = np.maximum(n0, 0.0)  # the nbar of the current LP
+        if not vertex:
+            be.set_algorithm("ipm", crossover=True)
+        user_limit = float(o["time_limit"]) if o["time_limit"] is not None else float("inf")
+        warm_limit = user_limit
+        lams: list[float] = []
+        dns: list[float] = []
+        n_prev, n_prev2 = n0, n0
+        lam_prev = lam_assoc
+        stop = ""
+        band: tuple[float, float] | None = None
+        last_raw: dict[str, Any] | None = None
+        for k in range(1, o["max_iterations"] + 1):
+            t_it = time.perf_counter()
+            if k > 1:
+                nbar = o["relaxation"] * n_prev + (1.0 - o["relaxation"]) * n_prev2
+                n_cap = np.maximum(nbar, 0.0)
+                new_alpha = max(o["alpha_min"], alpha * o["alpha_factor"]) if o["scheme"] == "b" else 0.0
+                self._set_capacity(be, nbar, new_alpha, alpha)
+                alpha = new_alpha
+            t_upd = time.perf_counter() - t_it
+            if k > 1:
+                _run_limit(be, warm_limit)
+            raw = be.run_raw()
+            _run_limit(be, user_limit)
+            algo = "simplex-warm"
+            if k == 1 and not vertex:
+                # crossover basis -> dual simplex clean-up (crossover alone is not accurate)
+                be.set_algorithm("simplex")
+                ipm_raw = raw
+                raw = be.run_raw()
+                raw["ipm_iterations"] = ipm_raw["ipm_iterations"]
+                raw["seconds"] += ipm_raw["seconds"]
+                raw["simplex_iterations"] += ipm_raw["simplex_iterations"] + ipm_raw["crossover_iterations"]
+                algo = "ipm+crossover+simplex"
+            spent = 0.0 if raw["status"] is Status.OPTIMAL else raw["seconds"]
+            if raw["status"] is not Status.OPTIMAL and k > 1 and o["scheme"] == "b":
+                # scheme (b) caps every point at n <= nbar (1 + alpha) / alpha
+                # + c0 / (alpha mu): with nbar ~ 0 the support pattern can only
+                # shrink until no equilibrium is left (HiGHS says "Infeasible",
+                # or "Unknown" when it is nearly so). Fall back to one step of
+                # scheme (a) from the last forces (bounds only), then go on with (b).
+                if self.good_basis is not None:
+                    be.highs.setBasis(self.good_basis)  # the failed run's basis may be garbage
+                raw = self._fallback_a_step(be, n_prev)
+                n_cap = np.maximum(n_prev, 0.0)
+                algo = "fallback-a"
+                self.fallbacks += 1
+            elif raw["status"] is Status.INFEASIBLE and k > 1 and o["relaxation"] < 1.0:
+                # the relaxed capacities admit no equilibrium: rebuild this
+                # iterate from the last forces alone (no relaxation)
+                self._set_capacity(be, n_prev, alpha, alpha)
+                n_cap = np.maximum(n_prev, 0.0)
+                raw = be.run_raw()
+                algo = "simplex-warm-unrelaxed"
+            if raw["status"] is not Status.OPTIMAL:
+                # warm simplex failed (HiGHS "Unknown" on near-degenerate
+                # rows): restart cold by interior point + crossover, then clean up
+                raw = self._restart(be)
+                algo = "ipm-restart"
+            raw["seconds"] += t_upd + spent
+            if raw["status"] is not Status.OPTIMAL:
+                self._record(k, float("nan"), float("nan"), float("nan"), float("nan"), alpha, raw, algo)
+                stop = "lp_failed"
+                break
+            x = raw["x"]
+            last_raw = raw
+            if k == 1:
+                # a warm run that takes 10x the first (cold) one is stuck (seen:
+                # 13 s to declare a 150-block LP infeasible): stop it and recover
+                warm_limit = min(user_limit, max(1.0, 10.0 * raw["seconds"]))
+            if o["scheme"] == "b":
+                self.good_basis = be.highs.getBasis()
+            lam = float(x[lp.lam_col]) * self.d
+            n, s = self._forces(x)
+            nscale = max(float(np.max(n, initial=0.0)), 1e-12)
+            dlam = abs(lam - lam_prev) / max(abs(lam), 1e-12)
+            dn = float(np.max(np.abs(n - n_prev), initial=0.0)) / nscale
+            coul = self._coulomb(n, s)
+            self._record(k, lam, dlam if k > 1 else abs(lam - lam_assoc) / max(abs(lam), 1e-12), dn, coul, alpha,
+                         raw, algo)
+            lams.append(lam)
+            dns.append(dn)
+            n_prev2, n_prev = n_prev, n
+            lam_prev = lam
+            self._final = (x, raw["row_dual"], n, s, lam)
+            alpha_done = o["scheme"] == "a" or alpha <= o["alpha_min"]
+            coul_tol = o["coulomb_tol"] + (self.c0 / nscale if o["scheme"] == "b" else 0.0)
+            if k >= 2 and alpha_done and dlam <= o["lambda_tol"] and coul <= coul_tol:
+                stop = "lambda_and_forces" if dn <= o["force_tol"] else "lambda_and_coulomb"
+                break
+            self._last_lp = (raw, n_cap, lam, algo)
+            if alpha_done:
+                cyc = _detect_cycle(lams, dns, o["lambda_tol"], o["window"])
+                if cyc is not None:
+                    stop, band = cyc
+                    break
+            if o["max_seconds"] is not None and time.perf_counter() - t_start > o["max_seconds"]:
+                stop = "time_budget"
+                w = lams[-o["window"]:]
+                band = (min(w), max(w))
+                break
+        else:
+            stop = "max_iterations"
+            w = lams[-o["window"]:]
+            band = (min(w), max(w)) if w else None
+        if (stop not in ("lp_failed", "lambda_and_forces", "lambda_and_coulomb") and last_raw is not None
+                and o["certify"] and (o["scheme"] == "a" or self._last_lp[3] == "fallback-a")):
+            # the sequence did not settle: is its last iterate an exact solution anyway?
+            raw_k, n_cap_k, lam_k, _ = self._last_lp
+            typical = float(np.median([r.seconds for r in self.history[1:]]))
+            cert = self._certify(be, raw_k, n_cap_k, lam_k, time_limit=min(user_limit, max(0.1, 10.0 * typical)))
+            if cert is not None:
+                n_c, s_c, c_raw = cert
+                self.history[-1] = _with_certificate(self.history[-1], c_raw, self._coulomb(n_c, s_c))
+                self._final = (self._final[0], self._final[1], n_c, s_c, lam_k)
+                stop, band = "certified", None
+            else:
+                self.history[-1] = _with_certificate(self.history[-1], self.certificate_attempt, float("nan"))
+        if stop == "lp_failed" or last_raw is None:
+            return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold "
+                              f"({raw['native_status']})", t_start, lam_assoc, band)
+        return self._finish(be, stop, band, lam_assoc, t_start)
+
+    def _record(self, k: int, lam: float, dlam: float, dn: float, coul: float, alpha: float,
+                raw: dict[str, Any], algo: str) -> None:
+        self.history.append(IterationRecord(
+            iteration=k, load_factor=lam, lambda_change=dlam, max_dn=dn, coulomb_residual=coul, alpha=alpha,
+            simplex_iterations=int(raw["simplex_iterations"]), ipm_iterations=int(raw["ipm_iterations"]),
+            seconds=float(raw["seconds"]), algorithm=algo, status=raw["status"].value,
+        ))
+
+    def _fail(self, reason: str, msg: str, t_start: float, lam_assoc: float,
+              band: tuple[float, float] | None = None) -> NonAssocDirection:
+        last = [r.load_factor for r in self.history[1:] if math.isfinite(r.load_factor)]
+        nan = float("nan")
+        return NonAssocDirection(
+            _DIR_NAME[self.d], SOLVER_FAILURE, reason, nan, last[-1] if last else nan, band, lam_assoc,
+            max(len(self.history) - 1, 0), tuple(self.history), nan, nan, nan, nan, nan, 0, None, None, None,
+            time.perf_counter() - t_start, msg,
+        )
+
+    def _finish(self, be: HighsBackend, stop: str, band: tuple[float, float] | None, lam_assoc: float,
+                t_start: float) -> NonAssocDirection:
+        lp, o = self.lp, self.o
+        x, row_dual, n, s, lam = self._final
+        status = CONVERGED if stop in ("lambda_and_forces", "lambda_and_coulomb", "certified") else (
+            MAX_ITERATIONS if stop in ("max_iterations", "time_budget") else CYCLING)
+        # ---- final-state checks
+        coul = self._coulomb(n, s)
+        eq = lp.Bn @ n + lp.Bs @ s + (lam * self.d) * lp.live - lp.rhs  # the LP column holds d * lambda
+        eq_res = float(np.max(np.abs(eq), initial=0.0))
+        v = be.dual_sign * row_dual[: lp.n_eq]
+        mech = mechanism_from_duals(lp, v, self.d)
+        dn_rate, ds_rate = mech.opening_rate, mech.slip_rate
+        scale = max(float(np.max(np.abs(ds_rate), initial=0.0)), float(np.max(np.abs(dn_rate), initial=0.0)))
+        nscale = max(float(np.max(n, initial=0.0)), 1e-12)
+        sliding = (np.abs(ds_rate) > STATE_TOL * scale) & (n > 1e-9 * nscale)
+        smax = max(float(np.max(np.abs(ds_rate), initial=0.0)), 1e-300)
+        dil = float(np.max(np.abs(dn_rate[sliding]), initial=0.0)) / smax if sliding.any() else 0.0
+        # ---- cold re-solve of the final iterate
+        cold = float("nan")
+        rel = float("nan")
+        msg = ""
+        if o["cold_check"]:
+            cb = be.cold_copy("ipm")
+            craw = cb.run_raw()
+            self.cold_algorithm = "ipm"
+            if craw["status"] is not Status.OPTIMAL:
+                # IPX gave up (seen on scheme (b)'s near-degenerate rows): dual simplex, no basis
+                cb = be.cold_copy("simplex")
+                craw = cb.run_raw()
+                self.cold_algorithm = "simplex"
+            if craw["status"] is Status.OPTIMAL:
+                cold = float(craw["x"][lp.lam_col]) * self.d
+                rel = abs(cold - lam) / max(abs(cold), 1e-12)
+            if not math.isfinite(rel) or rel > o["cold_tol"]:
+                status, stop = SOLVER_FAILURE, "cold_check_failed"
+                msg = (f"the final iterate re-solved cold gives lambda = {cold:.9g} against {lam:.9g} warm "
+                       f"(HiGHS hot start; status {craw['native_status']})")
+        if status == CONVERGED and eq_res > 1e-6:
+            status, stop = SOLVER_FAILURE, "equilibrium_residual"
+            msg = f"equilibrium residual {eq_res:.2e} block weights at the final iterate"
+        lam_out = lam if status == CONVERGED else float("nan")
+        if not msg and status == CYCLING:
+            msg = f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop
+        elif not msg and status == MAX_ITERATIONS:
+            msg = (f"no convergence in {o['max_iterations']} iterations" if stop == "max_iterations"
+                   else f"time budget of {o['max_seconds']:g} s spent after {len(self.history) - 1} LPs")
+            msg += f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else ""
+        elif not msg and status != CONVERGED:
+            msg = stop
+        fs = lp.force_scale
+        return NonAssocDirection(
+            _DIR_NAME[self.d], status, stop, lam_out, lam, None if status == CONVERGED else band, lam_assoc,
+            len(self.history) - 1, tuple(self.history), cold, rel, coul, dil, eq_res, int(sliding.sum()),
+            n * fs, s * fs, mech, time.perf_counter() - t_start, msg, self.cold_algorithm, self.fallbacks,
+        )
+
+
+def _run_limit(be: HighsBackend, seconds: float) -> None:
+    """Limit the NEXT run to ``seconds``: HiGHS compares ``time_limit`` with
+    the run time accumulated over all runs of the object (measured: a warm run
+    stopped after 0.27 s with ``time_limit`` 24 s after 20 s of earlier runs)."""
+    h = be.highs
+    if math.isfinite(seconds):
+        h.setOptionValue("time_limit", float(h.getRunTime()) + float(seconds))
+    else:
+        h.setOptionValue("time_limit", float("inf"))
+
+
+def _with_certificate(rec: IterationRecord, c_raw: dict[str, Any] | None, coulomb: float) -> IterationRecord:
+    """The record with the certificate attempt added (its LP's time and iterations)."""
+    import dataclasses
+
+    if c_raw is None:
+        return dataclasses.replace(rec, certificate="not found")
+    return dataclasses.replace(
+        rec, certificate="certified" if c_raw["status"] is Status.OPTIMAL else "not found",
+        certificate_seconds=float(c_raw["seconds"]), certificate_simplex_iterations=int(c_raw["simplex_iterations"]),
+        coulomb_residual=coulomb if math.isfinite(coulomb) else rec.coulomb_residual,
+    )
+
+
+def _detect_cycle(lams: list[float], dns: list[float], tol: float,
+                  window: int) -> tuple[str, tuple[float, float]] | None:
+    """Cycling tests on the non-associative ``lambda`` sequence (see module docstring).
+
+    Returns:
+        ``(reason, (min, max))`` or ``None``.
+    """
+    k = len(lams)
+    lam = np.asarray(lams)
+    ref = max(abs(lam[-1]), 1e-12)
+    # repeating sequence of period 2..6, seen twice in a row, not constant
+    for p in range(2, 7):
+        if k >= 2 * p:
+            a = lam[-p:]
+            b = lam[-2 * p : -p]
+            if np.all(np.abs(a - b) <= tol * ref) and np.ptp(a) > tol * ref:
+                return "repeating", (float(a.min()), float(a.max()))
+    if k >= 2 * window:
+        w1, w2 = lam[-2 * window : -window], lam[-window:]
+        b1, b2 = float(np.ptp(w1)), float(np.ptp(w2))
+        if b2 > tol * ref and b2 >= 0.5 * b1:
+            return "oscillating", (float(w2.min()), float(w2.max()))
+        d1, d2 = min(dns[-2 * window : -window]), min(dns[-window:])
+        if b2 <= tol * ref and d2 >= 0.5 * d1:
+            return "stagnation", (float(w2.min()), float(w2.max()))
+    return None
+
+
+def contact_states(result: NonAssocDirection) -> tuple[str, ...] | None:
+    """Contact state names of a direction's final mechanism."""
+    if result.mechanism is None:
+        return None
+    return tuple(CONTACT_STATE_NAMES[i] for i in result.mechanism.contact_state)
+
+
+def verify_collapse_state(lp: LimitLP, result: NonAssocDirection) -> dict[str, float]:
+    """Check a direction's final state against the non-associative collapse
+    conditions, independently of how it was found (scaled units).
+
+    Args:
+        lp: the LP of the wall (:func:`micro.assemble`).
+        result: a direction with forces and a mechanism.
+
+    Returns:
+        Residuals (0 when exact): ``equilibrium`` (block weights),
+        ``coulomb`` (``max(|s| - mu n)`` / ``max n``), ``interpenetration``
+        (``-min opening rate`` / largest rate), ``dilatancy``
+        (``max |n * opening rate|`` / (``max n`` x largest rate)),
+        ``slip_off_yield`` (``max ||s| - mu n|`` over slipping points /
+        ``max n``), ``friction_direction`` (``max(s * slip rate)``, positive
+        when friction would drive the slip, / (``max n`` x largest rate)),
+        ``energy`` (``lambda * live work + dead work - dissipation``
+        relative to ``lambda``) and ``slipping_points``.
+
+    Raises:
+        ValueError: the result has no forces or mechanism (it failed).
+    """
+    if result.normal is None or result.shear is None or result.mechanism is None:
+        raise ValueError(f"direction {result.direction} has no final state ({result.status})")
+    d = 1 if result.direction == "+x" else -1
+    lam = result.last_load_factor
+    n = result.normal / lp.force_scale
+    s = result.shear / lp.force_scale
+    mech = result.mechanism
+    dn, ds = mech.opening_rate, mech.slip_rate
+    rate = max(float(np.max(np.abs(dn), initial=0.0)), float(np.max(np.abs(ds), initial=0.0)), 1e-300)
+    nsc = max(float(np.max(n, initial=0.0)), 1e-300)
+    slip = np.abs(ds) > STATE_TOL * rate
+    eq = lp.Bn @ n + lp.Bs @ s + (lam * d) * lp.live - lp.rhs
+    dissipation = -float(ds @ s)
+    return {
+        "equilibrium": float(np.max(np.abs(eq), initial=0.0)),
+        "coulomb": max(float(np.max(np.abs(s) - lp.mu * n, initial=0.0)), 0.0) / nsc,
+        "interpenetration": max(-float(np.min(dn, initial=0.0)), 0.0) / rate,
+        "dilatancy": float(np.max(np.abs(n * dn), initial=0.0)) / (nsc * rate),
+        "slip_off_yield": float(np.max(np.abs(np.abs(s[slip]) - lp.mu[slip] * n[slip]), initial=0.0)) / nsc,
+        "friction_direction": max(float(np.max(s[slip] * ds[slip], initial=0.0)), 0.0) / (nsc * rate),
+        "energy": abs(lam * mech.live_work + mech.dead_work - dissipation) / max(abs(lam), 1e-12),
+        "slipping_points": float(slip.sum()),
+    }
