@@ -81,22 +81,14 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
 
 def build_parser() -> argparse.ArgumentParser:
     """The full ``xcheck`` parser with every subcommand registered."""
-    import importlib
+    from comparison import cmd_macro, cmd_micro, cmd_report, cmd_stability
 
     parser = _Parser(
         prog="xcheck",
         description="Macro-block model vs rigid-block limit analysis of dry-joint masonry walls.",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    # subcommands live on different branches (cmd_macro/cmd_report on main):
-    # register those present
-    for name in ("cmd_macro", "cmd_micro", "cmd_report", "cmd_stability"):
-        try:
-            module = importlib.import_module(f"comparison.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"comparison.{name}":
-                raise
-            continue
+    for module in (cmd_macro, cmd_micro, cmd_report, cmd_stability):
         module.register(sub)
     return parser
 
