@@ -184,8 +184,7 @@ class HighsBackend:
             # unscaled equilibrium residuals of 8e-4 on the three-storey scene.
             # Without it the IPX solution has residuals ~1e-12.
             h.setOptionValue("run_crossover", "off")
-        if time_limit is not None:
-            h.setOptionValue("time_limit", float(time_limit))
+        self.time_limit = time_limit
         for k, v in (options or {}).items():
             h.setOptionValue(k, v)
         if algorithm == "simplex":
@@ -251,6 +250,10 @@ class HighsBackend:
         hs = self._hs
         h = self.highs
         h.changeColCost(self.lp.lam_col, -float(direction))
+        if self.time_limit is not None:
+            # HiGHS measures its time limit against the run time accumulated
+            # over the object's life: make it a limit per solve
+            h.setOptionValue("time_limit", h.getRunTime() + float(self.time_limit))
         t0 = time.perf_counter()
         h.run()
         ms = h.getModelStatus()
