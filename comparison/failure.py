@@ -118,10 +118,7 @@ def failure_mode(blocks: Blocks, velocities: FloatArray, direction: str) -> Fail
     moving = speed > MOVING_TOL * top
     L = blocks.length
     # into the macro frame: hinge side at x = 0
-    if direction == "+x":
-        near, far = L - blocks.x1, L - blocks.x0
-    else:
-        near, far = blocks.x0, blocks.x1
+    far = L - blocks.x0 if direction == "+x" else blocks.x1  # far edge of each block from the hinge side
     courses = np.unique(blocks.course[moving])
     lowest = int(courses.min())
     hinge_storey = int(blocks.storey[moving][blocks.course[moving] == lowest][0])

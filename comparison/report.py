@@ -1,8 +1,8 @@
 """The validation report: the paper's cases through both models, set beside the published values.
 
 :func:`build_report` runs (through the caching :class:`~comparison.runner.Runner`)
-the macro model, the associative micro LP and, where the package provides it,
-the non-associative iterated LP on the paper's cases, and writes
+the macro model, the associative micro LP and the non-associative iterated LP
+(on walls of at most :data:`NONASSOC_MAX_BLOCKS` blocks) on the paper's cases, and writes
 ``REPORT.md``, one CSV per table, ``report.json`` with every number shown and
 the figures. ``quick`` keeps the small walls only (Sets 11-14 and 12-row
 variants) for the micro model; the macro model always runs every case.
@@ -23,7 +23,7 @@ from typing import Any
 
 import macro
 from comparison import figures
-from comparison.cases import CASES, MODELS, SET4_HINGE_LOAD_FACTORS, PaperCase, case, cases_in_table
+from comparison.cases import CASES, MODELS, SET4_HINGE_LOAD_FACTORS, PaperCase, cases_in_table
 from comparison.runner import MACRO, MICRO_ASSOC, MICRO_NONASSOC, Method, Record, Runner
 from comparison.spec import WallSpec
 
@@ -123,7 +123,6 @@ class Study:
     quick: bool
     methods: list[Method]
     macro_results: dict[str, macro.MacroResult] = field(default_factory=dict)
-    records: list[Record] = field(default_factory=list)
 
     @property
     def reference(self) -> Method:
@@ -134,13 +133,11 @@ class Study:
         return [c for c in CASES if not self.quick or c.rows <= 12]
 
     def run(self, spec: WallSpec, method: Method) -> Record:
+        """The record of ``method`` on ``spec`` (``not_run``: the iterated LP on a wall too large for the report)."""
         blocks = approximate_blocks(spec)
         if method.kind == "micro-nonassoc" and blocks > NONASSOC_MAX_BLOCKS:
-            r = Record(spec.name or "wall", method.label, float("nan"), "not_run", 0.0, {"message": f"about {blocks} blocks: above {NONASSOC_MAX_BLOCKS}"})
-        else:
-            r = self.runner.run(spec, method)
-        self.records.append(r)
-        return r
+            return Record(spec.name or "wall", method.label, float("nan"), "not_run", 0.0, {"message": f"about {blocks} blocks: above {NONASSOC_MAX_BLOCKS}"})
+        return self.runner.run(spec, method)
 
     def best_micro(self, spec: WallSpec) -> Record:
         """The non-associative record when it has a load factor, else the associative one."""
@@ -674,4 +671,4 @@ wall, the method and the source of the packages it runs).
     return path
 
 
-__all__ = ["Study", "Table", "build_report", "case", "pct"]
+__all__ = ["NONASSOC_MAX_BLOCKS", "Study", "Table", "build_report", "lam_cell", "pct"]

@@ -217,7 +217,6 @@ def load_factor_curve(wall: MacroWall, hinge_storey: int, tan_alpha_c: np.ndarra
     """
     if not 1 <= hinge_storey <= wall.storeys:
         raise ValueError(f"hinge_storey must be in 1..{wall.storeys}, got {hinge_storey!r}")
-    pb = _problems(wall)
     sub = _problems(wall).select(slice(hinge_storey - 1, hinge_storey))
     tau = np.asarray(tan_alpha_c, dtype=float)
     out = evaluate(tau.reshape(1, -1), sub)
