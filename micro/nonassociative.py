@@ -512,22 +512,20 @@ class _Sequence:
         be.add_columns(sp.hstack([lp.Bn, lp.Bs], format="csc"), np.zeros(2 * P), np.zeros(2 * P))
         if self.o["scheme"] == "b":
             # rows n_eq + 2p (+s) and n_eq + 2p + 1 (-s): +-s + alpha mu n <= rhs
-            a0 = self.o["alpha0"]
-            rows = np.repeat(np.arange(2 * P), 2)
-            cols = np.empty(4 * P, dtype=np.int64)
-            vals = np.empty(4 * P)
-            cols[0::4] = self.n_cols
-            cols[1::4] = self.s_cols
-            cols[2::4] = self.n_cols
-            cols[3::4] = self.s_cols
-            vals[0::4] = a0 * lp.mu
-            vals[1::4] = 1.0
-            vals[2::4] = a0 * lp.mu
-            vals[3::4] = -1.0
-            R = sp.csr_matrix((vals, (rows, cols)), shape=(2 * P, self.nc0 + 2 * P))
-            be.add_rows(R, np.full(2 * P, -np.inf), np.full(2 * P, np.inf))
+            be.add_rows(self._friction_rows(self.o["alpha0"] * lp.mu), np.full(2 * P, -np.inf), np.full(2 * P, np.inf))
             self.f_rows = lp.n_eq + np.arange(2 * P)
         return be
+
+    def _friction_rows(self, n_coef: FloatArray) -> sp.csr_matrix:
+        """``2P`` rows over the model's columns: row ``2p`` is ``+s_p + n_coef_p n_p``,
+        row ``2p + 1`` is ``-s_p + n_coef_p n_p``."""
+        P = self.P
+        rows = np.repeat(np.arange(2 * P), 2)
+        cols = np.empty(4 * P, dtype=np.int64)
+        vals = np.empty(4 * P)
+        cols[0::4], cols[1::4], cols[2::4], cols[3::4] = self.s_cols, self.n_cols, self.s_cols, self.n_cols
+        vals[0::4], vals[1::4], vals[2::4], vals[3::4] = 1.0, n_coef, -1.0, n_coef
+        return sp.csr_matrix((vals, (rows, cols)), shape=(2 * P, self.nc0 + 2 * P))
 
     def _forces(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
         P, nc0, mu = self.P, self.nc0, self.lp.mu
@@ -587,19 +585,7 @@ class _Sequence:
         lam_raw = lam * d
         delta = 1e-9 * max(1.0, abs(lam_raw))
         nrow0 = h.getNumRow()
-        rows = np.repeat(np.arange(2 * P), 2)
-        cols = np.empty(4 * P, dtype=np.int64)
-        vals = np.empty(4 * P)
-        cols[0::4] = self.s_cols
-        cols[1::4] = self.n_cols
-        cols[2::4] = self.s_cols
-        cols[3::4] = self.n_cols
-        vals[0::4] = 1.0
-        vals[1::4] = -mu
-        vals[2::4] = -1.0
-        vals[3::4] = -mu
-        R = sp.csr_matrix((vals, (rows, cols)), shape=(2 * P, self.nc0 + 2 * P))
-        be.add_rows(R, np.full(2 * P, -np.inf), np.zeros(2 * P))
+        be.add_rows(self._friction_rows(-mu), np.full(2 * P, -np.inf), np.zeros(2 * P))  # |s| <= mu n
         be.set_col_bounds(np.array([lp.lam_col]), np.array([lam_raw - delta]), np.array([lam_raw + delta]))
         be.set_col_bounds(self.n_cols[sliding], np.zeros(sliding.size), n_cap[sliding])
         _run_limit(be, float(time_limit))
