@@ -272,7 +272,8 @@ class SearchSettings:
     * ``method="zoom"``: ``rounds`` rounds of ``zoom_points`` samples on each
       side of the best point so far; few array operations, for single walls;
     * ``method="golden"``: ``rounds`` golden-section steps, one sample per
-      piece each; fewest evaluations, for large batches.
+      piece each, then one parabolic step through the best point and its two
+      neighbours; fewest evaluations, for large batches.
     """
 
     initial_points: int = 17
@@ -310,6 +311,8 @@ class PieceSamples:
     best_l: Array
     left: Array  # the two cells around the best sample
     right: Array
+    f_left: Array  # Eq. (10) at left and right (samples too)
+    f_right: Array
     bound: Array
 
 
@@ -346,6 +349,8 @@ def sample_pieces(pb: HingeProblems, settings: SearchSettings = DEFAULT_SEARCH) 
         best_l=best_l,
         left=np.maximum(best_a - cell, start),
         right=np.minimum(best_a + cell, end),
+        f_left=lam[q, np.maximum(j - 1, 0)],
+        f_right=lam[q, np.minimum(j + 1, lam.shape[1] - 1)],
         bound=best_l - 0.5 * curvature,
     )
 
@@ -377,17 +382,31 @@ def minimise(
     todo = np.ones(s.owner.size, dtype=bool) if upper_bound is None else s.bound <= upper_bound[s.owner]
     if todo.any():
         sub = pb.select(s.owner[todo])
-        lam[todo], alpha[todo] = _refine(sub, s.start[todo], s.end[todo], s.best_a[todo], s.best_l[todo], s.left[todo], s.right[todo], settings)
+        lam[todo], alpha[todo] = _refine(
+            sub, s.start[todo], s.end[todo], s.best_a[todo], s.best_l[todo], s.left[todo], s.right[todo],
+            s.f_left[todo], s.f_right[todo], settings,
+        )  # fmt: skip
     order = np.lexsort((lam, s.owner))
     first = order[np.r_[True, s.owner[order][1:] != s.owner[order][:-1]]]
     return lam[first], np.tan(alpha[first])
 
 
 def _refine(
-    pb: HingeProblems, start: Array, end: Array, best_a: Array, best_l: Array, left: Array, right: Array, settings: SearchSettings
+    pb: HingeProblems,
+    start: Array,
+    end: Array,
+    best_a: Array,
+    best_l: Array,
+    left: Array,
+    right: Array,
+    f_left: Array,
+    f_right: Array,
+    settings: SearchSettings,
 ) -> tuple[Array, Array]:
     """Refine each piece's best sample within its two neighbouring cells (shape ``(Q,)``)."""
-    start, end, best_a, best_l, left, right = (x[:, None] for x in (start, end, best_a, best_l, left, right))
+    start, end, best_a, best_l, left, right, f_lo, f_hi = (
+        x[:, None] for x in (start, end, best_a, best_l, left, right, f_left, f_right)
+    )
     if settings.method == "zoom":
         w = np.linspace(0.0, 1.0, settings.zoom_points)
         for _ in range(settings.rounds):
@@ -409,13 +428,24 @@ def _refine(
         f1, f2 = f12[..., 0], f12[..., 1]
         for _ in range(settings.rounds):
             go_left = f1 < f2  # the minimum lies in [lo, x2]
-            hi = np.where(go_left, x2, hi)
-            lo = np.where(go_left, lo, x1)
+            hi, f_hi = np.where(go_left, x2, hi), np.where(go_left, f2, f_hi)
+            lo, f_lo = np.where(go_left, lo, x1), np.where(go_left, f_lo, f1)
             new = np.where(go_left, hi - _INV_PHI * (hi - lo), lo + _INV_PHI * (hi - lo))
             fn = _lambda(new[..., None], pb)[..., 0]
             x1, x2 = np.where(go_left, new, x2), np.where(go_left, x1, new)
             f1, f2 = np.where(go_left, fn, f2), np.where(go_left, f1, fn)
-        for x, fx in ((x1, f1), (x2, f2)):
+        # one parabolic step through the best interior point and its neighbours
+        left_side = f1 < f2
+        a, fa = np.where(left_side, lo, x1), np.where(left_side, f_lo, f1)
+        b, fb = np.where(left_side, x1, x2), np.where(left_side, f1, f2)
+        c, fc = np.where(left_side, x2, hi), np.where(left_side, f2, f_hi)
+        num = (b - a) ** 2 * (fb - fc) - (b - c) ** 2 * (fb - fa)
+        den = (b - a) * (fb - fc) - (b - c) * (fb - fa)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vertex = b - 0.5 * num / den
+        vertex = np.where(np.isfinite(vertex) & (vertex > a) & (vertex < c), vertex, b)
+        fv = _lambda(vertex[..., None], pb)[..., 0]
+        for x, fx in ((x1, f1), (x2, f2), (vertex, fv)):
             take = fx < best_l
             best_a, best_l = np.where(take, x, best_a), np.where(take, fx, best_l)
     else:
