@@ -15,7 +15,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from macro.model import SearchSettings, evaluate, hinge_problems, minimise, sample_pieces
 
-#: Search used by :func:`sweep`: coarser than the scalar default, still
 #: Search used by :func:`sweep`: five samples per smooth piece, ten golden-section
 #: steps and one parabolic step; within 2e-12 of a 100,001-point brute force on
 #: 300 random walls of 1, 3 and 5 storeys.
