@@ -138,14 +138,23 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
         raise UsageError(f"--max-iterations must be an integer >= 2, got {args.max_iterations!r}") from None
     if max_it < 2:
         raise UsageError(f"--max-iterations must be an integer >= 2, got {args.max_iterations!r}")
-    if args.plot is not None:
-        raise UsageError("--plot is not available with --friction nonassociative yet")
     result = micro.solve_nonassociative(wall, scheme=args.scheme, relaxation=relaxation,  # type: ignore[arg-type]
                                         max_iterations=max_it, time_limit=time_limit)
+    mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
+    if args.plot is not None and mechanism is not None:
+        from micro.plot import plot_velocities
+
+        title = (f"lambda = {result.load_factor:.4f} ({result.direction}), non-associative scheme {result.scheme}, "
+                 f"{result.blocks} blocks")
+        try:
+            plot_velocities(wall, mechanism.velocities, args.plot, title=title)  # type: ignore[arg-type]
+        except OSError as exc:
+            raise UsageError(f"--plot: cannot write {args.plot!r} ({exc.strerror})") from None
     if args.json:
         out = result.summary()
         out.update(wall=getattr(spec, "name", "") or "", friction=args.friction, first_course=args.first_course,
-                   head_joints=args.head_joints, solver="highs-simplex (warm) + highs-ipm (start, cold check)")
+                   head_joints=args.head_joints, solver="highs-simplex (warm) + highs-ipm (start, cold check)",
+                   plot=args.plot if mechanism is not None else None)
         print(json.dumps(out))
     else:
         g = result.governing
@@ -157,6 +166,8 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
             band = "" if result.lambda_band is None else \
                 f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
             print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
+        if args.plot is not None and mechanism is None:
+            print(f"  no plot written to {args.plot}: no converged mechanism")
         print(f"  warm/cold rel. difference {result.warm_cold_rel_diff:.2e}, Coulomb residual "
               f"{result.coulomb_residual:.2e}, dilatancy residual {result.dilatancy_residual:.2e}, "
               f"{result.blocks} blocks, {result.solve_seconds:.3f} s")

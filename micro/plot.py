@@ -73,6 +73,41 @@ def draw_mechanism(
     return float(amplification)
 
 
+def plot_velocities(
+    wall: BlockWall,
+    velocities: NDArray[np.float64],
+    path: str | Path,
+    *,
+    amplification: float | None = None,
+    title: str = "",
+) -> Path:
+    """Draw the wall and a mechanism (see :func:`draw_mechanism`) to an image file.
+
+    Args:
+        wall: the wall.
+        velocities: ``(n_blocks, 3)`` block velocities (scaled units).
+        path: output file (``.png``, ``.pdf``, ``.svg``).
+        amplification: displacement scale; ``None`` chooses one.
+        title: figure title.
+
+    Returns:
+        The written path.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    aspect = wall.height / wall.length
+    fig, ax = plt.subplots(figsize=(9, max(3.0, min(9.0, 9 * aspect + 1.5))), dpi=110)
+    draw_mechanism(ax, wall, velocities, amplification=amplification, fig=fig)
+    ax.set_title(title)
+    out = Path(path)
+    fig.savefig(out, bbox_inches="tight")
+    plt.close(fig)
+    return out
+
+
 def plot_mechanism(
     wall: BlockWall,
     result: LimitResult,
@@ -81,7 +116,7 @@ def plot_mechanism(
     amplification: float | None = None,
     title: str | None = None,
 ) -> Path:
-    """Draw the wall and its collapse mechanism to an image file (see :func:`draw_mechanism`).
+    """Draw the wall and the collapse mechanism of an associative result to an image file.
 
     Args:
         wall: the wall.
@@ -96,21 +131,12 @@ def plot_mechanism(
     Raises:
         ValueError: the result has no mechanism (not optimal).
     """
-    import matplotlib
-
-    matplotlib.use("Agg", force=True)
-    import matplotlib.pyplot as plt
-
     if result.velocities is None:
         raise ValueError(f"no mechanism to draw: the solve ended with status {result.status}")
-    aspect = wall.height / wall.length
-    fig, ax = plt.subplots(figsize=(9, max(3.0, min(9.0, 9 * aspect + 1.5))), dpi=110)
-    draw_mechanism(ax, wall, result.velocities, amplification=amplification, fig=fig)
-    ax.set_title(
-        title
-        or f"lambda = {result.load_factor:.4f} ({result.direction}), {result.blocks} blocks, {result.solver}"
+    return plot_velocities(
+        wall,
+        result.velocities,
+        path,
+        amplification=amplification,
+        title=title or f"lambda = {result.load_factor:.4f} ({result.direction}), {result.blocks} blocks, {result.solver}",
     )
-    out = Path(path)
-    fig.savefig(out, bbox_inches="tight")
-    plt.close(fig)
-    return out

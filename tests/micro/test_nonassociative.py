@@ -223,6 +223,15 @@ def test_cli_json(capsys: pytest.CaptureFixture[str]) -> None:
     assert abs(out["load_factor"] / 0.68 - 1) <= 0.05
 
 
+def test_cli_plot(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:  # type: ignore[no-untyped-def]
+    png = tmp_path / "mech.png"
+    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75",
+                 "--friction", "nonassociative", "--plot", str(png), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["plot"] == str(png)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 def test_cli_cycling_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["micro", "--t", "1", "--m", "1", "--rows", "12", "--f", "0.75",
                  "--friction", "nonassociative", "--relaxation", "1", "--json"])
