@@ -58,6 +58,19 @@ def _choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
     return value
 
 
+def _in_range(option: str, text: str | None, rule: str, upper: float) -> float | None:
+    """``None`` for an option not given, else a number in ``(0, upper]``; a one-line error otherwise."""
+    if text is None:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        raise UsageError(f"{option} must be {rule}, got {text!r}") from None
+    if not (0.0 < value <= upper) or math.isnan(value) or value == math.inf:
+        raise UsageError(f"{option} must be {rule}, got {text!r}")
+    return value
+
+
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck micro``."""
     import micro
@@ -67,14 +80,7 @@ def run(args: argparse.Namespace) -> int:
     _choice("--solver", args.solver, SOLVERS)
     _choice("--first-course", args.first_course, ("full", "half"))
     _choice("--head-joints", args.head_joints, ("frictional", "frictionless"))
-    time_limit = None
-    if args.time_limit is not None:
-        try:
-            time_limit = float(args.time_limit)
-        except ValueError:
-            raise UsageError(f"--time-limit must be a number of seconds, got {args.time_limit!r}") from None
-        if not math.isfinite(time_limit) or time_limit <= 0:
-            raise UsageError(f"--time-limit must be a positive number of seconds, got {args.time_limit!r}")
+    time_limit = _in_range("--time-limit", args.time_limit, "a positive number of seconds", math.inf)
     if args.plot is not None and not args.plot.lower().endswith((".png", ".pdf", ".svg")):
         raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
     spec = wall_from_args(args)
@@ -124,14 +130,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
     _choice("--scheme", args.scheme, SCHEMES)
     if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
-    relaxation = None
-    if args.relaxation is not None:
-        try:
-            relaxation = float(args.relaxation)
-        except ValueError:
-            raise UsageError(f"--relaxation must be a number in (0, 1], got {args.relaxation!r}") from None
-        if not (0.0 < relaxation <= 1.0):
-            raise UsageError(f"--relaxation must be a number in (0, 1], got {args.relaxation!r}")
+    relaxation = _in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
     try:
         max_it = int(args.max_iterations)
     except ValueError:

@@ -29,6 +29,16 @@ class SpeedPoint:
     error: float  # |lambda - reference| / reference
 
 
+def _save(fig, ax, path: Path, fontsize: int) -> Path:  # type: ignore[no-untyped-def]
+    """Legend (when anything is labelled), layout, write, close."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=fontsize)
+    fig.tight_layout()
+    fig.savefig(path)
+    _plt().close(fig)
+    return path
+
+
 def speed_accuracy(points: Sequence[SpeedPoint], reference: str, path: Path) -> Path:
     """Time (log) against relative error in lambda, one marker per family."""
     plt = _plt()
@@ -47,12 +57,7 @@ def speed_accuracy(points: Sequence[SpeedPoint], reference: str, path: Path) -> 
     ax.set_xlabel(f"|Δλ| / λ against {reference} (errors below {floor:g} drawn at {floor:g})")
     ax.set_ylabel("time [s]")
     ax.grid(True, which="both", alpha=0.3)
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return _save(fig, ax, path, 8)
 
 
 def sensitivity(panels: Mapping[str, Mapping[str, tuple[Sequence[float], Sequence[float]]]], path: Path, published: Mapping[str, tuple[Sequence[float], Sequence[float]]] | None = None) -> Path:
@@ -74,12 +79,7 @@ def sensitivity(panels: Mapping[str, Mapping[str, tuple[Sequence[float], Sequenc
         ax.grid(True, alpha=0.3)
     for ax in axes.ravel()[n:]:
         ax.axis("off")
-    if axes.ravel()[0].get_legend_handles_labels()[0]:
-        axes.ravel()[0].legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return _save(fig, axes.ravel()[0], path, 7)
 
 
 def histories(series: Mapping[str, Sequence[float]], path: Path, title: str = "") -> Path:
@@ -92,9 +92,4 @@ def histories(series: Mapping[str, Sequence[float]], path: Path, title: str = ""
     ax.set_ylabel("λ")
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return _save(fig, ax, path, 7)
