@@ -47,8 +47,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
                     help="rebuilt yield condition of the iterated LP: a (|s| <= mu nbar, default) or "
                     "b (line of slope -alpha through (nbar, mu nbar))")
     na.add_argument("--relaxation", default=None, metavar="BETA",
-                    help="nbar = BETA n_k + (1 - BETA) n_(k-1), BETA in (0, 1] (default: a 1, b 0.6)")
+                    help="nbar = BETA n_k + (1 - BETA) n_(k-1), BETA in (0, 1] (default 0.6)")
     na.add_argument("--max-iterations", default="100", metavar="N", help="cap on the LPs per direction (default 100)")
+    na.add_argument("--no-certify", action="store_true",
+                    help="stop only when an LP's own forces satisfy Coulomb (the plain iterated LP); by default a "
+                    "settled iterate whose mechanism admits an exact collapse state ends the sequence")
     p.set_defaults(handler=run)
 
 
@@ -138,7 +141,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
     if max_it < 2:
         raise UsageError(f"--max-iterations must be an integer >= 2, got {args.max_iterations!r}")
     result = micro.solve_nonassociative(wall, scheme=args.scheme, relaxation=relaxation,  # type: ignore[arg-type]
-                                        max_iterations=max_it, time_limit=time_limit)
+                                        max_iterations=max_it, time_limit=time_limit, certify=not args.no_certify)
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:
         from micro.plot import plot_velocities
@@ -152,7 +155,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
     if args.json:
         out = result.summary()
         out.update(wall=getattr(spec, "name", "") or "", friction=args.friction, first_course=args.first_course,
-                   head_joints=args.head_joints, solver="highs-simplex (warm) + highs-ipm (start, cold check)",
+                   head_joints=args.head_joints, solver="clarabel (start) + highs-simplex (warm) + highs-ipm (certificate, cold check)",
                    plot=args.plot if mechanism is not None else None)
         print(json.dumps(out))
     else:
@@ -161,6 +164,9 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
             print(f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
                   f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
                   f"({g.stop_reason}); associative lambda = {result.associative_load_factor:.6f}")
+            if result.mechanism_band is not None:
+                lo, hi = result.mechanism_band
+                print(f"  collapse states with this mechanism: lambda in [{lo:.6f}, {hi:.6f}]")
         else:
             band = "" if result.lambda_band is None else \
                 f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"

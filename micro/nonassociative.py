@@ -124,12 +124,13 @@ class IterationRecord:
         algorithm: ``"ipm"``, ``"ipm+crossover+simplex"`` or ``"simplex-warm"``
             (``"simplex-cold"`` after a failed warm run).
         status: the LP's status (:class:`micro.solvers.Status` value).
-        certificate: ``""`` (not tried), ``"not found"`` (no Coulomb-
-            admissible optimal field at this iterate, or the try hit its
-            time limit) or ``"certified"``
-            (see :meth:`_Sequence._certify`); ``coulomb_residual`` is then
-            that of the certified field.
-        certificate_seconds, certificate_simplex_iterations: cost of the try.
+        certificate: ``""`` (not tried), ``"not found"`` (no collapse
+            state at this ``lambda`` with this LP's mechanism, or the try
+            hit its time limit) or ``"certified"`` (see
+            :meth:`_Sequence._certify`); ``coulomb_residual`` is then that
+            of the certified field.
+        certificate_seconds, certificate_iterations: cost of the try
+            (interior-point iterations).
     """
 
     iteration: int
@@ -145,7 +146,7 @@ class IterationRecord:
     status: str
     certificate: str = ""
     certificate_seconds: float = 0.0
-    certificate_simplex_iterations: int = 0
+    certificate_iterations: int = 0
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready (NaN -> None)."""
@@ -190,6 +191,10 @@ class NonAssocDirection:
         message: a one-line explanation.
         cold_algorithm: ``"ipm"`` or ``"simplex"`` (when IPX gave up).
         fallback_steps: scheme (b) LPs replaced by a scheme (a) step.
+        mechanism_band: ``(min, max)`` of ``lambda`` over ALL collapse
+            states with the final mechanism (scheme (a), converged; ``None``
+            otherwise): the non-associative problem has many solutions, and
+            the same mechanism can form at any load factor in this band.
     """
 
     direction: str
@@ -214,6 +219,7 @@ class NonAssocDirection:
     message: str = ""
     cold_algorithm: str = ""
     fallback_steps: int = 0
+    mechanism_band: tuple[float, float] | None = None
 
     @property
     def converged(self) -> bool:
@@ -279,6 +285,12 @@ class NonAssociativeResult:
         return self.converged and math.isfinite(self.load_factor)
 
     @property
+    def mechanism_band(self) -> tuple[float, float] | None:
+        """``(min, max)`` of ``lambda`` over the collapse states with the
+        governing direction's final mechanism (see :class:`NonAssocDirection`)."""
+        return self.governing.mechanism_band
+
+    @property
     def governing(self) -> NonAssocDirection:
         """The direction the summary fields come from."""
         for d in self.directions:
@@ -308,6 +320,7 @@ class NonAssociativeResult:
             "relaxation": self.relaxation,
             "iterations": self.iterations,
             "lambda_band": None if self.lambda_band is None else [num(self.lambda_band[0]), num(self.lambda_band[1])],
+            "mechanism_band": None if g.mechanism_band is None else [num(v) for v in g.mechanism_band],
             "last_load_factor": num(g.last_load_factor),
             "associative_load_factor": num(self.associative_load_factor),
             "cold_load_factor": num(self.cold_load_factor),
@@ -357,10 +370,13 @@ def solve_nonassociative(
     lambda_tol: float = 1e-6,
     force_tol: float = 1e-6,
     coulomb_tol: float = 1e-6,
-    window: int = 10,
+    window: int = 20,
     directions: Literal["auto", "both", "+x", "-x"] = "auto",
     start: Literal["interior", "vertex"] = "interior",
     certify: bool = True,
+    settle_tol: float = 1e-3,
+    settle_window: int = 3,
+    mechanism_band: bool = True,
     cold_check: bool = True,
     cold_tol: float = 1e-6,
     time_limit: float | None = None,
@@ -388,22 +404,27 @@ def solve_nonassociative(
         directions: ``"auto"`` (both unless mirror-symmetric), ``"both"``,
             ``"+x"`` or ``"-x"``.
         start: how the associative LP (iterate 0, which gives the first
-            ``nbar``) is solved: ``"interior"`` (default; interior point
-            without crossover: the centre of the optimal face, ~2 s on 1,230
-            blocks; the first non-associative LP is then solved by IPM +
-            crossover) or ``"vertex"`` (IPM + crossover + dual simplex: a
-            basic optimal solution as a simplex code returns, whose basis
-            warm-starts the first non-associative LP; that warm start took
-            13,000 simplex iterations / 5 s on 1,230 blocks). The
-            non-associative solution is not unique and the two starts can
-            end at different load factors (~1-2 %).
-        certify: when a scheme (a) sequence stops without converging
-            (cycling, max_iterations), look for another optimal force field
-            of its last LP that satisfies Coulomb with its own normal forces
-            and so closes the non-associative problem exactly at that
-            iterate (``stop_reason="certified"``; see ``_Sequence._certify``).
-            One extra LP (time-limited), at the end only, so the sequence
-            itself is the same with or without it.
+            ``nbar``) is solved: ``"interior"`` (default; Clarabel's interior
+            point with tight tolerances, HiGHS IPM if it fails: a point near
+            the centre of the optimal face, 0.4 s on 1,230 blocks) or
+            ``"vertex"`` (HiGHS IPM + crossover + dual simplex: a basic
+            optimal solution as a simplex code returns). The first
+            non-associative LP is solved by IPM + crossover + dual simplex
+            either way. The non-associative solution is not unique and the
+            two starts can end at different load factors (~1-2 %).
+        certify: once ``lambda`` has settled (its spread over the last
+            ``settle_window`` iterates is at most ``settle_tol`` relative),
+            ask whether the current iterate's mechanism admits an exact
+            collapse state at the current ``lambda`` (one interior-point LP
+            on the associative model with the columns the mechanism allows;
+            see ``_Sequence._certify``). If it does, the sequence stops,
+            converged, with ``stop_reason="certified"`` and that state's
+            forces. ``False``: only the exact test (Coulomb with the LP's
+            own forces) ends a sequence as converged.
+        settle_tol, settle_window: when to try the certificate (above).
+        mechanism_band: for a converged scheme (a) sequence, also compute
+            the band of load factors over all collapse states with the final
+            mechanism (two more interior-point LPs).
         cold_check: re-solve the final iterate cold and compare.
         cold_tol: relative warm/cold difference beyond which the result is a
             ``solver_failure``.
@@ -437,6 +458,10 @@ def solve_nonassociative(
         raise ValueError(f"max_iterations must be an integer >= 2, got {max_iterations!r}")
     if isinstance(window, bool) or not isinstance(window, int) or window < 3:
         raise ValueError(f"window must be an integer >= 3, got {window!r}")
+    if isinstance(settle_window, bool) or not isinstance(settle_window, int) or settle_window < 2:
+        raise ValueError(f"settle_window must be an integer >= 2, got {settle_window!r}")
+    if isinstance(settle_tol, bool) or not isinstance(settle_tol, (int, float)) or not (0.0 <= settle_tol < 1.0):
+        raise ValueError(f"settle_tol must be a number in [0, 1), got {settle_tol!r}")
     if directions not in ("auto", "both", "+x", "-x"):
         raise ValueError(f"directions must be 'auto', 'both', '+x' or '-x', got {directions!r}")
     if max_seconds is not None and (isinstance(max_seconds, bool) or not isinstance(max_seconds, (int, float))
@@ -461,7 +486,9 @@ def solve_nonassociative(
                 alpha_factor=float(alpha_factor), cohesion=float(cohesion), max_iterations=max_iterations,
                 max_seconds=None if max_seconds is None else float(max_seconds),
                 lambda_tol=float(lambda_tol), force_tol=float(force_tol), coulomb_tol=float(coulomb_tol),
-                window=window, start=start, certify=bool(certify), cold_check=cold_check, cold_tol=float(cold_tol), time_limit=time_limit)
+                window=window, start=start, certify=bool(certify), settle_tol=float(settle_tol),
+                settle_window=settle_window, mechanism_band=bool(mechanism_band), cold_check=cold_check,
+                cold_tol=float(cold_tol), time_limit=time_limit)
     results = tuple(_Sequence(lp, d, opts).run() for d in dirs)
     solve_secs = time.perf_counter() - t0 - build
     failing = [r for r in results if not r.converged]
@@ -486,52 +513,76 @@ def solve_nonassociative(
 
 # =============================================================================
 class _Sequence:
-    """The iterated LP for one load direction (one persistent HiGHS model)."""
+    """The iterated LP for one load direction.
+
+    Two persistent HiGHS models over the same equilibrium rows:
+
+    * the ITERATION model, columns ``[n (P), s (P), lambda]`` (plus, for
+      scheme (b), ``2P`` friction rows): every iterate changes bounds (or row
+      bounds and coefficients) only and warm-starts the dual simplex. Without
+      the associative generator columns each simplex iteration costs ~2/3 of
+      what it did with them (1,230 blocks: 0.21 ms against 0.32 ms);
+    * the STATE model, the associative LP in generator form: a collapse
+      state compatible with a mechanism is a choice of generator columns
+      (see :meth:`_certify`), so certificates and the mechanism band are
+      bound changes of this model, solved by interior point.
+    """
 
     def __init__(self, lp: LimitLP, direction: int, opts: dict[str, Any]) -> None:
         self.lp = lp
         self.d = direction
         self.o = opts
         self.P = lp.n_points
-        self.nc0 = lp.n_cols  # generator columns + lambda
-        self.n_cols = np.arange(self.nc0, self.nc0 + self.P)
-        self.s_cols = np.arange(self.nc0 + self.P, self.nc0 + 2 * self.P)
+        P = self.P
+        self.n_cols = np.arange(P)
+        self.s_cols = np.arange(P, 2 * P)
+        self.lam_col = 2 * P
         self.history: list[IterationRecord] = []
         self.fallbacks = 0
         self.c0 = 0.0
         self.cold_algorithm = ""
         self.good_basis: Any = None
         self.in_fallback = False
-        self.certificate_attempt: dict[str, Any] | None = None
+        self._state_be: HighsBackend | None = None
+        self.mechanism_band: tuple[float, float] | None = None
 
-    # ---------------------------------------------------------------- model
+    # ---------------------------------------------------------------- models
     def _build(self) -> HighsBackend:
         lp, P = self.lp, self.P
-        be = HighsBackend(lp, algorithm="ipm", time_limit=self.o["time_limit"])
-        be.highs.changeColCost(lp.lam_col, -float(self.d))
-        be.add_columns(sp.hstack([lp.Bn, lp.Bs], format="csc"), np.zeros(2 * P), np.zeros(2 * P))
+        A = sp.hstack([lp.Bn, lp.Bs, sp.csc_matrix(lp.live.reshape(-1, 1))], format="csc")
+        cost = np.zeros(2 * P + 1)
+        cost[self.lam_col] = -float(self.d)
+        lower = np.concatenate([np.zeros(2 * P), [-np.inf]])
+        upper = np.concatenate([np.full(P, np.inf), np.zeros(P), [np.inf]])
+        be = HighsBackend(lp, algorithm="ipm", time_limit=self.o["time_limit"], columns=(A, cost, lower, upper))
         if self.o["scheme"] == "b":
             # rows n_eq + 2p (+s) and n_eq + 2p + 1 (-s): +-s + alpha mu n <= rhs
             be.add_rows(self._friction_rows(self.o["alpha0"] * lp.mu), np.full(2 * P, -np.inf), np.full(2 * P, np.inf))
             self.f_rows = lp.n_eq + np.arange(2 * P)
         return be
 
+    def _state_model(self) -> HighsBackend:
+        """The associative LP in generator form (built on first use)."""
+        if self._state_be is None:
+            be = HighsBackend(self.lp, algorithm="ipm", time_limit=self.o["time_limit"])
+            be.highs.changeColCost(self.lp.lam_col, -float(self.d))
+            self._state_be = be
+        return self._state_be
+
     def _friction_rows(self, n_coef: FloatArray) -> sp.csr_matrix:
-        """``2P`` rows over the model's columns: row ``2p`` is ``+s_p + n_coef_p n_p``,
-        row ``2p + 1`` is ``-s_p + n_coef_p n_p``."""
+        """``2P`` rows over the iteration model's columns: row ``2p`` is
+        ``+s_p + n_coef_p n_p``, row ``2p + 1`` is ``-s_p + n_coef_p n_p``."""
         P = self.P
         rows = np.repeat(np.arange(2 * P), 2)
         cols = np.empty(4 * P, dtype=np.int64)
         vals = np.empty(4 * P)
         cols[0::4], cols[1::4], cols[2::4], cols[3::4] = self.s_cols, self.n_cols, self.s_cols, self.n_cols
         vals[0::4], vals[1::4], vals[2::4], vals[3::4] = 1.0, n_coef, -1.0, n_coef
-        return sp.csr_matrix((vals, (rows, cols)), shape=(2 * P, self.nc0 + 2 * P))
+        return sp.csr_matrix((vals, (rows, cols)), shape=(2 * P, 2 * P + 1))
 
     def _forces(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
-        P, nc0, mu = self.P, self.nc0, self.lp.mu
-        n = x[:P] + x[P : 2 * P] + x[nc0 : nc0 + P]
-        s = mu * (x[:P] - x[P : 2 * P]) + x[nc0 + P : nc0 + 2 * P]
-        return n, s
+        P = self.P
+        return x[:P], x[P : 2 * P]
 
     def _coulomb(self, n: FloatArray, s: FloatArray) -> float:
         scale = max(float(np.max(n, initial=0.0)), 1e-12)
@@ -549,59 +600,105 @@ class _Sequence:
                 be.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
                 self.in_fallback = False
             if alpha != alpha_prev:
-                rows = self.f_rows
-                cols = np.repeat(self.n_cols, 2)
-                be.change_coeffs(rows, cols, np.repeat(alpha * mu, 2))
+                be.change_coeffs(self.f_rows, np.repeat(self.n_cols, 2), np.repeat(alpha * mu, 2))
             rhs = self.c0 + (1.0 + alpha) * mu * nbar
             be.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.repeat(rhs, 2))
 
-    def _certify(self, be: HighsBackend, raw: dict[str, Any], n_cap: FloatArray, lam: float, *,
-                 time_limit: float) -> tuple[FloatArray, FloatArray, dict[str, Any]] | None:
-        """Look for an exact non-associative collapse state at this iterate.
+    # ----------------------------------------------------------- certificate
+    def _pattern(self, v: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Generator bounds of the collapse states compatible with the
+        mechanism ``v`` (block velocities): ``(upper of g+, upper of g-)``."""
+        lp, P = self.lp, self.P
+        dn = lp.Bn.T @ v
+        ds = lp.Bs.T @ v
+        scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)), 1e-300)
+        opening = dn > STATE_TOL * scale
+        slip = (np.abs(ds) > STATE_TOL * scale) & ~opening
+        up_p = np.where(opening | (slip & (ds > 0)), 0.0, np.inf)  # g+ carries s = +mu n
+        up_m = np.where(opening | (slip & (ds < 0)), 0.0, np.inf)  # g- carries s = -mu n
+        return up_p, up_m
 
-        The LP just solved (capacities ``|s| <= mu nbar``) has many optimal
-        force fields. Among them, find one with ``|s| <= mu n`` at every point
-        (Coulomb with its own normal forces) and ``n <= nbar`` at the points
-        that slide in this LP's mechanism: ``lambda`` fixed (column bounds),
-        the ``2P`` rows ``+-s - mu n <= 0`` added, ``n`` capped at the sliding
-        points. Any such field is optimal for the LP, so by complementary
-        slackness it forms with the LP's mechanism (its duals) a complete
-        non-associative solution: equilibrium, Coulomb everywhere, slip only
-        where ``|s| = mu n`` (``n = nbar`` there), no dilatancy at compressed
-        points, opening only where ``n = 0``. The model and basis are
-        restored afterwards (rows deleted, bounds reset, basis set back).
+    def _state_lp(self, v: FloatArray, sense: float,
+                  time_limit: float) -> tuple[tuple[FloatArray, FloatArray, float] | None, dict[str, Any]]:
+        """Minimise ``sense * lambda`` over the collapse states compatible
+        with the mechanism ``v`` (the state model with the generator columns
+        of :meth:`_pattern`). Interior point, no basis.
 
         Returns:
-            ``(n, s, raw)`` of the certified field, or ``None`` (infeasible).
+            ``((n, s, lambda) or None, raw)``: ``None`` unless HiGHS found an
+            optimal state that passes the residual check.
         """
-        lp, P, mu, d = self.lp, self.P, self.lp.mu, self.d
-        h = be.highs
-        basis = h.getBasis()
-        v = be.dual_sign * raw["row_dual"][: lp.n_eq]
-        ds = lp.Bs.T @ v
-        dn = lp.Bn.T @ v
-        scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)))
-        sliding = np.flatnonzero(np.abs(ds) > STATE_TOL * scale)
-        lam_raw = lam * d
-        delta = 1e-9 * max(1.0, abs(lam_raw))
-        nrow0 = h.getNumRow()
-        be.add_rows(self._friction_rows(-mu), np.full(2 * P, -np.inf), np.zeros(2 * P))  # |s| <= mu n
-        be.set_col_bounds(np.array([lp.lam_col]), np.array([lam_raw - delta]), np.array([lam_raw + delta]))
-        be.set_col_bounds(self.n_cols[sliding], np.zeros(sliding.size), n_cap[sliding])
-        _run_limit(be, float(time_limit))
-        c_raw = be.run_raw()
-        _run_limit(be, float(self.o["time_limit"]) if self.o["time_limit"] else float("inf"))
-        self.certificate_attempt = c_raw
-        out = None
-        if c_raw["status"] is Status.OPTIMAL:
-            n_c, s_c = self._forces(c_raw["x"])
-            out = (n_c, s_c, c_raw)
-        h.deleteRows(2 * P, np.arange(nrow0, nrow0 + 2 * P, dtype=np.int32))
-        be.set_col_bounds(np.array([lp.lam_col]), np.array([-np.inf]), np.array([np.inf]))
-        be.set_col_bounds(self.n_cols[sliding], np.zeros(sliding.size), np.full(sliding.size, np.inf))
-        h.setBasis(basis)
-        return out
+        lp, P, d = self.lp, self.P, self.d
+        be = self._state_model()
+        up_p, up_m = self._pattern(v)
+        be.set_col_bounds(np.arange(2 * P), np.zeros(2 * P), np.concatenate([up_p, up_m]))
+        be.highs.changeColCost(lp.lam_col, float(sense) * d)
+        be.highs.clearSolver()
+        _run_limit(be, time_limit)
+        raw = be.run_raw()
+        if raw["status"] is not Status.OPTIMAL:
+            return None, raw
+        n, s = lp.forces(raw["x"][: 2 * P])
+        lam = float(raw["x"][lp.lam_col]) * d
+        if lp.primal_residual(n, s, lam * d) > 1e-7:
+            return None, raw  # the interior point stopped short of an accurate state
+        return (n, s, lam), raw
 
+    def _certify(self, v: FloatArray, lam: float, *, time_limit: float
+                 ) -> tuple[tuple[FloatArray, FloatArray] | None, dict[str, Any], tuple[float, float] | None]:
+        """Is there a non-associative collapse state at ``lam`` with the mechanism ``v``?
+
+        With the mechanism fixed, the collapse conditions on the forces are
+        linear: equilibrium; ``n = 0`` where the points open;
+        ``s = -sign(slip) mu n`` where they slip (friction at the yield line,
+        against the slip); ``|s| <= mu n`` where they stick. In the
+        generator form that is a choice of columns: both generators at a
+        sticking point, the one on the right side of the cone at a slipping
+        point, none at an opening point. Any feasible field forms with
+        ``v`` an exact non-associative collapse state (equilibrium, Coulomb
+        with its own normal forces, no dilatancy where ``n > 0``, no
+        interpenetration, slip only at the yield line, against the slip; the
+        energy balance follows by virtual work). The mechanism of the LP
+        ``|s| <= mu nbar`` already has no dilatancy where ``n > 0``; what a
+        sequence that does not settle in the forces lacks is a field that
+        satisfies Coulomb with its own normal forces, and this looks for one
+        among ALL fields, not only the LP's optimal ones.
+
+        The load factors of these states form an interval (the mechanism
+        band): its ends are two LPs (min and max ``lambda``). ``lam`` is
+        certified when it lies in the band (relative slack 1e-7), and the
+        state at ``lam`` is the convex combination of the two end states
+        (equilibrium is linear). A feasibility LP at fixed ``lambda`` would
+        be one LP instead of two, but HiGHS' interior point stopped with
+        "Solve error" when ``lam`` sat at an end of the band (seen on pure
+        rocking mechanisms, whose ``lambda`` is a geometric constant).
+
+        Returns:
+            ``((n, s) or None, raw, band)``: ``raw`` sums the LPs' cost;
+            ``band`` is ``(min, max)`` or ``None`` (no state at all).
+        """
+        lo, raw_lo = self._state_lp(v, 1.0, time_limit)
+        cost = {"status": raw_lo["status"], "native_status": raw_lo["native_status"], "seconds": raw_lo["seconds"],
+                "simplex_iterations": raw_lo["simplex_iterations"], "ipm_iterations": raw_lo["ipm_iterations"]}
+        slack = 1e-7 * max(abs(lam), 1e-12)
+        if lo is None or lo[2] > lam + slack:
+            return None, cost, None if lo is None else (lo[2], math.nan)
+        hi, raw_hi = self._state_lp(v, -1.0, time_limit)
+        cost["seconds"] += raw_hi["seconds"]
+        cost["ipm_iterations"] += raw_hi["ipm_iterations"]
+        cost["simplex_iterations"] += raw_hi["simplex_iterations"]
+        if hi is None:
+            return None, cost, (lo[2], math.nan)
+        band = (lo[2], hi[2])
+        if hi[2] < lam - slack:
+            return None, cost, band
+        width = hi[2] - lo[2]
+        theta = 1.0 if width <= 0 else min(max((hi[2] - lam) / width, 0.0), 1.0)
+        n = theta * lo[0] + (1.0 - theta) * hi[0]
+        s = theta * lo[1] + (1.0 - theta) * hi[1]
+        return (n, s), cost, band
+
+    # ---------------------------------------------------------- recoveries
     def _restart(self, be: HighsBackend) -> dict[str, Any]:
         """Solve the current model from scratch: IPM + crossover, then dual
         simplex from the crossover basis (as for the first iterate)."""
@@ -629,18 +726,27 @@ class _Sequence:
         self.in_fallback = True  # the model now holds a scheme (a) LP (for the cold check)
         return raw
 
-    # ------------------------------------------------------------------ run
-    def run(self) -> NonAssocDirection:
-        t_start = time.perf_counter()
-        lp, P, o = self.lp, self.P, self.o
-        be = self._build()
-        # ---- iterate 0: the associative LP. "interior": IPM without
-        # crossover (the centre of the optimal face); "vertex": IPM +
-        # crossover + dual simplex clean-up (a basic optimal solution, as a
-        # simplex code would return)
-        vertex = o["start"] == "vertex"
-        algo0 = "ipm+crossover+simplex" if vertex else "ipm"
-        if vertex:
+    # ----------------------------------------------------------- iterate 0
+    def _associative(self) -> tuple[dict[str, Any], str]:
+        """The associative LP (iterate 0): ``"interior"`` by Clarabel (tight
+        tolerances; 0.4 s on 1,230 blocks against 1.7 s for HiGHS IPM),
+        HiGHS IPM if Clarabel fails; ``"vertex"`` by HiGHS IPM + crossover +
+        dual simplex on the state model (a basic optimal solution)."""
+        lp, P = self.lp, self.P
+        if self.o["start"] == "interior":
+            from micro.solvers import ClarabelBackend
+
+            r = ClarabelBackend(lp, time_limit=self.o["time_limit"]).solve(self.d)
+            if r.status is Status.OPTIMAL and r.n is not None:
+                x = np.zeros(2 * P + 1)
+                x[:P], x[P : 2 * P], x[self.lam_col] = r.n, r.s, r.load_factor * self.d
+                return ({"status": Status.OPTIMAL, "native_status": r.native_status, "x": x, "seconds": r.solve_seconds,
+                         "simplex_iterations": 0, "ipm_iterations": int(r.iterations)}, "clarabel")
+            be = self._state_model()
+            raw = be.run_raw()
+            algo = "ipm"
+        else:
+            be = self._state_model()
             be.set_algorithm("ipm", crossover=True)
             first = be.run_raw()
             be.set_algorithm("simplex")
@@ -648,31 +754,43 @@ class _Sequence:
             raw["seconds"] += first["seconds"]
             raw["ipm_iterations"] = first["ipm_iterations"]
             raw["simplex_iterations"] += first["simplex_iterations"] + first["crossover_iterations"]
-        else:
-            raw = be.run_raw()
+            be.set_algorithm("ipm")
+            algo = "ipm+crossover+simplex"
+        if raw["status"] is Status.OPTIMAL:
+            n, s = lp.forces(raw["x"][: 2 * P])
+            x = np.zeros(2 * P + 1)
+            x[:P], x[P : 2 * P], x[self.lam_col] = n, s, raw["x"][lp.lam_col]
+            raw["x"] = x
+        return raw, algo
+
+    # ------------------------------------------------------------------ run
+    def run(self) -> NonAssocDirection:
+        t_start = time.perf_counter()
+        lp, P, o = self.lp, self.P, self.o
+        raw, algo0 = self._associative()
         if raw["status"] is not Status.OPTIMAL:
             self._record(0, float("nan"), float("nan"), float("nan"), float("nan"), 0.0, raw, algo0)
             return self._fail("associative_failed", f"the associative LP failed ({raw['native_status']})",
                               t_start, float("nan"))
         x = raw["x"]
-        lam_assoc = float(x[lp.lam_col]) * self.d
+        lam_assoc = float(x[self.lam_col]) * self.d
         n0, s0 = self._forces(x)
+        n0 = np.maximum(n0, 0.0)
         # scheme (b)'s cohesion, relative to the largest associative normal force
         self.c0 = o["cohesion"] * max(float(np.max(n0, initial=0.0)), 1e-12)
         self._record(0, lam_assoc, float("nan"), float("nan"), self._coulomb(n0, s0), 0.0, raw, algo0)
         if lam_assoc < 0:
             return self._fail("associative_failed", "equilibrium needs a live load in the opposite direction",
                               t_start, lam_assoc)
-        # ---- switch to the non-associative model
-        be.set_col_bounds(np.arange(2 * P), np.zeros(2 * P), np.zeros(2 * P))
-        be.set_col_bounds(self.n_cols, np.zeros(P), np.full(P, np.inf))
+        # ---- the non-associative model; its first LP by IPM + crossover + dual simplex
+        t_b = time.perf_counter()
+        be = self._build()
         if o["scheme"] == "b":
             be.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
         alpha = o["alpha0"] if o["scheme"] == "b" else 0.0
         self._set_capacity(be, n0, alpha, o["alpha0"])
-        n_cap = np.maximum(n0, 0.0)  # the nbar of the current LP
-        if not vertex:
-            be.set_algorithm("ipm", crossover=True)
+        be.set_algorithm("ipm", crossover=True)
+        t_build = time.perf_counter() - t_b
         user_limit = float(o["time_limit"]) if o["time_limit"] is not None else float("inf")
         warm_limit = user_limit
         lams: list[float] = []
@@ -682,27 +800,27 @@ class _Sequence:
         stop = ""
         band: tuple[float, float] | None = None
         last_raw: dict[str, Any] | None = None
+        last_try = -10**9
+        self._final: tuple[Any, ...] = ()
         for k in range(1, o["max_iterations"] + 1):
             t_it = time.perf_counter()
             if k > 1:
                 nbar = o["relaxation"] * n_prev + (1.0 - o["relaxation"]) * n_prev2
-                n_cap = np.maximum(nbar, 0.0)
                 new_alpha = max(o["alpha_min"], alpha * o["alpha_factor"]) if o["scheme"] == "b" else 0.0
                 self._set_capacity(be, nbar, new_alpha, alpha)
                 alpha = new_alpha
-            t_upd = time.perf_counter() - t_it
-            if k > 1:
                 _run_limit(be, warm_limit)
+            t_upd = time.perf_counter() - t_it + (t_build if k == 1 else 0.0)
             raw = be.run_raw()
             _run_limit(be, user_limit)
             algo = "simplex-warm"
-            if k == 1 and not vertex:
+            if k == 1:
                 # crossover basis -> dual simplex clean-up (crossover alone is not accurate)
-                be.set_algorithm("simplex")
                 ipm_raw = raw
+                be.set_algorithm("simplex")
                 raw = be.run_raw()
-                raw["ipm_iterations"] = ipm_raw["ipm_iterations"]
                 raw["seconds"] += ipm_raw["seconds"]
+                raw["ipm_iterations"] = ipm_raw["ipm_iterations"]
                 raw["simplex_iterations"] += ipm_raw["simplex_iterations"] + ipm_raw["crossover_iterations"]
                 algo = "ipm+crossover+simplex"
             spent = 0.0 if raw["status"] is Status.OPTIMAL else raw["seconds"]
@@ -715,14 +833,12 @@ class _Sequence:
                 if self.good_basis is not None:
                     be.highs.setBasis(self.good_basis)  # the failed run's basis may be garbage
                 raw = self._fallback_a_step(be, n_prev)
-                n_cap = np.maximum(n_prev, 0.0)
                 algo = "fallback-a"
                 self.fallbacks += 1
             elif raw["status"] is Status.INFEASIBLE and k > 1 and o["relaxation"] < 1.0:
                 # the relaxed capacities admit no equilibrium: rebuild this
                 # iterate from the last forces alone (no relaxation)
                 self._set_capacity(be, n_prev, alpha, alpha)
-                n_cap = np.maximum(n_prev, 0.0)
                 raw = be.run_raw()
                 algo = "simplex-warm-unrelaxed"
             if raw["status"] is not Status.OPTIMAL:
@@ -743,25 +859,39 @@ class _Sequence:
                 warm_limit = min(user_limit, max(1.0, 10.0 * raw["seconds"]))
             if o["scheme"] == "b":
                 self.good_basis = be.highs.getBasis()
-            lam = float(x[lp.lam_col]) * self.d
+            lam = float(x[self.lam_col]) * self.d
             n, s = self._forces(x)
             nscale = max(float(np.max(n, initial=0.0)), 1e-12)
             dlam = abs(lam - lam_prev) / max(abs(lam), 1e-12)
             dn = float(np.max(np.abs(n - n_prev), initial=0.0)) / nscale
             coul = self._coulomb(n, s)
-            self._record(k, lam, dlam if k > 1 else abs(lam - lam_assoc) / max(abs(lam), 1e-12), dn, coul, alpha,
-                         raw, algo)
+            self._record(k, lam, dlam, dn, coul, alpha, raw, algo)
             lams.append(lam)
             dns.append(dn)
             n_prev2, n_prev = n_prev, n
             lam_prev = lam
-            self._final = (x, raw["row_dual"], n, s, lam)
+            v = be.dual_sign * raw["row_dual"][: lp.n_eq]
+            self._final = (v, n, s, lam)
             alpha_done = o["scheme"] == "a" or alpha <= o["alpha_min"]
             coul_tol = o["coulomb_tol"] + (self.c0 / nscale if o["scheme"] == "b" else 0.0)
             if k >= 2 and alpha_done and dlam <= o["lambda_tol"] and coul <= coul_tol:
                 stop = "lambda_and_forces" if dn <= o["force_tol"] else "lambda_and_coulomb"
                 break
-            self._last_lp = (raw, n_cap, lam, algo)
+            w = o["settle_window"]
+            if (o["certify"] and alpha_done and algo != "fallback-a" and len(lams) >= w and k - last_try >= w
+                    and float(np.ptp(lams[-w:])) <= o["settle_tol"] * abs(lam)):
+                # (at most one try per window of iterates: on large walls a try costs a few LPs)
+                # lambda has settled: is this iterate an exact collapse state
+                # with other forces than the LP's vertex?
+                cert, c_raw, mband = self._certify(v, lam, time_limit=min(user_limit, max(1.0, 10.0 * raw["seconds"])))
+                last_try = k
+                self.history[-1] = _with_certificate(
+                    self.history[-1], cert is not None, c_raw, self._coulomb(*cert) if cert else float("nan"))
+                if cert is not None:
+                    self._final = (v, cert[0], cert[1], lam)
+                    self.mechanism_band = mband
+                    stop = "certified"
+                    break
             if alpha_done:
                 cyc = _detect_cycle(lams, dns, o["lambda_tol"], o["window"])
                 if cyc is not None:
@@ -769,26 +899,13 @@ class _Sequence:
                     break
             if o["max_seconds"] is not None and time.perf_counter() - t_start > o["max_seconds"]:
                 stop = "time_budget"
-                w = lams[-o["window"]:]
-                band = (min(w), max(w))
+                w_ = lams[-o["window"]:]
+                band = (min(w_), max(w_))
                 break
         else:
             stop = "max_iterations"
-            w = lams[-o["window"]:]
-            band = (min(w), max(w)) if w else None
-        if (stop not in ("lp_failed", "lambda_and_forces", "lambda_and_coulomb") and last_raw is not None
-                and o["certify"] and (o["scheme"] == "a" or self._last_lp[3] == "fallback-a")):
-            # the sequence did not settle: is its last iterate an exact solution anyway?
-            raw_k, n_cap_k, lam_k, _ = self._last_lp
-            typical = float(np.median([r.seconds for r in self.history[1:]]))
-            cert = self._certify(be, raw_k, n_cap_k, lam_k, time_limit=min(user_limit, max(0.1, 10.0 * typical)))
-            if cert is not None:
-                n_c, s_c, c_raw = cert
-                self.history[-1] = _with_certificate(self.history[-1], c_raw, self._coulomb(n_c, s_c))
-                self._final = (self._final[0], self._final[1], n_c, s_c, lam_k)
-                stop, band = "certified", None
-            else:
-                self.history[-1] = _with_certificate(self.history[-1], self.certificate_attempt, float("nan"))
+            w_ = lams[-o["window"]:]
+            band = (min(w_), max(w_)) if w_ else None
         if stop == "lp_failed" or last_raw is None:
             return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold "
                               f"({raw['native_status']})", t_start, lam_assoc, band)
@@ -815,14 +932,13 @@ class _Sequence:
     def _finish(self, be: HighsBackend, stop: str, band: tuple[float, float] | None, lam_assoc: float,
                 t_start: float) -> NonAssocDirection:
         lp, o = self.lp, self.o
-        x, row_dual, n, s, lam = self._final
+        v, n, s, lam = self._final
         status = CONVERGED if stop in ("lambda_and_forces", "lambda_and_coulomb", "certified") else (
             MAX_ITERATIONS if stop in ("max_iterations", "time_budget") else CYCLING)
         # ---- final-state checks
         coul = self._coulomb(n, s)
         eq = lp.Bn @ n + lp.Bs @ s + (lam * self.d) * lp.live - lp.rhs  # the LP column holds d * lambda
         eq_res = float(np.max(np.abs(eq), initial=0.0))
-        v = be.dual_sign * row_dual[: lp.n_eq]
         mech = mechanism_from_duals(lp, v, self.d)
         dn_rate, ds_rate = mech.opening_rate, mech.slip_rate
         scale = max(float(np.max(np.abs(ds_rate), initial=0.0)), float(np.max(np.abs(dn_rate), initial=0.0)))
@@ -844,7 +960,7 @@ class _Sequence:
                 craw = cb.run_raw()
                 self.cold_algorithm = "simplex"
             if craw["status"] is Status.OPTIMAL:
-                cold = float(craw["x"][lp.lam_col]) * self.d
+                cold = float(craw["x"][self.lam_col]) * self.d
                 rel = abs(cold - lam) / max(abs(cold), 1e-12)
             if not math.isfinite(rel) or rel > o["cold_tol"]:
                 status, stop = SOLVER_FAILURE, "cold_check_failed"
@@ -853,6 +969,10 @@ class _Sequence:
         if status == CONVERGED and eq_res > 1e-6:
             status, stop = SOLVER_FAILURE, "equilibrium_residual"
             msg = f"equilibrium residual {eq_res:.2e} block weights at the final iterate"
+        if status == CONVERGED and o["mechanism_band"] and self.mechanism_band is None and o["scheme"] == "a":
+            typical = float(np.median([r.seconds for r in self.history[1:]]))
+            user = float(o["time_limit"]) if o["time_limit"] is not None else float("inf")
+            _, _, self.mechanism_band = self._certify(v, lam, time_limit=min(user, max(1.0, 20.0 * typical)))
         lam_out = lam if status == CONVERGED else float("nan")
         if not msg and status == CYCLING:
             msg = f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop
@@ -867,6 +987,7 @@ class _Sequence:
             _DIR_NAME[self.d], status, stop, lam_out, lam, None if status == CONVERGED else band, lam_assoc,
             len(self.history) - 1, tuple(self.history), cold, rel, coul, dil, eq_res, int(sliding.sum()),
             n * fs, s * fs, mech, time.perf_counter() - t_start, msg, self.cold_algorithm, self.fallbacks,
+            self.mechanism_band,
         )
 
 
@@ -881,15 +1002,14 @@ def _run_limit(be: HighsBackend, seconds: float) -> None:
         h.setOptionValue("time_limit", float("inf"))
 
 
-def _with_certificate(rec: IterationRecord, c_raw: dict[str, Any] | None, coulomb: float) -> IterationRecord:
+def _with_certificate(rec: IterationRecord, found: bool, c_raw: dict[str, Any], coulomb: float) -> IterationRecord:
     """The record with the certificate attempt added (its LP's time and iterations)."""
     import dataclasses
 
-    if c_raw is None:
-        return dataclasses.replace(rec, certificate="not found")
     return dataclasses.replace(
-        rec, certificate="certified" if c_raw["status"] is Status.OPTIMAL else "not found",
-        certificate_seconds=float(c_raw["seconds"]), certificate_simplex_iterations=int(c_raw["simplex_iterations"]),
+        rec, certificate="certified" if found else "not found",
+        certificate_seconds=float(c_raw["seconds"]),
+        certificate_iterations=int(c_raw["simplex_iterations"]) + int(c_raw["ipm_iterations"]),
         coulomb_residual=coulomb if math.isfinite(coulomb) else rec.coulomb_residual,
     )
 

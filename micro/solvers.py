@@ -155,6 +155,10 @@ class HighsBackend:
         algorithm: ``"ipm"`` (IPX, no crossover) or ``"simplex"`` (dual simplex).
         time_limit: seconds per solve (``None``: unlimited).
         options: extra HiGHS options (name -> value).
+        columns: ``(A, cost, lower, upper)`` to pass instead of the generator
+            form: any columns over the LP's equilibrium rows (the iterated
+            non-associative scheme passes ``[B_n, B_s, f_L]``). :meth:`solve`
+            needs the generator form; :meth:`run_raw` works on any.
     """
 
     dual_sign = -1.0
@@ -166,6 +170,7 @@ class HighsBackend:
         algorithm: str = "ipm",
         time_limit: float | None = None,
         options: dict[str, Any] | None = None,
+        columns: tuple[sp.csc_matrix, FloatArray, FloatArray, FloatArray] | None = None,
     ) -> None:
         import highspy
 
@@ -191,17 +196,23 @@ class HighsBackend:
             # default 1e-7 tolerances gave "Optimal" with 1e-3 unscaled residuals
             h.setOptionValue("primal_feasibility_tolerance", 1e-10)
             h.setOptionValue("dual_feasibility_tolerance", 1e-10)
-        A = lp.A.tocsc()
+        if columns is None:
+            A, cost, lower, upper = lp.A.tocsc(), lp.cost(+1), lp.col_lower, lp.col_upper
+        else:
+            A, cost, lower, upper = sp.csc_matrix(columns[0]), columns[1], columns[2], columns[3]
+            if A.shape[0] != lp.n_rows or not (cost.size == lower.size == upper.size == A.shape[1]):
+                raise ValueError("columns: the matrix must have the LP's equilibrium rows and one cost and "
+                                 "bound per column")
         m = highspy.HighsLp()
-        m.num_col_ = lp.n_cols
+        m.num_col_ = int(A.shape[1])
         m.num_row_ = lp.n_rows
-        m.col_cost_ = lp.cost(+1)
-        m.col_lower_ = _highs_inf(lp.col_lower, highspy.kHighsInf)
-        m.col_upper_ = _highs_inf(lp.col_upper, highspy.kHighsInf)
+        m.col_cost_ = np.asarray(cost, dtype=np.float64)
+        m.col_lower_ = _highs_inf(lower, highspy.kHighsInf)
+        m.col_upper_ = _highs_inf(upper, highspy.kHighsInf)
         m.row_lower_ = lp.rhs.copy()
         m.row_upper_ = lp.rhs.copy()
         m.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-        m.a_matrix_.num_col_ = lp.n_cols
+        m.a_matrix_.num_col_ = int(A.shape[1])
         m.a_matrix_.num_row_ = lp.n_rows
         m.a_matrix_.start_ = A.indptr.astype(np.int32)
         m.a_matrix_.index_ = A.indices.astype(np.int32)
