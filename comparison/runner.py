@@ -267,11 +267,13 @@ def _compute(spec: WallSpec, method: Method) -> tuple[Record, dict[str, np.ndarr
         res = micro.solve_nonassociative(wall, scheme=method.scheme)  # type: ignore[attr-defined]
         gov = next((d for d in res.directions if d.direction == res.direction), None)
         values = {
-            "solver": "highs-simplex (iterated)",
+            "solver": "clarabel (start) + highs-simplex (iterated) + highs-ipm (certificate)",
             "scheme": res.scheme,
             "converged": res.converged,
             "iterations": res.iterations,
             "band": list(res.lambda_band) if res.lambda_band else None,
+            "mechanism_band": list(res.mechanism_band) if res.mechanism_band else None,
+            "stop_reason": res.governing.stop_reason,
             "associative_load_factor": res.associative_load_factor,
             "warm_cold_rel_diff": res.warm_cold_rel_diff,
             "coulomb_residual": res.coulomb_residual,

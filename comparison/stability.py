@@ -46,21 +46,27 @@ class Setting:
     Attributes:
         scheme: ``"a"`` or ``"b"``.
         relaxation: ``beta``.
+        certify: stop on a certified collapse state once lambda settles
+            (``False``: the plain iterated LP, which stops as converged only
+            when an LP's own forces satisfy Coulomb).
     """
 
     scheme: str
     relaxation: float
+    certify: bool = True
 
     @property
     def label(self) -> str:
-        """Short name, e.g. ``a/1.0``."""
-        return f"{self.scheme}/{self.relaxation:g}"
+        """Short name, e.g. ``a/0.6`` or ``a/1 plain``."""
+        return f"{self.scheme}/{self.relaxation:g}" + ("" if self.certify else " plain")
 
 
-#: Settings of the study: the naive scheme (a, no relaxation), the default
-#: (a, 0.6), stronger relaxation, and scheme (b) with and without relaxation.
+#: Settings of the study: the plain iterated LP (scheme a, no relaxation, no
+#: certificate) and with relaxation, then with the certificate: no relaxation,
+#: the default (a, 0.6), stronger relaxation, and scheme (b).
 SETTINGS: tuple[Setting, ...] = (
-    Setting("a", 1.0), Setting("a", 0.6), Setting("a", 0.3), Setting("b", 1.0), Setting("b", 0.6),
+    Setting("a", 1.0, False), Setting("a", 0.6, False), Setting("a", 1.0), Setting("a", 0.6), Setting("a", 0.3),
+    Setting("b", 1.0), Setting("b", 0.6),
 )
 
 
@@ -111,7 +117,8 @@ def _run_one(args: tuple[WallCase, tuple[Setting, ...], int]) -> list[dict[str, 
         t0 = time.perf_counter()
         try:
             r = micro.solve_nonassociative(wall, scheme=s.scheme, relaxation=s.relaxation,  # type: ignore[arg-type]
-                                           max_iterations=max_iterations, max_seconds=MAX_SECONDS)
+                                           max_iterations=max_iterations, max_seconds=MAX_SECONDS,
+                                           certify=s.certify)
             err = ""
         except Exception as exc:  # noqa: BLE001 - recorded as a failure of the setting
             r, err = None, f"{type(exc).__name__}: {exc}"
@@ -123,13 +130,16 @@ def _run_one(args: tuple[WallCase, tuple[Setting, ...], int]) -> list[dict[str, 
         }
         if r is None:
             row.update(status="solver_failure", stop_reason="exception", load_factor=math.nan,
-                       last_load_factor=math.nan, band_lo=math.nan, band_hi=math.nan, iterations=0,
+                       last_load_factor=math.nan, band_lo=math.nan, band_hi=math.nan, mband_lo=math.nan,
+                       mband_hi=math.nan, iterations=0,
                        warm_cold=math.nan, coulomb=math.nan, dilatancy=math.nan, fallbacks=0, message=err)
         else:
             g = r.governing
             band = r.lambda_band or (math.nan, math.nan)
             row.update(status=r.status, stop_reason=g.stop_reason, load_factor=r.load_factor,
                        last_load_factor=g.last_load_factor, band_lo=band[0], band_hi=band[1],
+                       mband_lo=(r.mechanism_band or (math.nan, math.nan))[0],
+                       mband_hi=(r.mechanism_band or (math.nan, math.nan))[1],
                        iterations=sum(d.iterations for d in r.directions), warm_cold=r.warm_cold_rel_diff,
                        coulomb=r.coulomb_residual, dilatancy=r.dilatancy_residual,
                        fallbacks=sum(d.fallback_steps for d in r.directions), message=r.message)
@@ -186,6 +196,10 @@ def summarise(rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
                 (r["band_hi"] - r["band_lo"]) / r["band_lo"] for r in rs
                 if r["status"] == "cycling" and math.isfinite(r["band_lo"]) and r["band_lo"] > 0]) else math.nan,
             "band_max": max(bands) if bands else math.nan,
+            "mband_median": statistics.median(mb) if (mb := [
+                (r["mband_hi"] - r["mband_lo"]) / r["load_factor"] for r in conv
+                if math.isfinite(r["mband_lo"]) and math.isfinite(r["mband_hi"])]) else math.nan,
+            "mband_max": max(mb) if mb else math.nan,
         }
     spreads = []
     for w in walls:
@@ -226,16 +240,19 @@ def write_reports(rows: Sequence[dict[str, Any]], out: Path, *, seconds: float, 
         "Setting = scheme/relaxation beta; scheme (a) `|s| <= mu nbar`, scheme (b) line of slope "
         "-alpha through (nbar, mu nbar), alpha halved 0.3 -> 1e-3; start: interior-point associative solution; "
         f"cap 100 LPs and {MAX_SECONDS:g} s per direction. A wall counts as converged only if every direction solved converged. "
-        "`certified`: the sequence did not settle but its last LP admits a Coulomb-admissible optimal force "
-        "field, which with that LP's mechanism is an exact non-associative collapse state "
-        "(micro.nonassociative._Sequence._certify).",
+        "`plain`: the iterated LP alone, converged only when an LP's own forces satisfy Coulomb. Otherwise, "
+        "once lambda has settled (spread <= 1e-3 over 3 iterates), the current LP's mechanism is tested for an "
+        "exact non-associative collapse state at its lambda among all force fields (`certified`; "
+        "micro.nonassociative._Sequence._certify). Mechanism band: the load factors of all collapse states "
+        "with the final mechanism.",
         "",
         "## Per setting",
         "",
         "| setting | runs | converged | cycling | max_iterations | solver_failure | rate | LPs median (max) of converged "
         "| seconds median (max) | lambda/lambda_assoc median | max warm/cold diff | max Coulomb residual (converged) "
-        "| max dilatancy residual (converged) | of which certified | cycling band (max-min)/min median (max) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| max dilatancy residual (converged) | of which certified | cycling band (max-min)/min median (max) "
+        "| mechanism band (max-min)/lambda median (max) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name in s["settings"]:
         p = per[name]
@@ -246,7 +263,8 @@ def write_reports(rows: Sequence[dict[str, Any]], out: Path, *, seconds: float, 
             f"({_fmt(p['it_max'], '.0f')}) | {_fmt(p['sec_median'], '.2f')} ({_fmt(p['sec_max'], '.2f')}) | "
             f"{_fmt(p['ratio_median'], '.4f')} | {_fmt(p['warm_cold_max'], '.1e')} | "
             f"{_fmt(p['coulomb_max_conv'], '.1e')} | {_fmt(p['dilatancy_max_conv'], '.1e')} | {p['certified']} | "
-            f"{_fmt(p['band_median'], '.2%')} ({_fmt(p['band_max'], '.2%')}) |"
+            f"{_fmt(p['band_median'], '.2%')} ({_fmt(p['band_max'], '.2%')}) | "
+            f"{_fmt(p['mband_median'], '.2%')} ({_fmt(p['mband_max'], '.2%')}) |"
         )
     lines += [
         "",
@@ -339,7 +357,8 @@ TABLE7: dict[int, tuple[float, float, float]] = {
     11: (0.5, 1 / 3, 0.69), 12: (1.0, 1 / 3, 0.68), 13: (1.0, 1 / 2, 0.49), 14: (1.0, 1.0, 0.26),
 }
 #: (scheme, relaxation, start) compared on Table 7.
-TABLE7_SETTINGS = (("a", 0.6, "interior"), ("a", 1.0, "interior"), ("b", 0.6, "interior"), ("a", 0.6, "vertex"))
+TABLE7_SETTINGS = (("a", 0.6, "interior", True), ("a", 1.0, "interior", True), ("a", 1.0, "interior", False),
+                   ("b", 0.6, "interior", True), ("a", 0.6, "vertex", True))
 #: (first_course, head_joints) variants of the wall.
 TABLE7_WALLS = (("full", "frictional"), ("half", "frictional"), ("full", "frictionless"), ("half", "frictionless"))
 
@@ -357,12 +376,13 @@ def table7_variants(out: str | os.PathLike[str] = "reports") -> Path:
         "Generated by `xcheck stability --table7`. Sets 11-14 of the paper (single storey, 12 rows, f = 0.75); "
         "published micro-block values (Orduna) 0.69, 0.68, 0.49, 0.26. Each cell: associative lambda / "
         "non-associative lambda (deviation from the published value, LPs) or `cyc [min, max]` when the sequence "
-        "cycles (no converged value). Bond phase: `full` = the bottom course starts with a full block; head joints "
-        "frictional (mu) or frictionless.",
+        "cycles (no converged value), and for a converged scheme (a) run the mechanism band: the load factors of "
+        "all collapse states with the final mechanism. Bond phase: `full` = the bottom course starts with a full "
+        "block; head joints frictional (mu) or frictionless. `plain`: no certificate (the iterated LP alone).",
         "",
     ]
-    for scheme, beta, start in TABLE7_SETTINGS:
-        lines += [f"## scheme {scheme}, relaxation {beta:g}, start {start}", "",
+    for scheme, beta, start, certify in TABLE7_SETTINGS:
+        lines += [f"## scheme {scheme}, relaxation {beta:g}, start {start}" + ("" if certify else ", plain"), "",
                   "| wall | set 11 (t 0.5, m 1/3) | set 12 (t 1, m 1/3) | set 13 (t 1, m 1/2) | set 14 (t 1, m 1) |",
                   "|---|---|---|---|---|"]
         for fc, hj in TABLE7_WALLS:
@@ -371,10 +391,12 @@ def table7_variants(out: str | os.PathLike[str] = "reports") -> Path:
                 w = WallSpec.from_paper(t=t, m=m, rows=12, f=0.75, p=0, storeys=1).to_micro(
                     first_course=fc, head_joints=hj)
                 assoc = micro.solve_associative(w).load_factor
-                r = micro.solve_nonassociative(w, scheme=scheme, relaxation=beta, start=start)  # type: ignore[arg-type]
+                r = micro.solve_nonassociative(w, scheme=scheme, relaxation=beta, start=start,  # type: ignore[arg-type]
+                                               certify=certify)
                 if r.converged:
+                    mb = r.mechanism_band
                     cells.append(f"{assoc:.4f} / **{r.load_factor:.4f}** ({(r.load_factor / ref - 1) * 100:+.1f} %, "
-                                 f"{r.iterations} LPs)")
+                                 f"{r.iterations} LPs" + (f"; band [{mb[0]:.4f}, {mb[1]:.4f}]" if mb else "") + ")")
                 elif r.lambda_band is not None:
                     cells.append(f"{assoc:.4f} / cyc [{r.lambda_band[0]:.4f}, {r.lambda_band[1]:.4f}]")
                 else:

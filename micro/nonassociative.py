@@ -29,31 +29,52 @@ are implemented (see ``/work/shared/methods.md`` §2):
 Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
 ``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none).
 
-The LP is built ONCE per load direction (:class:`micro.solvers.HighsBackend`
-in generator form with the ``n`` and ``s`` columns ``[B_n, B_s]`` appended,
-and for scheme (b) the ``2P`` friction rows): the associative LP is solved
-first (generator columns free, ``n``, ``s`` fixed at 0) by interior point;
-then the generator columns are fixed at 0 and the ``n``, ``s`` columns
-released. The first non-associative LP is solved by interior point with
-crossover (a basis for a few seconds where a cold dual simplex takes minutes
-on a 1,230-block wall), followed by a dual-simplex clean-up from that basis
-(crossover alone left residuals ~1e-4); every later iterate changes bounds (or
-rows) only and HiGHS' dual simplex restarts from the previous basis. The
-final iterate is re-solved COLD (a fresh copy of the model, interior point,
-no basis) and the two load factors compared: HiGHS has open reports of wrong
-objectives after hot starts (#3294, #3194).
+Models (per load direction, each built once): the associative LP (iterate
+0, which gives the first ``nbar``) is solved by Clarabel's interior point
+(tight tolerances; HiGHS IPM if it fails). The ITERATION model is a
+persistent HiGHS model with the columns ``[n, s, lambda]`` over the
+equilibrium rows (and for scheme (b) the ``2P`` friction rows). Its first
+LP is solved by interior point with crossover (a basis in seconds where a
+cold dual simplex takes minutes on a 1,230-block wall) and a dual-simplex
+clean-up (crossover alone left residuals ~1e-4); every later iterate
+changes bounds (or rows) only and HiGHS' dual simplex restarts from the
+previous basis. The final iterate is re-solved COLD (a fresh copy of the
+model, interior point, no basis) and the two load factors compared: HiGHS
+has open reports of wrong objectives after hot starts (#3294, #3194). The
+STATE model, the associative LP in generator form, serves the certificate
+below (bound changes only).
 
-Convergence (after at least two non-associative iterates, and for scheme (b)
-once ``alpha`` has reached ``alpha_min``): the relative change of ``lambda``
-is below ``lambda_tol`` AND the iterate satisfies Coulomb with its OWN normal
-forces (``|s| <= mu n`` within ``coulomb_tol``; scheme (b): plus ``c0``).
-``stop_reason`` says whether the largest change of the normal forces was also
-below ``force_tol`` (``"lambda_and_forces"``) or not
-(``"lambda_and_coulomb"``): the LPs are degenerate, their optimal force
-fields are not unique, and the forces of the rigid parts need not settle even
-when ``lambda`` has; Coulomb at the final state is required either way (a
-small max change of n alone let states with 1e-3 Coulomb violations through
-when the relaxation mixes two iterates). Otherwise the sequence stops as
+Convergence. The LPs are degenerate: their optimal force fields are not
+unique, and the simplex returns a vertex whose forces in the parts that do
+not move jump from one iterate to the next, so the iterate's own forces
+rarely satisfy Coulomb even when ``lambda`` has settled (the plain sequence
+converged on 42 of the 104 walls of ``xcheck stability``). Two stops count
+as converged:
+
+* exact (``"lambda_and_forces"`` / ``"lambda_and_coulomb"``): after at
+  least two non-associative iterates (for scheme (b) once ``alpha`` has
+  reached ``alpha_min``), the relative change of ``lambda`` is below
+  ``lambda_tol`` and the iterate satisfies Coulomb with its OWN normal forces
+  (``|s| <= mu n`` within ``coulomb_tol``; scheme (b): plus ``c0``); the
+  reason says whether the normal forces also settled (``force_tol``);
+* certified (``"certified"``): once ``lambda`` has settled (spread at most
+  ``settle_tol`` over ``settle_window`` iterates), the current LP's
+  mechanism is fixed and the forces are sought among ALL fields, not only
+  the LP's optimal ones: with the mechanism given, the non-associative
+  collapse conditions on the forces are linear (``n = 0`` where the points
+  open, ``s = -sign(slip) mu n`` where they slip, ``|s| <= mu n`` where they
+  stick), i.e. a choice of generator columns of the state model. The load
+  factors of the states so found form an interval, the MECHANISM BAND
+  (two LPs: min and max ``lambda``); when the iterate's ``lambda`` lies in
+  it, the state at that ``lambda`` is an exact non-associative collapse
+  state (equilibrium, Coulomb with its own normal forces, no dilatancy
+  where ``n > 0``, no interpenetration, slip only at the yield line against
+  the friction force; energy balance by virtual work) and the sequence
+  stops with it. The band is reported (``mechanism_band``): the same
+  mechanism can form at any load factor in it, a measure of how far the
+  non-associative solution is from unique.
+
+Otherwise the sequence stops as
 
 * ``cycling``: the ``lambda`` sequence repeats (period 2..6), oscillates
   without contracting over two windows, or stagnates (``lambda`` unchanged
@@ -64,15 +85,9 @@ when the relaxation mixes two iterates). Otherwise the sequence stops as
 * ``solver_failure``: an LP failed (warm, then restarted cold), or the cold
   re-solve of the final iterate disagrees with the warm one.
 
-Before a scheme (a) sequence is declared not converged, its last LP gets one
-more chance (``certify``): another optimal force field of that LP with
-``|s| <= mu n`` everywhere and ``n <= nbar`` at the slipping points is looked
-for (one extra LP, rows added then deleted). If one exists, it forms with the
-LP's mechanism an exact non-associative collapse state (complementary
-slackness), the status is ``converged`` and ``stop_reason`` is
-``"certified"``. :func:`verify_collapse_state` checks any final state
-independently (equilibrium, Coulomb, no interpenetration, no dilatancy,
-slip only at the yield line and against the friction force, energy balance).
+:func:`verify_collapse_state` checks any final state independently
+(equilibrium, Coulomb, no interpenetration, no dilatancy, slip only at the
+yield line and against the friction force, energy balance).
 
 The load factor of a sequence that did not converge is NaN; the last value
 and the band are reported beside it.
