@@ -392,6 +392,7 @@ def solve_nonassociative(
     settle_tol: float = 1e-3,
     settle_window: int = 3,
     mechanism_band: bool = True,
+    state_solver: Literal["clarabel", "highs"] = "clarabel",
     cold_check: bool = True,
     cold_tol: float = 1e-6,
     time_limit: float | None = None,
@@ -437,6 +438,8 @@ def solve_nonassociative(
             forces. ``False``: only the exact test (Coulomb with the LP's
             own forces) ends a sequence as converged.
         settle_tol, settle_window: when to try the certificate (above).
+        state_solver: interior point of the certificate LPs: ``"clarabel"``
+            (default) or ``"highs"`` (HiGHS IPM on a persistent model).
         mechanism_band: for a converged scheme (a) sequence, also compute
             the band of load factors over all collapse states with the final
             mechanism (two more interior-point LPs).
@@ -482,6 +485,8 @@ def solve_nonassociative(
     if max_seconds is not None and (isinstance(max_seconds, bool) or not isinstance(max_seconds, (int, float))
                                     or not math.isfinite(max_seconds) or max_seconds <= 0):
         raise ValueError(f"max_seconds must be a positive number of seconds, got {max_seconds!r}")
+    if state_solver not in ("clarabel", "highs"):
+        raise ValueError(f"state_solver must be 'clarabel' or 'highs', got {state_solver!r}")
     if start not in ("interior", "vertex"):
         raise ValueError(f"start must be 'interior' or 'vertex', got {start!r}")
     if time_limit is not None and (not math.isfinite(time_limit) or time_limit <= 0):
@@ -502,7 +507,8 @@ def solve_nonassociative(
                 max_seconds=None if max_seconds is None else float(max_seconds),
                 lambda_tol=float(lambda_tol), force_tol=float(force_tol), coulomb_tol=float(coulomb_tol),
                 window=window, start=start, certify=bool(certify), settle_tol=float(settle_tol),
-                settle_window=settle_window, mechanism_band=bool(mechanism_band), cold_check=cold_check,
+                settle_window=settle_window, mechanism_band=bool(mechanism_band), state_solver=state_solver,
+                cold_check=cold_check,
                 cold_tol=float(cold_tol), time_limit=time_limit)
     results = tuple(_Sequence(lp, d, opts).run() for d in dirs)
     solve_secs = time.perf_counter() - t0 - build
@@ -644,8 +650,10 @@ class _Sequence:
             optimal state that passes the residual check.
         """
         lp, P, d = self.lp, self.P, self.d
-        be = self._state_model()
         up_p, up_m = self._pattern(v)
+        if self.o["state_solver"] == "clarabel":
+            return self._state_lp_clarabel(up_p, up_m, sense, time_limit)
+        be = self._state_model()
         be.set_col_bounds(np.arange(2 * P), np.zeros(2 * P), np.concatenate([up_p, up_m]))
         be.highs.changeColCost(lp.lam_col, float(sense) * d)
         be.highs.clearSolver()
@@ -658,6 +666,26 @@ class _Sequence:
         if lp.primal_residual(n, s, lam * d) > 1e-7:
             return None, raw  # the interior point stopped short of an accurate state
         return (n, s, lam), raw
+
+    def _state_lp_clarabel(self, up_p: FloatArray, up_m: FloatArray, sense: float, time_limit: float
+                           ) -> tuple[tuple[FloatArray, FloatArray, float] | None, dict[str, Any]]:
+        """:meth:`_state_lp` by Clarabel: the generator LP with the excluded
+        columns left out (tight tolerances, its own residual check)."""
+        import dataclasses
+
+        from micro.solvers import ClarabelBackend
+
+        lp, d = self.lp, self.d
+        restricted = dataclasses.replace(lp, col_upper=np.concatenate([up_p, up_m, [np.inf]]))
+        tl = None if not math.isfinite(time_limit) else float(time_limit)
+        direction = -d if sense > 0 else d  # ClarabelBackend maximises direction * lambda_column
+        r = ClarabelBackend(restricted, time_limit=tl).solve(direction)
+        raw = {"status": r.status, "native_status": r.native_status, "seconds": r.solve_seconds,
+               "simplex_iterations": 0, "ipm_iterations": int(r.iterations)}
+        if r.status is not Status.OPTIMAL or r.n is None or r.s is None:
+            return None, raw
+        lam = d * (r.load_factor * direction)
+        return (np.asarray(r.n), np.asarray(r.s), lam), raw
 
     def _certify(self, v: FloatArray, lam: float, *, time_limit: float
                  ) -> tuple[tuple[FloatArray, FloatArray] | None, dict[str, Any], tuple[float, float] | None]:
@@ -816,6 +844,7 @@ class _Sequence:
         band: tuple[float, float] | None = None
         last_raw: dict[str, Any] | None = None
         last_try = -10**9
+        t_warm, t_cold, cold_streak = 0.0, math.inf, 0
         self._final: tuple[Any, ...] = ()
         for k in range(1, o["max_iterations"] + 1):
             t_it = time.perf_counter()
@@ -826,9 +855,20 @@ class _Sequence:
                 alpha = new_alpha
                 _run_limit(be, warm_limit)
             t_upd = time.perf_counter() - t_it + (t_build if k == 1 else 0.0)
-            raw = be.run_raw()
+            # on large walls a warm dual simplex can cost more than a cold
+            # solve (7,575 blocks: 78,000-104,000 simplex iterations, 170-200 s,
+            # against 45 s for interior point + crossover): solve cold while
+            # the last warm run was 1.5x slower than the last cold one, and
+            # go back to warm after three cold iterates in a row
+            cold_mode = (k > 1 and o["scheme"] == "a" and t_warm > 1.5 * t_cold and cold_streak < 3)
+            if cold_mode:
+                _run_limit(be, user_limit)
+                raw = self._restart(be)
+                algo = "ipm+crossover+simplex"
+            else:
+                raw = be.run_raw()
+                algo = "simplex-warm"
             _run_limit(be, user_limit)
-            algo = "simplex-warm"
             if k == 1:
                 # crossover basis -> dual simplex clean-up (crossover alone is not accurate)
                 ipm_raw = raw
@@ -868,6 +908,11 @@ class _Sequence:
                 break
             x = raw["x"]
             last_raw = raw
+            if algo == "simplex-warm":
+                t_warm, cold_streak = raw["seconds"], 0
+            elif algo == "ipm+crossover+simplex":
+                t_cold = raw["seconds"]
+                cold_streak += k > 1
             if k == 1:
                 # a warm run that takes 10x the first (cold) one is stuck (seen:
                 # 13 s to declare a 150-block LP infeasible): stop it and recover
@@ -964,7 +1009,7 @@ class _Sequence:
         # ---- cold re-solve of the final iterate
         cold = float("nan")
         rel = float("nan")
-        msg = ""
+        msg = cold_note = ""
         if o["cold_check"]:
             cb = be.cold_copy("ipm")
             craw = cb.run_raw()
@@ -977,10 +1022,22 @@ class _Sequence:
             if craw["status"] is Status.OPTIMAL:
                 cold = float(craw["x"][self.lam_col]) * self.d
                 rel = abs(cold - lam) / max(abs(cold), 1e-12)
+            if craw["status"] is Status.OPTIMAL and rel > o["cold_tol"] and self.cold_algorithm == "ipm":
+                # IPX without crossover stops at its own tolerances (seen: 1.6e-6
+                # from the warm vertex on 7,575 blocks): settle it with a cold
+                # vertex (crossover + dual simplex from the IPX point, no warm basis)
+                craw = self._restart(cb)
+                self.cold_algorithm = "ipm+crossover+simplex"
+                if craw["status"] is Status.OPTIMAL:
+                    cold = float(craw["x"][self.lam_col]) * self.d
+                    rel = abs(cold - lam) / max(abs(cold), 1e-12)
             if not math.isfinite(rel) or rel > o["cold_tol"]:
-                status, stop = SOLVER_FAILURE, "cold_check_failed"
-                msg = (f"the final iterate re-solved cold gives lambda = {cold:.9g} against {lam:.9g} warm "
-                       f"(HiGHS hot start; status {craw['native_status']})")
+                cmsg = (f"the final iterate re-solved cold gives lambda = {cold:.9g} against {lam:.9g} warm "
+                        f"(HiGHS hot start; status {craw['native_status']})")
+                if status == CONVERGED:
+                    status, stop, msg = SOLVER_FAILURE, "cold_check_failed", cmsg
+                else:
+                    cold_note = cmsg
         if status == CONVERGED and eq_res > 1e-6:
             status, stop = SOLVER_FAILURE, "equilibrium_residual"
             msg = f"equilibrium residual {eq_res:.2e} block weights at the final iterate"
@@ -997,6 +1054,8 @@ class _Sequence:
             msg += f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else ""
         elif not msg and status != CONVERGED:
             msg = stop
+        if cold_note:
+            msg += f"; also, {cold_note}"
         fs = lp.force_scale
         return NonAssocDirection(
             _DIR_NAME[self.d], status, stop, lam_out, lam, None if status == CONVERGED else band, lam_assoc,
