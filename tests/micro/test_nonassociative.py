@@ -205,6 +205,9 @@ def test_vertex_start() -> None:
         (dict(alpha0=1e-4, alpha_min=1e-3), "alpha_min"),
         (dict(alpha_factor=2.0), "alpha_factor"),
         (dict(time_limit=-1.0), "time_limit"),
+        (dict(settle_tol=1.0), "settle_tol"),
+        (dict(settle_window=1), "settle_window"),
+        (dict(state_solver="gurobi"), "state_solver"),
     ],
 )
 def test_bad_inputs(kw: dict, word: str) -> None:
@@ -329,3 +332,31 @@ def test_not_converged_state_violates_yield() -> None:
     assert r.status == CYCLING
     v = verify_collapse_state(micro.assemble(w), r.governing)
     assert v["slip_off_yield"] > 1e-3 or v["coulomb"] > 1e-3
+
+
+def test_certificate_agrees_between_interior_point_solvers() -> None:
+    """Clarabel and HiGHS IPM solve the certificate LPs: the same sequence,
+    the same certified load factor, and mechanism bands whose ends agree to
+    the interior points' accuracy (the ends are load factors of feasible
+    states, so a band can only come out narrower)."""
+    w = wall(1.0, 1 / 3)
+    a = solve_nonassociative(w, state_solver="clarabel")
+    b = solve_nonassociative(w, state_solver="highs")
+    assert a.converged and b.converged
+    assert a.load_factor == b.load_factor  # same warm-started LPs, same stop
+    assert a.mechanism_band == pytest.approx(b.mechanism_band, rel=1e-4)
+    for r in (a, b):
+        assert r.mechanism_band[0] <= r.load_factor <= r.mechanism_band[1]
+
+
+def test_certificate_only_ends_the_sequence_earlier() -> None:
+    """The certificate does not change the path of the sequence: with and
+    without it the LPs are the same up to the certified stop."""
+    for t, m, _ in TABLE7:
+        w = wall(t, m)
+        cert = solve_nonassociative(w)
+        plain = solve_nonassociative(w, certify=False)
+        assert cert.converged
+        assert plain.iterations >= cert.iterations
+        k = cert.iterations
+        assert [h.load_factor for h in plain.history[: k + 1]] == [h.load_factor for h in cert.history]
