@@ -626,13 +626,18 @@ class _Sequence:
             be.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.repeat(rhs, 2))
 
     # ----------------------------------------------------------- certificate
-    def _pattern(self, v: FloatArray) -> tuple[FloatArray, FloatArray]:
+    def _pattern(self, v: FloatArray) -> tuple[FloatArray, FloatArray] | None:
         """Generator bounds of the collapse states compatible with the
-        mechanism ``v`` (block velocities): ``(upper of g+, upper of g-)``."""
+        mechanism ``v`` (block velocities): ``(upper of g+, upper of g-)``,
+        or ``None`` when ``v`` makes points interpenetrate (possible with
+        scheme (b), whose ``n`` columns also enter the friction rows): no
+        force field can then make it a collapse state."""
         lp, P = self.lp, self.P
         dn = lp.Bn.T @ v
         ds = lp.Bs.T @ v
         scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)), 1e-300)
+        if float(np.min(dn, initial=0.0)) < -STATE_TOL * scale:
+            return None
         opening = dn > STATE_TOL * scale
         slip = (np.abs(ds) > STATE_TOL * scale) & ~opening
         up_p = np.where(opening | (slip & (ds > 0)), 0.0, np.inf)  # g+ carries s = +mu n
@@ -650,7 +655,11 @@ class _Sequence:
             optimal state that passes the residual check.
         """
         lp, P, d = self.lp, self.P, self.d
-        up_p, up_m = self._pattern(v)
+        pattern = self._pattern(v)
+        if pattern is None:
+            return None, {"status": Status.INFEASIBLE, "native_status": "mechanism interpenetrates",
+                          "seconds": 0.0, "simplex_iterations": 0, "ipm_iterations": 0}
+        up_p, up_m = pattern
         if self.o["state_solver"] == "clarabel":
             return self._state_lp_clarabel(up_p, up_m, sense, time_limit)
         be = self._state_model()

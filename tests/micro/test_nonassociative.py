@@ -288,6 +288,23 @@ def test_converged_states_are_collapse_states(kw: dict, relaxation: float) -> No
         assert v["slipping_points"] > 0
 
 
+@pytest.mark.parametrize("relaxation", [1.0, 0.6])
+def test_scheme_b_certified_states_are_collapse_states(relaxation: float) -> None:
+    """Regression: scheme (b)'s mechanisms may interpenetrate (its n columns
+    enter the friction rows); such a mechanism is never certified (seen: a
+    "certified" state with a dilatancy residual of 0.5 on this wall)."""
+    from micro.nonassociative import verify_collapse_state
+
+    w = wall(0.5, 1 / 3, rows=6, f=0.6)
+    r = solve_nonassociative(w, scheme="b", relaxation=relaxation)
+    lp = micro.assemble(w)
+    for d in r.directions:
+        if d.converged and d.stop_reason == "certified":
+            v = verify_collapse_state(lp, d)
+            assert v["interpenetration"] <= 1e-8 and v["dilatancy"] <= 1e-8, v
+            assert d.dilatancy_residual <= 1e-8
+
+
 def test_certified_stop() -> None:
     """Set 14: the LPs' own forces never satisfy Coulomb (the plain sequence
     cycles), but a settled iterate's mechanism admits an exact collapse state
