@@ -103,11 +103,12 @@ def pct(ours: float | None, ref: float | None) -> str | None:
 # ------------------------------------------------------------------ study
 
 #: The report runs the iterated non-associative LP on walls of at most this many
-#: blocks: the Table 5 walls (430-3,630 blocks) take seconds to about a minute
-#: each; on the 7,575-block Table 9 walls warm LPs cost minutes each and the
-#: sequence did not settle within 20 minutes (see the README), which would not
-#: fit the report's 15 minutes.
-NONASSOC_MAX_BLOCKS = 4000
+#: blocks: the Table 5 walls of up to 1,830 blocks take 1-120 s each (the
+#: runner caps a sequence at :data:`comparison.runner.NONASSOC_SECONDS`); Set 10
+#: (3,630 blocks) ran over 12 minutes without settling and the 7,575-block
+#: Table 9 walls over 20 minutes (see the README), which would not fit the
+#: report's 15 minutes.
+NONASSOC_MAX_BLOCKS = 2000
 
 
 def approximate_blocks(spec: WallSpec) -> int:

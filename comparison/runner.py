@@ -87,6 +87,10 @@ MACRO = Method("macro")
 MICRO_ASSOC = Method("micro-assoc")
 MICRO_NONASSOC = Method("micro-nonassoc")
 
+#: Time budget of the iterated LP per direction in the runner: a sequence that
+#: spends it stops as ``max_iterations`` (``time_budget``) with its last band.
+NONASSOC_SECONDS = 180.0
+
 
 @dataclass(frozen=True)
 class Record:
@@ -264,7 +268,8 @@ def _compute(spec: WallSpec, method: Method) -> tuple[Record, dict[str, np.ndarr
         values["lambda_by_direction"] = {d.direction: _finite(d.load_factor) for d in res.directions}
         lam, status, velocities, direction = res.load_factor, res.status, res.velocities, res.direction
     else:
-        res = micro.solve_nonassociative(wall, scheme=method.scheme)  # type: ignore[attr-defined]
+        res = micro.solve_nonassociative(wall, scheme=method.scheme,  # type: ignore[attr-defined]
+                                         max_seconds=NONASSOC_SECONDS)
         gov = next((d for d in res.directions if d.direction == res.direction), None)
         values = {
             "solver": "clarabel (start) + highs-simplex (iterated) + highs-ipm (certificate)",
