@@ -128,6 +128,9 @@ SCHEMES = ("a", "b")
 DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 
 _DIR_NAME = {1: "+x", -1: "-x"}
+#: Clarabel settings of the certificate LPs (their ends are checked for
+#: feasibility, so optimality to 1e-9 is enough).
+_STATE_CLARABEL = {"static_regularization_constant": 1e-8, "tol_gap_abs": 1e-9, "tol_gap_rel": 1e-9, "tol_feas": 1e-9}
 
 
 @dataclass(frozen=True)
@@ -698,7 +701,9 @@ class _Sequence:
         restricted = dataclasses.replace(lp, col_upper=np.concatenate([up_p, up_m, [np.inf]]))
         tl = None if not math.isfinite(time_limit) else float(time_limit)
         direction = -d if sense > 0 else d  # ClarabelBackend maximises direction * lambda_column
-        r = ClarabelBackend(restricted, time_limit=tl).solve(direction)
+        # the tight settings stopped short (AlmostSolved) on every certificate LP
+        # of the Table 7 walls and were retried: start from the retry's settings
+        r = ClarabelBackend(restricted, time_limit=tl, settings=_STATE_CLARABEL).solve(direction)
         raw = {"status": r.status, "native_status": r.native_status, "seconds": r.solve_seconds,
                "simplex_iterations": 0, "ipm_iterations": int(r.iterations)}
         if r.status is not Status.OPTIMAL or r.n is None or r.s is None:
