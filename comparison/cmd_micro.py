@@ -155,7 +155,8 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
     if args.json:
         out = result.summary()
         out.update(wall=getattr(spec, "name", "") or "", friction=args.friction, first_course=args.first_course,
-                   head_joints=args.head_joints, solver="clarabel (start) + highs-simplex (warm) + highs-ipm (certificate, cold check)",
+                   head_joints=args.head_joints,
+                   solver="clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)",
                    plot=args.plot if mechanism is not None else None)
         print(json.dumps(out))
     else:

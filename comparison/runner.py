@@ -272,7 +272,7 @@ def _compute(spec: WallSpec, method: Method) -> tuple[Record, dict[str, np.ndarr
                                          max_seconds=NONASSOC_SECONDS)
         gov = next((d for d in res.directions if d.direction == res.direction), None)
         values = {
-            "solver": "clarabel (start) + highs-simplex (iterated) + highs-ipm (certificate)",
+            "solver": "clarabel (start, certificate) + highs-simplex (iterated) + highs-ipm (cold check)",
             "scheme": res.scheme,
             "converged": res.converged,
             "iterations": res.iterations,

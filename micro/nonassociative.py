@@ -656,11 +656,14 @@ class _Sequence:
         # mechanism showed opening rates down to -1.1e-5 of the largest rate
         # (Set 4), where exact duals give >= 0. The noise level sets the
         # tolerance of the classification; beyond _INTERPENETRATION the
-        # mechanism really interpenetrates (scheme (b): up to ~0.5)
+        # mechanism really interpenetrates (scheme (b): up to ~0.5). Scheme
+        # (b)'s own mechanisms dilate by alpha mu |slip| and its closing rates
+        # are not noise: there the classification stays strict.
         noise = max(-float(np.min(dn, initial=0.0)), 0.0) / scale
-        if noise > _INTERPENETRATION:
+        limit = _INTERPENETRATION if self.o["scheme"] == "a" else STATE_TOL
+        if noise > limit:
             return None
-        tol = max(STATE_TOL, 10.0 * noise) * scale
+        tol = (max(STATE_TOL, 10.0 * noise) if self.o["scheme"] == "a" else STATE_TOL) * scale
         opening = dn > tol
         slip = (np.abs(ds) > tol) & ~opening
         up_p = np.where(opening | (slip & (ds > 0)), 0.0, np.inf)  # g+ carries s = +mu n
