@@ -40,13 +40,19 @@ def add_wall_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--scene", type=str, metavar="FILE.toml", help="a dimensional wall given storey by storey")
 
 
-def _int_option(name: str, text: str) -> int:
+def int_option(name: str, text: str, minimum: int = 1) -> int:
+    """An integer option of at least ``minimum`` (a positive integer by default).
+
+    Raises:
+        UsageError: naming ``name`` and the rule.
+    """
+    rule = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
     try:
         value = parse_fraction(name, text)
     except ValueError:
-        raise UsageError(f"{name} must be a positive integer, got {text!r}") from None
-    if not value.is_integer() or value <= 0:
-        raise UsageError(f"{name} must be a positive integer, got {text!r}")
+        raise UsageError(f"{name} must be {rule}, got {text!r}") from None
+    if not value.is_integer() or value < minimum:
+        raise UsageError(f"{name} must be {rule}, got {text!r}")
     return int(value)
 
 
@@ -70,10 +76,10 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
         return WallSpec.from_paper(
             t=parse_fraction("t", args.t),
             m=parse_fraction("m", args.m),
-            rows=_int_option("rows", args.rows),
+            rows=int_option("rows", args.rows),
             f=parse_fraction("f", args.f),
             p=parse_fraction("p", args.p),
-            storeys=_int_option("storeys", args.storeys),
+            storeys=int_option("storeys", args.storeys),
         )
     except ValueError as exc:
         raise UsageError(str(exc)) from None

@@ -12,7 +12,7 @@ import argparse
 import json
 import math
 
-from comparison.cli import UsageError, add_wall_options, wall_from_args
+from comparison.cli import UsageError, add_wall_options, int_option, wall_from_args
 
 #: Friction laws accepted by ``--friction``.
 FRICTION_LAWS = ("associative", "nonassociative")
@@ -134,12 +134,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
     if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
     relaxation = _in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
-    try:
-        max_it = int(args.max_iterations)
-    except ValueError:
-        raise UsageError(f"--max-iterations must be an integer >= 2, got {args.max_iterations!r}") from None
-    if max_it < 2:
-        raise UsageError(f"--max-iterations must be an integer >= 2, got {args.max_iterations!r}")
+    max_it = int_option("--max-iterations", args.max_iterations, minimum=2)
     result = micro.solve_nonassociative(wall, scheme=args.scheme, relaxation=relaxation,  # type: ignore[arg-type]
                                         max_iterations=max_it, time_limit=time_limit, certify=not args.no_certify)
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None

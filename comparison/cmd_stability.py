@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from comparison.cli import UsageError
+from comparison.cli import UsageError, int_option
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -33,12 +33,7 @@ def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck stability``."""
     from comparison.stability import main_study, table7_variants
 
-    try:
-        processes = int(args.processes)
-    except ValueError:
-        raise UsageError(f"--processes must be a positive integer, got {args.processes!r}") from None
-    if processes < 1:
-        raise UsageError(f"--processes must be a positive integer, got {args.processes!r}")
+    processes = int_option("--processes", args.processes)
     try:
         if args.table7:
             print(f"md: {table7_variants(args.out)}")
