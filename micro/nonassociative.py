@@ -811,36 +811,26 @@ class _Sequence:
         """The associative LP (iterate 0): ``"interior"`` by Clarabel (tight
         tolerances; 0.4 s on 1,230 blocks against 1.7 s for HiGHS IPM),
         HiGHS IPM if Clarabel fails; ``"vertex"`` by HiGHS IPM + crossover +
-        dual simplex on the state model (a basic optimal solution)."""
+        dual simplex on the state model (a basic optimal solution). ``x`` of
+        the returned outcome is in the iteration model's layout ``[n, s, lambda]``."""
         lp, P = self.lp, self.P
         if self.o["start"] == "interior":
             from micro.solvers import ClarabelBackend
 
             r = ClarabelBackend(lp, time_limit=self.o["time_limit"]).solve(self.d)
-            if r.status is Status.OPTIMAL and r.n is not None:
-                x = np.zeros(2 * P + 1)
-                x[:P], x[P : 2 * P], x[self.lam_col] = r.n, r.s, r.load_factor * self.d
-                return ({"status": Status.OPTIMAL, "native_status": r.native_status, "x": x, "seconds": r.solve_seconds,
-                         "simplex_iterations": 0, "ipm_iterations": int(r.iterations)}, "clarabel")
-            be = self._state_model()
-            raw = be.run_raw()
-            algo = "ipm"
+            if r.status is Status.OPTIMAL and r.n is not None and r.s is not None:
+                raw = {"status": Status.OPTIMAL, "native_status": r.native_status, "seconds": r.solve_seconds,
+                       "simplex_iterations": 0, "ipm_iterations": int(r.iterations)}
+                raw["x"] = np.concatenate([r.n, r.s, [r.load_factor * self.d]])
+                return raw, "clarabel"
+            raw, algo = self._state_model().run_raw(), "ipm"
         else:
             be = self._state_model()
-            be.set_algorithm("ipm", crossover=True)
-            first = be.run_raw()
-            be.set_algorithm("simplex")
-            raw = be.run_raw()
-            raw["seconds"] += first["seconds"]
-            raw["ipm_iterations"] = first["ipm_iterations"]
-            raw["simplex_iterations"] += first["simplex_iterations"] + first["crossover_iterations"]
+            raw, algo = self._restart(be), "ipm+crossover+simplex"
             be.set_algorithm("ipm")
-            algo = "ipm+crossover+simplex"
         if raw["status"] is Status.OPTIMAL:
             n, s = lp.forces(raw["x"][: 2 * P])
-            x = np.zeros(2 * P + 1)
-            x[:P], x[P : 2 * P], x[self.lam_col] = n, s, raw["x"][lp.lam_col]
-            raw["x"] = x
+            raw["x"] = np.concatenate([n, s, [raw["x"][lp.lam_col]]])
         return raw, algo
 
     # ------------------------------------------------------------------ run
@@ -869,7 +859,6 @@ class _Sequence:
             be.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
         alpha = o["alpha0"] if o["scheme"] == "b" else 0.0
         self._set_capacity(be, n0, alpha, o["alpha0"])
-        be.set_algorithm("ipm", crossover=True)
         t_build = time.perf_counter() - t_b
         user_limit = float(o["time_limit"]) if o["time_limit"] is not None else float("inf")
         warm_limit = user_limit
@@ -897,8 +886,9 @@ class _Sequence:
             # against 45 s for interior point + crossover): solve cold while
             # the last warm run was 1.5x slower than the last cold one, and
             # go back to warm after three cold iterates in a row
-            cold_mode = (k > 1 and o["scheme"] == "a" and t_warm > 1.5 * t_cold and cold_streak < 3)
-            if cold_mode:
+            # the first LP, and later ones in cold mode: interior point +
+            # crossover + dual-simplex clean-up (crossover alone is not accurate)
+            if k == 1 or (o["scheme"] == "a" and t_warm > 1.5 * t_cold and cold_streak < 3):
                 _run_limit(be, user_limit)
                 raw = self._restart(be)
                 algo = "ipm+crossover+simplex"
@@ -906,15 +896,6 @@ class _Sequence:
                 raw = be.run_raw()
                 algo = "simplex-warm"
             _run_limit(be, user_limit)
-            if k == 1:
-                # crossover basis -> dual simplex clean-up (crossover alone is not accurate)
-                ipm_raw = raw
-                be.set_algorithm("simplex")
-                raw = be.run_raw()
-                raw["seconds"] += ipm_raw["seconds"]
-                raw["ipm_iterations"] = ipm_raw["ipm_iterations"]
-                raw["simplex_iterations"] += ipm_raw["simplex_iterations"] + ipm_raw["crossover_iterations"]
-                algo = "ipm+crossover+simplex"
             spent = 0.0 if raw["status"] is Status.OPTIMAL else raw["seconds"]
             if raw["status"] is not Status.OPTIMAL and k > 1 and o["scheme"] == "b":
                 # scheme (b) caps every point at n <= nbar (1 + alpha) / alpha
