@@ -303,6 +303,16 @@ def test_scheme_b_certified_states_are_collapse_states(relaxation: float) -> Non
             v = verify_collapse_state(lp, d)
             assert v["interpenetration"] <= 1e-8 and v["dilatancy"] <= 1e-8, v
             assert d.dilatancy_residual <= 1e-8
+    # and the test the certificate applies: a mechanism run backwards closes
+    # every opening joint, which no force field can make a collapse state
+    from micro.nonassociative import _Sequence
+
+    a = solve_nonassociative(w)
+    vel = np.asarray(a.governing.mechanism.velocities).ravel()
+    for scheme in ("a", "b"):
+        seq = _Sequence(lp, 1, a.options | {"scheme": scheme})
+        assert seq._pattern(vel) is not None
+        assert seq._pattern(-vel) is None
 
 
 def test_certified_stop() -> None:
