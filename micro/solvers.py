@@ -17,9 +17,12 @@ Back ends (names accepted by :func:`make_backend`):
 ``highs-simplex``  HiGHS dual simplex with 1e-10 feasibility tolerances
                    (warm-startable: the one the iterated non-associative
                    scheme will need; cold, it is slow on large walls);
-``clarabel``       Clarabel's direct API (interior point), with tightened
-                   tolerances (see :data:`CLARABEL_TIGHT`) — the fastest
-                   accurate back end measured on every wall size;
+``clarabel``       Clarabel (interior point) on the kinematic (dual) form of
+                   the LP (:mod:`micro.clarabel_kinematic`) — the fastest
+                   and most accurate interior point measured on every wall
+                   size (docs/micro-associative.md);
+``clarabel-static`` Clarabel's direct API on the static form, with tightened
+                   tolerances (see :data:`CLARABEL_TIGHT`);
 ``cvxpy``          the readable reference formulation in cvxpy expressions,
                    solved by Clarabel (``cvxpy`` / ``cvxpy-clarabel``) or by
                    HiGHS (``cvxpy-highs``) through cvxpy.
@@ -418,7 +421,10 @@ def _highs_inf(a: np.ndarray, inf: float) -> np.ndarray:
 #: feasibility tolerances (1e-11) took 200+ iterations and stalled at ~2e-6;
 #: lowering the static regularisation and tightening iterative refinement as
 #: well reaches 1e-8 (Table 7 walls) and ~1e-6 (1,230 blocks) in ~40 iterations.
+#: QDLDL is named: Clarabel's "auto" picks faer above ~2,700 blocks, 3x slower
+#: on one core (3,630 blocks: 16.6 s against 5.6 s, same lambda to 1e-10).
 CLARABEL_TIGHT: dict[str, Any] = {
+    "direct_solve_method": "qdldl",
     "tol_gap_abs": 1e-10,
     "tol_gap_rel": 1e-10,
     "tol_feas": 1e-10,
@@ -464,7 +470,8 @@ class ClarabelBackend:
 
         self._cl = clarabel
         self.lp = lp
-        self.name = "clarabel" if tight else "clarabel-default"
+        self.tight = tight
+        self.name = "clarabel-static" if tight else "clarabel-default"
         n_eq = lp.n_eq
         # columns fixed at zero (g- where mu = 0) are left out: duplicate
         # columns made Clarabel stop with NumericalError
@@ -502,7 +509,7 @@ class ClarabelBackend:
         native = str(sol.status).split(".")[-1]
         iters = int(sol.iterations)
         extra: dict[str, Any] = {}
-        if self.name == "clarabel" and native in ("AlmostSolved", "InsufficientProgress", "NumericalError"):
+        if self.tight and native in ("AlmostSolved", "InsufficientProgress", "NumericalError"):
             s = self._cl.DefaultSettings()
             for k in dir(self.settings):
                 if not k.startswith("_") and hasattr(s, k) and not callable(getattr(s, k)):
@@ -649,7 +656,7 @@ _CVXPY_STATUS = {
 # ========================================================================= factory
 #: Names accepted by :func:`make_backend` (and the CLI's ``--solver``).
 SOLVERS = ("highs", "highs-simplex", "highs-ipm", "clarabel", "cvxpy")
-_ALL = (*SOLVERS, "cvxpy-clarabel", "cvxpy-highs", "clarabel-default", "cvxpy-clarabel-default")
+_ALL = (*SOLVERS, "clarabel-static", "cvxpy-clarabel", "cvxpy-highs", "clarabel-default", "cvxpy-clarabel-default")
 
 
 def make_backend(lp: LimitLP, solver: str = "highs", *, time_limit: float | None = None) -> Backend:
@@ -663,6 +670,10 @@ def make_backend(lp: LimitLP, solver: str = "highs", *, time_limit: float | None
     if solver == "highs-simplex":
         return HighsBackend(lp, algorithm="simplex", time_limit=time_limit)
     if solver == "clarabel":
+        from micro.clarabel_kinematic import ClarabelKinematicBackend
+
+        return ClarabelKinematicBackend(lp, time_limit=time_limit)
+    if solver == "clarabel-static":
         return ClarabelBackend(lp, time_limit=time_limit)
     if solver == "clarabel-default":
         return ClarabelBackend(lp, tight=False, time_limit=time_limit)

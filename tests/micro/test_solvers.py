@@ -13,7 +13,7 @@ from micro.solvers import HighsBackend, Status, make_backend
 
 from micro_walls import TABLE7, table7_wall, three_storey_wall
 
-BACKENDS = ["highs", "highs-simplex", "clarabel", "cvxpy", "cvxpy-highs"]
+BACKENDS = ["highs", "highs-simplex", "clarabel", "clarabel-static", "cvxpy", "cvxpy-highs"]
 REL = 1e-6
 
 
@@ -61,7 +61,7 @@ def test_three_storey_not_symmetric_solves_both_directions() -> None:
     assert r.load_factor == min(d.load_factor for d in r.directions)
 
 
-@pytest.mark.parametrize("solver", ["highs", "highs-simplex", "clarabel", "cvxpy", "cvxpy-highs"])
+@pytest.mark.parametrize("solver", BACKENDS)
 def test_dual_sign_convention_virtual_work(solver: str) -> None:
     """Pins each back end's dual sign: raw velocities give live work +1, dead work -lambda."""
     lp = micro.assemble(WALLS["three-storey"])
@@ -111,7 +111,7 @@ def test_mirror_symmetric_wall_same_both_ways() -> None:
     assert lp == pytest.approx(lm, rel=1e-7)
 
 
-@pytest.mark.parametrize("solver", ["highs", "clarabel"])
+@pytest.mark.parametrize("solver", ["highs", "clarabel", "clarabel-static"])
 def test_mirrored_wall_swaps_direction(solver: str) -> None:
     kw = dict(length=13.5, block_length=3.0, block_height=1.0, rows=(8,), thickness=(1.0,), overload=(0.0,),
               unit_weight=1.0, friction=0.6)
