@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from comparison.spec import WallSpec
+from comparison.wall import WallSpec
 
 MODELS = {
     "proposed": "Proposed macro-block model (Argiento et al. 2018)",

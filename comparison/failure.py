@@ -21,8 +21,8 @@ From the block velocities of the mechanism:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Protocol
+from dataclasses import asdict, dataclass, fields
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -77,6 +77,16 @@ class FailureMode:
     whole_length_courses: int
     rotation: float
     direction: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary (non-finite numbers as ``None``)."""
+        return {k: None if isinstance(v, float) and not math.isfinite(v) else v for k, v in asdict(self).items()}
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> FailureMode:
+        """The failure mode :meth:`to_dict` wrote (``None`` read back as NaN)."""
+        values = {f.name: math.nan if d[f.name] is None else d[f.name] for f in fields(cls)}
+        return cls(**values)
 
 
 def block_speeds(blocks: Blocks, velocities: FloatArray) -> FloatArray:

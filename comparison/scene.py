@@ -29,7 +29,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from comparison.spec import StoreySpec, WallSpec
+from comparison.wall import StoreySpec, WallSpec, positive
 
 _ALLOWED: dict[str, set[str]] = {
     "": {"name", "wall", "block", "storey"},
@@ -131,26 +131,23 @@ def parse_scene(text: str, source: str = "<scene>") -> WallSpec:
                 raise fail(f"missing key {key!r} in [{table}]", table, None, index)
 
     def value(table: str, key: str, index: int = 0, default: Any = None) -> Any:
-        v = tables[table][index].get(key, default)
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise fail(f"{table}.{key} must be a number, got {v!r}", table, key, index)
-        return v
+        return tables[table][index].get(key, default)
 
     name = data.get("name", Path(source).stem)
     if not isinstance(name, str):
         raise fail(f"name must be a string, got {name!r}", "", "name")
     scalars = {}
-    for table, key, label, default in (
-        ("wall", "length", "length", None),
-        ("block", "length", "block length", None),
-        ("block", "height", "block height", None),
-        ("wall", "unit_weight", "unit weight", 1.0),
-        ("wall", "friction", "friction f", None),
+    for table, key, default in (
+        ("wall", "length", None),
+        ("block", "length", None),
+        ("block", "height", None),
+        ("wall", "unit_weight", 1.0),
+        ("wall", "friction", None),
     ):
-        x = value(table, key, 0, default)
-        if x <= 0:
-            raise fail(f"{table}.{key}: {label} must be a positive number, got {x!r}", table, key)
-        scalars[(table, key)] = x
+        try:
+            scalars[(table, key)] = positive(f"{table}.{key}", value(table, key, 0, default))
+        except ValueError as exc:
+            raise fail(str(exc), table, key) from None
     height = scalars[("block", "height")]
     built: list[StoreySpec] = []
     for i in range(len(storeys)):

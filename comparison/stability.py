@@ -89,7 +89,7 @@ class WallCase:
 
 def grid_walls(grid: dict[str, tuple[float, ...]] | None = None) -> list[WallCase]:
     """The valid walls of ``grid`` (default :data:`GRID`)."""
-    from comparison.spec import WallSpec
+    from comparison.wall import WallSpec
 
     g = GRID if grid is None else grid
     out: list[WallCase] = []
@@ -106,7 +106,7 @@ def grid_walls(grid: dict[str, tuple[float, ...]] | None = None) -> list[WallCas
 def _run_one(args: tuple[WallCase, tuple[Setting, ...], int]) -> list[dict[str, Any]]:
     """All settings on one wall (one worker task)."""
     import micro
-    from comparison.spec import WallSpec
+    from comparison.wall import WallSpec
 
     case, settings, max_iterations = args
     wall = WallSpec.from_paper(t=case.t, m=case.m, rows=case.rows, f=case.f, p=0,
@@ -368,7 +368,7 @@ def table7_variants(out: str | os.PathLike[str] = "reports") -> Path:
     writes ``table7_nonassoc.md`` and returns its path. Nothing is fitted:
     every wall is built from the paper's parameters."""
     import micro
-    from comparison.spec import WallSpec
+    from comparison.wall import WallSpec
 
     lines = [
         "# Table 7, micro column, non-associative friction",

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from comparison.cli import UsageError, int_option
+from comparison.cli.options import UsageError, int_option
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

@@ -5,8 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from comparison.report import build_report
-from comparison.runner import stderr_progress
+from comparison.cli.options import add_cache_options, cache_dir_from_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -18,18 +17,20 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument("--out", default="reports", help="output directory (default: reports)")
     p.add_argument("--quick", action="store_true", help="the micro model on the small walls only (under a minute)")
-    p.add_argument("--cache", default=".xcheck-cache", help="result cache directory (default: .xcheck-cache)")
-    p.add_argument("--no-cache", action="store_true", help="recompute everything")
+    add_cache_options(p)
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Write the report and say where it is."""
+    from comparison.report import build_report
+    from comparison.runner import stderr_progress
+
     path = build_report(
         Path(args.out),
         quick=args.quick,
-        cache_dir=None if args.no_cache else Path(args.cache),
+        cache_dir=cache_dir_from_args(args),
         progress=None if args.quiet else stderr_progress,
     )
     print(f"wrote {path}")

@@ -13,7 +13,7 @@ import pytest
 from comparison.cli import main
 from comparison.scene import SceneError, parse_scene
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = ROOT / "examples" / "three-storey.toml"
 
 
@@ -63,7 +63,7 @@ def test_macro_scene_file(capsys: pytest.CaptureFixture[str]) -> None:
         (["--storeys", "0", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6"], "storeys must be a positive integer"),
         (["--storeys", "7", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6"], "cannot be split equally over 7 storeys"),
         (["--rows", "60", "--t", "1", "--m", "1/3"], "missing --f"),
-        (["--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--p", "-1"], "p must be zero or positive"),
+        (["--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--p", "-1"], "p must be zero or a positive number"),
         (["--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--bogus"], "unrecognized arguments: --bogus"),
     ],
 )
@@ -104,10 +104,10 @@ def test_scene_parses_storey_by_storey() -> None:
     [
         (GOOD.replace("friction = 0.6", "friction = 0.6\ncolour = 1"), "(line 6): unknown key 'colour' in [wall]"),
         (GOOD.replace("rows = 20\noverload", "rows = 20\nroof = 1\noverload"), "(line 14): unknown key 'roof' in [storey]"),
-        (GOOD.replace("height = 0.1", "height = -0.1"), "(line 8): block.height: block height must be a positive number"),
-        (GOOD.replace("overload = 2.0", "overload = -2.0"), "(line 14): storey 2: overload must be zero or positive"),
+        (GOOD.replace("height = 0.1", "height = -0.1"), "(line 8): block.height must be a positive number, got -0.1"),
+        (GOOD.replace("overload = 2.0", "overload = -2.0"), "(line 14): storey 2: overload must be zero or a positive number"),
         (GOOD.replace("rows = 20\nthickness", "rows = 2.5\nthickness"), "(line 10): storey 1: rows must be a positive integer"),
-        (GOOD.replace("friction = 0.6", "friction = 'high'"), "(line 5): wall.friction must be a number"),
+        (GOOD.replace("friction = 0.6", "friction = 'high'"), "(line 5): wall.friction must be a positive number, got 'high'"),
         (GOOD.replace("length = 6.0", "length = "), "malformed TOML"),
         (GOOD.replace("friction = 0.6\n", ""), "missing key 'friction' in [wall]"),
         (GOOD.split("[[storey]]")[0], "no [[storey]] given"),

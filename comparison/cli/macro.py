@@ -6,7 +6,7 @@ import argparse
 import json
 
 import macro
-from comparison.cli import add_wall_options, wall_from_args
+from comparison.cli.options import add_wall_options, wall_from_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]

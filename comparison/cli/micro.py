@@ -12,7 +12,7 @@ import argparse
 import json
 import math
 
-from comparison.cli import UsageError, add_wall_options, int_option, wall_from_args
+from comparison.cli.options import UsageError, add_wall_options, choice, in_range, int_option, wall_from_args
 
 #: Friction laws accepted by ``--friction``.
 FRICTION_LAWS = ("associative", "nonassociative")
@@ -55,35 +55,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.set_defaults(handler=run)
 
 
-def _choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
-    if value not in allowed:
-        raise UsageError(f"{name} must be one of {', '.join(allowed)}, got {value!r}")
-    return value
-
-
-def _in_range(option: str, text: str | None, rule: str, upper: float) -> float | None:
-    """``None`` for an option not given, else a number in ``(0, upper]``; a one-line error otherwise."""
-    if text is None:
-        return None
-    try:
-        value = float(text)
-    except ValueError:
-        raise UsageError(f"{option} must be {rule}, got {text!r}") from None
-    if not (0.0 < value <= upper) or math.isnan(value) or value == math.inf:
-        raise UsageError(f"{option} must be {rule}, got {text!r}")
-    return value
-
-
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck micro``."""
     import micro
     from micro.solvers import SOLVERS
 
-    _choice("--friction", args.friction, FRICTION_LAWS)
-    _choice("--solver", args.solver, SOLVERS)
-    _choice("--first-course", args.first_course, ("full", "half"))
-    _choice("--head-joints", args.head_joints, ("frictional", "frictionless"))
-    time_limit = _in_range("--time-limit", args.time_limit, "a positive number of seconds", math.inf)
+    choice("--friction", args.friction, FRICTION_LAWS)
+    choice("--solver", args.solver, SOLVERS)
+    choice("--first-course", args.first_course, ("full", "half"))
+    choice("--head-joints", args.head_joints, ("frictional", "frictionless"))
+    time_limit = in_range("--time-limit", args.time_limit, "a positive number of seconds", math.inf)
     if args.plot is not None and not args.plot.lower().endswith((".png", ".pdf", ".svg")):
         raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
     spec = wall_from_args(args)
@@ -130,10 +111,10 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
     import micro
     from micro.nonassociative import SCHEMES
 
-    _choice("--scheme", args.scheme, SCHEMES)
+    choice("--scheme", args.scheme, SCHEMES)
     if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
-    relaxation = _in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
+    relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
     max_it = int_option("--max-iterations", args.max_iterations, minimum=2)
     result = micro.solve_nonassociative(wall, scheme=args.scheme, relaxation=relaxation,  # type: ignore[arg-type]
                                         max_iterations=max_it, time_limit=time_limit, certify=not args.no_certify)

@@ -1,4 +1,4 @@
-"""The shared vocabulary: one wall, described once, built into each model's input.
+"""The shared wall: one wall, described once, built into each model's input, and its checks.
 
 A :class:`WallSpec` is a dimensional wall (lengths, unit weight, floor loads) in
 the terms both models understand. It is made either from the paper's
@@ -8,78 +8,27 @@ nondimensional parameters (Table 4 of Argiento, Maione & Casapulla 2018) with
 :meth:`WallSpec.to_micro` build each model's own input, so that ``macro`` and
 ``micro`` never import each other.
 
-Mapping of the paper's parameters (Table 4) onto a dimensional wall
---------------------------------------------------------------------
-Lengths are measured in block heights and forces in ``unit_weight`` units:
-
-* block height ``b = 1``, wall thickness ``= b`` (the paper's unit block is
-  ``l x b x b``);
-* ``o = H/b`` rows in all, split equally over the storeys: ``H = o``;
-* ``t = H/L``: wall length ``L = o / t``;
-* ``m = b/l``: block length ``l = 1/m``, overlap ``v = l/2``;
-* ``p``: the floor load per unit length of wall, on every floor, over the
-  wall's self-weight per unit length, ``q = p * unit_weight * H * thickness``
-  (``p_height="wall"``, the default). The OCR prints ``q/(Hb nu)``; reading
-  ``H`` as the storey height instead (``p_height="storey"``) changes the
-  Table 5 load factors by less than 0.2 % (see the README).
-
-The load factor is independent of the unit of length and of ``unit_weight``.
+Every wall parameter is checked with the one vocabulary of :mod:`macro.checks`
+(re-exported here for the scene files and the command line), so that the
+spec, the scenes, ``macro.MacroWall`` and ``macro.sweep`` word a bad value
+alike. The mapping of the paper's parameters onto a dimensional wall is
+:func:`macro.paper.paper_walls` (block height 1, ``H = o``, ``L = o/t``,
+``l = 1/m``, ``q = p H`` on every floor; see that module and the README for the
+reading of ``p``). The load factor is independent of the unit of length and of
+``unit_weight``.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
-from fractions import Fraction
 from typing import TYPE_CHECKING, Literal
+
+from macro.checks import NO_STOREY, non_negative, positive, positive_int
+from macro.paper import BLOCK_HEIGHT, paper_walls
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     import macro
     import micro
-
-
-def _positive(name: str, value: float) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(x) or x <= 0.0:
-        raise ValueError(f"{name} must be a positive number, got {value!r}")
-    return x
-
-
-def _non_negative(name: str, value: float) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(x) or x < 0.0:
-        raise ValueError(f"{name} must be zero or positive, got {value!r}")
-    return x
-
-
-def _positive_int(name: str, value: object) -> int:
-    if isinstance(value, bool):
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    if isinstance(value, float) and value.is_integer():
-        value = int(value)
-    if not isinstance(value, int) or value <= 0:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    return value
-
-
-def parse_fraction(name: str, text: str | float) -> float:
-    """Parse a number that may be written as a fraction (``"1/3"``).
-
-    Raises:
-        ValueError: naming ``name`` when ``text`` is not a number.
-    """
-    if isinstance(text, (int, float)) and not isinstance(text, bool):
-        return float(text)
-    try:
-        return float(Fraction(str(text).strip()))
-    except (ValueError, ZeroDivisionError):
-        raise ValueError(f"{name} must be a number or a fraction such as 1/3, got {text!r}") from None
 
 
 @dataclass(frozen=True)
@@ -98,9 +47,9 @@ class StoreySpec:
     overload: float = 0.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "rows", _positive_int("rows", self.rows))
-        object.__setattr__(self, "thickness", _positive("thickness", self.thickness))
-        object.__setattr__(self, "overload", _non_negative("overload", self.overload))
+        object.__setattr__(self, "rows", positive_int("rows", self.rows))
+        object.__setattr__(self, "thickness", positive("thickness", self.thickness))
+        object.__setattr__(self, "overload", non_negative("overload", self.overload))
 
 
 @dataclass(frozen=True)
@@ -126,14 +75,11 @@ class WallSpec:
     name: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "length", _positive("length", self.length))
-        object.__setattr__(self, "block_length", _positive("block length", self.block_length))
-        object.__setattr__(self, "block_height", _positive("block height", self.block_height))
-        object.__setattr__(self, "unit_weight", _positive("unit weight", self.unit_weight))
-        object.__setattr__(self, "friction", _positive("friction f", self.friction))
+        for name in ("length", "block_length", "block_height", "unit_weight", "friction"):
+            object.__setattr__(self, name, positive(name, getattr(self, name)))
         storeys = tuple(self.storeys)
         if not storeys:
-            raise ValueError("storeys: a wall needs at least one storey")
+            raise ValueError(NO_STOREY.format(name="storeys"))
         if not all(isinstance(s, StoreySpec) for s in storeys):
             raise ValueError("storeys must be StoreySpec instances")
         object.__setattr__(self, "storeys", storeys)
@@ -166,35 +112,19 @@ class WallSpec:
             name: label for reports.
 
         Raises:
-            ValueError: with a message naming the offending parameter.
+            ValueError: with a message naming the offending parameter
+                (see :func:`macro.paper.paper_walls`).
         """
-        t = _positive("t", t)
-        m = _positive("m", m)
-        if m > 1.0:
-            raise ValueError(f"m must be in (0, 1], got {m!r}")
-        f = _positive("f", f)
-        p = _non_negative("p", p)
-        n_storeys = _positive_int("storeys", storeys)
-        o = _positive_int("rows", rows)
-        if o % n_storeys:
-            raise ValueError(
-                f"rows: {o} rows cannot be split equally over {n_storeys} storeys; "
-                "use a scene file for unequal storeys"
-            )
-        if p_height not in ("wall", "storey"):
-            raise ValueError(f"p_height must be 'wall' or 'storey', got {p_height!r}")
-        b = 1.0
-        per = o // n_storeys
-        height = o * b
-        ref = height if p_height == "wall" else per * b
-        q = p * 1.0 * ref * b
+        w = paper_walls(t, m, rows, f, p, storeys, p_height)
+        per = int(w.rows_per_storey[0])
+        q = float(w.overload[0])
         return cls(
-            length=height / t,
-            block_length=b / m,
-            block_height=b,
-            storeys=tuple(StoreySpec(per, b, q) for _ in range(n_storeys)),
+            length=float(w.length[0]),
+            block_length=float(w.block_length[0]),
+            block_height=BLOCK_HEIGHT,
+            storeys=tuple(StoreySpec(per, BLOCK_HEIGHT, q) for _ in range(w.storeys)),
             unit_weight=1.0,
-            friction=f,
+            friction=float(w.friction[0]),
             name=name,
         )
 
