@@ -21,7 +21,7 @@ reading of ``p``). The load factor is independent of the unit of length and of
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from macro.checks import NO_STOREY, non_negative, positive, positive_int
 from macro.paper import BLOCK_HEIGHT, paper_walls
@@ -178,7 +178,7 @@ class WallSpec:
             friction=self.friction,
         )
 
-    def to_micro(self, **options: object) -> micro.BlockWall:
+    def to_micro(self, **options: Any) -> micro.BlockWall:
         """The micro model's block assemblage for this wall.
 
         Args:

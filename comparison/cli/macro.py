@@ -9,7 +9,7 @@ import macro
 from comparison.cli.options import add_wall_options, wall_from_args
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``macro`` subcommand."""
     p = sub.add_parser(
         "macro",

@@ -11,6 +11,11 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    from comparison.wall import WallSpec
+    from micro import BlockWall
 
 from comparison.cli.options import UsageError, add_wall_options, choice, in_range, int_option, wall_from_args
 
@@ -18,7 +23,7 @@ from comparison.cli.options import UsageError, add_wall_options, choice, in_rang
 FRICTION_LAWS = ("associative", "nonassociative")
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``micro`` subcommand."""
     from micro.solvers import SOLVERS
 
@@ -30,28 +35,55 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     )
     add_wall_options(p)
     g = p.add_argument_group("micro model")
-    g.add_argument("--friction", default="associative", metavar="LAW",
-                   help="friction law: associative (default) or nonassociative (iterated LP, HiGHS)")
-    g.add_argument("--solver", default="highs", metavar="NAME",
-                   help=f"LP back end: {', '.join(SOLVERS)} (default highs = HiGHS interior point, no crossover)")
-    g.add_argument("--first-course", default="full", metavar="full|half",
-                   help="the bottom course starts with a full (default) or a half block")
-    g.add_argument("--head-joints", default="frictional", metavar="frictional|frictionless",
-                   help="friction on the head joints (default frictional)")
+    g.add_argument(
+        "--friction",
+        default="associative",
+        metavar="LAW",
+        help="friction law: associative (default) or nonassociative (iterated LP, HiGHS)",
+    )
+    g.add_argument(
+        "--solver",
+        default="highs",
+        metavar="NAME",
+        help=f"LP back end: {', '.join(SOLVERS)} (default highs = HiGHS interior point, no crossover)",
+    )
+    g.add_argument(
+        "--first-course",
+        default="full",
+        metavar="full|half",
+        help="the bottom course starts with a full (default) or a half block",
+    )
+    g.add_argument(
+        "--head-joints",
+        default="frictional",
+        metavar="frictional|frictionless",
+        help="friction on the head joints (default frictional)",
+    )
     g.add_argument("--time-limit", default=None, metavar="SECONDS", help="time limit per LP solve")
     g.add_argument("--json", action="store_true", help="print one JSON object")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
     # ---- non-associative friction (issue 4)
     na = p.add_argument_group("non-associative friction (--friction nonassociative)")
-    na.add_argument("--scheme", default="a", metavar="a|b",
-                    help="rebuilt yield condition of the iterated LP: a (|s| <= mu nbar, default) or "
-                    "b (line of slope -alpha through (nbar, mu nbar))")
-    na.add_argument("--relaxation", default=None, metavar="BETA",
-                    help="nbar = BETA n_k + (1 - BETA) n_(k-1), BETA in (0, 1] (default 0.6)")
+    na.add_argument(
+        "--scheme",
+        default="a",
+        metavar="a|b",
+        help="rebuilt yield condition of the iterated LP: a (|s| <= mu nbar, default) or "
+        "b (line of slope -alpha through (nbar, mu nbar))",
+    )
+    na.add_argument(
+        "--relaxation",
+        default=None,
+        metavar="BETA",
+        help="nbar = BETA n_k + (1 - BETA) n_(k-1), BETA in (0, 1] (default 0.6)",
+    )
     na.add_argument("--max-iterations", default="100", metavar="N", help="cap on the LPs per direction (default 100)")
-    na.add_argument("--no-certify", action="store_true",
-                    help="stop only when an LP's own forces satisfy Coulomb (the plain iterated LP); by default a "
-                    "settled iterate whose mechanism admits an exact collapse state ends the sequence")
+    na.add_argument(
+        "--no-certify",
+        action="store_true",
+        help="stop only when an LP's own forces satisfy Coulomb (the plain iterated LP); by default a "
+        "settled iterate whose mechanism admits an exact collapse state ends the sequence",
+    )
     p.set_defaults(handler=run)
 
 
@@ -85,8 +117,11 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         out = result.summary()
         out.update(
-            wall=spec.name or "", friction=args.friction, first_course=args.first_course,
-            head_joints=args.head_joints, plot=args.plot if result.ok else None,
+            wall=spec.name or "",
+            friction=args.friction,
+            first_course=args.first_course,
+            head_joints=args.head_joints,
+            plot=args.plot if result.ok else None,
         )
         print(json.dumps(out))
     else:
@@ -97,7 +132,9 @@ def run(args: argparse.Namespace) -> int:
                 f"build {result.build_seconds:.3f} s, solve {result.solve_seconds:.3f} s"
             )
             for d in result.directions:
-                print(f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.solve_seconds:.3f} s")
+                print(
+                    f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.solve_seconds:.3f} s"
+                )
             if result.mirror_symmetric:
                 print("  the wall is mirror-symmetric: -x gives the same load factor")
         else:
@@ -106,7 +143,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 # ---------------------------------------------------------------- issue 4
-def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, time_limit: float | None) -> int:
+def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWall, time_limit: float | None) -> int:
     """``--friction nonassociative``: the iterated LP (HiGHS only)."""
     import micro
     from micro.nonassociative import SCHEMES
@@ -116,41 +153,60 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
     relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
     max_it = int_option("--max-iterations", args.max_iterations, minimum=2)
-    result = micro.solve_nonassociative(wall, scheme=args.scheme, relaxation=relaxation,  # type: ignore[arg-type]
-                                        max_iterations=max_it, time_limit=time_limit, certify=not args.no_certify)
+    result = micro.solve_nonassociative(
+        wall,
+        scheme=args.scheme,
+        relaxation=relaxation,
+        max_iterations=max_it,
+        time_limit=time_limit,
+        certify=not args.no_certify,
+    )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:
         from micro.plot import plot_velocities
 
-        title = (f"lambda = {result.load_factor:.4f} ({result.direction}), non-associative scheme {result.scheme}, "
-                 f"{result.blocks} blocks")
+        title = (
+            f"lambda = {result.load_factor:.4f} ({result.direction}), non-associative scheme {result.scheme}, "
+            f"{result.blocks} blocks"
+        )
         try:
-            plot_velocities(wall, mechanism.velocities, args.plot, title=title)  # type: ignore[arg-type]
+            plot_velocities(wall, mechanism.velocities, args.plot, title=title)
         except OSError as exc:
             raise UsageError(f"--plot: cannot write {args.plot!r} ({exc.strerror})") from None
     if args.json:
         out = result.summary()
-        out.update(wall=getattr(spec, "name", "") or "", friction=args.friction, first_course=args.first_course,
-                   head_joints=args.head_joints,
-                   solver="clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)",
-                   plot=args.plot if mechanism is not None else None)
+        out.update(
+            wall=spec.name or "",
+            friction=args.friction,
+            first_course=args.first_course,
+            head_joints=args.head_joints,
+            solver="clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)",
+            plot=args.plot if mechanism is not None else None,
+        )
         print(json.dumps(out))
     else:
         g = result.governing
         if result.ok:
-            print(f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
-                  f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
-                  f"({g.stop_reason}); associative lambda = {result.associative_load_factor:.6f}")
+            print(
+                f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
+                f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
+                f"({g.stop_reason}); associative lambda = {result.associative_load_factor:.6f}"
+            )
             if result.mechanism_band is not None:
                 lo, hi = result.mechanism_band
                 print(f"  collapse states with this mechanism: lambda in [{lo:.6f}, {hi:.6f}]")
         else:
-            band = "" if result.lambda_band is None else \
-                f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
+            band = (
+                ""
+                if result.lambda_band is None
+                else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
+            )
             print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
-        print(f"  warm/cold rel. difference {result.warm_cold_rel_diff:.2e}, Coulomb residual "
-              f"{result.coulomb_residual:.2e}, dilatancy residual {result.dilatancy_residual:.2e}, "
-              f"{result.blocks} blocks, {result.solve_seconds:.3f} s")
+        print(
+            f"  warm/cold rel. difference {result.warm_cold_rel_diff:.2e}, Coulomb residual "
+            f"{result.coulomb_residual:.2e}, dilatancy residual {result.dilatancy_residual:.2e}, "
+            f"{result.blocks} blocks, {result.solve_seconds:.3f} s"
+        )
     return 0 if result.ok else 1

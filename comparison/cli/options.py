@@ -88,8 +88,9 @@ def add_wall_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--t", type=str, metavar="T", help="wall shape ratio H/L")
     g.add_argument("--m", type=str, metavar="M", help="unit shape ratio b/l in (0, 1]; fractions such as 1/3 accepted")
     g.add_argument("--f", type=str, metavar="F", help="friction coefficient")
-    g.add_argument("--p", type=str, default="0", metavar="P",
-                   help="overloading ratio q/(gamma H b) on every floor (default 0)")
+    g.add_argument(
+        "--p", type=str, default="0", metavar="P", help="overloading ratio q/(gamma H b) on every floor (default 0)"
+    )
     g.add_argument("--scene", type=str, metavar="FILE.toml", help="a dimensional wall given storey by storey")
 
 
@@ -124,9 +125,12 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
 
 def add_cache_options(parser: argparse.ArgumentParser) -> None:
     """``--cache DIR`` and ``--no-cache`` (see :func:`comparison.runner.cache.default_cache_dir`)."""
-    parser.add_argument("--cache", default=None, metavar="DIR",
-                        help="result cache directory (default: $XCHECK_CACHE, else $XDG_CACHE_HOME/xcheck, "
-                        "else ~/.cache/xcheck)")
+    parser.add_argument(
+        "--cache",
+        default=None,
+        metavar="DIR",
+        help="result cache directory (default: $XCHECK_CACHE, else $XDG_CACHE_HOME/xcheck, else ~/.cache/xcheck)",
+    )
     parser.add_argument("--no-cache", action="store_true", help="recompute everything, cache nothing")
 
 

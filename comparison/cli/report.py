@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from comparison.cli.options import add_cache_options, cache_dir_from_args
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``report`` subcommand."""
     p = sub.add_parser(
         "report",
@@ -25,7 +26,6 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 def run(args: argparse.Namespace) -> int:
     """Write the report and say where it is."""
     from comparison.report import build_report
-    from comparison.runner import stderr_progress
 
     path = build_report(
         Path(args.out),
@@ -35,3 +35,8 @@ def run(args: argparse.Namespace) -> int:
     )
     print(f"wrote {path}")
     return 0
+
+
+def stderr_progress(line: str) -> None:
+    """Progress printer for long runs."""
+    print(line, file=sys.stderr, flush=True)

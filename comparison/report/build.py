@@ -58,8 +58,9 @@ def build_report(
     pending = [] if runner.cache is None else plan.pending(runner.cache)
     computed = 0
     if cache_dir is not None:
-        computed = prefetch(cache_dir, [(it.spec, it.method) for it in pending], workers or os.cpu_count() or 1,
-                            progress)
+        computed = prefetch(
+            cache_dir, [(it.spec, it.method) for it in pending], workers or os.cpu_count() or 1, progress
+        )
     results = compute(plan, runner)
     meta = {
         "quick": quick,
@@ -76,8 +77,10 @@ def build_report(
 def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Path:
     """Render the tables, figures and text of ``res`` into ``out``."""
     tables = all_tables(res)
-    figure_names = [figures.sensitivity_figure(res, out / "sensitivity.png").name,
-                    figures.speed_figure(res, out / "speed_accuracy.png").name]
+    figure_names = [
+        figures.sensitivity_figure(res, out / "sensitivity.png").name,
+        figures.speed_figure(res, out / "speed_accuracy.png").name,
+    ]
     hist = figures.histories_figure(res, out / "histories.png")
     if hist is not None:
         figure_names.append(hist.name)

@@ -22,7 +22,7 @@ from comparison.report.results import Results
 from comparison.report.tables import mechanism_record, published, speed_reference, speed_rows
 
 
-def _plt():  # type: ignore[no-untyped-def]
+def _plt():
     import matplotlib
 
     matplotlib.use("Agg", force=True)
@@ -41,7 +41,7 @@ class SpeedPoint:
     error: float  # |lambda - reference| / reference
 
 
-def _save(fig, ax, path: Path, fontsize: int) -> Path:  # type: ignore[no-untyped-def]
+def _save(fig, ax, path: Path, fontsize: int) -> Path:
     """Legend (when anything is labelled), layout, write, close."""
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=fontsize)
@@ -63,7 +63,13 @@ def speed_accuracy(points: Sequence[SpeedPoint], reference: str, path: Path) -> 
             continue
         ax.scatter([max(p.error, floor) for p in pts], [max(p.seconds, 1e-5) for p in pts], marker=mk, s=45, label=fam)
         for p in pts:
-            ax.annotate(p.label, (max(p.error, floor), max(p.seconds, 1e-5)), fontsize=7, xytext=(4, 3), textcoords="offset points")
+            ax.annotate(
+                p.label,
+                (max(p.error, floor), max(p.seconds, 1e-5)),
+                fontsize=7,
+                xytext=(4, 3),
+                textcoords="offset points",
+            )
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel(f"|Δλ| / λ against {reference} (errors below {floor:g} drawn at {floor:g})")
@@ -72,7 +78,11 @@ def speed_accuracy(points: Sequence[SpeedPoint], reference: str, path: Path) -> 
     return _save(fig, ax, path, 8)
 
 
-def sensitivity(panels: Mapping[str, Mapping[str, tuple[Sequence[float], Sequence[float]]]], path: Path, published: Mapping[str, tuple[Sequence[float], Sequence[float]]] | None = None) -> Path:
+def sensitivity(
+    panels: Mapping[str, Mapping[str, tuple[Sequence[float], Sequence[float]]]],
+    path: Path,
+    published: Mapping[str, tuple[Sequence[float], Sequence[float]]] | None = None,
+) -> Path:
     """Load factor against each parameter; one panel per parameter, one line per method."""
     plt = _plt()
     n = len(panels)
@@ -81,8 +91,7 @@ def sensitivity(panels: Mapping[str, Mapping[str, tuple[Sequence[float], Sequenc
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.4 * rows), dpi=110, squeeze=False)
     for ax, (param, series) in zip(axes.ravel(), panels.items(), strict=False):
         for label, (x, y) in series.items():
-            y = np.asarray(y, dtype=float)
-            ax.plot(x, y, marker="o", ms=3.5, label=label)
+            ax.plot(x, np.asarray(y, dtype=float), marker="o", ms=3.5, label=label)
         if published and param in published:
             px, py = published[param]
             ax.scatter(px, py, marker="x", color="k", zorder=5, label="paper (Table 5)")
@@ -127,8 +136,7 @@ def _table5_points(base: Mapping[str, float]) -> dict[str, tuple[list[float], li
     """Table 5's published λ against each parameter: the cases that differ from ``base`` in that parameter only."""
     out: dict[str, tuple[list[float], list[float]]] = {}
     for param in ("f", "p", "rows", "t", "m"):
-        same = [c for c in cases_in_table("5")
-                if all(getattr(c, k) == v for k, v in base.items() if k != param)]
+        same = [c for c in cases_in_table("5") if all(getattr(c, k) == v for k, v in base.items() if k != param)]
         same.sort(key=lambda c: getattr(c, param))
         out[param] = ([getattr(c, param) for c in same], [published(c, "proposed") for c in same])
     return out
@@ -136,8 +144,10 @@ def _table5_points(base: Mapping[str, float]) -> dict[str, tuple[list[float], li
 
 def speed_figure(res: Results, path: Path) -> Path:
     """The speed-accuracy chart of :func:`comparison.report.tables.speed_rows`."""
-    points = [SpeedPoint(f"{r.rows} rows" if r.family.startswith("micro") else r.label, r.family, r.seconds, r.error)
-              for r in speed_rows(res)]
+    points = [
+        SpeedPoint(f"{r.rows} rows" if r.family.startswith("micro") else r.label, r.family, r.seconds, r.error)
+        for r in speed_rows(res)
+    ]
     ref = speed_reference(res)
     return speed_accuracy(points, f"{ref.method.kind}, {res.plan.resolutions[-1]} rows", path)
 
@@ -169,8 +179,11 @@ def mechanism_figures(res: Results, out: Path) -> list[str]:
         fig, ax = plt.subplots(figsize=(7, 7 * min(1.4, max(0.4, wall.height / wall.length))), dpi=100)
         draw_mechanism(ax, wall, mech.velocities, fig=fig)
         _draw_macro_crack(ax, r, mech.direction)
-        ax.set_title(f"{c.label}: {rec.method.kind} λ = {rec.load_factor:.3f}, macro λ = {r.load_factor:.3f} "
-                     f"(α_c = {r.alpha_c_deg:.1f}°)", fontsize=9)
+        ax.set_title(
+            f"{c.label}: {rec.method.kind} λ = {rec.load_factor:.3f}, macro λ = {r.load_factor:.3f} "
+            f"(α_c = {r.alpha_c_deg:.1f}°)",
+            fontsize=9,
+        )
         ax.legend(fontsize=7, loc="upper right")
         name = f"mechanism_{c.case.lower()}.png"
         fig.savefig(out / name, bbox_inches="tight")

@@ -23,8 +23,9 @@ def rows_finding(res: Results) -> str | None:
     if len(values) < 2:
         return None
     lo, hi = plan.sweep_spec("rows", values[0]), plan.sweep_spec("rows", values[-1])
-    both = [m for m in plan.methods
-            if _finite(res.record(lo, m).load_factor) and _finite(res.record(hi, m).load_factor)]
+    both = [
+        m for m in plan.methods if _finite(res.record(lo, m).load_factor) and _finite(res.record(hi, m).load_factor)
+    ]
     if not both:
         return None
     m = both[-1]
@@ -49,17 +50,25 @@ def beyond_table7_finding(res: Results) -> str | None:
         return None
     above = [d for _, d in big if d > 0]
     if not above:
-        return f"* **Macro against micro beyond Table 7.** The macro λ lies below the micro one on all {len(big)} walls."
+        return (
+            f"* **Macro against micro beyond Table 7.** The macro λ lies below the micro one on all {len(big)} walls."
+        )
     n_na = sum(1 for c, _ in big if _finite(res.record(c.spec(), res.plan.reference).load_factor))
-    ref_note = ("" if n_na == len(big) else
-                f" (against the non-associative λ on {n_na} of them, elsewhere against the associative LP, "
-                "itself an upper bound of the non-associative λ)")
+    ref_note = (
+        ""
+        if n_na == len(big)
+        else f" (against the non-associative λ on {n_na} of them, elsewhere against the associative LP, "
+        "itself an upper bound of the non-associative λ)"
+    )
     rows = [c.rows for c, _ in big]
     return (
         f"* **Macro against micro beyond Table 7.** On the {len(big)} other walls the micro model can build "
         f"({min(rows)}-{max(rows)} rows), the macro λ lies above the micro one on {len(above)}, by "
-        f"{min(above):+.1f} % to {max(above):+.1f} %" + ref_note + "; below it only "
-        + ", ".join(f"{c.label} ({d:+.1f} %)" for c, d in big if d <= 0) + "."
+        f"{min(above):+.1f} % to {max(above):+.1f} %"
+        + ref_note
+        + "; below it only "
+        + ", ".join(f"{c.label} ({d:+.1f} %)" for c, d in big if d <= 0)
+        + "."
     )
 
 
@@ -75,8 +84,12 @@ def table7_finding(res: Results) -> str:
         band = res.mechanism_band(c.spec())
         if band is not None and band[0] <= pub * (1.0 + BAND_CLOSE):
             close.append(c.label)
-    na = (f"the iterated non-associative LP lies {min(devs):+.1f} % to {max(devs):+.1f} % from them on the "
-          f"{len(devs)} sets where it converged" if devs else "the iterated non-associative LP did not converge")
+    na = (
+        f"the iterated non-associative LP lies {min(devs):+.1f} % to {max(devs):+.1f} % from them on the "
+        f"{len(devs)} sets where it converged"
+        if devs
+        else "the iterated non-associative LP did not converge"
+    )
     return (
         "* **Table 7.** The associative LP lies above Orduña's non-associative values, as friction with "
         f"dilatancy must; {na} (default bond, frictional head joints; `bond_variants` below for the others). "

@@ -34,8 +34,12 @@ class Table:
 
     def markdown(self) -> str:
         """The table in markdown, with its title and note."""
-        out = [f"### {self.title}", "", "| " + " | ".join(self.header) + " |",
-               "|" + "|".join("---" for _ in self.header) + "|"]
+        out = [
+            f"### {self.title}",
+            "",
+            "| " + " | ".join(self.header) + " |",
+            "|" + "|".join("---" for _ in self.header) + "|",
+        ]
         out += ["| " + " | ".join(_fmt(c) for c in r) + " |" for r in self.rows]
         if self.note:
             out += ["", self.note]
@@ -109,8 +113,21 @@ def table5(res: Results) -> Table:
     t = Table(
         "table5",
         "Table 5: sensitivity analysis, macro model (three storeys; reference t = 1, m = 1/3, o = 60, p = 0, f = 0.6)",
-        ["Set", "parameters", "λ paper", "λ ours (Eq. 10)", "Δ %", "α_c paper", "α_c ours", "α_c/α_b paper",
-         "α_c/α_b ours", "hinge paper", "hinge ours", "λ = min(λ_r, f)", "mechanism"],
+        [
+            "Set",
+            "parameters",
+            "λ paper",
+            "λ ours (Eq. 10)",
+            "Δ %",
+            "α_c paper",
+            "α_c ours",
+            "α_c/α_b paper",
+            "α_c/α_b ours",
+            "hinge paper",
+            "hinge ours",
+            "λ = min(λ_r, f)",
+            "mechanism",
+        ],
     )
     for c in cases_in_table("5"):
         r = res.macro[c.spec()]
@@ -172,8 +189,18 @@ def table8(res: Results) -> Table:
     t = Table(
         "table8",
         f"Table 8: other macro-block models (published) against Orduña's micro model and our {ref.kind}",
-        ["Set", "Orduña micro", f"ours {ref.kind}", "Orduña macro", "Δ %", "De Buhan & de Felice", "Δ %", "Speranza",
-         "Δ %", "Δ % Speranza vs ours"],
+        [
+            "Set",
+            "Orduña micro",
+            f"ours {ref.kind}",
+            "Orduña macro",
+            "Δ %",
+            "De Buhan & de Felice",
+            "Δ %",
+            "Speranza",
+            "Δ %",
+            "Δ % Speranza vs ours",
+        ],
     )
     for c in cases_in_table("8"):
         micro_pub = published(c, "orduna_micro")
@@ -218,8 +245,17 @@ def all_cases(res: Results) -> Table:
     t = Table("all_cases", "All cases: macro against micro (micro values the paper does not have)", hdr)
     for c in res.plan.cases:
         r = res.macro[c.spec()]
-        row: list[Any] = [c.label, c.storeys, f"{c.t:g}", f"{c.m:.4g}", c.rows, f"{c.p:g}", f"{c.f:g}",
-                          r.load_factor, r.mechanism]
+        row: list[Any] = [
+            c.label,
+            c.storeys,
+            f"{c.t:g}",
+            f"{c.m:.4g}",
+            c.rows,
+            f"{c.p:g}",
+            f"{c.f:g}",
+            r.load_factor,
+            r.mechanism,
+        ]
         blocks = None
         for m in res.plan.methods:
             rec = res.record(c.spec(), m)
@@ -228,13 +264,18 @@ def all_cases(res: Results) -> Table:
             blocks = blocks if micro is None else micro.blocks
         row += [pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
         t.add(*row)
-    t.note = ("n/a: the micro wall cannot be built (wall length not a whole number of half blocks, e.g. Set 8: "
-              "L = 20, v = 1.5).")
+    t.note = (
+        "n/a: the micro wall cannot be built (wall length not a whole number of half blocks, e.g. Set 8: "
+        "L = 20, v = 1.5)."
+    )
     return t
 
 
 def mechanism_record(res: Results, case: PaperCase) -> Record:
-    """The record whose mechanism is shown for ``case``: the reference's, else (no converged mechanism) the associative one."""
+    """The record whose mechanism is shown for ``case``.
+
+    The reference's, else (no converged mechanism) the associative one.
+    """
     rec = res.record(case.spec(), res.plan.reference)
     return rec if rec.failure is not None else res.record(case.spec(), res.plan.methods[0])
 
@@ -244,9 +285,20 @@ def failure_modes(res: Results) -> Table:
     t = Table(
         "failure_modes",
         f"Failure modes: macro crack and hinge against the {res.plan.reference.kind} mechanism",
-        ["Case", "micro mechanism of", "macro α_c", "macro α_c*", "macro hinge", "micro crack slope angle",
-         "micro conventional angle", "micro hinge", "moving blocks %", "courses moving whole",
-         "micro sliding contacts", "micro opening contacts"],
+        [
+            "Case",
+            "micro mechanism of",
+            "macro α_c",
+            "macro α_c*",
+            "macro hinge",
+            "micro crack slope angle",
+            "micro conventional angle",
+            "micro hinge",
+            "moving blocks %",
+            "courses moving whole",
+            "micro sliding contacts",
+            "micro opening contacts",
+        ],
     )
     for c in res.plan.cases:
         r = res.macro[c.spec()]
@@ -283,7 +335,9 @@ def sensitivity(res: Results) -> Table:
     for param, values in plan.sweeps.items():
         for v in values:
             spec = plan.sweep_spec(param, v)
-            t.add(param, f"{v:.4g}", res.macro[spec].load_factor, *[lam_cell(res.record(spec, m)) for m in plan.methods])
+            t.add(
+                param, f"{v:.4g}", res.macro[spec].load_factor, *[lam_cell(res.record(spec, m)) for m in plan.methods]
+            )
     t.note = f"Base wall: {', '.join(f'{k} = {v:.4g}' for k, v in plan.base.items())}. Figure: `sensitivity.png`."
     return t
 
@@ -321,7 +375,9 @@ def speed_rows(res: Results) -> list[SpeedRow]:
         for solver in plan.solvers:
             rec = res.record(spec, replace(MICRO_ASSOC, solver=solver))
             blocks = None if rec.micro is None else rec.micro.blocks
-            out.append(row(f"micro-assoc {solver}", f"micro-assoc {solver}", rows, blocks, rec.seconds, rec.load_factor))
+            out.append(
+                row(f"micro-assoc {solver}", f"micro-assoc {solver}", rows, blocks, rec.seconds, rec.load_factor)
+            )
         for m in plan.methods[1:]:
             rec = res.record(spec, m)
             if rec.status != "not_run":
@@ -348,8 +404,9 @@ def speed_accuracy(res: Results) -> Table:
 
 def histories(res: Results) -> Table:
     """Iterations and status of the iterated LP on every case."""
-    t = Table("histories", "Iterated LP: iterations and status",
-              ["case", "status", "iterations", "λ", "band min", "band max"])
+    t = Table(
+        "histories", "Iterated LP: iterations and status", ["case", "status", "iterations", "λ", "band min", "band max"]
+    )
     for c in res.plan.cases:
         rec = res.record(c.spec(), res.plan.reference)
         na = rec.nonassoc
@@ -361,7 +418,17 @@ def histories(res: Results) -> Table:
 
 def all_tables(res: Results) -> dict[str, Table]:
     """Every table of the report, by name."""
-    builders = (table5, table7, bond_variants_table, table8, table9, all_cases, failure_modes, sensitivity,
-                speed_accuracy, histories)
+    builders = (
+        table5,
+        table7,
+        bond_variants_table,
+        table8,
+        table9,
+        all_cases,
+        failure_modes,
+        sensitivity,
+        speed_accuracy,
+        histories,
+    )
     tables = [build(res) for build in builders]
     return {t.name: t for t in tables}

@@ -9,8 +9,18 @@ from comparison.cases import MODELS
 from comparison.report.tables import Table
 
 #: The order of the tables in ``REPORT.md``.
-ORDER = ("table7", "bond_variants", "table8", "table9", "table5", "all_cases", "failure_modes", "sensitivity",
-         "speed_accuracy", "histories")
+ORDER = (
+    "table7",
+    "bond_variants",
+    "table8",
+    "table9",
+    "table5",
+    "all_cases",
+    "failure_modes",
+    "sensitivity",
+    "speed_accuracy",
+    "histories",
+)
 
 DISCREPANCIES = """\
 * **Set 1 (f = 0.4).** Eq. (10)'s minimum is 0.519, as published, but it exceeds
@@ -42,7 +52,11 @@ DISCREPANCIES = """\
 
 
 def document(
-    tables: Mapping[str, Table], findings: str, figures: Sequence[str], mechanisms: Sequence[str], meta: Mapping[str, Any]
+    tables: Mapping[str, Table],
+    findings: str,
+    figures: Sequence[str],
+    mechanisms: Sequence[str],
+    meta: Mapping[str, Any],
 ) -> str:
     """The text of ``REPORT.md``.
 

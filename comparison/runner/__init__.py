@@ -15,7 +15,7 @@ from comparison.runner.cache import ResultCache, code_version, default_cache_dir
 from comparison.runner.methods import MACRO, MICRO_ASSOC, MICRO_NONASSOC, NONASSOC_SECONDS, Method
 from comparison.runner.pool import prefetch
 from comparison.runner.records import Mechanism, Record
-from comparison.runner.runner import Runner, compute, stderr_progress
+from comparison.runner.runner import Runner, compute
 
 __all__ = [
     "MACRO",
@@ -31,5 +31,4 @@ __all__ = [
     "compute",
     "default_cache_dir",
     "prefetch",
-    "stderr_progress",
 ]

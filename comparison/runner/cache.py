@@ -75,7 +75,9 @@ class ResultCache:
     def path(self, spec: WallSpec, method: Method) -> Path:
         """The file of the record of ``method`` on ``spec``."""
         key = {
-            "wall": _wall_key(spec), "method": method.key(), "code": code_version(*PACKAGES[method.kind]),
+            "wall": _wall_key(spec),
+            "method": method.key(),
+            "code": code_version(*PACKAGES[method.kind]),
             "format": CACHE_FORMAT,
         }
         digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:24]
@@ -97,8 +99,9 @@ class ResultCache:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(record.to_dict(), indent=1))
         if mechanism is not None:
-            np.savez_compressed(path.with_suffix(".npz"), velocities=mechanism.velocities,
-                                direction=np.array(mechanism.direction))
+            np.savez_compressed(
+                path.with_suffix(".npz"), velocities=mechanism.velocities, direction=np.array(mechanism.direction)
+            )
 
     def mechanism(self, spec: WallSpec, method: Method) -> Mechanism | None:
         """The stored mechanism of a micro record, or ``None``."""

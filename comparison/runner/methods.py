@@ -29,7 +29,7 @@ class Method:
 
     kind: Kind
     solver: str = "highs"
-    scheme: str = "a"
+    scheme: Literal["a", "b"] = "a"
     first_course: str = "full"
     head_joints: str = "frictional"
 

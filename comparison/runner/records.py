@@ -17,7 +17,9 @@ from micro.records import AssociativeRecord, NonAssociativeRecord
 #: The typed result record of each method kind.
 ResultRecord = MacroRecord | AssociativeRecord | NonAssociativeRecord
 RESULT_TYPES: dict[str, type[ResultRecord]] = {
-    "macro": MacroRecord, "micro-assoc": AssociativeRecord, "micro-nonassoc": NonAssociativeRecord,
+    "macro": MacroRecord,
+    "micro-assoc": AssociativeRecord,
+    "micro-nonassoc": NonAssociativeRecord,
 }
 
 #: Why a record holds no result: the micro wall cannot be built, or the report left the method out.

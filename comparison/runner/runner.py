@@ -9,7 +9,6 @@ figures.
 
 from __future__ import annotations
 
-import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -21,6 +20,7 @@ from comparison.runner.cache import ResultCache
 from comparison.runner.methods import NONASSOC_SECONDS, Method
 from comparison.runner.records import Mechanism, Record
 from comparison.wall import WallSpec
+from micro.records import AssociativeRecord, NonAssociativeRecord
 
 
 def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
@@ -43,14 +43,14 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
     except ValueError as exc:
         return Record(name, method, 0.0, skipped="not_applicable", message=str(exc)), None
     mechanism = None
+    record: AssociativeRecord | NonAssociativeRecord
     if method.kind == "micro-assoc":
         res = micro.solve_associative(wall, solver=method.solver)
         record = res.to_record()
         if res.velocities is not None and res.direction:
             mechanism = Mechanism(np.asarray(res.velocities), res.direction)
     else:
-        nres = micro.solve_nonassociative(wall, scheme=method.scheme,  # type: ignore[arg-type]
-                                          max_seconds=NONASSOC_SECONDS)
+        nres = micro.solve_nonassociative(wall, scheme=method.scheme, max_seconds=NONASSOC_SECONDS)
         record = nres.to_record()
         gov = next((d for d in nres.directions if d.direction == nres.direction), None)
         if gov is not None and gov.mechanism is not None:
@@ -105,14 +105,11 @@ class Runner:
             self.computed += 1
             record = entry[0]
             if self.progress:
-                self.progress(f"{record.wall}: {method.label}: lambda = {record.load_factor:.4f} ({record.status}) "
-                              f"in {record.seconds:.2f} s")
+                self.progress(
+                    f"{record.wall}: {method.label}: lambda = {record.load_factor:.4f} ({record.status}) "
+                    f"in {record.seconds:.2f} s"
+                )
             if self.cache is not None:
                 self.cache.store(spec, *entry)
         self._memory[key] = entry
         return entry
-
-
-def stderr_progress(line: str) -> None:
-    """Progress printer for long runs."""
-    print(line, file=sys.stderr, flush=True)

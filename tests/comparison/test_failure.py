@@ -47,8 +47,6 @@ def test_failure_mode_rejects_bad_input() -> None:
         failure_mode(wall, np.ones((3, 3)), "+x")
 
 
-
-
 def test_failure_mode_round_trips_through_json_ready_dict() -> None:
     fm = FailureMode(10, 0.5, 1, 0, math.nan, math.nan, 42.0, 2, math.inf, "+x")
     d = fm.to_dict()
