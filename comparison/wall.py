@@ -163,20 +163,24 @@ class WallSpec:
         return 0.5 * self.block_length
 
     # ----------------------------------------------------------------- models
+    def dimensions(self) -> dict[str, Any]:
+        """The wall in the keyword arguments both models take (``macro.MacroWall``, ``micro.build_wall``)."""
+        return {
+            "length": self.length,
+            "block_length": self.block_length,
+            "block_height": self.block_height,
+            "rows": tuple(s.rows for s in self.storeys),
+            "thickness": tuple(s.thickness for s in self.storeys),
+            "overload": tuple(s.overload for s in self.storeys),
+            "unit_weight": self.unit_weight,
+            "friction": self.friction,
+        }
+
     def to_macro(self) -> macro.MacroWall:
         """The macro-block model's input for this wall."""
         import macro
 
-        return macro.MacroWall(
-            length=self.length,
-            block_length=self.block_length,
-            block_height=self.block_height,
-            rows=tuple(s.rows for s in self.storeys),
-            thickness=tuple(s.thickness for s in self.storeys),
-            overload=tuple(s.overload for s in self.storeys),
-            unit_weight=self.unit_weight,
-            friction=self.friction,
-        )
+        return macro.MacroWall(**self.dimensions())
 
     def to_micro(self, **options: Any) -> micro.BlockWall:
         """The micro model's block assemblage for this wall.
@@ -187,14 +191,4 @@ class WallSpec:
         """
         import micro
 
-        return micro.build_wall(
-            length=self.length,
-            block_length=self.block_length,
-            block_height=self.block_height,
-            rows=tuple(s.rows for s in self.storeys),
-            thickness=tuple(s.thickness for s in self.storeys),
-            overload=tuple(s.overload for s in self.storeys),
-            unit_weight=self.unit_weight,
-            friction=self.friction,
-            **options,
-        )
+        return micro.build_wall(**self.dimensions(), **options)

@@ -11,7 +11,8 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.wall import WallSpec
@@ -110,20 +111,9 @@ def run(args: argparse.Namespace) -> int:
     if args.plot is not None and result.ok:
         from micro.plot import plot_mechanism
 
-        try:
-            plot_mechanism(wall, result, args.plot)
-        except OSError as exc:
-            raise UsageError(f"--plot: cannot write {args.plot!r} ({exc.strerror})") from None
+        _write_plot(lambda: plot_mechanism(wall, result, args.plot), args.plot)
     if args.json:
-        out = result.summary()
-        out.update(
-            wall=spec.name or "",
-            friction=args.friction,
-            first_course=args.first_course,
-            head_joints=args.head_joints,
-            plot=args.plot if result.ok else None,
-        )
-        print(json.dumps(out))
+        print(_json(result.summary(), args, spec, plotted=result.ok))
     else:
         if result.ok:
             print(
@@ -142,7 +132,27 @@ def run(args: argparse.Namespace) -> int:
     return 0 if result.ok else 1
 
 
-# ---------------------------------------------------------------- issue 4
+def _write_plot(draw: Callable[[], object], path: str) -> None:
+    """Draw a plot; a file that cannot be written is bad input."""
+    try:
+        draw()
+    except OSError as exc:
+        raise UsageError(f"--plot: cannot write {path!r} ({exc.strerror})") from None
+
+
+def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool, **extra: str) -> str:
+    """One JSON line: the result's summary with the wall and the options."""
+    summary.update(
+        wall=spec.name or "",
+        friction=args.friction,
+        first_course=args.first_course,
+        head_joints=args.head_joints,
+        **extra,
+        plot=args.plot if plotted else None,
+    )
+    return json.dumps(summary)
+
+
 def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWall, time_limit: float | None) -> int:
     """``--friction nonassociative``: the iterated LP (HiGHS only)."""
     import micro
@@ -169,21 +179,10 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             f"lambda = {result.load_factor:.4f} ({result.direction}), non-associative scheme {result.scheme}, "
             f"{result.blocks} blocks"
         )
-        try:
-            plot_velocities(wall, mechanism.velocities, args.plot, title=title)
-        except OSError as exc:
-            raise UsageError(f"--plot: cannot write {args.plot!r} ({exc.strerror})") from None
+        _write_plot(lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title), args.plot)
     if args.json:
-        out = result.summary()
-        out.update(
-            wall=spec.name or "",
-            friction=args.friction,
-            first_course=args.first_course,
-            head_joints=args.head_joints,
-            solver="clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)",
-            plot=args.plot if mechanism is not None else None,
-        )
-        print(json.dumps(out))
+        solver = "clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)"
+        print(_json(result.summary(), args, spec, plotted=mechanism is not None, solver=solver))
     else:
         g = result.governing
         if result.ok:

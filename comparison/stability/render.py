@@ -24,81 +24,79 @@ def summarise(runs: Sequence[StudyRun]) -> dict[str, Any]:
     """Per-setting statistics and per-wall spreads."""
     settings = list(dict.fromkeys(r.setting.label for r in runs))
     walls = list(dict.fromkeys(r.wall.label for r in runs))
-    per: dict[str, dict[str, Any]] = {}
-    for s in settings:
-        rs = [r for r in runs if r.setting.label == s]
-        conv = [r for r in rs if r.converged]
-        counts = {
-            k: sum(1 for r in rs if r.status == k) for k in ("converged", "cycling", "max_iterations", "solver_failure")
-        }
-        it = [r.total_iterations for r in conv]
-        above = [
-            r for r in rs if math.isfinite(r.last_load_factor) and r.last_load_factor > r.lambda_assoc * (1 + 1e-7)
-        ]
-        per[s] = {
-            "n": len(rs),
-            "counts": counts,
-            "rate": len(conv) / len(rs) if rs else math.nan,
-            "it_median": statistics.median(it) if it else math.nan,
-            "it_max": max(it) if it else math.nan,
-            "sec_median": statistics.median(r.seconds for r in rs) if rs else math.nan,
-            "sec_max": max((r.seconds for r in rs), default=math.nan),
-            "warm_cold_max": max(
-                (
-                    r.result.warm_cold_rel_diff
-                    for r in rs
-                    if r.result is not None and math.isfinite(r.result.warm_cold_rel_diff)
-                ),
-                default=math.nan,
-            ),
-            "coulomb_max_conv": max(
-                (r.result.coulomb_residual for r in conv if r.result is not None), default=math.nan
-            ),
-            "dilatancy_max_conv": max(
-                (r.result.dilatancy_residual for r in conv if r.result is not None), default=math.nan
-            ),
-            "failed_walls": [r.wall.label for r in rs if not r.converged],
-            "above_assoc": [r.wall.label for r in above],
-            "ratio_median": statistics.median(r.load_factor / r.lambda_assoc for r in conv) if conv else math.nan,
-            "certified": sum(1 for r in conv if r.stop_reason == "certified"),
-            "band_median": statistics.median(bands)
-            if (
-                bands := [
-                    (r.band[1] - r.band[0]) / r.band[0]
-                    for r in rs
-                    if r.status == "cycling" and math.isfinite(r.band[0]) and r.band[0] > 0
-                ]
-            )
-            else math.nan,
-            "band_max": max(bands) if bands else math.nan,
-            "mband_median": statistics.median(mb)
-            if (
-                mb := [
-                    (r.mechanism_band[1] - r.mechanism_band[0]) / r.load_factor
-                    for r in conv
-                    if all(math.isfinite(x) for x in r.mechanism_band)
-                ]
-            )
-            else math.nan,
-            "mband_max": max(mb) if mb else math.nan,
-        }
-    spreads = []
-    for w in walls:
-        rs = [r for r in runs if r.wall.label == w]
-        lams = [r.load_factor for r in rs if r.converged]
-        last = [r.last_load_factor for r in rs if math.isfinite(r.last_load_factor)]
-        spreads.append(
-            {
-                "wall": w,
-                "blocks": rs[0].blocks,
-                "lambda_assoc": rs[0].lambda_assoc,
-                "n_converged": len(lams),
-                "spread_converged": (max(lams) - min(lams)) / min(lams) if len(lams) >= 2 else math.nan,
-                "spread_last": (max(last) - min(last)) / min(last) if len(last) >= 2 else math.nan,
-                "all_fail": not lams,
-            }
-        )
+    per = {s: _setting_summary([r for r in runs if r.setting.label == s]) for s in settings}
+    spreads = [_wall_spread([r for r in runs if r.wall.label == w]) for w in walls]
     return {"settings": settings, "per": per, "spreads": spreads, "walls": walls}
+
+
+def _setting_summary(rs: Sequence[StudyRun]) -> dict[str, Any]:
+    """Counts, LPs, times, residuals and bands of one setting's runs."""
+    conv = [r for r in rs if r.converged]
+    counts = {
+        k: sum(1 for r in rs if r.status == k) for k in ("converged", "cycling", "max_iterations", "solver_failure")
+    }
+    it = [r.total_iterations for r in conv]
+    above = [r for r in rs if math.isfinite(r.last_load_factor) and r.last_load_factor > r.lambda_assoc * (1 + 1e-7)]
+    return {
+        "n": len(rs),
+        "counts": counts,
+        "rate": len(conv) / len(rs) if rs else math.nan,
+        "it_median": statistics.median(it) if it else math.nan,
+        "it_max": max(it) if it else math.nan,
+        "sec_median": statistics.median(r.seconds for r in rs) if rs else math.nan,
+        "sec_max": max((r.seconds for r in rs), default=math.nan),
+        "warm_cold_max": max(
+            (
+                r.result.warm_cold_rel_diff
+                for r in rs
+                if r.result is not None and math.isfinite(r.result.warm_cold_rel_diff)
+            ),
+            default=math.nan,
+        ),
+        "coulomb_max_conv": max((r.result.coulomb_residual for r in conv if r.result is not None), default=math.nan),
+        "dilatancy_max_conv": max(
+            (r.result.dilatancy_residual for r in conv if r.result is not None), default=math.nan
+        ),
+        "failed_walls": [r.wall.label for r in rs if not r.converged],
+        "above_assoc": [r.wall.label for r in above],
+        "ratio_median": statistics.median(r.load_factor / r.lambda_assoc for r in conv) if conv else math.nan,
+        "certified": sum(1 for r in conv if r.stop_reason == "certified"),
+        "band_median": statistics.median(bands)
+        if (
+            bands := [
+                (r.band[1] - r.band[0]) / r.band[0]
+                for r in rs
+                if r.status == "cycling" and math.isfinite(r.band[0]) and r.band[0] > 0
+            ]
+        )
+        else math.nan,
+        "band_max": max(bands) if bands else math.nan,
+        "mband_median": statistics.median(mb)
+        if (
+            mb := [
+                (r.mechanism_band[1] - r.mechanism_band[0]) / r.load_factor
+                for r in conv
+                if all(math.isfinite(x) for x in r.mechanism_band)
+            ]
+        )
+        else math.nan,
+        "mband_max": max(mb) if mb else math.nan,
+    }
+
+
+def _wall_spread(rs: Sequence[StudyRun]) -> dict[str, Any]:
+    """How far the settings' load factors lie apart on one wall."""
+    lams = [r.load_factor for r in rs if r.converged]
+    last = [r.last_load_factor for r in rs if math.isfinite(r.last_load_factor)]
+    return {
+        "wall": rs[0].wall.label,
+        "blocks": rs[0].blocks,
+        "lambda_assoc": rs[0].lambda_assoc,
+        "n_converged": len(lams),
+        "spread_converged": (max(lams) - min(lams)) / min(lams) if len(lams) >= 2 else math.nan,
+        "spread_last": (max(last) - min(last)) / min(last) if len(last) >= 2 else math.nan,
+        "all_fail": not lams,
+    }
 
 
 def write_reports(runs: Sequence[StudyRun], out: Path, *, seconds: float, processes: int) -> dict[str, Path]:
@@ -111,14 +109,18 @@ def write_reports(runs: Sequence[StudyRun], out: Path, *, seconds: float, proces
         w.writeheader()
         w.writerows(rows)
     s = summarise(runs)
-    per, spreads = s["per"], s["spreads"]
-    sp_conv = [x["spread_converged"] for x in spreads if math.isfinite(x["spread_converged"])]
-    sp_last = [x["spread_last"] for x in spreads if math.isfinite(x["spread_last"])]
-    lines = [
+    lines = _intro(s, len(rows), seconds, processes) + _per_setting(s) + _spread(s) + _failures(runs, s)
+    paths["md"].write_text("\n".join(lines))
+    _chart(runs, s, paths["png"])
+    return paths
+
+
+def _intro(s: dict[str, Any], n_runs: int, seconds: float, processes: int) -> list[str]:
+    return [
         "# Stability of the iterated non-associative LP",
         "",
         f"Generated by `xcheck stability`: {len(s['walls'])} walls x {len(s['settings'])} settings "
-        f"= {len(rows)} runs in {seconds:.0f} s on {processes} processes. Grid: "
+        f"= {n_runs} runs in {seconds:.0f} s on {processes} processes. Grid: "
         + ", ".join(f"{k} in {{{', '.join(_val(v) for v in vals)}}}" for k, vals in GRID.items())
         + " (p = 0; combinations whose length is not a whole number of half blocks skipped). "
         "Setting = scheme/relaxation beta; scheme (a) `|s| <= mu nbar`, scheme (b) line of slope "
@@ -131,6 +133,12 @@ def write_reports(runs: Sequence[StudyRun], out: Path, *, seconds: float, proces
         "micro.nonassociative._Sequence._certify). Mechanism band: the load factors of all collapse states "
         "with the final mechanism.",
         "",
+    ]
+
+
+def _per_setting(s: dict[str, Any]) -> list[str]:
+    per = s["per"]
+    lines = [
         "## Per setting",
         "",
         "| setting | runs | converged | cycling | max_iterations | solver_failure | rate "
@@ -152,7 +160,14 @@ def write_reports(runs: Sequence[StudyRun], out: Path, *, seconds: float, proces
             f"{_fmt(p['band_median'], '.2%')} ({_fmt(p['band_max'], '.2%')}) | "
             f"{_fmt(p['mband_median'], '.2%')} ({_fmt(p['mband_max'], '.2%')}) |"
         )
-    lines += [
+    return lines
+
+
+def _spread(s: dict[str, Any]) -> list[str]:
+    per, spreads = s["per"], s["spreads"]
+    sp_conv = [x["spread_converged"] for x in spreads if math.isfinite(x["spread_converged"])]
+    sp_last = [x["spread_last"] for x in spreads if math.isfinite(x["spread_last"])]
+    return [
         "",
         "## Spread of lambda between settings",
         "",
@@ -173,17 +188,18 @@ def write_reports(runs: Sequence[StudyRun], out: Path, *, seconds: float, proces
         "## Walls where each setting does not converge",
         "",
     ]
+
+
+def _failures(runs: Sequence[StudyRun], s: dict[str, Any]) -> list[str]:
+    lines = []
     by_wall = {(r.wall.label, r.setting.label): r for r in runs}
     for name in s["settings"]:
-        fw = per[name]["failed_walls"]
+        fw = s["per"][name]["failed_walls"]
         lines.append(
             f"- **{name}** ({len(fw)}): "
             + (", ".join(f"{w} ({by_wall[w, name].status}/{by_wall[w, name].stop_reason})" for w in fw) or "none")
         )
-    lines += ["", "![stability](stability.png)", ""]
-    paths["md"].write_text("\n".join(lines))
-    _chart(runs, s, paths["png"])
-    return paths
+    return [*lines, "", "![stability](stability.png)", ""]
 
 
 def _chart(runs: Sequence[StudyRun], s: dict[str, Any], path: Path) -> None:
