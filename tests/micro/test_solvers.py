@@ -7,10 +7,11 @@ import math
 
 import numpy as np
 import pytest
-from micro_walls import TABLE7, table7_wall, three_storey_wall
 
 import micro
 from micro.solvers import HighsBackend, Status, make_backend
+
+from micro_walls import TABLE7, table7_wall, three_storey_wall
 
 BACKENDS = ["highs", "highs-simplex", "clarabel", "cvxpy", "cvxpy-highs"]
 REL = 1e-6
