@@ -92,7 +92,7 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Pa
         json.dumps({"meta": meta, "tables": {k: v.records() for k, v in tables.items()}}, indent=1, default=str)
     )
     path = out / "REPORT.md"
-    path.write_text(document(tables, findings(res), figure_names, mechanisms, meta))
+    path.write_text(document(res, tables, findings(res), figure_names, mechanisms, meta))
     return path
 
 

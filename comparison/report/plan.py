@@ -114,8 +114,10 @@ class Plan:
         return WallSpec.from_paper(**{**self.base, "rows": rows}, name=name or f"{rows} rows")  # type: ignore[arg-type]
 
     def macro_specs(self) -> list[WallSpec]:
-        """The walls the macro model runs on: every case, Table 9 with ``m = 1/2``, the sweeps, the speed base."""
+        """The walls the macro model runs on: every case, Table 9 with ``m = 1/2``, Table 5 with the other
+        reading of ``p``, the sweeps, the speed base."""
         specs = [c.spec() for c in CASES] + [table9_alternative(c) for c in cases_in_table("9")]
+        specs += [c.spec("storey") for c in cases_in_table("5") if c.p > 0]  # the other reading of p
         specs += [self.sweep_spec(p, v) for p, values in self.sweeps.items() for v in values]
         return [*specs, self.speed_spec(int(self.base["rows"]), "macro")]
 
