@@ -40,7 +40,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from micro.lp import LimitLP
-from micro.solvers import _CLARABEL_STATUS, RawSolution, Status, _failed, _finish
+from micro.solvers import _CLARABEL_STATUS, ClarabelBackend, RawSolution, Status, _failed, _finish
 
 #: Clarabel settings of the kinematic back end (measurements in
 #: docs/micro-associative.md). Every one is set explicitly, so that a later
@@ -117,6 +117,7 @@ class ClarabelKinematicBackend:
         self._cl = clarabel
         self.lp = lp
         self.name = "clarabel"
+        self.time_limit = time_limit
         self.active = np.flatnonzero(lp.col_upper[: lp.lam_col] > 0.0)
         self.work_scale = float(np.sum(np.abs(lp.live)))
         flow = lp.A[:, self.active].T.tocsr()
@@ -149,7 +150,9 @@ class ClarabelKinematicBackend:
         """Solve for live load direction ``direction`` (``+1`` or ``-1``).
 
         A stop short of the tolerances (:data:`RETRY_ON`) is retried once
-        with :data:`CLARABEL_KINEMATIC_RETRY`; ``info["fallback"]`` says so.
+        with :data:`CLARABEL_KINEMATIC_RETRY`, and a second one is solved in
+        the static form; ``info["fallback"]`` says so (seen only on walls where
+        base sliding governs exactly, lambda = mu: a degenerate optimum).
         """
         if self.work_scale == 0.0:  # f_L = 0: the normalisation row is empty, lambda unbounded
             return _failed(Status.UNBOUNDED, "no live load", 0.0, form="kinematic")
@@ -165,6 +168,8 @@ class ClarabelKinematicBackend:
             extra["fallback"] = f"{native}; re-solved with {CLARABEL_KINEMATIC_RETRY}"
             native = str(sol.status).split(".")[-1]
             iters += int(sol.iterations)
+            if native in RETRY_ON:
+                return self._static(direction, native, iters, time.perf_counter() - t0)
         secs = time.perf_counter() - t0
         lin = solver.get_info().linsolver
         extra.update({"linear_solver": str(lin.name), "linear_solver_threads": int(lin.threads),
@@ -179,3 +184,12 @@ class ClarabelKinematicBackend:
         n, s = self.lp.forces(g)
         extra["kinematic_load_factor"] = float(self.lp.rhs @ u)
         return _finish(self.lp, direction, native, -float(z[0]), n, s, u, iters, secs, extra)
+
+    def _static(self, direction: int, native: str, iterations: int, seconds: float) -> RawSolution:
+        """The static form's answer (:class:`micro.solvers.ClarabelBackend`, with
+        its own retry) after both kinematic attempts stopped short; this
+        attempt's iterations and time are added."""
+        raw = ClarabelBackend(self.lp, time_limit=self.time_limit).solve(direction)
+        info = {**raw.info, "form": "static", "fallback": f"{native} twice in kinematic form; solved in static form"}
+        return RawSolution(raw.status, raw.native_status, raw.load_factor, raw.n, raw.s, raw.velocities,
+                           raw.iterations + iterations, raw.solve_seconds + seconds, info)

@@ -351,8 +351,10 @@ def build_wall(
     hb = _number("block_height", block_height)
     gamma = _number("unit_weight", unit_weight)
     mu = _number("friction", friction)
-    if isinstance(rows, (str, bytes)) or not hasattr(rows, "__len__") or len(rows) == 0:
-        raise ValueError(f"rows must be a non-empty tuple of positive integers (storey 1 = top), got {rows!r}")
+    if isinstance(rows, (str, bytes)) or not hasattr(rows, "__len__"):
+        raise ValueError(f"rows must be a tuple with one value per storey (storey 1 = top), got {rows!r}")
+    if len(rows) == 0:
+        raise ValueError("rows: a wall needs at least one storey")
     rows_t = tuple(_positive_int(f"rows[{i}]", r) for i, r in enumerate(tuple(rows)))
     thick = _per_storey("thickness", thickness, len(rows_t), positive=True)
     over = _per_storey("overload", overload, len(rows_t), positive=False)

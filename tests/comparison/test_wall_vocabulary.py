@@ -93,8 +93,6 @@ def _dimensional_cases() -> list[Any]:
 def test_dimensional_parameters(
     api: str, name: str, value: Any, message: str, micro_differs: bool, request: pytest.FixtureRequest
 ) -> None:
-    if api == "build_wall" and micro_differs:
-        request.applymarker(pytest.mark.xfail(strict=True, reason=MICRO_DIFFERS))
     if api == "WallSpec":
         storeys = tuple(StoreySpec(r, t, q) for r, t, q in zip(*STOREYS.values(), strict=True))
         _expect(lambda: WallSpec(storeys=storeys, **(DIMENSIONAL | {name: value})), message)
@@ -123,8 +121,6 @@ def _storey_cases() -> list[Any]:
 def test_per_storey_parameters(
     api: str, name: str, value: Any, template: str, micro_differs: bool, request: pytest.FixtureRequest
 ) -> None:
-    if api == "build_wall" and micro_differs:
-        request.applymarker(pytest.mark.xfail(strict=True, reason=MICRO_DIFFERS))
     if api == "StoreySpec":
         good = {"rows": 6, "thickness": 1.0, "overload": 0.0}
         _expect(lambda: StoreySpec(**(good | {name: value})), _message(template, name, value))
@@ -143,7 +139,7 @@ def test_per_storey_counts(api: str, name: str) -> None:
 
 
 @pytest.mark.parametrize(
-    "api", ["MacroWall", pytest.param("build_wall", marks=pytest.mark.xfail(strict=True, reason=MICRO_DIFFERS))]
+    "api", ["MacroWall", "build_wall"]
 )
 def test_no_storey(api: str) -> None:
     build = macro.MacroWall if api == "MacroWall" else micro.build_wall

@@ -86,3 +86,12 @@ def test_kinematic_and_static_forms_agree_on_a_cut_wall() -> None:
     assert kin.ok and ref.ok and len(kin.directions) == 2
     for d in kin.directions:
         assert d.load_factor == pytest.approx(ref.by_direction(d.direction).load_factor, rel=REL)
+
+
+def test_degenerate_optimum_falls_back_and_says_so() -> None:
+    """m = 1/4, 12 rows: base sliding governs exactly (lambda = mu = 0.75); the
+    kinematic form stalls twice at residuals ~1e-9 and the static form answers."""
+    w = WallSpec.from_paper(t=1, m=0.25, rows=12, f=0.75).to_micro()
+    r = micro.solve_associative(w, solver="clarabel")
+    assert r.ok and r.load_factor == pytest.approx(0.75, rel=REL)
+    assert "static form" in r.directions[0].info["fallback"]
