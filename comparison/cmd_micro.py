@@ -20,7 +20,7 @@ FRICTION_LAWS = ("associative", "nonassociative")
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     """Add the ``micro`` subcommand."""
-    from micro.solvers import SOLVERS
+    from micro import SOLVERS
 
     p = subparsers.add_parser(
         "micro",
@@ -77,7 +77,7 @@ def _in_range(option: str, text: str | None, rule: str, upper: float) -> float |
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck micro``."""
     import micro
-    from micro.solvers import SOLVERS
+    from micro import SOLVERS
 
     _choice("--friction", args.friction, FRICTION_LAWS)
     _choice("--solver", args.solver, SOLVERS)
@@ -116,7 +116,7 @@ def run(args: argparse.Namespace) -> int:
                 f"build {result.build_seconds:.3f} s, solve {result.solve_seconds:.3f} s"
             )
             for d in result.directions:
-                print(f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.solve_seconds:.3f} s")
+                print(f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.seconds:.3f} s")
             if result.mirror_symmetric:
                 print("  the wall is mirror-symmetric: -x gives the same load factor")
         else:
@@ -159,7 +159,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
         if result.ok:
             print(f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
                   f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
-                  f"({g.stop_reason}); associative lambda = {result.associative_load_factor:.6f}")
+                  f"({result.stop_reason}); associative lambda = {result.associative_load_factor:.6f}")
             if result.mechanism_band is not None:
                 lo, hi = result.mechanism_band
                 print(f"  collapse states with this mechanism: lambda in [{lo:.6f}, {hi:.6f}]")

@@ -278,7 +278,7 @@ def _compute(spec: WallSpec, method: Method) -> tuple[Record, dict[str, np.ndarr
             "iterations": res.iterations,
             "band": list(res.lambda_band) if res.lambda_band else None,
             "mechanism_band": list(res.mechanism_band) if res.mechanism_band else None,
-            "stop_reason": res.governing.stop_reason,
+            "stop_reason": res.stop_reason,
             "associative_load_factor": res.associative_load_factor,
             "warm_cold_rel_diff": res.warm_cold_rel_diff,
             "coulomb_residual": res.coulomb_residual,

@@ -134,15 +134,14 @@ def _run_one(args: tuple[WallCase, tuple[Setting, ...], int]) -> list[dict[str, 
                        mband_hi=math.nan, iterations=0,
                        warm_cold=math.nan, coulomb=math.nan, dilatancy=math.nan, fallbacks=0, message=err)
         else:
-            g = r.governing
             band = r.lambda_band or (math.nan, math.nan)
-            row.update(status=r.status, stop_reason=g.stop_reason, load_factor=r.load_factor,
-                       last_load_factor=g.last_load_factor, band_lo=band[0], band_hi=band[1],
+            row.update(status=r.status, stop_reason=r.stop_reason, load_factor=r.load_factor,
+                       last_load_factor=r.last_load_factor, band_lo=band[0], band_hi=band[1],
                        mband_lo=(r.mechanism_band or (math.nan, math.nan))[0],
                        mband_hi=(r.mechanism_band or (math.nan, math.nan))[1],
-                       iterations=sum(d.iterations for d in r.directions), warm_cold=r.warm_cold_rel_diff,
+                       iterations=r.total_iterations, warm_cold=r.warm_cold_rel_diff,
                        coulomb=r.coulomb_residual, dilatancy=r.dilatancy_residual,
-                       fallbacks=sum(d.fallback_steps for d in r.directions), message=r.message)
+                       fallbacks=r.to_record().fallback_steps, message=r.message)
         rows.append(row)
     return rows
 
@@ -243,7 +242,7 @@ def write_reports(rows: Sequence[dict[str, Any]], out: Path, *, seconds: float, 
         "`plain`: the iterated LP alone, converged only when an LP's own forces satisfy Coulomb. Otherwise, "
         "once lambda has settled (spread <= 1e-3 over 3 iterates), the current LP's mechanism is tested for an "
         "exact non-associative collapse state at its lambda among all force fields (`certified`; "
-        "micro.nonassociative._Sequence._certify). Mechanism band: the load factors of all collapse states "
+        "micro.nonassociative.certificate). Mechanism band: the load factors of all collapse states "
         "with the final mechanism.",
         "",
         "## Per setting",

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from micro.analysis import LimitResult
+from micro.results import LimitResult
 from micro.geometry import BlockWall
 
 
