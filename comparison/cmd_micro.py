@@ -155,7 +155,6 @@ def _run_nonassociative(args: argparse.Namespace, spec: object, wall: object, ti
                    plot=args.plot if mechanism is not None else None)
         print(json.dumps(out))
     else:
-        g = result.governing
         if result.ok:
             print(f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
                   f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "

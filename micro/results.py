@@ -59,6 +59,26 @@ def direction_sign(name: str) -> int:
     return 1 if name == "+x" else -1
 
 
+#: Fields of :class:`micro.records.MicroRecord` that a result has under the same name.
+_RECORD_NAMES = ("load_factor", "status", "direction", "blocks", "contacts", "points", "variables", "rows", "nnz",
+                 "iterations", "total_iterations", "build_seconds", "solve_seconds", "mirror_symmetric", "message")
+
+
+def record_fields(result: Any, mechanism: Mechanism | None) -> dict[str, Any]:
+    """The :class:`~micro.records.MicroRecord` fields but ``solver`` of a
+    result (:class:`LimitResult` or :class:`micro.NonAssociativeResult`):
+    its own fields, ``lambda`` per direction and the contact states of the
+    governing ``mechanism``."""
+    counts = dict.fromkeys(CONTACT_STATE_NAMES, 0) if mechanism is None else mechanism.state_counts()
+    by_dir = {d.direction: d.load_factor for d in result.directions}
+    return {
+        **{name: getattr(result, name) for name in _RECORD_NAMES},
+        "load_factor_plus": by_dir.get("+x", math.nan), "load_factor_minus": by_dir.get("-x", math.nan),
+        "closed_contacts": counts["closed"], "opening_contacts": counts["opening"],
+        "sliding_contacts": counts["sliding"],
+    }
+
+
 @dataclass(frozen=True, eq=False)
 class DirectionResult:
     """The analysis for one direction of the live load.
@@ -184,19 +204,7 @@ class LimitResult:
 
     def to_record(self) -> AssociativeRecord:
         """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
-        counts = dict.fromkeys(CONTACT_STATE_NAMES, 0)
-        for c in self.contact_state or ():
-            counts[c] += 1
-        by_dir = {d.direction: d.load_factor for d in self.directions}
-        return AssociativeRecord(
-            load_factor=self.load_factor, status=self.status, solver=self.solver, direction=self.direction,
-            load_factor_plus=by_dir.get("+x", math.nan), load_factor_minus=by_dir.get("-x", math.nan),
-            blocks=self.blocks, contacts=self.contacts, points=self.points, variables=self.variables,
-            rows=self.rows, nnz=self.nnz, iterations=self.iterations, total_iterations=self.total_iterations,
-            build_seconds=self.build_seconds, solve_seconds=self.solve_seconds,
-            mirror_symmetric=self.mirror_symmetric, closed_contacts=counts["closed"],
-            opening_contacts=counts["opening"], sliding_contacts=counts["sliding"], message=self.message,
-        )
+        return AssociativeRecord(solver=self.solver, **record_fields(self, self.mechanism))
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary: the record (:meth:`to_record`) with the contact

@@ -6,10 +6,9 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from micro.mechanism import CONTACT_STATE_NAMES
 from micro.nonassociative.options import NonAssociativeOptions
 from micro.records import NonAssociativeRecord
-from micro.results import DirectionResult
+from micro.results import DirectionResult, record_fields
 
 #: Values of ``status``.
 CONVERGED, CYCLING, MAX_ITERATIONS, SOLVER_FAILURE = "converged", "cycling", "max_iterations", "solver_failure"
@@ -258,19 +257,10 @@ class NonAssociativeResult:
 
     def to_record(self) -> NonAssociativeRecord:
         """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
-        g, q = self.governing, self.sequence
-        counts = dict.fromkeys(CONTACT_STATE_NAMES, 0) if g.mechanism is None else g.mechanism.state_counts()
-        by_dir = {d.direction: d.load_factor for d in self.directions}
+        q = self.sequence
         return NonAssociativeRecord(
-            load_factor=self.load_factor, status=self.status, solver=solver_description(self.options),
-            direction=self.direction, load_factor_plus=by_dir.get("+x", math.nan),
-            load_factor_minus=by_dir.get("-x", math.nan), blocks=self.blocks, contacts=self.contacts,
-            points=self.points, variables=self.variables, rows=self.rows, nnz=self.nnz,
-            iterations=self.iterations, total_iterations=self.total_iterations, build_seconds=self.build_seconds,
-            solve_seconds=self.solve_seconds, mirror_symmetric=self.mirror_symmetric,
-            closed_contacts=counts["closed"], opening_contacts=counts["opening"],
-            sliding_contacts=counts["sliding"], message=self.message, scheme=self.scheme,
-            relaxation=self.relaxation, converged=self.converged, stop_reason=q.stop_reason,
+            solver=solver_description(self.options), **record_fields(self, self.governing.mechanism),
+            scheme=self.scheme, relaxation=self.relaxation, converged=self.converged, stop_reason=q.stop_reason,
             lambda_band=q.lambda_band, mechanism_band=q.mechanism_band, last_load_factor=q.last_load_factor,
             associative_load_factor=self.associative_load_factor, cold_load_factor=q.cold_load_factor,
             warm_cold_rel_diff=q.warm_cold_rel_diff, coulomb_residual=q.coulomb_residual,
