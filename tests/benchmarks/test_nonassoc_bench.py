@@ -27,7 +27,7 @@ import pytest
 
 import micro
 from comparison.cases import case
-from comparison.spec import WallSpec
+from comparison.wall import WallSpec
 
 #: Associative load factors (HiGHS IPM).
 ASSOC = {"set12": 0.7120472, "w1230": 0.4695330, "w7575": 0.5072512}

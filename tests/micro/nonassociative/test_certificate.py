@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.spec import WallSpec
+from comparison.wall import WallSpec
 from micro.nonassociative import solve_nonassociative
 from micro.nonassociative.certificate import Certificate
 

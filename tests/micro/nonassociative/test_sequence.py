@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.spec import WallSpec
+from comparison.wall import WallSpec
 from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, solve_nonassociative
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
