@@ -11,10 +11,9 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.clarabel_kinematic import CLARABEL_KINEMATIC, ClarabelKinematicBackend
-from micro.solvers import CLARABEL_TIGHT, MAX_RESIDUAL
+from micro.backends import CLARABEL_KINEMATIC, CLARABEL_TIGHT, MAX_RESIDUAL, ClarabelKinematicBackend
 
-REFERENCE = json.loads((Path(__file__).parent / "associative_reference.json").read_text())["walls"]
+REFERENCE = json.loads((Path(__file__).parents[1] / "associative_reference.json").read_text())["walls"]
 #: Relative accuracy the back end must reach against the pinned references.
 REL = 1e-6
 

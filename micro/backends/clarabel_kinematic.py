@@ -1,4 +1,4 @@
-"""The associative LP in kinematic (dual) form, solved by Clarabel.
+"""The associative LP in kinematic (dual) form, solved by Clarabel: the ``clarabel`` back end.
 
 The static LP (:mod:`micro.lp`) maximises ``d * lambda`` over the cone
 generators ``g >= 0`` with ``A_g g + lambda f_L = r`` (``r = -f_D``). Its dual
@@ -16,7 +16,7 @@ cone. Its KKT condition ``c + A^T z = 0`` reads ``A_g z_g + (-z_0) f_L = r``:
 the cone duals ARE the static solution, generators ``g = z_g`` and the load
 factor column ``-z_0``. Those forces, not the kinematic objective, are what
 the back end returns and what the independent re-check
-(``micro.solvers._finish``) verifies; ``info["kinematic_load_factor"]`` is
+(:func:`micro.backends.base.recheck`) verifies; ``info["kinematic_load_factor"]`` is
 ``r . u``, the upper-bound side of the same optimum.
 
 Why: Clarabel's KKT system is then ``n_eq + 2P`` square instead of
@@ -33,19 +33,21 @@ again on the way out (live work 1, the shared convention).
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
+from micro.backends.base import Outcome, Status, recheck
+from micro.backends.clarabel import RETRY_ON, ClarabelBackend, clarabel_settings
 from micro.lp import LimitLP
-from micro.solvers import _CLARABEL_STATUS, ClarabelBackend, RawSolution, Status, _failed, _finish
 
 #: Clarabel settings of the kinematic back end (measurements in
 #: docs/micro-associative.md). Every one is set explicitly, so that a later
 #: Clarabel with other defaults cannot silently pick a slower or looser path
-#: (``tests/micro/test_clarabel_kinematic.py`` pins them):
+#: (``tests/micro/backends/test_clarabel_kinematic.py`` pins them):
 #:
 #: * ``direct_solve_method="qdldl"``: Clarabel's ``"auto"`` picks faer above
 #:   ~2,700 blocks, 3x slower on one core on these walls;
@@ -69,34 +71,22 @@ CLARABEL_KINEMATIC: dict[str, Any] = {
     "presolve_enable": True,
     "max_iter": 400,
 }
-#: What a solve that stopped short (:data:`RETRY_ON`) is retried with: a
-#: degenerate optimum (base sliding governing exactly, lambda = mu) stalled at
-#: residuals ~2e-10 after 8-9 iterations; these settings solve it.
+#: What a solve that stopped short (:data:`micro.backends.clarabel.RETRY_ON`)
+#: is retried with: a degenerate optimum (base sliding governing exactly,
+#: lambda = mu) stalled at residuals ~2e-10 after 8-9 iterations; these
+#: settings solve it.
 CLARABEL_KINEMATIC_RETRY: dict[str, Any] = {
     "static_regularization_constant": 1e-8,
     "tol_gap_abs": 1e-9,
     "tol_gap_rel": 1e-9,
     "tol_feas": 1e-9,
 }
-#: Native statuses after which a solve is retried with :data:`CLARABEL_KINEMATIC_RETRY`.
-RETRY_ON = ("AlmostSolved", "InsufficientProgress", "NumericalError")
-
-#: Clarabel's statuses of the KINEMATIC problem mapped onto the static LP's:
-#: no admissible mechanism (kinematic infeasible) is an unbounded load
-#: factor; a mechanism the dead load drives without limit (kinematic
-#: unbounded) is a wall that cannot stand.
-KINEMATIC_STATUS = {
-    **_CLARABEL_STATUS,
-    "PrimalInfeasible": Status.UNBOUNDED,
-    "DualInfeasible": Status.INFEASIBLE,
-}
 
 
 class ClarabelKinematicBackend:
     """Clarabel on the kinematic form of the associative LP (module docstring).
 
-    Velocities are returned in the shared convention (live work ``+1``), so
-    :attr:`dual_sign` is ``+1``.
+    Velocities are returned in the shared convention (live work ``+1``).
 
     Args:
         lp: the assembled LP (generator columns with a zero upper bound, ``g-``
@@ -109,7 +99,15 @@ class ClarabelKinematicBackend:
         ValueError: an unknown Clarabel setting.
     """
 
-    dual_sign = 1.0
+    #: Clarabel's statuses of the KINEMATIC problem mapped onto the static
+    #: LP's: no admissible mechanism (kinematic infeasible) is an unbounded
+    #: load factor; a mechanism the dead load drives without limit (kinematic
+    #: unbounded) is a wall that cannot stand.
+    STATUS_MAP = {
+        **ClarabelBackend.STATUS_MAP,
+        "PrimalInfeasible": Status.UNBOUNDED,
+        "DualInfeasible": Status.INFEASIBLE,
+    }
 
     def __init__(self, lp: LimitLP, *, settings: dict[str, Any] | None = None, time_limit: float | None = None) -> None:
         import clarabel
@@ -127,17 +125,8 @@ class ClarabelKinematicBackend:
         opts = {**CLARABEL_KINEMATIC, **(settings or {})}
         if time_limit is not None:
             opts["time_limit"] = float(time_limit)
-        self.settings = self._settings(opts)
-        self.retry_settings = self._settings({**opts, **CLARABEL_KINEMATIC_RETRY})
-
-    def _settings(self, opts: dict[str, Any]) -> Any:
-        s = self._cl.DefaultSettings()
-        s.verbose = False
-        for k, v in opts.items():
-            if not hasattr(s, k):
-                raise ValueError(f"unknown Clarabel setting {k!r}")
-            setattr(s, k, v)
-        return s
+        self.settings = clarabel_settings(opts)
+        self.retry_settings = clarabel_settings({**opts, **CLARABEL_KINEMATIC_RETRY})
 
     def solver(self, direction: int, settings: Any = None) -> Any:
         """Clarabel's solver object for ``direction``, set up (equilibrated,
@@ -146,16 +135,17 @@ class ClarabelKinematicBackend:
         b[0] = float(direction) * self.work_scale
         return self._cl.DefaultSolver(self.P, self.lp.rhs, self.A, b, self.cones, settings or self.settings)
 
-    def solve(self, direction: int) -> RawSolution:
+    def solve(self, direction: int) -> Outcome:
         """Solve for live load direction ``direction`` (``+1`` or ``-1``).
 
-        A stop short of the tolerances (:data:`RETRY_ON`) is retried once
-        with :data:`CLARABEL_KINEMATIC_RETRY`, and a second one is solved in
-        the static form; ``info["fallback"]`` says so (seen only on walls where
-        base sliding governs exactly, lambda = mu: a degenerate optimum).
+        A stop short of the tolerances (:data:`micro.backends.clarabel.RETRY_ON`)
+        is retried once with :data:`CLARABEL_KINEMATIC_RETRY`, and a second one
+        is solved in the static form; ``info["fallback"]`` says so (seen only
+        on walls where base sliding governs exactly, lambda = mu: a degenerate
+        optimum).
         """
         if self.work_scale == 0.0:  # f_L = 0: the normalisation row is empty, lambda unbounded
-            return _failed(Status.UNBOUNDED, "no live load", 0.0, form="kinematic")
+            return Outcome(Status.UNBOUNDED, "no live load", info={"form": "kinematic"})
         t0 = time.perf_counter()
         solver = self.solver(direction)
         sol = solver.solve()
@@ -174,22 +164,25 @@ class ClarabelKinematicBackend:
         lin = solver.get_info().linsolver
         extra.update({"linear_solver": str(lin.name), "linear_solver_threads": int(lin.threads),
                       "r_prim": float(sol.r_prim), "r_dual": float(sol.r_dual)})
-        status = KINEMATIC_STATUS.get(native, Status.SOLVER_ERROR)
+        status = self.STATUS_MAP.get(native, Status.SOLVER_ERROR)
         if status is not Status.OPTIMAL:
-            return _failed(status, native, secs, iters, **extra)
+            return Outcome(status, native, ipm_iterations=iters, seconds=secs, info=extra)
         u = np.asarray(sol.x, dtype=float) / self.work_scale
         z = np.asarray(sol.z, dtype=float)
         g = np.zeros(2 * self.lp.n_points)
         g[self.active] = z[1:]
         n, s = self.lp.forces(g)
         extra["kinematic_load_factor"] = float(self.lp.rhs @ u)
-        return _finish(self.lp, direction, native, -float(z[0]), n, s, u, iters, secs, extra)
+        lam_column = -float(z[0])
+        out = Outcome(status, native, float(direction) * lam_column, n=n, s=s, duals=u, ipm_iterations=iters,
+                      seconds=secs, info=extra)
+        return recheck(self.lp, direction, out)
 
-    def _static(self, direction: int, native: str, iterations: int, seconds: float) -> RawSolution:
-        """The static form's answer (:class:`micro.solvers.ClarabelBackend`, with
-        its own retry) after both kinematic attempts stopped short; this
+    def _static(self, direction: int, native: str, iterations: int, seconds: float) -> Outcome:
+        """The static form's answer (:class:`~micro.backends.clarabel.ClarabelBackend`,
+        with its own retry) after both kinematic attempts stopped short; this
         attempt's iterations and time are added."""
-        raw = ClarabelBackend(self.lp, time_limit=self.time_limit).solve(direction)
-        info = {**raw.info, "form": "static", "fallback": f"{native} twice in kinematic form; solved in static form"}
-        return RawSolution(raw.status, raw.native_status, raw.load_factor, raw.n, raw.s, raw.velocities,
-                           raw.iterations + iterations, raw.solve_seconds + seconds, info)
+        out = ClarabelBackend(self.lp, time_limit=self.time_limit).solve(direction)
+        info = {**out.info, "form": "static", "fallback": f"{native} twice in kinematic form; solved in static form"}
+        return dataclasses.replace(out, ipm_iterations=out.ipm_iterations + iterations,
+                                   seconds=out.seconds + seconds, info=info)
