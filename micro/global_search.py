@@ -35,6 +35,11 @@ FloatArray = NDArray[np.float64]
 #: HiGHS' absolute MIP gap: far below any relative gap asked for (load
 #: factors are of order 0.1-1).
 MIP_ABS_GAP = 1e-10
+#: HiGHS' integrality and primal feasibility tolerances in the MIP (defaults
+#: 1e-6 and 1e-7). With 1e-6 a binary at 1 - 1e-6 lets an "open" point carry
+#: 1e-6 N_p, and HiGHS' optimum sat 4e-6 (relative) below the exact load
+#: factor of its own pattern (5-block wall, lambda = 0.25).
+MIP_FEASIBILITY = 1e-9
 #: Relative slack between the rebuilt state's gap and the requested one
 #: (the rebuilt load factor differs from HiGHS' by its tolerances).
 GAP_SLACK = 1e-8
@@ -112,6 +117,8 @@ def _configure(h: highspy.Highs, opts: GlobalOptions) -> None:
     h.setOptionValue("mip_rel_gap", float(opts.mip_gap))
     h.setOptionValue("mip_abs_gap", MIP_ABS_GAP)
     h.setOptionValue("random_seed", int(opts.seed))
+    h.setOptionValue("mip_feasibility_tolerance", MIP_FEASIBILITY)
+    h.setOptionValue("primal_feasibility_tolerance", MIP_FEASIBILITY)
     if opts.time_limit is not None:
         h.setOptionValue("time_limit", float(opts.time_limit))
     if opts.node_limit is not None:

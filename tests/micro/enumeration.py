@@ -124,17 +124,25 @@ class Enumerator:
         """``(least lambda, its assignment)`` over the assignments with
         ``lambda <= cutoff``; ``(inf, None)`` when there is none."""
         best: list = [cutoff, None]
-        self._dfs([None] * self.C, 0, best)
+        states: list = [None] * self.C
+        lam = self.forces(states)
+        if lam <= cutoff and self.has_mechanism(states):  # (NaN compares False)
+            self._dfs(states, 0, lam, best)
         return (float(best[0]), best[1]) if best[1] is not None else (math.inf, None)
 
-    def _dfs(self, states: list, c: int, best: list) -> None:
-        lam = self.forces(states)
-        if math.isnan(lam) or lam > best[0] or not self.has_mechanism(states):
-            return
+    def _dfs(self, states: list, c: int, lam: float, best: list) -> None:
+        """Assignment ``states[:c]`` fixed, least lambda ``lam``, with a mechanism."""
         if c == self.C:
             best[0], best[1] = lam, list(states)
             return
         for st in STATES:
             states[c] = st
-            self._dfs(states, c + 1, best)
+            # "stick" restricts no force (same lambda); "separated, free slip"
+            # restricts no motion (the parent's mechanism still exists)
+            child = lam if st == (0, 0, 0) else self.forces(states)
+            if math.isnan(child) or child > best[0]:
+                continue
+            if st != (1, 1, 2) and not self.has_mechanism(states):
+                continue
+            self._dfs(states, c + 1, child, best)
         states[c] = None
