@@ -33,7 +33,6 @@ from typing import Literal
 
 import highspy
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from micro import global_highs as gh

@@ -61,7 +61,7 @@ def build(
     A: sp.csc_matrix,
     row_bounds: tuple[FloatArray, FloatArray],
     col_bounds: tuple[FloatArray, FloatArray],
-    integer: FloatArray | None = None,
+    integer: NDArray[np.int64] | None = None,
 ) -> highspy.Highs:
     """A silent HiGHS model ``min cost x`` s.t. ``rl <= A x <= ru``, ``cl <= x <= cu``.
 

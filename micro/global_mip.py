@@ -269,10 +269,9 @@ def _combine(results: tuple[GlobalDirection, ...], opts: GlobalOptions, seconds:
     lb = math.nan if any(math.isnan(b) for b in bounds) else min(bounds)
     lam = best.load_factor if best is not None else math.nan
     failing = [r for r in results if r.status not in (OPTIMAL, INFEASIBLE)]
-    if failing:
-        status = failing[0].status
-    else:  # every direction closed: optimal unless no direction has a collapse state
-        status = OPTIMAL if best is not None else INFEASIBLE
+    # every direction closed: optimal unless no direction has a collapse state
+    closed = OPTIMAL if best is not None else INFEASIBLE
+    status = failing[0].status if failing else closed
     msg = "; ".join(f"{r.direction}: {r.message}" for r in results if r.message and r.status != OPTIMAL)
     return GlobalResult(status, lam, lb, relative_gap(lam, lb), best.direction if best else "", results, opts,
                         seconds, msg)

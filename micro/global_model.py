@@ -160,7 +160,7 @@ def build_mip(lp: LimitLP, direction: int, bounds: BigM, *, energy_cut: bool = T
     col_lo[L.v : L.q], col_up[L.v : L.q] = -np.inf, np.inf
     cost = np.zeros(L.n_cols)
     cost[L.lam] = 1.0
-    h = gh.build(cost, A, (row_lo, row_up), (col_lo, col_up), integer=np.arange(L.z, L.n_cols))
+    h = gh.build(cost, A, (row_lo, row_up), (col_lo, col_up), integer=np.arange(L.z, L.n_cols, dtype=np.int64))
     return h, L
 
 

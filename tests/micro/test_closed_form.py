@@ -92,12 +92,12 @@ def test_two_blocks_band() -> None:
     (l/h + 1/mu - mu) = 3/13``: the band ``[1/2, 8/13]``. Its lower end
     (``T = 0``: two free-standing blocks rocking) is the global minimum
     ``l/h``, strictly below the associative load factor."""
-    l, h, mu = 0.5, 1.0, 0.75
-    w = small_wall(2 * l, l, h, 1, mu)
+    ell, h, mu = 0.5, 1.0, 0.75  # l, h, mu of the docstring
+    w = small_wall(2 * ell, ell, h, 1, mu)
     lp = micro.assemble(w)
     assert w.n_blocks == 2 and lp.n_points == 6  # contacts: base A, base B, head
-    tau = (mu - l / h) / (l / h + 1 / mu - mu)
-    band = (l / h, (l / h) * (1 + tau))
+    tau = (mu - ell / h) / (ell / h + 1 / mu - mu)
+    band = (ell / h, (ell / h) * (1 + tau))
     assert band[1] == pytest.approx(8 / 13)
     # points: A base (0,0) open, (l,0) pivot; B base (l,0) open, (2l,0) pivot; head closed
     pattern = Pattern(np.array([True, False, True, False, False, False]), np.array([0, 0, -1]))
@@ -110,5 +110,5 @@ def test_two_blocks_band() -> None:
     states = [(1, 0, 0), (1, 0, 0), (0, 0, -1)]
     assert (e.forces(states), e.forces(states, sense=-1.0)) == pytest.approx(band, abs=1e-9)
     g = solve_global(w, direction=1)
-    assert g.status == "optimal" and g.load_factor == pytest.approx(l / h, abs=1e-9)
-    assert micro.solve_associative(w).load_factor > l / h + 0.1
+    assert g.status == "optimal" and g.load_factor == pytest.approx(ell / h, abs=1e-9)
+    assert micro.solve_associative(w).load_factor > ell / h + 0.1

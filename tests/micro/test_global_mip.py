@@ -70,7 +70,8 @@ def _as_direction(lp: micro.LimitLP, g) -> NonAssocDirection:  # type: ignore[no
                              nan, nan, nan, nan, nan, 0, g.normal * fs, g.shear * fs, g.mechanism, g.seconds)
 
 
-@pytest.mark.parametrize("make", [lambda: small_wall(1.0, 0.5, 1.0, 2, 0.75), lambda: small_wall(1.5, 0.5, 1.0, 1, 0.75)])
+@pytest.mark.parametrize("make", [lambda: small_wall(1.0, 0.5, 1.0, 2, 0.75),
+                                  lambda: small_wall(1.5, 0.5, 1.0, 1, 0.75)])
 def test_state_is_collapse_state(make) -> None:  # type: ignore[no-untyped-def]
     """The returned state passes the iterated LP's independent check."""
     w = make()
