@@ -14,18 +14,23 @@ Example:
 """
 
 from macro.model import SearchSettings
+from macro.paper import PaperWalls, paper_walls
+from macro.records import MacroRecord
 from macro.solve import HingeResult, MacroResult, MacroWall, StoreyTerms, load_factor_curve, solve
 from macro.sweep import MECHANISMS, SweepResult, sweep
 
 __all__ = [
     "MECHANISMS",
     "HingeResult",
+    "MacroRecord",
     "MacroResult",
     "MacroWall",
+    "PaperWalls",
     "SearchSettings",
     "StoreyTerms",
     "SweepResult",
     "load_factor_curve",
+    "paper_walls",
     "solve",
     "sweep",
 ]

@@ -1,9 +1,10 @@
 """Vectorised path: arrays of the paper's parameters in, arrays of results out.
 
-Walls are described by the paper's Table 4 parameters and normalised as in
-:meth:`comparison.spec.WallSpec.from_paper` (block height 1, thickness 1,
-unit weight 1, rows split equally over the storeys, the same overload ratio
-``p`` on every floor); a test pins that both give the same numbers.
+Walls are described by the paper's Table 4 parameters and normalised by
+:func:`macro.paper.paper_walls` (block height 1, thickness 1, unit weight 1,
+rows split equally over the storeys, the same overload ratio ``p`` on every
+floor), as one wall of ``macro.solve`` built by ``WallSpec.from_paper`` is; a
+test pins that both give the same numbers.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from macro.model import SearchSettings, evaluate, hinge_problems, minimise, sample_pieces
+from macro.paper import BLOCK_HEIGHT, paper_walls
 
 #: Search used by :func:`sweep`: five samples per smooth piece, ten golden-section
 #: steps and one parabolic step; within 2e-12 of a 100,001-point brute force on
@@ -40,12 +42,6 @@ class SweepResult:
     mechanism: NDArray[np.int_]
 
 
-def _check(name: str, a: NDArray[np.float64], ok: NDArray[np.bool_], rule: str) -> None:
-    if not np.all(ok):
-        i = int(np.flatnonzero(~ok.ravel())[0])
-        raise ValueError(f"{name} must be {rule}, got {a.ravel()[i]!r} (entry {i})")
-
-
 def sweep(
     t: ArrayLike,
     m: ArrayLike,
@@ -64,46 +60,34 @@ def sweep(
         t, m, rows, f, p: the paper's parameters, broadcast together.
         storeys: number of storeys ``N`` of every wall.
         p_height: ``"wall"`` or ``"storey"``, the reading of ``p``
-            (see :mod:`comparison.spec`).
+            (see :mod:`macro.paper`).
         settings: search resolution.
         chunk: walls per vectorised batch (memory vs. speed).
 
     Raises:
         ValueError: naming the first invalid parameter.
     """
-    t, m, o, f, p = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (t, m, rows, f, p)))
-    shape = t.shape
-    t, m, o, f, p = (x.ravel() for x in (t, m, o, f, p))
-    if isinstance(storeys, bool) or not float(storeys).is_integer() or storeys < 1:
-        raise ValueError(f"storeys must be a positive integer, got {storeys!r}")
-    N = int(storeys)
-    _check("t", t, np.isfinite(t) & (t > 0), "a positive number")
-    _check("m", m, np.isfinite(m) & (m > 0) & (m <= 1), "in (0, 1]")
-    _check("rows", o, (o > 0) & (o == np.round(o)), "a positive integer")
-    _check("rows", o, np.mod(o, N) == 0, f"divisible by storeys={N}")
-    _check("f", f, np.isfinite(f) & (f > 0), "a positive number")
-    _check("p", p, np.isfinite(p) & (p >= 0), "zero or positive")
-    if p_height not in ("wall", "storey"):
-        raise ValueError(f"p_height must be 'wall' or 'storey', got {p_height!r}")
+    walls = paper_walls(t, m, rows, f, p, storeys, p_height)
+    shape, N = walls.shape, walls.storeys
 
-    W = t.size
+    W = walls.size
     out = {k: np.empty(W) for k in ("lam", "lam_s", "tau", "hinge")}
     for s in range(0, W, chunk):
         sl = slice(s, min(s + chunk, W))
         n_w = sl.stop - sl.start
-        per = o[sl] / N
-        q = p[sl] * (o[sl] if p_height == "wall" else per)
+        per = walls.rows_per_storey[sl]
+        q = walls.overload[sl]
         lam = np.empty((N, n_w))
         tau = np.empty((N, n_w))
         lam_s = np.empty((N, n_w))
         problems, samples = [], []
         for k in range(1, N + 1):  # the hinge storey; storeys below it drop out
             pb = hinge_problems(
-                length=o[sl] / t[sl],
-                overlap=0.5 / m[sl],
+                length=walls.length[sl],
+                overlap=walls.overlap[sl],
                 block_height=np.ones(n_w),
                 unit_weight=np.ones(n_w),
-                friction=f[sl],
+                friction=walls.friction[sl],
                 rows=np.repeat(per[:, None], k, axis=1),
                 thickness=np.ones((n_w, k)),
                 overload=np.repeat(q[:, None], k, axis=1),
@@ -127,11 +111,11 @@ def sweep(
         out["hinge"][sl] = best + 1
 
     lam, tau = out["lam"], out["tau"]
-    ratio = np.arctan(tau) / np.arctan(0.5 / m)
-    mech = np.where(f < lam, 2, np.where(ratio >= 1.0 - 1e-9, 1, 0))
+    ratio = np.arctan(tau) / np.arctan(walls.overlap / BLOCK_HEIGHT)
+    mech = np.where(walls.friction < lam, 2, np.where(ratio >= 1.0 - 1e-9, 1, 0))
     rs = lambda a: a.reshape(shape)  # noqa: E731
     return SweepResult(
-        load_factor=rs(np.minimum(lam, f)),
+        load_factor=rs(np.minimum(lam, walls.friction)),
         rocking_load_factor=rs(lam),
         sliding_load_factor=rs(out["lam_s"]),
         tan_alpha_c=rs(tau),

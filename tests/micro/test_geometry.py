@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -28,7 +27,7 @@ def test_two_rows_two_blocks_by_hand() -> None:
     assert w.total_weight == pytest.approx(2 * 6.0)  # 2 rows x length 6 x b=1 x t=1
     contacts = sorted(
         (int(k), int(a), int(b), tuple(px), tuple(py))
-        for k, a, b, px, py in zip(w.contact_kind, w.contact_a, w.contact_b, w.px, w.py)
+        for k, a, b, px, py in zip(w.contact_kind, w.contact_a, w.contact_b, w.px, w.py, strict=True)
     )
     assert contacts == sorted([
         (BASE, -1, 0, (0.0, 3.0), (0.0, 0.0)),
@@ -81,7 +80,7 @@ def test_frictionless_head_joints() -> None:
 
 
 def test_paper_block_counts() -> None:
-    from comparison.spec import WallSpec
+    from comparison.wall import WallSpec
 
     counts = {(0.5, 1 / 3): 102, (1.0, 1 / 3): 54, (1.0, 1.0): 150}
     for (t, m), n in counts.items():
@@ -91,7 +90,7 @@ def test_paper_block_counts() -> None:
 
 def test_table9_wall_assembles() -> None:
     """Sizes of the 7,575-block wall (its build time is a benchmark: tests/benchmarks)."""
-    from comparison.spec import WallSpec
+    from comparison.wall import WallSpec
 
     w = WallSpec.from_paper(t=1, m=1 / 3, rows=150, f=0.6, storeys=5).to_micro()
     lp = micro.assemble(w)

@@ -1,0 +1,48 @@
+"""``xcheck stability``: convergence study of the iterated non-associative LP.
+
+Example::
+
+    xcheck stability --out reports --processes 2
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from comparison.cli.options import UsageError, int_option
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``stability`` subcommand."""
+    p = subparsers.add_parser(
+        "stability",
+        help="convergence study of the non-associative iterated LP on a grid of small walls",
+        description="Runs the non-associative iterated LP (schemes a and b, several relaxations) on a grid "
+        "of 104 small walls and writes stability.md, stability.csv and stability.png.",
+    )
+    p.add_argument("--out", default="reports", metavar="DIR", help="output folder (default reports)")
+    p.add_argument("--processes", default="2", metavar="N", help="worker processes (default 2)")
+    p.add_argument("--quick", action="store_true", help="12 walls only (smoke test)")
+    p.add_argument(
+        "--table7",
+        action="store_true",
+        help="instead: Table 7 (sets 11-14) per scheme, bond phase and head-joint friction (table7_nonassoc.md)",
+    )
+    p.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Handler of ``xcheck stability``."""
+    from comparison.stability import main_study, table7_variants
+
+    processes = int_option("--processes", args.processes)
+    try:
+        if args.table7:
+            print(f"md: {table7_variants(args.out)}")
+            return 0
+        paths = main_study(args.out, processes=processes, quick=args.quick)
+    except OSError as exc:
+        raise UsageError(f"--out: cannot write to {args.out!r} ({exc.strerror})") from None
+    for kind, path in paths.items():
+        print(f"{kind}: {path}")
+    return 0

@@ -1,0 +1,69 @@
+"""``xcheck micro``: JSON output, plot, one-line errors with exit code 2."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import pytest
+
+from comparison.cli import app as cli
+from comparison.cli import micro as cmd_micro
+
+
+@pytest.fixture(autouse=True)
+def _micro_only_parser(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Register only ``micro`` so the test does not depend on the other commands."""
+
+    def build() -> argparse.ArgumentParser:
+        parser = cli.Parser(prog="xcheck")
+        sub = parser.add_subparsers(dest="command", required=True, parser_class=cli.Parser)
+        cmd_micro.register(sub)
+        return parser
+
+    monkeypatch.setattr(cli, "build_parser", build)
+
+
+WALL = ["--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75"]
+
+
+def test_json(capsys: pytest.CaptureFixture[str]) -> None:
+    rc = cli.main(["micro", *WALL, "--friction", "associative", "--solver", "clarabel", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0
+    for key in ("load_factor", "status", "solver", "direction", "blocks", "contacts", "solve_seconds", "build_seconds"):
+        assert key in out
+    assert out["status"] == "optimal" and out["blocks"] == 54 and out["solver"] == "clarabel"
+    assert out["load_factor"] == pytest.approx(0.712047, abs=1e-5)
+
+
+def test_text_and_plot(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:  # type: ignore[no-untyped-def]
+    png = tmp_path / "m.png"
+    rc = cli.main(["micro", *WALL, "--first-course", "half", "--head-joints", "frictionless", "--plot", str(png)])
+    assert rc == 0
+    assert "lambda = " in capsys.readouterr().out
+    assert png.stat().st_size > 1000
+
+
+@pytest.mark.parametrize(
+    ("extra", "word"),
+    [
+        (["--friction", "non-associative"], "--friction"),
+        (["--solver", "gurobi"], "--solver"),
+        (["--first-course", "middle"], "--first-course"),
+        (["--head-joints", "sticky"], "--head-joints"),
+        (["--plot", "m.txt"], "--plot"),
+        (["--time-limit", "soon"], "--time-limit"),
+    ],
+)
+def test_bad_input_one_line_exit_2(extra: list[str], word: str, capsys: pytest.CaptureFixture[str]) -> None:
+    rc = cli.main(["micro", *WALL, *extra])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert err.startswith("xcheck: error:") and word in err and err.count("\n") == 1
+
+
+def test_bad_wall_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    rc = cli.main(["micro", "--t", "0.7", "--m", "1/3", "--rows", "12", "--f", "0.75"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "length" in err and err.count("\n") == 1
