@@ -107,17 +107,20 @@ class StartState:
 
         Args:
             lp: the LP of the wall.
-            result: a converged ``micro.NonAssocDirection`` (read through its
-                public fields ``direction``, ``normal``, ``shear``,
-                ``last_load_factor`` and ``mechanism``).
+            result: a converged direction of ``micro.solve_nonassociative``
+                (a ``micro.DirectionResult``, read through its public fields
+                ``direction``, ``normal``, ``shear``, ``mechanism`` and
+                ``sequence.last_load_factor``).
 
         Raises:
             ValueError: the direction has no final state.
         """
         if result.normal is None or result.shear is None or result.mechanism is None:
             raise ValueError(f"direction {result.direction} has no final state ({result.status})")
+        seq = getattr(result, "sequence", None)
+        lam = float(seq.last_load_factor if seq is not None else result.load_factor)
         return cls(1 if result.direction == "+x" else -1, np.asarray(result.normal) / lp.force_scale,
-                   np.asarray(result.shear) / lp.force_scale, float(result.last_load_factor),
+                   np.asarray(result.shear) / lp.force_scale, lam,
                    np.asarray(result.mechanism.velocities, dtype=float).ravel())
 
 

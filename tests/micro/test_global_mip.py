@@ -20,7 +20,7 @@ from hand_walls import column_wall, small_wall
 import micro
 from micro.global_bounds import big_m
 from micro.global_mip import GlobalOptions, StartState, global_summary, solve_global
-from micro.nonassociative import NonAssocDirection, verify_collapse_state
+from micro.nonassociative import verify_collapse_state
 
 #: (name, wall, direction, non-associative minimum strictly below the associative load factor)
 WALLS = [
@@ -63,11 +63,11 @@ def test_enumeration_pruning_is_exact() -> None:
     assert e.minimum()[0] == pytest.approx(plain, abs=1e-12)
 
 
-def _as_direction(lp: micro.LimitLP, g) -> NonAssocDirection:  # type: ignore[no-untyped-def]
-    """A global result in the iterated LP's shape, for its own state check."""
-    fs, nan = lp.force_scale, math.nan
-    return NonAssocDirection(g.direction, "converged", "global", g.load_factor, g.load_factor, None, nan, 0, (),
-                             nan, nan, nan, nan, nan, 0, g.normal * fs, g.shear * fs, g.mechanism, g.seconds)
+def _as_direction(lp: micro.LimitLP, g) -> micro.DirectionResult:  # type: ignore[no-untyped-def]
+    """A global result in the shape of the micro results, for the iterated LP's own state check."""
+    fs = lp.force_scale
+    return micro.DirectionResult(g.direction, "optimal", g.load_factor, 0, g.seconds, normal=g.normal * fs,
+                                 shear=g.shear * fs, mechanism=g.mechanism)
 
 
 @pytest.mark.parametrize("make", [lambda: small_wall(1.0, 0.5, 1.0, 2, 0.75),
