@@ -13,7 +13,7 @@ Example:
     0.583
 """
 
-from macro.model import SearchSettings
+from macro.search import SearchSettings
 from macro.solve import HingeResult, MacroResult, MacroWall, StoreyTerms, load_factor_curve, solve
 from macro.sweep import MECHANISMS, SweepResult, sweep
 

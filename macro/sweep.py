@@ -13,12 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from macro.model import SearchSettings, evaluate, hinge_problems, minimise, sample_pieces
-
-#: Search used by :func:`sweep`: five samples per smooth piece, ten golden-section
-#: steps and one parabolic step; within 2e-12 of a 100,001-point brute force on
-#: 300 random walls of 1, 3 and 5 storeys.
-SWEEP_SEARCH = SearchSettings(initial_points=5, method="golden", rounds=10)
+from macro.equations import evaluate, hinge_problems
+from macro.search import DEFAULT_SEARCH, SearchSettings, minimise_walls
 
 MECHANISMS = ("rocking-sliding", "rocking", "sliding")
 
@@ -55,7 +51,7 @@ def sweep(
     storeys: int = 1,
     *,
     p_height: str = "wall",
-    settings: SearchSettings = SWEEP_SEARCH,
+    settings: SearchSettings = DEFAULT_SEARCH,
     chunk: int = 4096,
 ) -> SweepResult:
     """Macro-block load factors of many walls at once.
@@ -91,40 +87,17 @@ def sweep(
     for s in range(0, W, chunk):
         sl = slice(s, min(s + chunk, W))
         n_w = sl.stop - sl.start
-        per = o[sl] / N
-        q = p[sl] * (o[sl] if p_height == "wall" else per)
-        lam = np.empty((N, n_w))
-        tau = np.empty((N, n_w))
-        lam_s = np.empty((N, n_w))
-        problems, samples = [], []
-        for k in range(1, N + 1):  # the hinge storey; storeys below it drop out
-            pb = hinge_problems(
-                length=o[sl] / t[sl],
-                overlap=0.5 / m[sl],
-                block_height=np.ones(n_w),
-                unit_weight=np.ones(n_w),
-                friction=f[sl],
-                rows=np.repeat(per[:, None], k, axis=1),
-                thickness=np.ones((n_w, k)),
-                overload=np.repeat(q[:, None], k, axis=1),
-                hinge=np.full(n_w, k),
-            )
-            problems.append(pb)
-            samples.append(sample_pieces(pb, settings))
-        # the best sample of any hinge bounds the wall's minimum from above:
-        # pieces (and whole hinges) that cannot go below it are not refined
-        best = np.full(n_w, np.inf)
-        for sm in samples:
-            np.minimum.at(best, sm.owner, sm.best_l)
-        for k, (pb, sm) in enumerate(zip(problems, samples, strict=True)):
-            lam[k], tau[k] = minimise(pb, settings, samples=sm, upper_bound=best)
-            lam_s[k] = evaluate(tau[k][:, None], pb)["lambda_s"][:, 0]
-        best = np.argmin(lam, axis=0)
+        per = np.repeat((o[sl] / N)[:, None], N, axis=1)
+        q = np.repeat((p[sl] * (o[sl] if p_height == "wall" else o[sl] / N))[:, None], N, axis=1)
+        ones = np.ones(n_w)
+        walls = dict(length=o[sl] / t[sl], overlap=0.5 / m[sl], block_height=ones, unit_weight=ones, friction=f[sl])
+        lam, tau = minimise_walls(**walls, rows=per, thickness=np.ones((n_w, N)), overload=q, settings=settings,
+                                  wall_minimum_only=True)  # fmt: skip
+        best = np.argmin(lam, axis=1)
         r = np.arange(n_w)
-        out["lam"][sl] = lam[best, r]
-        out["tau"][sl] = tau[best, r]
-        out["lam_s"][sl] = lam_s[best, r]
-        out["hinge"][sl] = best + 1
+        out["lam"][sl], out["tau"][sl], out["hinge"][sl] = lam[r, best], tau[r, best], best + 1
+        pb = hinge_problems(**walls, rows=per, thickness=np.ones((n_w, N)), overload=q, hinge=best + 1)
+        out["lam_s"][sl] = evaluate(out["tau"][sl, None], pb)["lambda_s"][:, 0]
 
     lam, tau = out["lam"], out["tau"]
     ratio = np.arctan(tau) / np.arctan(0.5 / m)

@@ -1,0 +1,207 @@
+"""Eq. (10) on one smooth piece of the crack slope, with its first two derivatives.
+
+Between two kinks ``alpha_pi`` the set of crossed storeys is fixed: the
+storeys below the crack exit are crossed whole (``n_c = n_i``), the one the
+crack leaves through is crossed over ``x = L/(b tau) - B_j`` rows, the ones
+above not at all. Every sum of Eq. (10) is then a polynomial in ``x`` and
+``y = tau - v/(n b)`` (``tan(alpha_c*)`` of Eq. 9), cubic in ``x`` and at most
+quadratic in ``y``, plus the floor terms ``tau^2`` and ``tau`` of the storeys
+crossed whole (their floors move over ``T_i b tau``)::
+
+    S = s00 + s01 y + s02 y^2 + FT tau^2 + x (s10 + s11 y + s12 y^2) + x^2 y (s21 + s22 y) + s32 x^3 y^2
+    O = o00 + o01 y + 2 FT tau + x (o10 + o11 y) + x^2 (o20 + o21 y) + o31 x^3 y
+    F = f00 + f10 x + f20 x^2 + f30 x^3
+    lambda = (S + (1 - atan(tau)/alpha_b) F) / O
+
+(stabilising, overturning and unreduced friction moments, Eqs. 5-8 and 10).
+:func:`piece_coefficients` builds the coefficients once per piece from the
+storeys; :func:`lambda_derivatives` then costs a few multiply-adds and one
+``atan``; :func:`lower_bound` bounds ``lambda`` from below over an interval
+by interval arithmetic (every monomial is monotone in ``x, y >= 0``).
+
+The functions are compiled by numba (``nopython``): the search calls them
+millions of times on scalars, where numpy's per-call overhead dominates.
+A test pins them to the term-by-term :func:`macro.equations.evaluate`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# indices into a piece's coefficient vector
+S00, S01, S02, S10, S11, S12, S21, S22, S32, FT = range(10)
+O00, O01, O10, O11, O20, O21, O31 = range(10, 17)
+F00, F10, F20, F30 = range(17, 21)
+#: ``c = L/b`` and ``B_j``: ``x = c/tau - B_j`` (both 0 on the piece where every storey is crossed whole).
+XC, XB = 21, 22
+N_COEF = 23
+
+
+@njit(cache=True)
+def storey_constants(k, length, overlap, height, weight, friction, rows, thickness, overload, out):  # type: ignore[no-untyped-def]
+    """Per-storey constants of the mechanism with the hinge under storey ``k - 1`` (0 = top).
+
+    Fills ``out[i]`` (``i < k``) with ``n, B, K, LA, cB, cBy, cC, cD, cg, fx, fy, ft``
+    (rows, rows below, row weight ``b b_i gamma``, load above, and the
+    coefficients named in :class:`macro.equations.HingeProblems`).
+
+    Returns:
+        ``(M_A, O_A, n)``: the stabilising and overturning moments of the
+        half-block columns A, and the rows of the mechanism.
+    """
+    below = 0.0
+    for i in range(k - 1, -1, -1):
+        out[i, 1] = below
+        below += rows[i]
+    load = 0.0
+    moment_a = overturn_a = 0.0
+    b, v, L = height, overlap, length
+    for i in range(k):
+        n, B = rows[i], out[i, 1]
+        K = b * thickness[i] * weight
+        top = (B + n) * b
+        load += overload[i]
+        out[i, 0], out[i, 2], out[i, 3] = n, K, load
+        out[i, 4] = 0.5 * K * (L * L - v * v)
+        out[i, 5] = K * (L - v) * b
+        out[i, 6] = K * b * B
+        out[i, 7] = 0.5 * K * b
+        out[i, 8] = 0.5 * v * K * friction * b
+        out[i, 9] = 0.5 * overload[i] * L * L
+        out[i, 10] = overload[i] * L * top
+        out[i, 11] = 0.5 * overload[i] * top * top
+        load += n * K
+        moment_a += 0.5 * v * n * K * v
+        overturn_a += n * K * v * (0.5 * n + B) * b
+    return moment_a, overturn_a, below
+
+
+@njit(cache=True)
+def piece_coefficients(p, k, st, moment_a, overturn_a, length, overlap, height, friction, out):  # type: ignore[no-untyped-def]
+    """Coefficients of piece ``p`` (``0..k``) of a mechanism of ``k`` storeys into ``out``.
+
+    Piece 0 has every storey crossed whole; piece ``p >= 1`` is crossed
+    partly at storey ``j = p - 1`` (0 = top), whole below it, not above.
+    ``st`` holds the storey constants of :func:`storey_constants`.
+    """
+    out[:] = 0.0
+    out[S00], out[O00] = moment_a, overturn_a
+    v, b = overlap, height
+    cq = v * friction * b
+    for i in range(k):
+        n, B, K, LA = st[i, 0], st[i, 1], st[i, 2], st[i, 3]
+        cB, cBy, cC, cD, cg = st[i, 4], st[i, 5], st[i, 6], st[i, 7], st[i, 8]
+        fx, fy, ft = st[i, 9], st[i, 10], st[i, 11]
+        if i > p - 1:  # crossed whole
+            out[S01] += v * n * (cC + cD * n)
+            out[S02] += n * b * (0.5 * B * cC + cD * n * (B + n / 3.0))
+            out[FT] += ft
+            out[O01] += n * b * (cC * (0.5 * n + B) + n * cD * (2.0 * n / 3.0 + B))
+            out[F00] += n * (cg * (n + 1.0) * (n / 3.0 + B) + LA * (0.5 * n + B) * cq)
+        elif i < p - 1:  # not crossed, floor moves whole
+            out[S00] += n * cB + fx
+            out[O00] += n * cBy * (0.5 * n + B) + fy
+        else:  # crossed over x rows, floor moves whole
+            out[S00] += n * cB + fx
+            out[S10] -= cB
+            out[S11] += v * cC
+            out[S12] += 0.5 * b * B * cC
+            out[S21] += v * cD
+            out[S22] += b * B * cD
+            out[S32] += b * cD / 3.0
+            out[O00] += cBy * (0.5 * n * n + n * B) + fy
+            out[O10] -= cBy * B
+            out[O20] -= 0.5 * cBy
+            out[O11] += b * cC * B
+            out[O21] += 0.5 * b * cC + b * B * cD
+            out[O31] += 2.0 * b * cD / 3.0
+            w = n * K + LA
+            out[F10] += cg * B + cq * w * B
+            out[F20] += cg * (B + 1.0 / 3.0) + cq * (0.5 * w - K * B)
+            out[F30] += cg / 3.0 - 0.5 * cq * K
+            out[XC], out[XB] = length / b, B
+
+
+@njit(cache=True)
+def lambda_derivatives(tau, cf, tau_low, alpha_b):  # type: ignore[no-untyped-def]
+    """Eq. (10) and its first two derivatives in ``tau`` on the piece of coefficients ``cf``.
+
+    Returns:
+        ``(lambda, dlambda/dtau, d2lambda/dtau2)``.
+    """
+    u = 1.0 / tau
+    x = cf[XC] * u - cf[XB]
+    x1 = -cf[XC] * u * u  # dx/dtau
+    x2 = -2.0 * x1 * u
+    y = tau - tau_low
+    # S = a0 + x a1 + x^2 a2 + x^3 a3, a_i polynomials in y (a0 with FT tau^2)
+    a0 = cf[S00] + y * (cf[S01] + y * cf[S02]) + cf[FT] * tau * tau
+    a0y, a0yy = cf[S01] + 2.0 * y * cf[S02] + 2.0 * cf[FT] * tau, 2.0 * (cf[S02] + cf[FT])
+    a1, a1y, a1yy = cf[S10] + y * (cf[S11] + y * cf[S12]), cf[S11] + 2.0 * y * cf[S12], 2.0 * cf[S12]
+    a2, a2y, a2yy = y * (cf[S21] + y * cf[S22]), cf[S21] + 2.0 * y * cf[S22], 2.0 * cf[S22]
+    a3, a3y, a3yy = cf[S32] * y * y, 2.0 * cf[S32] * y, 2.0 * cf[S32]
+    s, sx, sxx = a0 + x * (a1 + x * (a2 + x * a3)), a1 + x * (2.0 * a2 + 3.0 * x * a3), 2.0 * a2 + 6.0 * x * a3
+    sy, sxy = a0y + x * (a1y + x * (a2y + x * a3y)), a1y + x * (2.0 * a2y + 3.0 * x * a3y)
+    syy = a0yy + x * (a1yy + x * (a2yy + x * a3yy))
+    s1 = sy + x1 * sx
+    s2 = syy + 2.0 * x1 * sxy + x1 * x1 * sxx + x2 * sx
+    # O = c0 + x c1 + x^2 c2 + x^3 c3, each linear in y (c0 with 2 FT tau)
+    c0, c0y = cf[O00] + y * cf[O01] + 2.0 * cf[FT] * tau, cf[O01] + 2.0 * cf[FT]
+    c1, c2, c3 = cf[O10] + y * cf[O11], cf[O20] + y * cf[O21], y * cf[O31]
+    o = c0 + x * (c1 + x * (c2 + x * c3))
+    ox, oxx = c1 + x * (2.0 * c2 + 3.0 * x * c3), 2.0 * c2 + 6.0 * x * c3
+    oy, oxy = c0y + x * (cf[O11] + x * (cf[O21] + x * cf[O31])), cf[O11] + x * (2.0 * cf[O21] + 3.0 * x * cf[O31])
+    o1 = oy + x1 * ox
+    o2 = 2.0 * x1 * oxy + x1 * x1 * oxx + x2 * ox
+    # F = f0 + f1 x + f2 x^2 + f3 x^3
+    f = cf[F00] + x * (cf[F10] + x * (cf[F20] + x * cf[F30]))
+    fx = cf[F10] + x * (2.0 * cf[F20] + 3.0 * x * cf[F30])
+    fxx = 2.0 * cf[F20] + 6.0 * x * cf[F30]
+    f1, f2 = x1 * fx, x1 * x1 * fxx + x2 * fx
+    # reduction of Eq. (8)
+    w = 1.0 / (alpha_b * (1.0 + tau * tau))
+    r, r1, r2 = 1.0 - math.atan(tau) / alpha_b, -w, 2.0 * tau * w / (1.0 + tau * tau)
+    num, num1, num2 = s + r * f, s1 + r1 * f + r * f1, s2 + r2 * f + 2.0 * r1 * f1 + r * f2
+    inv = 1.0 / o
+    lam = num * inv
+    lam1 = (num1 - lam * o1) * inv
+    lam2 = (num2 - 2.0 * lam1 * o1 - lam * o2) * inv
+    return lam, lam1, lam2
+
+
+@njit(cache=True)
+def _monomial_bounds(c, x_lo, x_hi, y_lo, y_hi, i, j):  # type: ignore[no-untyped-def]
+    """Range of ``c x^i y^j`` over the box (``x, y >= 0``)."""
+    lo, hi = c * x_lo**i * y_lo**j, c * x_hi**i * y_hi**j
+    return (lo, hi) if c >= 0.0 else (hi, lo)
+
+
+@njit(cache=True)
+def lower_bound(a, b, cf, tau_low, alpha_b):  # type: ignore[no-untyped-def]
+    """A proven lower bound of Eq. (10) over ``a <= tau <= b`` on the piece ``cf``.
+
+    Interval arithmetic: each monomial of ``S``, ``O`` and ``F`` is monotone in
+    ``x`` (which decreases with ``tau``) and ``y`` (which increases), so its
+    range over the interval is spanned by its values at the corners; the
+    reduction ``1 - atan(tau)/alpha_b`` is bounded by its value at ``b`` and
+    ``F >= 0``. Rounding aside, ``lambda >= lower_bound`` everywhere on the interval.
+    """
+    x_lo = max(cf[XC] / b - cf[XB], 0.0)
+    x_hi = max(cf[XC] / a - cf[XB], 0.0)
+    y_lo, y_hi = max(a - tau_low, 0.0), max(b - tau_low, 0.0)
+    s_lo = cf[S00] + cf[FT] * a * a
+    o_hi = cf[O00] + 2.0 * cf[FT] * b
+    for idx, i, j in ((S01, 0, 1), (S02, 0, 2), (S10, 1, 0), (S11, 1, 1), (S12, 1, 2), (S21, 2, 1), (S22, 2, 2), (S32, 3, 2)):
+        s_lo += _monomial_bounds(cf[idx], x_lo, x_hi, y_lo, y_hi, i, j)[0]
+    for idx, i, j in ((O01, 0, 1), (O10, 1, 0), (O11, 1, 1), (O20, 2, 0), (O21, 2, 1), (O31, 3, 1)):
+        o_hi += _monomial_bounds(cf[idx], x_lo, x_hi, y_lo, y_hi, i, j)[1]
+    f_lo = cf[F00]
+    for idx, i in ((F10, 1), (F20, 2), (F30, 3)):
+        f_lo += _monomial_bounds(cf[idx], x_lo, x_hi, y_lo, y_hi, i, 0)[0]
+    num = s_lo + (1.0 - math.atan(b) / alpha_b) * max(f_lo, 0.0)
+    if num <= 0.0 or o_hi <= 0.0:
+        return -np.inf
+    return num / o_hi
