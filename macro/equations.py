@@ -190,7 +190,8 @@ def load_factor(tau: Array, pb: HingeProblems) -> Array:
     nc3 = nc / 3.0
     stab = up * pb.coef_B + cd * (pb.coef_C * (0.5 * b * ts * B + v) + nc * pb.coef_D * (ts * b * (nc3 + B) + v))
     stab += np.where(whole, pb.floor_x, pb.floor_t * t * t)
-    over = up * pb.coef_By * (0.5 * (n + nc) + B) + cd * b * (pb.coef_C * (0.5 * nc + B) + nc * pb.coef_D * (2.0 * nc3 + B))
+    over = up * pb.coef_By * (0.5 * (n + nc) + B)
+    over += cd * b * (pb.coef_C * (0.5 * nc + B) + nc * pb.coef_D * (2.0 * nc3 + B))
     over += np.where(whole, pb.floor_y, 2.0 * pb.floor_t * t)
     fric = nc * (pb.coef_g * (nc + 1.0) * (nc3 + B) + (up * pb.row_weight + pb.load_above) * (0.5 * nc + B) * pb.coef_q)
     reduction = 1.0 - np.arctan(tau) / pb.alpha_b
@@ -206,7 +207,8 @@ def evaluate(tau: Array, pb: HingeProblems, detail: bool = False, sliding: bool 
         ``friction_moment`` (unreduced), ``reduction`` (``1 - alpha_c/alpha_b``)
         and every per-storey term of :data:`TERM_NAMES`, shape ``(P, G, N)``.
     """
-    L, v, b, gam, f = pb.length[..., None], pb.overlap[..., None], pb.block_height[..., None], pb.unit_weight[..., None], pb.friction[..., None]
+    L, v, b = pb.length[..., None], pb.overlap[..., None], pb.block_height[..., None]
+    gam, f = pb.unit_weight[..., None], pb.friction[..., None]
     n, thk, q, B = pb.rows, pb.thickness, pb.overload, pb.below
     t = tau[..., None]
     ts = t - pb.tau_low[..., None]  # tan(alpha_c*), Eq. (9)

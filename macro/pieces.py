@@ -30,6 +30,7 @@ import math
 
 import numpy as np
 from numba import njit
+from numpy.typing import NDArray
 
 # indices into a piece's coefficient vector
 S00, S01, S02, S10, S11, S12, S21, S22, S32, FT = range(10)
@@ -39,9 +40,22 @@ F00, F10, F20, F30 = range(17, 21)
 XC, XB = 21, 22
 N_COEF = 23
 
+Array = NDArray[np.float64]
+
 
 @njit(cache=True)
-def storey_constants(k, length, overlap, height, weight, friction, rows, thickness, overload, out):  # type: ignore[no-untyped-def]
+def storey_constants(
+    k: int,
+    length: float,
+    overlap: float,
+    height: float,
+    weight: float,
+    friction: float,
+    rows: Array,
+    thickness: Array,
+    overload: Array,
+    out: Array,
+) -> tuple[float, float, float]:
     """Per-storey constants of the mechanism with the hinge under storey ``k - 1`` (0 = top).
 
     Fills ``out[i]`` (``i < k``) with ``n, B, K, LA, cB, cBy, cC, cD, cg, fx, fy, ft``
@@ -80,7 +94,18 @@ def storey_constants(k, length, overlap, height, weight, friction, rows, thickne
 
 
 @njit(cache=True)
-def piece_coefficients(p, k, st, moment_a, overturn_a, length, overlap, height, friction, out):  # type: ignore[no-untyped-def]
+def piece_coefficients(
+    p: int,
+    k: int,
+    st: Array,
+    moment_a: float,
+    overturn_a: float,
+    length: float,
+    overlap: float,
+    height: float,
+    friction: float,
+    out: Array,
+) -> None:
     """Coefficients of piece ``p`` (``0..k``) of a mechanism of ``k`` storeys into ``out``.
 
     Piece 0 has every storey crossed whole; piece ``p >= 1`` is crossed
@@ -126,11 +151,14 @@ def piece_coefficients(p, k, st, moment_a, overturn_a, length, overlap, height, 
 
 
 @njit(cache=True)
-def lambda_derivatives(tau, cf, tau_low, alpha_b):  # type: ignore[no-untyped-def]
+def lambda_derivatives(
+    tau: float, cf: Array, tau_low: float, alpha_b: float, second: bool
+) -> tuple[float, float, float]:
     """Eq. (10) and its first two derivatives in ``tau`` on the piece of coefficients ``cf``.
 
     Returns:
-        ``(lambda, dlambda/dtau, d2lambda/dtau2)``.
+        ``(lambda, dlambda/dtau, d2lambda/dtau2)``; the second derivative is
+        0 unless ``second``.
     """
     u = 1.0 / tau
     x = cf[XC] * u - cf[XB]
@@ -143,44 +171,45 @@ def lambda_derivatives(tau, cf, tau_low, alpha_b):  # type: ignore[no-untyped-de
     a1, a1y, a1yy = cf[S10] + y * (cf[S11] + y * cf[S12]), cf[S11] + 2.0 * y * cf[S12], 2.0 * cf[S12]
     a2, a2y, a2yy = y * (cf[S21] + y * cf[S22]), cf[S21] + 2.0 * y * cf[S22], 2.0 * cf[S22]
     a3, a3y, a3yy = cf[S32] * y * y, 2.0 * cf[S32] * y, 2.0 * cf[S32]
-    s, sx, sxx = a0 + x * (a1 + x * (a2 + x * a3)), a1 + x * (2.0 * a2 + 3.0 * x * a3), 2.0 * a2 + 6.0 * x * a3
-    sy, sxy = a0y + x * (a1y + x * (a2y + x * a3y)), a1y + x * (2.0 * a2y + 3.0 * x * a3y)
-    syy = a0yy + x * (a1yy + x * (a2yy + x * a3yy))
-    s1 = sy + x1 * sx
-    s2 = syy + 2.0 * x1 * sxy + x1 * x1 * sxx + x2 * sx
+    s, sx = a0 + x * (a1 + x * (a2 + x * a3)), a1 + x * (2.0 * a2 + 3.0 * x * a3)
+    sy = a0y + x * (a1y + x * (a2y + x * a3y))
     # O = c0 + x c1 + x^2 c2 + x^3 c3, each linear in y (c0 with 2 FT tau)
     c0, c0y = cf[O00] + y * cf[O01] + 2.0 * cf[FT] * tau, cf[O01] + 2.0 * cf[FT]
     c1, c2, c3 = cf[O10] + y * cf[O11], cf[O20] + y * cf[O21], y * cf[O31]
     o = c0 + x * (c1 + x * (c2 + x * c3))
-    ox, oxx = c1 + x * (2.0 * c2 + 3.0 * x * c3), 2.0 * c2 + 6.0 * x * c3
-    oy, oxy = c0y + x * (cf[O11] + x * (cf[O21] + x * cf[O31])), cf[O11] + x * (2.0 * cf[O21] + 3.0 * x * cf[O31])
-    o1 = oy + x1 * ox
-    o2 = 2.0 * x1 * oxy + x1 * x1 * oxx + x2 * ox
+    ox = c1 + x * (2.0 * c2 + 3.0 * x * c3)
+    oy = c0y + x * (cf[O11] + x * (cf[O21] + x * cf[O31]))
     # F = f0 + f1 x + f2 x^2 + f3 x^3
     f = cf[F00] + x * (cf[F10] + x * (cf[F20] + x * cf[F30]))
     fx = cf[F10] + x * (2.0 * cf[F20] + 3.0 * x * cf[F30])
-    fxx = 2.0 * cf[F20] + 6.0 * x * cf[F30]
-    f1, f2 = x1 * fx, x1 * x1 * fxx + x2 * fx
-    # reduction of Eq. (8)
-    w = 1.0 / (alpha_b * (1.0 + tau * tau))
-    r, r1, r2 = 1.0 - math.atan(tau) / alpha_b, -w, 2.0 * tau * w / (1.0 + tau * tau)
-    num, num1, num2 = s + r * f, s1 + r1 * f + r * f1, s2 + r2 * f + 2.0 * r1 * f1 + r * f2
+    # reduction of Eq. (8), r = 1 - atan(tau)/alpha_b
+    d = 1.0 / (1.0 + tau * tau)
+    r, r1 = 1.0 - math.atan(tau) / alpha_b, -d / alpha_b
     inv = 1.0 / o
-    lam = num * inv
-    lam1 = (num1 - lam * o1) * inv
-    lam2 = (num2 - 2.0 * lam1 * o1 - lam * o2) * inv
-    return lam, lam1, lam2
+    lam = (s + r * f) * inv
+    o1 = oy + x1 * ox
+    lam1 = (sy + x1 * sx + r1 * f + r * x1 * fx - lam * o1) * inv
+    if not second:
+        return lam, lam1, 0.0
+    sxx, sxy = 2.0 * a2 + 6.0 * x * a3, a1y + x * (2.0 * a2y + 3.0 * x * a3y)
+    syy = a0yy + x * (a1yy + x * (a2yy + x * a3yy))
+    s2 = syy + 2.0 * x1 * sxy + x1 * x1 * sxx + x2 * sx
+    oxx, oxy = 2.0 * c2 + 6.0 * x * c3, cf[O11] + x * (2.0 * cf[O21] + 3.0 * x * cf[O31])
+    o2 = 2.0 * x1 * oxy + x1 * x1 * oxx + x2 * ox
+    f1, f2 = x1 * fx, x1 * x1 * (2.0 * cf[F20] + 6.0 * x * cf[F30]) + x2 * fx
+    r2 = -2.0 * tau * d * r1
+    num2 = s2 + r2 * f + 2.0 * r1 * f1 + r * f2
+    return lam, lam1, (num2 - 2.0 * lam1 * o1 - lam * o2) * inv
 
 
 @njit(cache=True)
-def _monomial_bounds(c, x_lo, x_hi, y_lo, y_hi, i, j):  # type: ignore[no-untyped-def]
-    """Range of ``c x^i y^j`` over the box (``x, y >= 0``)."""
-    lo, hi = c * x_lo**i * y_lo**j, c * x_hi**i * y_hi**j
-    return (lo, hi) if c >= 0.0 else (hi, lo)
+def _low(c: float, lo: float, hi: float) -> float:
+    """Least value of ``c m`` for a monomial ``m`` ranging over ``[lo, hi]``."""
+    return c * (lo if c >= 0.0 else hi)
 
 
 @njit(cache=True)
-def lower_bound(a, b, cf, tau_low, alpha_b):  # type: ignore[no-untyped-def]
+def lower_bound(a: float, b: float, cf: Array, tau_low: float, alpha_b: float) -> float:
     """A proven lower bound of Eq. (10) over ``a <= tau <= b`` on the piece ``cf``.
 
     Interval arithmetic: each monomial of ``S``, ``O`` and ``F`` is monotone in
@@ -192,16 +221,42 @@ def lower_bound(a, b, cf, tau_low, alpha_b):  # type: ignore[no-untyped-def]
     x_lo = max(cf[XC] / b - cf[XB], 0.0)
     x_hi = max(cf[XC] / a - cf[XB], 0.0)
     y_lo, y_hi = max(a - tau_low, 0.0), max(b - tau_low, 0.0)
-    s_lo = cf[S00] + cf[FT] * a * a
-    o_hi = cf[O00] + 2.0 * cf[FT] * b
-    for idx, i, j in ((S01, 0, 1), (S02, 0, 2), (S10, 1, 0), (S11, 1, 1), (S12, 1, 2), (S21, 2, 1), (S22, 2, 2), (S32, 3, 2)):
-        s_lo += _monomial_bounds(cf[idx], x_lo, x_hi, y_lo, y_hi, i, j)[0]
-    for idx, i, j in ((O01, 0, 1), (O10, 1, 0), (O11, 1, 1), (O20, 2, 0), (O21, 2, 1), (O31, 3, 1)):
-        o_hi += _monomial_bounds(cf[idx], x_lo, x_hi, y_lo, y_hi, i, j)[1]
-    f_lo = cf[F00]
-    for idx, i in ((F10, 1), (F20, 2), (F30, 3)):
-        f_lo += _monomial_bounds(cf[idx], x_lo, x_hi, y_lo, y_hi, i, 0)[0]
+    x2_lo, x2_hi, y2_lo, y2_hi = x_lo * x_lo, x_hi * x_hi, y_lo * y_lo, y_hi * y_hi
+    s_lo = cf[S00] + cf[FT] * a * a + _low(cf[S01], y_lo, y_hi) + _low(cf[S02], y2_lo, y2_hi)
+    s_lo += _low(cf[S10], x_lo, x_hi) + _low(cf[S11], x_lo * y_lo, x_hi * y_hi)
+    s_lo += _low(cf[S12], x_lo * y2_lo, x_hi * y2_hi)
+    s_lo += _low(cf[S21], x2_lo * y_lo, x2_hi * y_hi) + _low(cf[S22], x2_lo * y2_lo, x2_hi * y2_hi)
+    s_lo += _low(cf[S32], x2_lo * x_lo * y2_lo, x2_hi * x_hi * y2_hi)
+    # the least value of -O bounds O from above
+    o_hi = cf[O00] + 2.0 * cf[FT] * b - _low(-cf[O01], y_lo, y_hi) - _low(-cf[O10], x_lo, x_hi)
+    o_hi -= _low(-cf[O11], x_lo * y_lo, x_hi * y_hi) + _low(-cf[O20], x2_lo, x2_hi)
+    o_hi -= _low(-cf[O21], x2_lo * y_lo, x2_hi * y_hi) + _low(-cf[O31], x2_lo * x_lo * y_lo, x2_hi * x_hi * y_hi)
+    f_lo = cf[F00] + _low(cf[F10], x_lo, x_hi) + _low(cf[F20], x2_lo, x2_hi) + _low(cf[F30], x2_lo * x_lo, x2_hi * x_hi)
     num = s_lo + (1.0 - math.atan(b) / alpha_b) * max(f_lo, 0.0)
     if num <= 0.0 or o_hi <= 0.0:
-        return -np.inf
+        return -math.inf
     return num / o_hi
+
+
+@njit(cache=True)
+def sliding_factor(
+    tau: float, k: int, st: Array, length: float, overlap: float, height: float, friction: float, overload: Array
+) -> float:
+    """Eq. (12) at the crack slope ``tau``: frictional resistance over weight of the moving part.
+
+    The terms of Table 2 and Eqs. (5)-(6) summed storey by storey, as
+    :func:`macro.equations.evaluate` does (a test pins the two together);
+    ``st`` holds the storey constants of :func:`storey_constants` for the
+    hinge under storey ``k - 1``.
+    """
+    e = length / (height * tau)
+    y = tau - overlap / (st[0, 1] + st[0, 0]) / height
+    weight = resist = 0.0
+    for i in range(k):
+        n, B, K, LA = st[i, 0], st[i, 1], st[i, 2], st[i, 3]
+        nc = min(max(e - B, 0.0), n)
+        floor = length if e <= B + n else (B + n) * height * tau
+        weight += K * (n * overlap + (n - nc) * (length - overlap) + y * nc * height * (B + 0.5 * nc))
+        weight += overload[i] * floor
+        resist += overlap * friction * nc * (0.5 * K * (nc + 1.0) + (n - nc) * K + LA)
+    return resist / weight

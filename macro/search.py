@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
-from macro.pieces import N_COEF, lambda_derivatives, lower_bound, piece_coefficients, storey_constants
+from macro.pieces import N_COEF, lambda_derivatives, lower_bound, piece_coefficients, sliding_factor, storey_constants
 
 Array = NDArray[np.float64]
 
@@ -70,20 +70,22 @@ DEFAULT_SEARCH = SearchSettings()
 
 
 @njit(cache=True)
-def _refine(lo, hi, t, lam, g, h, cf, tau_low, alpha_b, tol, max_it):  # type: ignore[no-untyped-def]
-    """Safeguarded Newton on ``dlambda/dtau`` in ``[lo, hi]`` (derivative < 0 at lo, > 0 at hi) from ``t``.
+def _refine(
+    lo: float, hi: float, g_lo: float, g_hi: float, cf: Array, tau_low: float, alpha_b: float, tol: float, max_it: int
+) -> tuple[float, float]:
+    """Safeguarded Newton on ``dlambda/dtau`` in ``[lo, hi]``, where it goes from ``g_lo < 0`` to ``g_hi > 0``.
+
+    Starts where the chord of the derivative crosses zero; a Newton step that
+    leaves the bracket (or meets a non-positive curvature) is replaced by
+    bisection. Stops when the next step would be below ``tol * tau``.
 
     Returns:
         ``(lambda, tau)`` at the least point evaluated.
     """
-    best_l, best_t = lam, t
+    t = lo - g_lo * (hi - lo) / (g_hi - g_lo)
+    best_l, best_t = math.inf, t
     for _ in range(max_it):
-        new = t - g / h if h > 0.0 else lo - 1.0
-        if not lo < new < hi:
-            new = 0.5 * (lo + hi)
-        step = abs(new - t)
-        t = new
-        lam, g, h = lambda_derivatives(t, cf, tau_low, alpha_b)
+        lam, g, h = lambda_derivatives(t, cf, tau_low, alpha_b, True)
         if lam < best_l:
             best_l, best_t = lam, t
         if g < 0.0:
@@ -92,13 +94,19 @@ def _refine(lo, hi, t, lam, g, h, cf, tau_low, alpha_b, tol, max_it):  # type: i
             hi = t
         else:
             break
-        if step <= tol * t or hi - lo <= tol * t:
+        new = t - g / h if h > 0.0 else lo - 1.0
+        if not lo < new < hi:
+            new = 0.5 * (lo + hi)
+        if abs(new - t) <= tol * t:
             break
+        t = new
     return best_l, best_t
 
 
 @njit(cache=True)
-def _search_piece(a, b, cf, tau_low, alpha_b, cells, tol, max_it, bound):  # type: ignore[no-untyped-def]
+def _search_piece(
+    a: float, b: float, cf: Array, tau_low: float, alpha_b: float, cells: int, tol: float, max_it: int, bound: float
+) -> tuple[float, float]:
     """Minimum of Eq. (10) over ``a <= tau <= b`` on the piece ``cf`` (see the module docstring).
 
     Brackets whose lower bound is at or above ``bound`` are not refined.
@@ -107,41 +115,47 @@ def _search_piece(a, b, cf, tau_low, alpha_b, cells, tol, max_it, bound):  # typ
         ``(lambda, tau)``.
     """
     t0 = a
-    l0, g0, h0 = lambda_derivatives(a, cf, tau_low, alpha_b)
+    l0, g0, _ = lambda_derivatives(a, cf, tau_low, alpha_b, False)
     best_l, best_t = l0, a
     for i in range(1, cells + 1):
         t1 = b if i == cells else a + (b - a) * i / cells
-        l1, g1, h1 = lambda_derivatives(t1, cf, tau_low, alpha_b)
+        l1, g1, _ = lambda_derivatives(t1, cf, tau_low, alpha_b, False)
         if l1 < best_l:
             best_l, best_t = l1, t1
         if g0 < 0.0 < g1 and lower_bound(t0, t1, cf, tau_low, alpha_b) < min(bound, best_l):
-            if l0 <= l1:
-                lr, tr = _refine(t0, t1, t0, l0, g0, h0, cf, tau_low, alpha_b, tol, max_it)
-            else:
-                lr, tr = _refine(t0, t1, t1, l1, g1, h1, cf, tau_low, alpha_b, tol, max_it)
+            lr, tr = _refine(t0, t1, g0, g1, cf, tau_low, alpha_b, tol, max_it)
             if lr < best_l:
                 best_l, best_t = lr, tr
-        t0, l0, g0, h0 = t1, l1, g1, h1
+        t0, g0 = t1, g1
     return best_l, best_t
 
 
 @njit(cache=True)
-def _minimise_hinge(k, w, length, overlap, height, weight, friction, rows, thickness, overload, st, cf, opts, bound):  # type: ignore[no-untyped-def]
-    """Minimum of Eq. (10) of wall ``w`` with the hinge under storey ``k - 1``; pieces whose bound reaches ``bound`` skipped."""
+def _minimise_hinge(
+    k: int, w: int, walls: tuple[Array, ...], st: Array, cf: Array, opts: Array, bound: float
+) -> tuple[float, float]:
+    """Minimum of Eq. (10) of wall ``w`` with the hinge under storey ``k - 1``.
+
+    ``walls`` holds the arrays of :func:`minimise_walls`; pieces whose lower
+    bound reaches ``bound`` are skipped.
+    """
+    length, overlap, height, weight, friction, rows, thickness, overload = walls
     L, v, b = length[w], overlap[w], height[w]
-    moment_a, overturn_a, n = storey_constants(k, L, v, b, weight[w], friction[w], rows[w], thickness[w], overload[w], st)
+    moment_a, overturn_a, n = storey_constants(
+        k, L, v, b, weight[w], friction[w], rows[w], thickness[w], overload[w], st
+    )
     tau_low, tau_high, alpha_b = v / (n * b), v / b, math.atan(v / b)
     cells, tol, max_it = int(opts[0]), opts[1], int(opts[2])
-    best_l, best_t = np.inf, np.nan
+    best_l, best_t = math.inf, math.nan
     start = 0.0
     for p in range(k + 1):
-        kink = L / ((st[p, 1] + st[p, 0]) * b) if p < k else np.inf
+        kink = L / ((st[p, 1] + st[p, 0]) * b) if p < k else math.inf
         lo, hi, start = max(tau_low, start), min(tau_high, kink), kink
         if hi < lo or (hi == lo and tau_high > tau_low):
             continue  # the kink lies outside Eq. (11): an empty piece
         piece_coefficients(p, k, st, moment_a, overturn_a, L, v, b, friction[w], cf)
         if hi == lo:  # a one-row mechanism: Eq. (11) is a point
-            return lambda_derivatives(lo, cf, tau_low, alpha_b)[0], lo
+            return lambda_derivatives(lo, cf, tau_low, alpha_b, False)[0], lo
         if lower_bound(lo, hi, cf, tau_low, alpha_b) >= min(bound, best_l):
             continue
         lam, tau = _search_piece(lo, hi, cf, tau_low, alpha_b, cells, tol, max_it, min(bound, best_l))
@@ -151,18 +165,41 @@ def _minimise_hinge(k, w, length, overlap, height, weight, friction, rows, thick
 
 
 @njit(cache=True)
-def _minimise_walls(length, overlap, height, weight, friction, rows, thickness, overload, opts, shared, lam, tau):  # type: ignore[no-untyped-def]
+def _minimise_walls(
+    walls: tuple[Array, ...], opts: Array, shared: bool, lam: Array, tau: Array, hinge: NDArray[np.int64], lam_s: Array
+) -> None:
+    length, overlap, height, weight, friction, rows, thickness, overload = walls
     n_walls, n_storeys = rows.shape
     st = np.empty((n_storeys, 12))
     cf = np.empty(N_COEF)
     for w in range(n_walls):
-        best = np.inf
+        best, best_k = math.inf, n_storeys
         for k in range(n_storeys, 0, -1):
-            bound = best if shared else np.inf
-            lam[w, k - 1], tau[w, k - 1] = _minimise_hinge(
-                k, w, length, overlap, height, weight, friction, rows, thickness, overload, st, cf, opts, bound
-            )
-            best = min(best, lam[w, k - 1])
+            lam[w, k - 1], tau[w, k - 1] = _minimise_hinge(k, w, walls, st, cf, opts, best if shared else math.inf)
+            if lam[w, k - 1] <= best:  # ties go to the upper hinge
+                best, best_k = lam[w, k - 1], k
+        hinge[w] = best_k
+        L, v, b, f, q = length[w], overlap[w], height[w], friction[w], overload[w]
+        storey_constants(best_k, L, v, b, weight[w], f, rows[w], thickness[w], q, st)
+        lam_s[w] = sliding_factor(tau[w, best_k - 1], best_k, st, L, v, b, f, q)
+
+
+@dataclass(frozen=True)
+class WallMinima:
+    """What :func:`minimise_walls` returns.
+
+    Attributes:
+        rocking_load_factor: minimum of Eq. (10) for each wall and hinge,
+            shape ``(W, N)``, column ``k - 1`` for the hinge under storey ``k``.
+        tan_alpha_c: the crack slope there, shape ``(W, N)``.
+        hinge_storey: the hinge storey of each wall's least minimum (1 = top), shape ``(W,)``.
+        sliding_load_factor: Eq. (12) at that hinge and crack, shape ``(W,)``.
+    """
+
+    rocking_load_factor: Array
+    tan_alpha_c: Array
+    hinge_storey: NDArray[np.int_]
+    sliding_load_factor: Array
 
 
 def minimise_walls(
@@ -177,7 +214,7 @@ def minimise_walls(
     settings: SearchSettings = DEFAULT_SEARCH,
     *,
     wall_minimum_only: bool = False,
-) -> tuple[Array, Array]:
+) -> WallMinima:
     """Minimum of Eq. (10) over Eq. (11) for every wall and every hinge storey.
 
     Args:
@@ -188,18 +225,32 @@ def minimise_walls(
         settings: the search.
         wall_minimum_only: exclude the pieces of every hinge whose bound lies
             above the least value found so far on the same wall (hinges are
-            searched from the bottom up): only the minimum over the hinges is
-            then exact, a hinge that cannot hold it returns a larger value or
-            ``inf``.
+            searched from the bottom up): only each wall's minimum over the
+            hinges is then exact, a hinge that cannot hold it reports a
+            larger value or ``inf``.
 
     Returns:
-        ``(lambda_r, tan_alpha_c)`` at the minimum, shape ``(W, N)``, column
-        ``k - 1`` for the hinge under storey ``k``.
+        The minima, see :class:`WallMinima`.
     """
-    vec = [np.ascontiguousarray(x, dtype=np.float64) for x in (length, overlap, block_height, unit_weight, friction)]
-    per = [np.ascontiguousarray(x, dtype=np.float64) for x in (rows, thickness, overload)]
-    lam = np.empty(per[0].shape)
-    tau = np.empty(per[0].shape)
+    walls = tuple(
+        np.ascontiguousarray(x, dtype=np.float64)
+        for x in (length, overlap, block_height, unit_weight, friction, rows, thickness, overload)
+    )
+    n_walls, n_storeys = walls[5].shape
+    out = WallMinima(
+        np.empty((n_walls, n_storeys)),
+        np.empty((n_walls, n_storeys)),
+        np.empty(n_walls, dtype=np.int64),
+        np.empty(n_walls),
+    )
     opts = np.array([settings.cells, settings.tolerance, settings.max_iterations], dtype=np.float64)
-    _minimise_walls(*vec, *per, opts, wall_minimum_only, lam, tau)
-    return lam, tau
+    _minimise_walls(
+        walls,
+        opts,
+        wall_minimum_only,
+        out.rocking_load_factor,
+        out.tan_alpha_c,
+        out.hinge_storey,
+        out.sliding_load_factor,
+    )
+    return out

@@ -238,13 +238,11 @@ def solve(wall: MacroWall, settings: SearchSettings = DEFAULT_SEARCH) -> MacroRe
         The governing :class:`MacroResult`.
     """
     start = time.perf_counter()
-    lam, tau = (
-        a[0]
-        for a in minimise_walls(
-            [wall.length], [wall.overlap], [wall.block_height], [wall.unit_weight], [wall.friction],
-            [wall.rows], [wall.thickness], [wall.overload], settings,
-        )
+    found = minimise_walls(
+        [wall.length], [wall.overlap], [wall.block_height], [wall.unit_weight], [wall.friction],
+        [wall.rows], [wall.thickness], [wall.overload], settings,
     )  # fmt: skip
+    lam, tau = found.rocking_load_factor[0], found.tan_alpha_c[0]
     pb = _problems(wall)
     k = int(np.argmin(lam))
     hinges = tuple(

@@ -13,7 +13,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from macro.equations import evaluate, hinge_problems
 from macro.search import DEFAULT_SEARCH, SearchSettings, minimise_walls
 
 MECHANISMS = ("rocking-sliding", "rocking", "sliding")
@@ -90,14 +89,14 @@ def sweep(
         per = np.repeat((o[sl] / N)[:, None], N, axis=1)
         q = np.repeat((p[sl] * (o[sl] if p_height == "wall" else o[sl] / N))[:, None], N, axis=1)
         ones = np.ones(n_w)
-        walls = dict(length=o[sl] / t[sl], overlap=0.5 / m[sl], block_height=ones, unit_weight=ones, friction=f[sl])
-        lam, tau = minimise_walls(**walls, rows=per, thickness=np.ones((n_w, N)), overload=q, settings=settings,
-                                  wall_minimum_only=True)  # fmt: skip
-        best = np.argmin(lam, axis=1)
+        found = minimise_walls(
+            o[sl] / t[sl], 0.5 / m[sl], ones, ones, f[sl], per, np.ones((n_w, N)), q, settings, wall_minimum_only=True
+        )
         r = np.arange(n_w)
-        out["lam"][sl], out["tau"][sl], out["hinge"][sl] = lam[r, best], tau[r, best], best + 1
-        pb = hinge_problems(**walls, rows=per, thickness=np.ones((n_w, N)), overload=q, hinge=best + 1)
-        out["lam_s"][sl] = evaluate(out["tau"][sl, None], pb)["lambda_s"][:, 0]
+        out["hinge"][sl] = found.hinge_storey
+        out["lam"][sl] = found.rocking_load_factor[r, found.hinge_storey - 1]
+        out["tau"][sl] = found.tan_alpha_c[r, found.hinge_storey - 1]
+        out["lam_s"][sl] = found.sliding_load_factor
 
     lam, tau = out["lam"], out["tau"]
     ratio = np.arctan(tau) / np.arctan(0.5 / m)

@@ -91,8 +91,12 @@ PUBLISHED = [
 ]
 
 
-@pytest.mark.parametrize(("name", "quantity", "value", "rounding"), PUBLISHED, ids=[f"{p[0]}-{p[1]}" for p in PUBLISHED])
-def test_published_values(results: dict[str, macro.MacroResult], name: str, quantity: str, value: float, rounding: float) -> None:
+@pytest.mark.parametrize(
+    ("name", "quantity", "value", "rounding"), PUBLISHED, ids=[f"{p[0]}-{p[1]}" for p in PUBLISHED]
+)
+def test_published_values(
+    results: dict[str, macro.MacroResult], name: str, quantity: str, value: float, rounding: float
+) -> None:
     ours = _ours(results[name], quantity)
     gap = KNOWN_GAPS.get((name, quantity))
     if gap is None:
