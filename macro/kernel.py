@@ -1,4 +1,4 @@
-"""Eq. (10) on one smooth piece of the crack slope, with its first two derivatives.
+"""The compiled kernel of the search: Eq. (10) piece by piece, its derivatives and bounds, the search.
 
 Between two kinks ``alpha_pi`` the set of crossed storeys is fixed: the
 storeys below the crack exit are crossed whole (``n_c = n_i``), the one the
@@ -19,9 +19,12 @@ storeys; :func:`lambda_derivatives` then costs a few multiply-adds and one
 ``atan``; :func:`lower_bound` bounds ``lambda`` from below over an interval
 by interval arithmetic (every monomial is monotone in ``x, y >= 0``).
 
-The functions are compiled by numba (``nopython``): the search calls them
-millions of times on scalars, where numpy's per-call overhead dominates.
-A test pins them to the term-by-term :func:`macro.equations.evaluate`.
+The search of :mod:`macro.search` (:func:`search_walls`) calls them millions
+of times on scalars, where numpy's per-call overhead dominates: they are
+compiled by numba (``nopython``, cached on disk). Every compiled function
+lives in this one file on purpose: numba's cache is invalidated when the
+file of the function changes, not when a file it calls into does. Tests pin
+them to the term-by-term :func:`macro.equations.evaluate`.
 """
 
 from __future__ import annotations
@@ -260,3 +263,125 @@ def sliding_factor(
         weight += overload[i] * floor
         resist += overlap * friction * nc * (0.5 * K * (nc + 1.0) + (n - nc) * K + LA)
     return resist / weight
+
+
+@njit(cache=True)
+def _refine(
+    lo: float, hi: float, g_lo: float, g_hi: float, cf: Array, tau_low: float, alpha_b: float, tol: float, max_it: int
+) -> tuple[float, float]:
+    """Safeguarded Newton on ``dlambda/dtau`` in ``[lo, hi]``, where it goes from ``g_lo < 0`` to ``g_hi > 0``.
+
+    Starts where the chord of the derivative crosses zero; a Newton step that
+    leaves the bracket (or meets a non-positive curvature) is replaced by
+    bisection. Stops when the next step would be below ``tol * tau``.
+
+    Returns:
+        ``(lambda, tau)`` at the least point evaluated.
+    """
+    t = lo - g_lo * (hi - lo) / (g_hi - g_lo)
+    best_l, best_t = math.inf, t
+    for _ in range(max_it):
+        lam, g, h = lambda_derivatives(t, cf, tau_low, alpha_b, True)
+        if lam < best_l:
+            best_l, best_t = lam, t
+        if g < 0.0:
+            lo = t
+        elif g > 0.0:
+            hi = t
+        else:
+            break
+        new = t - g / h if h > 0.0 else lo - 1.0
+        if not lo < new < hi:
+            new = 0.5 * (lo + hi)
+        if abs(new - t) <= tol * t:
+            break
+        t = new
+    return best_l, best_t
+
+
+@njit(cache=True)
+def _search_piece(
+    a: float, b: float, cf: Array, tau_low: float, alpha_b: float, cells: int, tol: float, max_it: int, bound: float
+) -> tuple[float, float]:
+    """Minimum of Eq. (10) over ``a <= tau <= b`` on the piece ``cf`` (see the module docstring).
+
+    Brackets whose lower bound is at or above ``bound`` are not refined.
+
+    Returns:
+        ``(lambda, tau)``.
+    """
+    t0 = a
+    l0, g0, _ = lambda_derivatives(a, cf, tau_low, alpha_b, False)
+    best_l, best_t = l0, a
+    for i in range(1, cells + 1):
+        t1 = b if i == cells else a + (b - a) * i / cells
+        l1, g1, _ = lambda_derivatives(t1, cf, tau_low, alpha_b, False)
+        if l1 < best_l:
+            best_l, best_t = l1, t1
+        if g0 < 0.0 < g1 and lower_bound(t0, t1, cf, tau_low, alpha_b) < min(bound, best_l):
+            lr, tr = _refine(t0, t1, g0, g1, cf, tau_low, alpha_b, tol, max_it)
+            if lr < best_l:
+                best_l, best_t = lr, tr
+        t0, g0 = t1, g1
+    return best_l, best_t
+
+
+@njit(cache=True)
+def _minimise_hinge(
+    k: int, w: int, walls: tuple[Array, ...], st: Array, cf: Array, opts: Array, bound: float
+) -> tuple[float, float]:
+    """Minimum of Eq. (10) of wall ``w`` with the hinge under storey ``k - 1``.
+
+    ``walls`` holds the arrays of :func:`minimise_walls`; pieces whose lower
+    bound reaches ``bound`` are skipped.
+    """
+    length, overlap, height, weight, friction, rows, thickness, overload = walls
+    L, v, b = length[w], overlap[w], height[w]
+    moment_a, overturn_a, n = storey_constants(
+        k, L, v, b, weight[w], friction[w], rows[w], thickness[w], overload[w], st
+    )
+    tau_low, tau_high, alpha_b = v / (n * b), v / b, math.atan(v / b)
+    cells, tol, max_it = int(opts[0]), opts[1], int(opts[2])
+    best_l, best_t = math.inf, math.nan
+    start = 0.0
+    for p in range(k + 1):
+        kink = L / ((st[p, 1] + st[p, 0]) * b) if p < k else math.inf
+        lo, hi, start = max(tau_low, start), min(tau_high, kink), kink
+        if hi < lo or (hi == lo and tau_high > tau_low):
+            continue  # the kink lies outside Eq. (11): an empty piece
+        piece_coefficients(p, k, st, moment_a, overturn_a, L, v, b, friction[w], cf)
+        if hi == lo:  # a one-row mechanism: Eq. (11) is a point
+            return lambda_derivatives(lo, cf, tau_low, alpha_b, False)[0], lo
+        if lower_bound(lo, hi, cf, tau_low, alpha_b) >= min(bound, best_l):
+            continue
+        lam, tau = _search_piece(lo, hi, cf, tau_low, alpha_b, cells, tol, max_it, min(bound, best_l))
+        if lam < best_l:
+            best_l, best_t = lam, tau
+    return best_l, best_t
+
+
+@njit(cache=True)
+def search_walls(
+    walls: tuple[Array, ...], opts: Array, shared: bool, lam: Array, tau: Array, hinge: NDArray[np.int64], lam_s: Array
+) -> None:
+    """The search of :mod:`macro.search` over walls ``walls`` (the arrays of :func:`macro.search.minimise_walls`).
+
+    Fills, per wall and hinge, the minimum ``lam`` and its slope ``tau``; per
+    wall, the hinge of the least minimum and Eq. (12) there. With ``shared``,
+    the least value found on a wall bounds the search of its other hinges.
+    ``opts`` holds ``cells, tolerance, max_iterations``.
+    """
+    length, overlap, height, weight, friction, rows, thickness, overload = walls
+    n_walls, n_storeys = rows.shape
+    st = np.empty((n_storeys, 12))
+    cf = np.empty(N_COEF)
+    for w in range(n_walls):
+        best, best_k = math.inf, n_storeys
+        for k in range(n_storeys, 0, -1):
+            lam[w, k - 1], tau[w, k - 1] = _minimise_hinge(k, w, walls, st, cf, opts, best if shared else math.inf)
+            if lam[w, k - 1] <= best:  # ties go to the upper hinge
+                best, best_k = lam[w, k - 1], k
+        hinge[w] = best_k
+        L, v, b, f, q = length[w], overlap[w], height[w], friction[w], overload[w]
+        storey_constants(best_k, L, v, b, weight[w], f, rows[w], thickness[w], q, st)
+        lam_s[w] = sliding_factor(tau[w, best_k - 1], best_k, st, L, v, b, f, q)

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
 import numpy as np
 from brute_force import random_walls
+from numpy.typing import NDArray
 
-from macro.equations import evaluate
-from macro.pieces import N_COEF, lambda_derivatives, lower_bound, piece_coefficients, storey_constants
+from macro.equations import HingeProblems, evaluate
+from macro.kernel import N_COEF, lambda_derivatives, lower_bound, piece_coefficients, storey_constants
 
 
-def _pieces():  # type: ignore[no-untyped-def]
+def _pieces() -> Iterator[tuple[HingeProblems, NDArray[np.float64], float, float, float, float]]:
     """Every non-empty piece of every hinge of random walls: (problem, coefficients, tau_low, alpha_b, a, b)."""
     rng = np.random.default_rng(3)
     for storeys in (1, 2, 3, 5):
