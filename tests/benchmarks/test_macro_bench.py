@@ -54,7 +54,7 @@ def _walls(n: int, storeys: int) -> dict[str, NDArray[np.float64]]:
 @pytest.mark.parametrize("storeys", [1, 3, 5])
 def test_sweep_100k_walls(benchmark: BenchmarkFixture, storeys: int) -> None:
     walls = _walls(WALLS, storeys)
-    macro.sweep(1.0, 1 / 3, 12, 0.6, storeys=storeys)  # compiled code loaded before timing
+    macro.sweep(1.0, 1 / 3, 12 * storeys, 0.6, storeys=storeys)  # compiled code loaded before timing
     args = tuple(walls[k] for k in ("t", "m", "rows", "f", "p"))
     r = benchmark.pedantic(macro.sweep, args=args, kwargs=dict(storeys=storeys), rounds=5, iterations=1)
     if benchmark.stats is not None:  # None when benchmarks are disabled
