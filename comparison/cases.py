@@ -17,8 +17,9 @@ Published values are tagged with their table and the model that produced them:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Literal
 
-from comparison.spec import WallSpec
+from comparison.wall import WallSpec
 
 MODELS = {
     "proposed": "Proposed macro-block model (Argiento et al. 2018)",
@@ -69,11 +70,18 @@ class PaperCase:
         """``"Ref"`` or ``"Set 7"``."""
         return self.case if self.case == "Ref" else f"Set {self.case}"
 
-    def spec(self, p_height: str = "wall") -> WallSpec:
+    def spec(self, p_height: Literal["wall", "storey"] = "wall") -> WallSpec:
         """The dimensional wall (see :meth:`WallSpec.from_paper`)."""
         return WallSpec.from_paper(
-            t=self.t, m=self.m, rows=self.rows, f=self.f, p=self.p, storeys=self.storeys, p_height=p_height, name=self.label
-        )  # type: ignore[arg-type]
+            t=self.t,
+            m=self.m,
+            rows=self.rows,
+            f=self.f,
+            p=self.p,
+            storeys=self.storeys,
+            p_height=p_height,
+            name=self.label,
+        )
 
     def value(self, model: str, quantity: str = "lambda") -> Published | None:
         """The published value of ``quantity`` by ``model``, if any."""
@@ -100,7 +108,9 @@ def _t5(case: str, lam: float, alpha: float, ratio: float, hinge: int = 3, **kw:
     )
 
 
-def _t78(case: str, t: float, m: float, micro: float, proposed: float, orduna: float, debuhan: float, speranza: float) -> PaperCase:
+def _t78(
+    case: str, t: float, m: float, micro: float, proposed: float, orduna: float, debuhan: float, speranza: float
+) -> PaperCase:
     return PaperCase(
         case=case,
         t=t,

@@ -21,8 +21,8 @@ From the block velocities of the mechanism:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Protocol
+from dataclasses import asdict, dataclass, fields
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -36,14 +36,22 @@ MOVING_TOL = 1e-3
 class Blocks(Protocol):
     """What the extraction needs of a block wall (``micro.BlockWall`` has it)."""
 
-    length: float
-    block_height: float
-    x0: FloatArray
-    x1: FloatArray
-    y0: FloatArray
-    y1: FloatArray
-    course: NDArray[np.int64]
-    storey: NDArray[np.int64]
+    @property
+    def length(self) -> float: ...
+    @property
+    def block_height(self) -> float: ...
+    @property
+    def x0(self) -> FloatArray: ...
+    @property
+    def x1(self) -> FloatArray: ...
+    @property
+    def y0(self) -> FloatArray: ...
+    @property
+    def y1(self) -> FloatArray: ...
+    @property
+    def course(self) -> NDArray[np.int64]: ...
+    @property
+    def storey(self) -> NDArray[np.int64]: ...
 
 
 @dataclass(frozen=True)
@@ -77,6 +85,16 @@ class FailureMode:
     whole_length_courses: int
     rotation: float
     direction: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary (non-finite numbers as ``None``)."""
+        return {k: None if isinstance(v, float) and not math.isfinite(v) else v for k, v in asdict(self).items()}
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> FailureMode:
+        """The failure mode :meth:`to_dict` wrote (``None`` read back as NaN)."""
+        values: dict[str, Any] = {f.name: math.nan if d[f.name] is None else d[f.name] for f in fields(cls)}
+        return cls(**values)
 
 
 def block_speeds(blocks: Blocks, velocities: FloatArray) -> FloatArray:
@@ -134,10 +152,7 @@ def failure_mode(blocks: Blocks, velocities: FloatArray, direction: str) -> Fail
         ys.append(0.5 * float(blocks.y0[in_c][0] + blocks.y1[in_c][0]) - y_base)
         xs.append(edge)
     y, x = np.asarray(ys), np.asarray(xs)
-    if y.size >= 2 and np.ptp(y) > 0:
-        slope = float(np.polyfit(y, x, 1)[0])
-    else:
-        slope = float("nan")
+    slope = float(np.polyfit(y, x, 1)[0]) if y.size >= 2 and np.ptp(y) > 0 else float("nan")
     if y.size:
         k = int(np.argmax(y))
         conventional = math.degrees(math.atan2(x[k], y[k] + 0.5 * blocks.block_height))

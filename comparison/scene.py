@@ -29,7 +29,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from comparison.spec import StoreySpec, WallSpec
+from comparison.wall import StoreySpec, WallSpec, positive
 
 _ALLOWED: dict[str, set[str]] = {
     "": {"name", "wall", "block", "storey"},
@@ -91,80 +91,91 @@ def load_scene(path: str | Path) -> WallSpec:
     return parse_scene(text, source=str(path))
 
 
+class _Source:
+    """The text of a scene and its name, to word errors with the key's line."""
+
+    def __init__(self, text: str, source: str) -> None:
+        self.text, self.source = text, source
+
+    def error(self, msg: str, table: str = "", key: str | None = None, index: int = 0) -> SceneError:
+        line = _key_line(self.text, table, key, index) if key else _table_line(self.text, table, index)
+        where = f" (line {line})" if line else ""
+        return SceneError(f"scene {self.source}{where}: {msg}")
+
+
 def parse_scene(text: str, source: str = "<scene>") -> WallSpec:
     """Parse the text of a TOML scene; see :func:`load_scene`."""
     try:
         data: dict[str, Any] = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"scene {source}: malformed TOML: {exc}") from None
+    src = _Source(text, source)
+    tables = _tables(data, src)
+    name = data.get("name", Path(source).stem)
+    if not isinstance(name, str):
+        raise src.error(f"name must be a string, got {name!r}", "", "name")
+    return _wall(tables, name, src)
 
-    def fail(msg: str, table: str = "", key: str | None = None, index: int = 0) -> SceneError:
-        line = _key_line(text, table, key, index) if key else _table_line(text, table, index)
-        where = f" (line {line})" if line else ""
-        return SceneError(f"scene {source}{where}: {msg}")
 
+def _tables(data: dict[str, Any], src: _Source) -> dict[str, list[dict[str, Any]]]:
+    """The tables of the scene, every key known and every required key there."""
     for key in data:
         if key not in _ALLOWED[""]:
-            raise fail(f"unknown key {key!r}", "", key) if _key_line(text, "", key) else fail(
-                f"unknown table [{key}]", key
+            raise (
+                src.error(f"unknown key {key!r}", "", key)
+                if _key_line(src.text, "", key)
+                else src.error(f"unknown table [{key}]", key)
             )
     tables: dict[str, list[dict[str, Any]]] = {}
     for table in ("wall", "block"):
         if table not in data:
-            raise SceneError(f"scene {source}: missing table [{table}]")
+            raise SceneError(f"scene {src.source}: missing table [{table}]")
         if not isinstance(data[table], dict):
-            raise fail(f"[{table}] must be a table", table)
+            raise src.error(f"[{table}] must be a table", table)
         tables[table] = [data[table]]
     storeys = data.get("storey")
     if not storeys:
-        raise SceneError(f"scene {source}: no [[storey]] given; a wall needs at least one storey")
+        raise SceneError(f"scene {src.source}: no [[storey]] given; a wall needs at least one storey")
     if not isinstance(storeys, list):
-        raise fail("storey must be an array of tables, written [[storey]]", "storey")
+        raise src.error("storey must be an array of tables, written [[storey]]", "storey")
     tables["storey"] = storeys
-
     for table, entries in tables.items():
         for index, entry in enumerate(entries):
-            for key in entry:
-                if key not in _ALLOWED[table]:
-                    raise fail(f"unknown key {key!r} in [{table}]", table, key, index)
-            for key in sorted(_REQUIRED[table] - set(entry)):
-                raise fail(f"missing key {key!r} in [{table}]", table, None, index)
+            _check_keys(table, index, entry, src)
+    return tables
 
-    def value(table: str, key: str, index: int = 0, default: Any = None) -> Any:
-        v = tables[table][index].get(key, default)
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise fail(f"{table}.{key} must be a number, got {v!r}", table, key, index)
-        return v
 
-    name = data.get("name", Path(source).stem)
-    if not isinstance(name, str):
-        raise fail(f"name must be a string, got {name!r}", "", "name")
+def _check_keys(table: str, index: int, entry: dict[str, Any], src: _Source) -> None:
+    """Every key of the ``index``-th ``[table]`` known, every required one there."""
+    for key in entry:
+        if key not in _ALLOWED[table]:
+            raise src.error(f"unknown key {key!r} in [{table}]", table, key, index)
+    for key in sorted(_REQUIRED[table] - set(entry)):
+        raise src.error(f"missing key {key!r} in [{table}]", table, None, index)
+
+
+def _wall(tables: dict[str, list[dict[str, Any]]], name: str, src: _Source) -> WallSpec:
+    """The wall of checked tables; a bad value is worded with the wall vocabulary and its line."""
     scalars = {}
-    for table, key, label, default in (
-        ("wall", "length", "length", None),
-        ("block", "length", "block length", None),
-        ("block", "height", "block height", None),
-        ("wall", "unit_weight", "unit weight", 1.0),
-        ("wall", "friction", "friction f", None),
+    for table, key, default in (
+        ("wall", "length", None),
+        ("block", "length", None),
+        ("block", "height", None),
+        ("wall", "unit_weight", 1.0),
+        ("wall", "friction", None),
     ):
-        x = value(table, key, 0, default)
-        if x <= 0:
-            raise fail(f"{table}.{key}: {label} must be a positive number, got {x!r}", table, key)
-        scalars[(table, key)] = x
+        try:
+            scalars[(table, key)] = positive(f"{table}.{key}", tables[table][0].get(key, default))
+        except ValueError as exc:
+            raise src.error(str(exc), table, key) from None
     height = scalars[("block", "height")]
     built: list[StoreySpec] = []
-    for i in range(len(storeys)):
+    for i, entry in enumerate(tables["storey"]):
         try:
-            built.append(
-                StoreySpec(
-                    rows=value("storey", "rows", i),
-                    thickness=value("storey", "thickness", i, height),
-                    overload=value("storey", "overload", i, 0.0),
-                )
-            )
+            built.append(StoreySpec(entry["rows"], entry.get("thickness", height), entry.get("overload", 0.0)))
         except ValueError as exc:
             key = str(exc).split(" must", 1)[0]
-            raise fail(f"storey {i + 1}: {exc}", "storey", key, i) from None
+            raise src.error(f"storey {i + 1}: {exc}", "storey", key, i) from None
     return WallSpec(
         length=scalars[("wall", "length")],
         block_length=scalars[("block", "length")],

@@ -13,6 +13,8 @@ Example:
     0.583
 """
 
+from macro.paper import PaperWalls, paper_walls
+from macro.records import MacroRecord
 from macro.search import SearchSettings
 from macro.solve import HingeResult, MacroResult, MacroWall, StoreyTerms, load_factor_curve, solve
 from macro.sweep import MECHANISMS, SweepResult, sweep
@@ -20,12 +22,15 @@ from macro.sweep import MECHANISMS, SweepResult, sweep
 __all__ = [
     "MECHANISMS",
     "HingeResult",
+    "MacroRecord",
     "MacroResult",
     "MacroWall",
+    "PaperWalls",
     "SearchSettings",
     "StoreyTerms",
     "SweepResult",
     "load_factor_curve",
+    "paper_walls",
     "solve",
     "sweep",
 ]

@@ -9,18 +9,13 @@ from typing import Any
 
 import numpy as np
 
+from macro import checks
 from macro.equations import TERM_NAMES, evaluate, hinge_problems
+from macro.records import MacroRecord
 from macro.search import DEFAULT_SEARCH, SearchSettings, minimise_walls
 
 #: Tolerance on ``alpha_c/alpha_b`` above which the mechanism reads as pure rocking.
 ROCKING_TOL = 1e-9
-
-
-def _check_positive(name: str, value: float) -> float:
-    x = float(value)
-    if not math.isfinite(x) or x <= 0.0:
-        raise ValueError(f"{name} must be a positive number, got {value!r}")
-    return x
 
 
 @dataclass(frozen=True)
@@ -50,31 +45,14 @@ class MacroWall:
     friction: float = 0.6
 
     def __post_init__(self) -> None:
-        for name, label in (
-            ("length", "length"),
-            ("block_length", "block length"),
-            ("block_height", "block height"),
-            ("unit_weight", "unit weight"),
-            ("friction", "friction f"),
-        ):
-            object.__setattr__(self, name, _check_positive(label, getattr(self, name)))
-        rows, thk, q = tuple(self.rows), tuple(self.thickness), tuple(self.overload)
-        if not rows:
-            raise ValueError("storeys: a wall needs at least one storey")
-        if not (len(rows) == len(thk) == len(q)):
-            raise ValueError(
-                f"storeys: rows, thickness and overload need one value per storey, got {len(rows)}, {len(thk)}, {len(q)}"
-            )
-        for r in rows:
-            if isinstance(r, bool) or not float(r).is_integer() or r <= 0:
-                raise ValueError(f"rows must be a positive integer, got {r!r}")
-        thk = tuple(_check_positive("thickness", x) for x in thk)
-        for x in q:
-            if not math.isfinite(float(x)) or float(x) < 0.0:
-                raise ValueError(f"overload must be zero or positive, got {x!r}")
-        object.__setattr__(self, "rows", tuple(int(r) for r in rows))
-        object.__setattr__(self, "thickness", thk)
-        object.__setattr__(self, "overload", tuple(float(x) for x in q))
+        for name in ("length", "block_length", "block_height", "unit_weight", "friction"):
+            object.__setattr__(self, name, checks.positive(name, getattr(self, name)))
+        rows = checks.per_storey("rows", self.rows, None, checks.positive_int)
+        thickness = checks.per_storey("thickness", self.thickness, len(rows), checks.positive)
+        overload = checks.per_storey("overload", self.overload, len(rows), checks.non_negative)
+        object.__setattr__(self, "rows", rows)
+        object.__setattr__(self, "thickness", thickness)
+        object.__setattr__(self, "overload", overload)
 
     @property
     def storeys(self) -> int:
@@ -147,6 +125,9 @@ class MacroResult:
             hinge storey.
         sliding_load_factor: ``lambda_s`` of Eq. (12) at the optimum crack.
         tan_alpha_c: crack slope at the optimum; ``alpha_c_deg`` the angle.
+        tan_alpha_c_star: slope of the stepped crack of Eq. (9),
+            ``tan(alpha_c) - v/(n b)`` with ``n`` the rows of the mechanism;
+            ``alpha_c_star_deg`` the angle.
         alpha_b_deg: ``atan(v/b)``; ``alpha_ratio = alpha_c/alpha_b``.
         hinge_storey: storey whose base holds the hinge (1 = top).
         mechanism: ``"rocking-sliding"``, ``"rocking"`` (``alpha_c = alpha_b``,
@@ -167,6 +148,8 @@ class MacroResult:
     sliding_load_factor: float
     tan_alpha_c: float
     alpha_c_deg: float
+    tan_alpha_c_star: float
+    alpha_c_star_deg: float
     alpha_b_deg: float
     alpha_ratio: float
     hinge_storey: int
@@ -186,6 +169,25 @@ class MacroResult:
         d = asdict(self)
         d["wall"] = asdict(self.wall)
         return d
+
+    def to_record(self) -> MacroRecord:
+        """The flat record of this result (see :class:`macro.records.MacroRecord`)."""
+        return MacroRecord(
+            load_factor=self.load_factor,
+            rocking_load_factor=self.rocking_load_factor,
+            sliding_load_factor=self.sliding_load_factor,
+            tan_alpha_c=self.tan_alpha_c,
+            alpha_c_deg=self.alpha_c_deg,
+            tan_alpha_c_star=self.tan_alpha_c_star,
+            alpha_c_star_deg=self.alpha_c_star_deg,
+            alpha_b_deg=self.alpha_b_deg,
+            alpha_ratio=self.alpha_ratio,
+            hinge_storey=self.hinge_storey,
+            hinge_load_factors=tuple(h.rocking_load_factor for h in self.hinges),
+            mechanism=self.mechanism,
+            status=self.status,
+            solve_seconds=self.solve_seconds,
+        )
 
 
 def _problems(wall: MacroWall) -> Any:
@@ -254,6 +256,7 @@ def solve(wall: MacroWall, settings: SearchSettings = DEFAULT_SEARCH) -> MacroRe
     )
     lam_r = float(lam[k])
     ratio = math.atan(tau[k]) / wall.alpha_b
+    tau_star = float(tau[k]) - wall.overlap / (sum(wall.rows[: k + 1]) * wall.block_height)
     if wall.friction < lam_r:
         mechanism = "sliding"
     elif ratio >= 1.0 - ROCKING_TOL:
@@ -266,6 +269,8 @@ def solve(wall: MacroWall, settings: SearchSettings = DEFAULT_SEARCH) -> MacroRe
         sliding_load_factor=float(at["lambda_s"][0, 0]),
         tan_alpha_c=float(tau[k]),
         alpha_c_deg=math.degrees(math.atan(tau[k])),
+        tan_alpha_c_star=tau_star,
+        alpha_c_star_deg=math.degrees(math.atan(tau_star)),
         alpha_b_deg=math.degrees(wall.alpha_b),
         alpha_ratio=ratio,
         hinge_storey=k + 1,

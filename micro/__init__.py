@@ -28,6 +28,7 @@ from micro.nonassociative import (
     solve_nonassociative,
     verify_collapse_state,
 )
+from micro.records import AssociativeRecord, MicroRecord, NonAssociativeRecord
 from micro.solvers import SOLVERS, Status, make_backend
 
 __all__ = [
@@ -50,4 +51,8 @@ __all__ = [
     "NonAssociativeResult",
     "solve_nonassociative",
     "verify_collapse_state",
+    # flat JSON-ready records
+    "AssociativeRecord",
+    "MicroRecord",
+    "NonAssociativeRecord",
 ]

@@ -17,7 +17,8 @@ from numpy.typing import NDArray
 
 from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
-from micro.mechanism import Mechanism, mechanism_from_duals
+from micro.mechanism import CONTACT_STATE_NAMES, Mechanism, mechanism_from_duals
+from micro.records import AssociativeRecord
 from micro.solvers import Backend, Status, make_backend
 
 FloatArray = NDArray[np.float64]
@@ -65,7 +66,9 @@ class LimitResult:
         build_seconds: wall time of the LP assembly plus the back end's setup.
         solve_seconds: wall time of all solves.
         blocks, contacts, points, variables, rows, nnz: problem sizes.
-        iterations: solver iterations, summed over the directions.
+        iterations: solver iterations of the governing direction (of the
+            first failing direction when a solve failed).
+        total_iterations: solver iterations summed over the directions.
         normal, shear: point forces of the governing direction (dimensional,
             point ``2c + k`` is end ``k`` of contact ``c``).
         velocities: ``(blocks, 3)`` block velocities ``(u, v, omega)`` of the
@@ -89,6 +92,7 @@ class LimitResult:
     rows: int
     nnz: int
     iterations: int
+    total_iterations: int
     normal: FloatArray | None = field(repr=False)
     shear: FloatArray | None = field(repr=False)
     velocities: FloatArray | None = field(repr=False)
@@ -122,27 +126,29 @@ class LimitResult:
                                    {"mirror_of": d.direction})
         raise KeyError(direction)
 
+    def to_record(self) -> AssociativeRecord:
+        """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
+        counts = dict.fromkeys(CONTACT_STATE_NAMES, 0)
+        for c in self.contact_state or ():
+            counts[c] += 1
+        by_dir = {d.direction: d.load_factor for d in self.directions}
+        return AssociativeRecord(
+            load_factor=self.load_factor, status=self.status, solver=self.solver, direction=self.direction,
+            load_factor_plus=by_dir.get("+x", math.nan), load_factor_minus=by_dir.get("-x", math.nan),
+            blocks=self.blocks, contacts=self.contacts, points=self.points, variables=self.variables,
+            rows=self.rows, nnz=self.nnz, iterations=self.iterations, total_iterations=self.total_iterations,
+            build_seconds=self.build_seconds, solve_seconds=self.solve_seconds,
+            mirror_symmetric=self.mirror_symmetric, closed_contacts=counts["closed"],
+            opening_contacts=counts["opening"], sliding_contacts=counts["sliding"], message=self.message,
+        )
+
     def summary(self) -> dict[str, Any]:
-        """JSON-ready summary (numbers and strings only)."""
-        counts: dict[str, int] = {}
-        if self.contact_state is not None:
-            for s in ("closed", "opening", "sliding"):
-                counts[s] = int(sum(1 for c in self.contact_state if c == s))
+        """JSON-ready summary: the record (:meth:`to_record`) with the contact
+        states and the directions as nested objects."""
+        record = self.to_record()
         return {
-            "load_factor": None if not math.isfinite(self.load_factor) else self.load_factor,
-            "status": self.status,
-            "solver": self.solver,
-            "direction": self.direction,
-            "blocks": self.blocks,
-            "contacts": self.contacts,
-            "points": self.points,
-            "variables": self.variables,
-            "rows": self.rows,
-            "nnz": self.nnz,
-            "iterations": self.iterations,
-            "build_seconds": self.build_seconds,
-            "solve_seconds": self.solve_seconds,
-            "mirror_symmetric": self.mirror_symmetric,
+            **record.to_dict(),
+            "contact_states": record.contact_states if self.contact_state is not None else {},
             "directions": {
                 d.direction: {
                     "load_factor": None if not math.isfinite(d.load_factor) else d.load_factor,
@@ -153,8 +159,6 @@ class LimitResult:
                 }
                 for d in self.directions
             },
-            "contact_states": counts,
-            "message": self.message,
         }
 
 
@@ -225,7 +229,7 @@ def _solve(lp: LimitLP, backend: Backend, dirs: tuple[int, ...], build: float, s
                             raw.solve_seconds, normal, shear, mech, info)
         )
     solve_secs = sum(r.solve_seconds for r in results)
-    iters = sum(r.iterations for r in results)
+    total = sum(r.iterations for r in results)
     failed = [r for r in results if r.status != Status.OPTIMAL.value]
     sizes = dict(
         blocks=lp.wall.n_blocks, contacts=lp.wall.n_contacts, points=lp.n_points,
@@ -237,16 +241,16 @@ def _solve(lp: LimitLP, backend: Backend, dirs: tuple[int, ...], build: float, s
             "infeasible": "no equilibrium: the wall cannot stand under its own weight",
             "unbounded": "the load factor is unbounded (no live load, or nothing limits it)",
         }.get(f.status, f"solver {backend.name} stopped with {f.status} ({f.native_status}) for {f.direction}")
-        return LimitResult(float("nan"), "", f.status, backend.name, build, solve_secs, iterations=iters,
+        return LimitResult(float("nan"), "", f.status, backend.name, build, solve_secs, iterations=f.iterations,
+                           total_iterations=total,
                            normal=None, shear=None, velocities=None, contact_state=None,
                            mirror_symmetric=symmetric, directions=tuple(results), message=msg, **sizes)
     gov = min(results, key=lambda r: r.load_factor)
     mech = gov.mechanism
-    from micro.mechanism import CONTACT_STATE_NAMES
-
     states = tuple(CONTACT_STATE_NAMES[i] for i in mech.contact_state) if mech is not None else None
     return LimitResult(
-        gov.load_factor, gov.direction, Status.OPTIMAL.value, backend.name, build, solve_secs, iterations=iters,
+        gov.load_factor, gov.direction, Status.OPTIMAL.value, backend.name, build, solve_secs,
+        iterations=gov.iterations, total_iterations=total,
         normal=gov.normal, shear=gov.shear, velocities=None if mech is None else mech.velocities,
         contact_state=states, mirror_symmetric=symmetric, directions=tuple(results), **sizes,
     )

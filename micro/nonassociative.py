@@ -115,6 +115,7 @@ from numpy.typing import NDArray
 from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.mechanism import CONTACT_STATE_NAMES, STATE_TOL, Mechanism, mechanism_from_duals
+from micro.records import NonAssociativeRecord
 from micro.solvers import HighsBackend, Status
 
 FloatArray = NDArray[np.float64]
@@ -276,7 +277,8 @@ class NonAssociativeResult:
             directions solved.
         cold_load_factor, warm_cold_rel_diff, coulomb_residual,
             dilatancy_residual: final-state checks of that direction.
-        blocks, contacts, points: sizes.
+        blocks, contacts, points: sizes of the wall.
+        variables, rows, nnz: sizes of the assembled associative LP.
         build_seconds: assembly of the LP.
         solve_seconds: all sequences, incl. cold checks.
         mirror_symmetric: one direction solved.
@@ -302,6 +304,9 @@ class NonAssociativeResult:
     blocks: int
     contacts: int
     points: int
+    variables: int
+    rows: int
+    nnz: int
     build_seconds: float
     solve_seconds: float
     mirror_symmetric: bool
@@ -331,42 +336,45 @@ class NonAssociativeResult:
                 return d
         return self.directions[0]
 
+    @property
+    def total_iterations(self) -> int:
+        """Non-associative LPs summed over the directions solved."""
+        return sum(d.iterations for d in self.directions)
+
+    def to_record(self) -> NonAssociativeRecord:
+        """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
+        g = self.governing
+        counts = dict.fromkeys(CONTACT_STATE_NAMES, 0) if g.mechanism is None else g.mechanism.state_counts()
+        by_dir = {d.direction: d.load_factor for d in self.directions}
+        return NonAssociativeRecord(
+            load_factor=self.load_factor, status=self.status, solver=solver_description(self.options),
+            direction=self.direction, load_factor_plus=by_dir.get("+x", math.nan),
+            load_factor_minus=by_dir.get("-x", math.nan), blocks=self.blocks, contacts=self.contacts,
+            points=self.points, variables=self.variables, rows=self.rows, nnz=self.nnz,
+            iterations=self.iterations, total_iterations=self.total_iterations, build_seconds=self.build_seconds,
+            solve_seconds=self.solve_seconds, mirror_symmetric=self.mirror_symmetric,
+            closed_contacts=counts["closed"], opening_contacts=counts["opening"],
+            sliding_contacts=counts["sliding"], message=self.message, scheme=self.scheme,
+            relaxation=self.relaxation, converged=self.converged, stop_reason=g.stop_reason,
+            lambda_band=self.lambda_band, mechanism_band=g.mechanism_band, last_load_factor=g.last_load_factor,
+            associative_load_factor=self.associative_load_factor, cold_load_factor=self.cold_load_factor,
+            warm_cold_rel_diff=self.warm_cold_rel_diff, coulomb_residual=self.coulomb_residual,
+            dilatancy_residual=self.dilatancy_residual,
+            history_load_factor=tuple(r.load_factor for r in self.history), cold_algorithm=g.cold_algorithm,
+            fallback_steps=sum(d.fallback_steps for d in self.directions),
+        )
+
     def summary(self) -> dict[str, Any]:
-        """JSON-ready summary."""
+        """JSON-ready summary: the record (:meth:`to_record`) with the
+        contact states, options, history and directions as nested objects."""
 
         def num(v: float) -> float | None:
-            return v if isinstance(v, (int, float)) and math.isfinite(v) else None
+            return v if math.isfinite(v) else None
 
-        g = self.governing
-        counts: dict[str, int] = {}
-        if g.mechanism is not None:
-            counts = g.mechanism.state_counts()
+        record = self.to_record()
         return {
-            "load_factor": num(self.load_factor),
-            "status": self.status,
-            "converged": self.converged,
-            "direction": self.direction,
-            "scheme": self.scheme,
-            "relaxation": self.relaxation,
-            "iterations": self.iterations,
-            "lambda_band": None if self.lambda_band is None else [num(self.lambda_band[0]), num(self.lambda_band[1])],
-            "mechanism_band": None if g.mechanism_band is None else [num(v) for v in g.mechanism_band],
-            "last_load_factor": num(g.last_load_factor),
-            "associative_load_factor": num(self.associative_load_factor),
-            "cold_load_factor": num(self.cold_load_factor),
-            "warm_cold_rel_diff": num(self.warm_cold_rel_diff),
-            "coulomb_residual": num(self.coulomb_residual),
-            "dilatancy_residual": num(self.dilatancy_residual),
-            "stop_reason": g.stop_reason,
-            "cold_algorithm": g.cold_algorithm,
-            "fallback_steps": g.fallback_steps,
-            "blocks": self.blocks,
-            "contacts": self.contacts,
-            "points": self.points,
-            "build_seconds": self.build_seconds,
-            "solve_seconds": self.solve_seconds,
-            "mirror_symmetric": self.mirror_symmetric,
-            "contact_states": counts,
+            **record.to_dict(),
+            "contact_states": record.contact_states if self.governing.mechanism is not None else {},
             "options": dict(self.options),
             "history": [r.as_dict() for r in self.history],
             "directions": {
@@ -381,8 +389,22 @@ class NonAssociativeResult:
                 }
                 for d in self.directions
             },
-            "message": self.message,
         }
+
+
+def solver_description(options: dict[str, Any]) -> str:
+    """Which solver does what in the iterated LP, e.g. ``"clarabel (start,
+    certificate) + highs-simplex (iterated) + highs-ipm (cold check)"``."""
+    roles = [("clarabel" if options["start"] == "interior" else "highs-ipm+crossover", "start")]
+    if options["certify"] or options["mechanism_band"]:
+        roles.append(("clarabel" if options["state_solver"] == "clarabel" else "highs-ipm", "certificate"))
+    roles.append(("highs-simplex", "iterated"))
+    if options["cold_check"]:
+        roles.append(("highs-ipm", "cold check"))
+    by_solver: dict[str, list[str]] = {}
+    for solver, role in roles:
+        by_solver.setdefault(solver, []).append(role)
+    return " + ".join(f"{solver} ({', '.join(r)})" for solver, r in by_solver.items())
 
 
 # =============================================================================
@@ -543,7 +565,7 @@ def solve_nonassociative(
         associative_load_factor=assoc, cold_load_factor=g.cold_load_factor,
         warm_cold_rel_diff=g.warm_cold_rel_diff, coulomb_residual=g.coulomb_residual,
         dilatancy_residual=g.dilatancy_residual, blocks=wall.n_blocks, contacts=wall.n_contacts,
-        points=lp.n_points, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=symmetric,
+        points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows, nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=symmetric,
         directions=results, options=opts, message=msg,
     )
 

@@ -24,7 +24,7 @@ import pytest
 
 import micro
 from comparison.cases import case
-from comparison.spec import WallSpec
+from comparison.wall import WallSpec
 
 
 def _wall(rows: int, storeys: int, t: float = 1.0, m: float = 1 / 3, f: float = 0.75) -> micro.BlockWall:

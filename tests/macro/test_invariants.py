@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import macro
-from comparison.spec import WallSpec
+from comparison.wall import WallSpec
 
 walls = st.builds(
     lambda t, m, per, n, f, p: WallSpec.from_paper(t=t, m=m, rows=per * n, f=f, p=p, storeys=n).to_macro(),
@@ -136,12 +136,12 @@ def test_sweep_broadcasts_and_keeps_shape() -> None:
     [
         (dict(t=0), "t must be a positive number"),
         (dict(m=1.5), "m must be in (0, 1]"),
-        (dict(m=0), "m must be in (0, 1]"),
+        (dict(m=0), "m must be a positive number"),
         (dict(rows=12.5), "rows must be a positive integer"),
         (dict(rows=0), "rows must be a positive integer"),
         (dict(f=0), "f must be a positive number"),
-        (dict(p=-1), "p must be zero or positive"),
-        (dict(rows=10, storeys=3), "rows must be divisible by storeys=3"),
+        (dict(p=-1), "p must be zero or a positive number"),
+        (dict(rows=10, storeys=3), "rows: 10 rows cannot be split equally over 3 storeys"),
     ],
 )
 def test_sweep_bad_input(kwargs: dict[str, float], message: str) -> None:
@@ -154,12 +154,12 @@ def test_sweep_bad_input(kwargs: dict[str, float], message: str) -> None:
     ("field", "value", "message"),
     [
         ("length", 0.0, "length must be a positive number"),
-        ("block_height", -1.0, "block height must be a positive number"),
-        ("friction", 0.0, "friction f must be a positive number"),
-        ("rows", (20, 0), "rows must be a positive integer"),
-        ("rows", (20, 2.5), "rows must be a positive integer"),
+        ("block_height", -1.0, "block_height must be a positive number"),
+        ("friction", 0.0, "friction must be a positive number"),
+        ("rows", (20, 0), r"rows\[1\] must be a positive integer"),
+        ("rows", (20, 2.5), r"rows\[1\] must be a positive integer"),
         ("rows", (), "at least one storey"),
-        ("overload", (0.0, -1.0), "overload must be zero or positive"),
+        ("overload", (0.0, -1.0), r"overload\[1\] must be zero or a positive number"),
         ("thickness", (1.0,), "one value per storey"),
     ],
 )

@@ -83,12 +83,7 @@ def _ours(r: macro.MacroResult, quantity: str) -> float:
     }[quantity]
 
 
-PUBLISHED = [
-    (c.case, v.quantity, v.value, v.rounding)
-    for c in CASES
-    for v in c.published
-    if v.model == "proposed"
-]
+PUBLISHED = [(c.case, v.quantity, v.value, v.rounding) for c in CASES for v in c.published if v.model == "proposed"]
 
 
 @pytest.mark.parametrize(

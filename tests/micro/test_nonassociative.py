@@ -13,7 +13,7 @@ import pytest
 
 import micro
 from comparison.cli import main
-from comparison.spec import WallSpec
+from comparison.wall import WallSpec
 from micro.nonassociative import (
     CONVERGED,
     CYCLING,

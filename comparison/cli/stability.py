@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import argparse
 
-from comparison.cli import UsageError, int_option
+from comparison.cli.options import UsageError, int_option
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``stability`` subcommand."""
     p = subparsers.add_parser(
         "stability",
@@ -23,9 +23,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument("--out", default="reports", metavar="DIR", help="output folder (default reports)")
     p.add_argument("--processes", default="2", metavar="N", help="worker processes (default 2)")
     p.add_argument("--quick", action="store_true", help="12 walls only (smoke test)")
-    p.add_argument("--table7", action="store_true",
-                   help="instead: Table 7 (sets 11-14) per scheme, bond phase and head-joint friction "
-                   "(table7_nonassoc.md)")
+    p.add_argument(
+        "--table7",
+        action="store_true",
+        help="instead: Table 7 (sets 11-14) per scheme, bond phase and head-joint friction (table7_nonassoc.md)",
+    )
     p.set_defaults(handler=run)
 
 

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
-from comparison.report import build_report
-from comparison.runner import stderr_progress
+from comparison.cli.options import add_cache_options, cache_dir_from_args
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``report`` subcommand."""
     p = sub.add_parser(
         "report",
@@ -18,19 +18,25 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     )
     p.add_argument("--out", default="reports", help="output directory (default: reports)")
     p.add_argument("--quick", action="store_true", help="the micro model on the small walls only (under a minute)")
-    p.add_argument("--cache", default=".xcheck-cache", help="result cache directory (default: .xcheck-cache)")
-    p.add_argument("--no-cache", action="store_true", help="recompute everything")
+    add_cache_options(p)
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Write the report and say where it is."""
+    from comparison.report import build_report
+
     path = build_report(
         Path(args.out),
         quick=args.quick,
-        cache_dir=None if args.no_cache else Path(args.cache),
+        cache_dir=cache_dir_from_args(args),
         progress=None if args.quiet else stderr_progress,
     )
     print(f"wrote {path}")
     return 0
+
+
+def stderr_progress(line: str) -> None:
+    """Progress printer for long runs."""
+    print(line, file=sys.stderr, flush=True)

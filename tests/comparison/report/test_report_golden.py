@@ -99,6 +99,15 @@ def test_quick_report_matches_golden_cells(quick_report: dict[str, Any]) -> None
 
 
 def test_quick_report_files(quick_report: dict[str, Any], tmp_path: Path) -> None:
-    for table in ("table5", "table7", "table8", "table9", "all_cases", "failure_modes", "sensitivity", "speed_accuracy"):
+    for table in (
+        "table5",
+        "table7",
+        "table8",
+        "table9",
+        "all_cases",
+        "failure_modes",
+        "sensitivity",
+        "speed_accuracy",
+    ):
         assert quick_report["tables"][table], table
     assert quick_report["meta"]["quick"] is True

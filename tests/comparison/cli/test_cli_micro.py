@@ -2,20 +2,22 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 
 import pytest
 
-from comparison import cli, cmd_micro
+from comparison.cli import app as cli
+from comparison.cli import micro as cmd_micro
 
 
 @pytest.fixture(autouse=True)
 def _micro_only_parser(monkeypatch: pytest.MonkeyPatch) -> None:
     """Register only ``micro`` so the test does not depend on the other commands."""
 
-    def build() -> cli.argparse.ArgumentParser:
-        parser = cli._Parser(prog="xcheck")
-        sub = parser.add_subparsers(dest="command", required=True, parser_class=cli._Parser)
+    def build() -> argparse.ArgumentParser:
+        parser = cli.Parser(prog="xcheck")
+        sub = parser.add_subparsers(dest="command", required=True, parser_class=cli.Parser)
         cmd_micro.register(sub)
         return parser
 

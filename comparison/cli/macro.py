@@ -6,10 +6,10 @@ import argparse
 import json
 
 import macro
-from comparison.cli import add_wall_options, wall_from_args
+from comparison.cli.options import add_wall_options, wall_from_args
 
 
-def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``macro`` subcommand."""
     p = sub.add_parser(
         "macro",

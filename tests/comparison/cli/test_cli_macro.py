@@ -13,7 +13,7 @@ import pytest
 from comparison.cli import main
 from comparison.scene import SceneError, parse_scene
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = ROOT / "examples" / "three-storey.toml"
 
 
@@ -24,7 +24,9 @@ def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
 
 
 def test_macro_json_reference_wall(capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, _ = run(capsys, "macro", "--storeys", "3", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--json")
+    code, out, _ = run(
+        capsys, "macro", "--storeys", "3", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--json"
+    )
     assert code == 0
     d = json.loads(out)
     for key in ("load_factor", "alpha_c_deg", "alpha_ratio", "hinge_storey", "sliding_load_factor"):
@@ -60,10 +62,16 @@ def test_macro_scene_file(capsys: pytest.CaptureFixture[str]) -> None:
         (["--rows", "12.5", "--t", "1", "--m", "1/3", "--f", "0.6"], "rows must be a positive integer"),
         (["--rows", "-3", "--t", "1", "--m", "1/3", "--f", "0.6"], "rows must be a positive integer"),
         (["--rows", "60", "--t", "1", "--m", "x", "--f", "0.6"], "m must be a number or a fraction"),
-        (["--storeys", "0", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6"], "storeys must be a positive integer"),
-        (["--storeys", "7", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6"], "cannot be split equally over 7 storeys"),
+        (
+            ["--storeys", "0", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6"],
+            "storeys must be a positive integer",
+        ),
+        (
+            ["--storeys", "7", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6"],
+            "cannot be split equally over 7 storeys",
+        ),
         (["--rows", "60", "--t", "1", "--m", "1/3"], "missing --f"),
-        (["--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--p", "-1"], "p must be zero or positive"),
+        (["--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--p", "-1"], "p must be zero or a positive number"),
         (["--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--bogus"], "unrecognized arguments: --bogus"),
     ],
 )
@@ -103,11 +111,23 @@ def test_scene_parses_storey_by_storey() -> None:
     ("text", "message"),
     [
         (GOOD.replace("friction = 0.6", "friction = 0.6\ncolour = 1"), "(line 6): unknown key 'colour' in [wall]"),
-        (GOOD.replace("rows = 20\noverload", "rows = 20\nroof = 1\noverload"), "(line 14): unknown key 'roof' in [storey]"),
-        (GOOD.replace("height = 0.1", "height = -0.1"), "(line 8): block.height: block height must be a positive number"),
-        (GOOD.replace("overload = 2.0", "overload = -2.0"), "(line 14): storey 2: overload must be zero or positive"),
-        (GOOD.replace("rows = 20\nthickness", "rows = 2.5\nthickness"), "(line 10): storey 1: rows must be a positive integer"),
-        (GOOD.replace("friction = 0.6", "friction = 'high'"), "(line 5): wall.friction must be a number"),
+        (
+            GOOD.replace("rows = 20\noverload", "rows = 20\nroof = 1\noverload"),
+            "(line 14): unknown key 'roof' in [storey]",
+        ),
+        (GOOD.replace("height = 0.1", "height = -0.1"), "(line 8): block.height must be a positive number, got -0.1"),
+        (
+            GOOD.replace("overload = 2.0", "overload = -2.0"),
+            "(line 14): storey 2: overload must be zero or a positive number",
+        ),
+        (
+            GOOD.replace("rows = 20\nthickness", "rows = 2.5\nthickness"),
+            "(line 10): storey 1: rows must be a positive integer",
+        ),
+        (
+            GOOD.replace("friction = 0.6", "friction = 'high'"),
+            "(line 5): wall.friction must be a positive number, got 'high'",
+        ),
         (GOOD.replace("length = 6.0", "length = "), "malformed TOML"),
         (GOOD.replace("friction = 0.6\n", ""), "missing key 'friction' in [wall]"),
         (GOOD.split("[[storey]]")[0], "no [[storey]] given"),
@@ -130,10 +150,15 @@ def test_scene_error_via_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     assert code == 2 and "cannot read" in err
 
 
-@pytest.mark.skipif(shutil.which("xcheck") is None and not (Path(sys.executable).parent / "xcheck").exists(), reason="console script not installed")
+@pytest.mark.skipif(
+    shutil.which("xcheck") is None and not (Path(sys.executable).parent / "xcheck").exists(),
+    reason="console script not installed",
+)
 def test_console_script_no_traceback() -> None:
     exe = shutil.which("xcheck") or str(Path(sys.executable).parent / "xcheck")
-    p = subprocess.run([exe, "macro", "--rows", "0", "--t", "1", "--m", "1/3", "--f", "0.6"], capture_output=True, text=True)
+    p = subprocess.run(
+        [exe, "macro", "--rows", "0", "--t", "1", "--m", "1/3", "--f", "0.6"], capture_output=True, text=True
+    )
     assert p.returncode == 2
     assert "Traceback" not in p.stderr and p.stderr.count("\n") == 1 and "rows" in p.stderr
 
@@ -143,10 +168,33 @@ def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.C
     assert code == 0 and "REPORT.md" in out
     assert "micro-assoc" in err  # progress lines
     text = (tmp_path / "REPORT.md").read_text()
-    for heading in ("Table 5", "Table 7", "Table 8", "Table 9", "Failure modes", "Where the paper and the model differ"):
+    for heading in (
+        "Table 5",
+        "Table 7",
+        "Table 8",
+        "Table 9",
+        "Failure modes",
+        "Where the paper and the model differ",
+    ):
         assert heading in text
     for name in ("table7.csv", "report.json", "sensitivity.png", "speed_accuracy.png", "mechanism_12.png"):
         assert (tmp_path / name).stat().st_size > 0, name
     # a second run reads everything from the cache
     code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", "--cache", str(tmp_path / "cache"))
     assert code == 0 and err == ""
+
+
+def test_cache_and_no_cache_exclude_each_other(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = run(capsys, "report", "--out", str(tmp_path), "--cache", str(tmp_path), "--no-cache")
+    assert code == 2 and "--no-cache" in err and err.count("\n") == 1
+
+
+def test_an_error_inside_a_model_is_not_a_usage_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    import macro
+
+    def broken(*args: object, **kwargs: object) -> None:
+        raise ValueError("a bug inside the solver")
+
+    monkeypatch.setattr(macro, "solve", broken)
+    with pytest.raises(ValueError, match="a bug inside the solver"):
+        main(["macro", "--rows", "12", "--t", "1", "--m", "1/3", "--f", "0.6"])

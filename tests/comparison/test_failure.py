@@ -1,16 +1,14 @@
-"""Failure-mode extraction and the caching runner."""
+"""Failure-mode extraction: the micro mechanism read in the macro model's terms."""
 
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from comparison.failure import failure_mode
-from comparison.runner import MACRO, MICRO_ASSOC, Runner, code_version
-from comparison.spec import WallSpec
+from comparison.failure import FailureMode, failure_mode
+from comparison.wall import WallSpec
 
 
 def _rotating_region(wall, slope: float, offset: float, mirror: bool) -> np.ndarray:  # type: ignore[no-untyped-def]
@@ -49,33 +47,9 @@ def test_failure_mode_rejects_bad_input() -> None:
         failure_mode(wall, np.ones((3, 3)), "+x")
 
 
-def test_runner_caches_and_recomputes_only_what_changed(tmp_path: Path) -> None:
-    spec = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75, name="Set 12")
-    lines: list[str] = []
-    r1 = Runner(tmp_path, lines.append)
-    a = r1.run(spec, MICRO_ASSOC)
-    m = r1.run(spec, MACRO)
-    assert (r1.computed, r1.hits) == (2, 0) and len(lines) == 2
-    assert a.load_factor == pytest.approx(0.712047, abs=1e-5) and not a.cached
-    r2 = Runner(tmp_path)
-    b = r2.run(spec, MICRO_ASSOC)
-    assert (r2.computed, r2.hits) == (0, 1) and b.cached
-    assert b.load_factor == a.load_factor and b.values["blocks"] == 54
-    assert r2.run(spec, MACRO).load_factor == m.load_factor
-    # another friction is another wall: computed anew
-    r2.run(WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.6), MICRO_ASSOC)
-    assert r2.computed == 1
-    mech = r2.mechanism(spec, MICRO_ASSOC)
-    assert mech is not None and mech["velocities"].shape == (54, 3)
-
-
-def test_code_version_tracks_the_package_sources() -> None:
-    assert code_version("macro") != code_version("micro")
-    assert len(code_version("macro")) == 16
-
-
-def test_not_buildable_micro_wall_is_reported_not_raised(tmp_path: Path) -> None:
-    spec = WallSpec.from_paper(t=3, m=1 / 3, rows=60, f=0.6, storeys=3)  # L = 20 is not a whole number of half blocks
-    rec = Runner(tmp_path).run(spec, MICRO_ASSOC)
-    assert rec.status == "not_applicable" and math.isnan(rec.load_factor)
-    assert "half blocks" in rec.values["message"]
+def test_failure_mode_round_trips_through_json_ready_dict() -> None:
+    fm = FailureMode(10, 0.5, 1, 0, math.nan, math.nan, 42.0, 2, math.inf, "+x")
+    d = fm.to_dict()
+    assert d["crack_slope"] is None and d["rotation"] is None
+    back = FailureMode.from_dict(d)
+    assert back.moving_blocks == 10 and back.direction == "+x" and math.isnan(back.crack_slope)

@@ -1,0 +1,211 @@
+"""``xcheck micro``: rigid-block limit analysis of the wall (micro model).
+
+Example::
+
+    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction associative --solver highs --json
+    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --scheme a --json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    from comparison.wall import WallSpec
+    from micro import BlockWall
+
+from comparison.cli.options import UsageError, add_wall_options, choice, in_range, int_option, wall_from_args
+
+#: Friction laws accepted by ``--friction``.
+FRICTION_LAWS = ("associative", "nonassociative")
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``micro`` subcommand."""
+    from micro.solvers import SOLVERS
+
+    p = subparsers.add_parser(
+        "micro",
+        help="rigid-block limit analysis (LP) of the wall built block by block",
+        description="Collapse load factor of the wall built block by block in running bond, "
+        "by rigid-block limit analysis solved as a linear program.",
+    )
+    add_wall_options(p)
+    g = p.add_argument_group("micro model")
+    g.add_argument(
+        "--friction",
+        default="associative",
+        metavar="LAW",
+        help="friction law: associative (default) or nonassociative (iterated LP, HiGHS)",
+    )
+    g.add_argument(
+        "--solver",
+        default="highs",
+        metavar="NAME",
+        help=f"LP back end: {', '.join(SOLVERS)} (default highs = HiGHS interior point, no crossover)",
+    )
+    g.add_argument(
+        "--first-course",
+        default="full",
+        metavar="full|half",
+        help="the bottom course starts with a full (default) or a half block",
+    )
+    g.add_argument(
+        "--head-joints",
+        default="frictional",
+        metavar="frictional|frictionless",
+        help="friction on the head joints (default frictional)",
+    )
+    g.add_argument("--time-limit", default=None, metavar="SECONDS", help="time limit per LP solve")
+    g.add_argument("--json", action="store_true", help="print one JSON object")
+    g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
+    # ---- non-associative friction (issue 4)
+    na = p.add_argument_group("non-associative friction (--friction nonassociative)")
+    na.add_argument(
+        "--scheme",
+        default="a",
+        metavar="a|b",
+        help="rebuilt yield condition of the iterated LP: a (|s| <= mu nbar, default) or "
+        "b (line of slope -alpha through (nbar, mu nbar))",
+    )
+    na.add_argument(
+        "--relaxation",
+        default=None,
+        metavar="BETA",
+        help="nbar = BETA n_k + (1 - BETA) n_(k-1), BETA in (0, 1] (default 0.6)",
+    )
+    na.add_argument("--max-iterations", default="100", metavar="N", help="cap on the LPs per direction (default 100)")
+    na.add_argument(
+        "--no-certify",
+        action="store_true",
+        help="stop only when an LP's own forces satisfy Coulomb (the plain iterated LP); by default a "
+        "settled iterate whose mechanism admits an exact collapse state ends the sequence",
+    )
+    p.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Handler of ``xcheck micro``."""
+    import micro
+    from micro.solvers import SOLVERS
+
+    choice("--friction", args.friction, FRICTION_LAWS)
+    choice("--solver", args.solver, SOLVERS)
+    choice("--first-course", args.first_course, ("full", "half"))
+    choice("--head-joints", args.head_joints, ("frictional", "frictionless"))
+    time_limit = in_range("--time-limit", args.time_limit, "a positive number of seconds", math.inf)
+    if args.plot is not None and not args.plot.lower().endswith((".png", ".pdf", ".svg")):
+        raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
+    spec = wall_from_args(args)
+    try:
+        wall = spec.to_micro(first_course=args.first_course, head_joints=args.head_joints)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    if args.friction == "nonassociative":
+        return _run_nonassociative(args, spec, wall, time_limit)
+    result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
+    if args.plot is not None and result.ok:
+        from micro.plot import plot_mechanism
+
+        _write_plot(lambda: plot_mechanism(wall, result, args.plot), args.plot)
+    if args.json:
+        print(_json(result.summary(), args, spec, plotted=result.ok))
+    else:
+        if result.ok:
+            print(
+                f"lambda = {result.load_factor:.6f} ({result.direction}) by {result.solver}: "
+                f"{result.blocks} blocks, {result.contacts} contacts, "
+                f"build {result.build_seconds:.3f} s, solve {result.solve_seconds:.3f} s"
+            )
+            for d in result.directions:
+                print(
+                    f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.solve_seconds:.3f} s"
+                )
+            if result.mirror_symmetric:
+                print("  the wall is mirror-symmetric: -x gives the same load factor")
+        else:
+            print(f"status {result.status}: {result.message}")
+    return 0 if result.ok else 1
+
+
+def _write_plot(draw: Callable[[], object], path: str) -> None:
+    """Draw a plot; a file that cannot be written is bad input."""
+    try:
+        draw()
+    except OSError as exc:
+        raise UsageError(f"--plot: cannot write {path!r} ({exc.strerror})") from None
+
+
+def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool, **extra: str) -> str:
+    """One JSON line: the result's summary with the wall and the options."""
+    summary.update(
+        wall=spec.name or "",
+        friction=args.friction,
+        first_course=args.first_course,
+        head_joints=args.head_joints,
+        **extra,
+        plot=args.plot if plotted else None,
+    )
+    return json.dumps(summary)
+
+
+def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWall, time_limit: float | None) -> int:
+    """``--friction nonassociative``: the iterated LP (HiGHS only)."""
+    import micro
+    from micro.nonassociative import SCHEMES
+
+    choice("--scheme", args.scheme, SCHEMES)
+    if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
+        raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
+    relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
+    max_it = int_option("--max-iterations", args.max_iterations, minimum=2)
+    result = micro.solve_nonassociative(
+        wall,
+        scheme=args.scheme,
+        relaxation=relaxation,
+        max_iterations=max_it,
+        time_limit=time_limit,
+        certify=not args.no_certify,
+    )
+    mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
+    if args.plot is not None and mechanism is not None:
+        from micro.plot import plot_velocities
+
+        title = (
+            f"lambda = {result.load_factor:.4f} ({result.direction}), non-associative scheme {result.scheme}, "
+            f"{result.blocks} blocks"
+        )
+        _write_plot(lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title), args.plot)
+    if args.json:
+        solver = "clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)"
+        print(_json(result.summary(), args, spec, plotted=mechanism is not None, solver=solver))
+    else:
+        g = result.governing
+        if result.ok:
+            print(
+                f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
+                f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
+                f"({g.stop_reason}); associative lambda = {result.associative_load_factor:.6f}"
+            )
+            if result.mechanism_band is not None:
+                lo, hi = result.mechanism_band
+                print(f"  collapse states with this mechanism: lambda in [{lo:.6f}, {hi:.6f}]")
+        else:
+            band = (
+                ""
+                if result.lambda_band is None
+                else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
+            )
+            print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
+        if args.plot is not None and mechanism is None:
+            print(f"  no plot written to {args.plot}: no converged mechanism")
+        print(
+            f"  warm/cold rel. difference {result.warm_cold_rel_diff:.2e}, Coulomb residual "
+            f"{result.coulomb_residual:.2e}, dilatancy residual {result.dilatancy_residual:.2e}, "
+            f"{result.blocks} blocks, {result.solve_seconds:.3f} s"
+        )
+    return 0 if result.ok else 1

@@ -1,0 +1,149 @@
+"""Option helpers shared by the ``xcheck`` subcommands.
+
+Input validation happens here, and only here does a bad value become a
+:class:`UsageError` (exit code 2): a ``ValueError`` raised later, from inside a
+solver, is a bug and ends with a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from fractions import Fraction
+from pathlib import Path
+
+from comparison.wall import WallSpec
+
+#: Exit code of bad input.
+EXIT_USAGE = 2
+
+
+class UsageError(ValueError):
+    """Bad input on the command line or in a scene file (exit code :data:`EXIT_USAGE`)."""
+
+
+def parse_fraction(name: str, text: str | float) -> float:
+    """Parse a number that may be written as a fraction (``"1/3"``).
+
+    Raises:
+        UsageError: naming ``name`` when ``text`` is not a number.
+    """
+    if isinstance(text, (int, float)) and not isinstance(text, bool):
+        return float(text)
+    try:
+        return float(Fraction(str(text).strip()))
+    except (ValueError, ZeroDivisionError):
+        raise UsageError(f"{name} must be a number or a fraction such as 1/3, got {text!r}") from None
+
+
+def int_option(name: str, text: str, minimum: int = 1) -> int:
+    """An integer option of at least ``minimum`` (a positive integer by default).
+
+    Raises:
+        UsageError: naming ``name`` and the rule.
+    """
+    rule = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
+    try:
+        value = parse_fraction(name, text)
+    except UsageError:
+        raise UsageError(f"{name} must be {rule}, got {text!r}") from None
+    if not value.is_integer() or value < minimum:
+        raise UsageError(f"{name} must be {rule}, got {text!r}")
+    return int(value)
+
+
+def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
+    """``value`` when it is one of ``allowed``.
+
+    Raises:
+        UsageError: naming ``name`` and the choices.
+    """
+    if value not in allowed:
+        raise UsageError(f"{name} must be one of {', '.join(allowed)}, got {value!r}")
+    return value
+
+
+def in_range(option: str, text: str | None, rule: str, upper: float) -> float | None:
+    """``None`` for an option not given, else a number in ``(0, upper]``.
+
+    Raises:
+        UsageError: naming ``option`` and ``rule``.
+    """
+    if text is None:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        raise UsageError(f"{option} must be {rule}, got {text!r}") from None
+    if not (0.0 < value <= upper) or math.isnan(value) or value == math.inf:
+        raise UsageError(f"{option} must be {rule}, got {text!r}")
+    return value
+
+
+def add_wall_options(parser: argparse.ArgumentParser) -> None:
+    """Options that describe a wall, shared by every model subcommand."""
+    g = parser.add_argument_group("wall (the paper's Table 4 parameters, or a scene file)")
+    g.add_argument("--storeys", type=str, default="1", metavar="N", help="number of storeys (default 1)")
+    g.add_argument("--rows", type=str, metavar="O", help="rows in all, split equally over the storeys")
+    g.add_argument("--t", type=str, metavar="T", help="wall shape ratio H/L")
+    g.add_argument("--m", type=str, metavar="M", help="unit shape ratio b/l in (0, 1]; fractions such as 1/3 accepted")
+    g.add_argument("--f", type=str, metavar="F", help="friction coefficient")
+    g.add_argument(
+        "--p", type=str, default="0", metavar="P", help="overloading ratio q/(gamma H b) on every floor (default 0)"
+    )
+    g.add_argument("--scene", type=str, metavar="FILE.toml", help="a dimensional wall given storey by storey")
+
+
+def wall_from_args(args: argparse.Namespace) -> WallSpec:
+    """Build the :class:`WallSpec` the wall options describe.
+
+    Raises:
+        UsageError: a missing or malformed option, or an invalid wall.
+    """
+    if args.scene:
+        from comparison.scene import load_scene
+
+        clash = [f"--{k}" for k in ("rows", "t", "m", "f") if getattr(args, k) is not None]
+        if clash:
+            raise UsageError(f"--scene describes the whole wall; drop {', '.join(clash)}")
+        try:
+            return load_scene(args.scene)
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
+    missing = [f"--{k}" for k in ("rows", "t", "m", "f") if getattr(args, k) is None]
+    if missing:
+        raise UsageError(f"missing {', '.join(missing)} (or give --scene FILE.toml)")
+    t, m = parse_fraction("t", args.t), parse_fraction("m", args.m)
+    rows = int_option("rows", args.rows)
+    f, p = parse_fraction("f", args.f), parse_fraction("p", args.p)
+    storeys = int_option("storeys", args.storeys)
+    try:
+        return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=p, storeys=storeys)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def add_cache_options(parser: argparse.ArgumentParser) -> None:
+    """``--cache DIR`` and ``--no-cache`` (see :func:`comparison.runner.cache.default_cache_dir`)."""
+    parser.add_argument(
+        "--cache",
+        default=None,
+        metavar="DIR",
+        help="result cache directory (default: $XCHECK_CACHE, else $XDG_CACHE_HOME/xcheck, else ~/.cache/xcheck)",
+    )
+    parser.add_argument("--no-cache", action="store_true", help="recompute everything, cache nothing")
+
+
+def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
+    """The cache directory the options name (``None`` for ``--no-cache``).
+
+    Raises:
+        UsageError: ``--cache`` together with ``--no-cache``.
+    """
+    from comparison.runner.cache import default_cache_dir
+
+    if args.no_cache:
+        if args.cache is not None:
+            raise UsageError("--cache and --no-cache exclude each other")
+        return None
+    return Path(args.cache) if args.cache is not None else default_cache_dir()

@@ -1,0 +1,163 @@
+"""The report's run plan: every (wall, method) the report needs, built before anything runs.
+
+:func:`build_plan` lists the walls of every table and figure (the paper's cases,
+the bond variants of Table 7, the sensitivity sweeps, the speed-accuracy
+resolutions) and the methods run on each. The report computes exactly the
+plan (missing cache entries in parallel processes first), and the tables,
+figures and text then read the results; a table that asked for a pair outside
+the plan would fail, not compute.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+
+from comparison.cases import CASES, PaperCase, cases_in_table
+from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, Method, ResultCache
+from comparison.wall import WallSpec
+
+#: The report runs the iterated non-associative LP on walls of at most this many
+#: blocks: the Table 5 walls of up to 1,830 blocks take 1-120 s each (the
+#: runner caps a sequence at :data:`comparison.runner.NONASSOC_SECONDS`); Set 10
+#: (3,630 blocks) ran over 12 minutes without settling and the 7,575-block
+#: Table 9 walls over 20 minutes (see the README), which would not fit the
+#: report's 15 minutes.
+NONASSOC_MAX_BLOCKS = 2000
+
+#: Base walls of the sensitivity sweeps and of the speed-accuracy study.
+BASE_FULL: Mapping[str, float] = {"t": 1.0, "m": 1 / 3, "rows": 60, "f": 0.6, "p": 0.0, "storeys": 3}
+BASE_QUICK: Mapping[str, float] = {"t": 1.0, "m": 1 / 3, "rows": 12, "f": 0.75, "p": 0.0, "storeys": 1}
+
+#: The values of each parameter in the sensitivity sweeps.
+SWEEPS_FULL: Mapping[str, tuple[float, ...]] = {
+    "f": (0.4, 0.5, 0.6, 0.7, 0.8),
+    "t": (0.5, 1.0, 1.25, 2.0, 2.5),
+    "m": (0.25, 1 / 3, 0.5, 1.0),
+    "rows": (12, 24, 36, 45, 60),
+    "p": (0.0, 1.0, 2.0, 4.0, 8.0),
+}
+SWEEPS_QUICK: Mapping[str, tuple[float, ...]] = {
+    "f": (0.5, 0.6, 0.75, 0.9),
+    "t": (0.5, 1.0, 2.0),
+    "m": (0.25, 1 / 3, 0.5, 1.0),
+    "rows": (6, 9, 12, 18, 24),
+    "p": (0.0, 1.0, 4.0),
+}
+
+
+def approximate_blocks(spec: WallSpec) -> int:
+    """Blocks of the running-bond wall of ``spec`` (to within one per course)."""
+    return int(round(spec.rows * (spec.length / spec.block_length + 0.5)))
+
+
+def micro_methods() -> tuple[Method, ...]:
+    """The micro methods of the report: the associative LP by Clarabel (the
+    fastest accurate back end; HiGHS IPM stopped with an unknown status on the
+    7,575-block Set 17) and the iterated non-associative LP."""
+    return (replace(MICRO_ASSOC, solver="clarabel"), MICRO_NONASSOC)
+
+
+def bond_variants(method: Method) -> tuple[Method, Method, Method]:
+    """``method`` as it is, with a half first course, and with frictionless head joints."""
+    return method, replace(method, first_course="half"), replace(method, head_joints="frictionless")
+
+
+@dataclass(frozen=True)
+class PlanItem:
+    """One (wall, method) of the plan.
+
+    Attributes:
+        spec: the wall.
+        method: the method.
+        skip: why the report does not run it (``""``: it runs).
+    """
+
+    spec: WallSpec
+    method: Method
+    skip: str = ""
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What the report computes.
+
+    Attributes:
+        quick: small walls only for the micro model.
+        methods: the micro methods, the reference (the non-associative LP) last.
+        cases: the paper's cases the micro model runs on.
+        base: the paper parameters of the base wall of the sweeps and of the speed study.
+        sweeps: the values of each parameter in the sensitivity sweeps.
+        resolutions: the rows of the speed-accuracy walls (the last one is the reference).
+        solvers: the associative back ends of the speed-accuracy study.
+    """
+
+    quick: bool
+    methods: tuple[Method, ...]
+    cases: tuple[PaperCase, ...]
+    base: Mapping[str, float]
+    sweeps: Mapping[str, tuple[float, ...]]
+    resolutions: tuple[int, ...]
+    solvers: tuple[str, ...]
+
+    @property
+    def reference(self) -> Method:
+        """The best micro reference: the non-associative LP."""
+        return self.methods[-1]
+
+    def sweep_spec(self, param: str, value: float) -> WallSpec:
+        """The base wall with ``param`` set to ``value``."""
+        return WallSpec.from_paper(**{**self.base, param: value}, name=f"{param}={value:.4g}")  # type: ignore[arg-type]
+
+    def speed_spec(self, rows: int, name: str | None = None) -> WallSpec:
+        """The base wall with ``rows`` rows."""
+        return WallSpec.from_paper(**{**self.base, "rows": rows}, name=name or f"{rows} rows")  # type: ignore[arg-type]
+
+    def macro_specs(self) -> list[WallSpec]:
+        """The walls the macro model runs on: every case, Table 9 with ``m = 1/2``, Table 5 with the other
+        reading of ``p``, the sweeps, the speed base."""
+        specs = [c.spec() for c in CASES] + [table9_alternative(c) for c in cases_in_table("9")]
+        specs += [c.spec("storey") for c in cases_in_table("5") if c.p > 0]  # the other reading of p
+        specs += [self.sweep_spec(p, v) for p, values in self.sweeps.items() for v in values]
+        return [*specs, self.speed_spec(int(self.base["rows"]), "macro")]
+
+    def items(self) -> list[PlanItem]:
+        """Every (wall, method) pair the micro tables and figures read, each once."""
+        pairs = [(c.spec(), m) for c in self.cases for m in self.methods]
+        pairs += [(c.spec(), v) for c in cases_in_table("7") for m in self.methods for v in bond_variants(m)[1:]]
+        pairs += [(self.sweep_spec(p, v), m) for p, values in self.sweeps.items() for v in values for m in self.methods]
+        for rows in self.resolutions:
+            spec = self.speed_spec(rows)
+            pairs += [(spec, replace(MICRO_ASSOC, solver=s)) for s in self.solvers]
+            pairs += [(spec, m) for m in self.methods[1:]]
+        unique = dict.fromkeys(pairs)
+        return [PlanItem(spec, m, _skip(spec, m)) for spec, m in unique]
+
+    def pending(self, cache: ResultCache) -> list[PlanItem]:
+        """The items that run and are missing from ``cache``."""
+        return [it for it in self.items() if not it.skip and (it.spec, it.method) not in cache]
+
+
+def _skip(spec: WallSpec, method: Method) -> str:
+    blocks = approximate_blocks(spec)
+    if method.kind == "micro-nonassoc" and blocks > NONASSOC_MAX_BLOCKS:
+        return f"about {blocks} blocks: above {NONASSOC_MAX_BLOCKS}"
+    return ""
+
+
+def table9_alternative(case: PaperCase) -> WallSpec:
+    """A Table 9 wall with ``m = 1/2`` instead of Table 6's 1/3 (the value that reproduces the paper)."""
+    return WallSpec.from_paper(t=case.t, m=0.5, rows=case.rows, f=case.f, p=case.p, storeys=case.storeys)
+
+
+def build_plan(quick: bool = False) -> Plan:
+    """The plan of the full report, or of the quick one (the micro model on walls of at most 12 rows)."""
+    return Plan(
+        quick=quick,
+        methods=micro_methods(),
+        cases=tuple(c for c in CASES if not quick or c.rows <= 12),
+        base=BASE_QUICK if quick else BASE_FULL,
+        sweeps=SWEEPS_QUICK if quick else SWEEPS_FULL,
+        resolutions=(3, 6, 9, 12) if quick else (12, 24, 36, 60),
+        solvers=("highs", "clarabel", "cvxpy", "highs-simplex") if quick else ("highs", "clarabel", "cvxpy"),
+    )

@@ -1,0 +1,434 @@
+"""The report's tables, built from its results (nothing is computed here)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from comparison.cases import SET4_HINGE_LOAD_FACTORS, PaperCase, cases_in_table
+from comparison.report.plan import bond_variants, table9_alternative
+from comparison.report.results import Results
+from comparison.runner import MICRO_ASSOC, Record
+
+
+@dataclass
+class Table:
+    """A report table: markdown for the reader, records for CSV/JSON."""
+
+    name: str
+    title: str
+    header: list[str]
+    rows: list[list[Any]] = field(default_factory=list)
+    note: str = ""
+    keys: int = 1  # leading columns that name a row
+
+    def row_id(self, row: Sequence[Any]) -> str:
+        """The name of a row: its leading ``keys`` cells."""
+        return " / ".join(str(c) for c in row[: self.keys])
+
+    def add(self, *cells: Any) -> None:
+        """Append a row."""
+        self.rows.append(list(cells))
+
+    def markdown(self) -> str:
+        """The table in markdown, with its title and note."""
+        out = [
+            f"### {self.title}",
+            "",
+            "| " + " | ".join(self.header) + " |",
+            "|" + "|".join("---" for _ in self.header) + "|",
+        ]
+        out += ["| " + " | ".join(_fmt(c) for c in r) + " |" for r in self.rows]
+        if self.note:
+            out += ["", self.note]
+        return "\n".join(out)
+
+    def records(self) -> list[dict[str, Any]]:
+        """One dictionary per row, keyed by the header (non-finite numbers as ``None``)."""
+        return [{"row": self.row_id(r)} | {h: plain(c) for h, c in zip(self.header, r, strict=True)} for r in self.rows]
+
+
+def _fmt(c: Any) -> str:
+    if c is None:
+        return "–"
+    if isinstance(c, float):
+        if not math.isfinite(c):
+            return "n/a"
+        return f"{c:.4f}" if abs(c) < 10 else f"{c:.2f}"
+    return str(c)
+
+
+def plain(c: Any) -> Any:
+    """A cell for CSV/JSON: non-finite numbers as ``None``."""
+    if isinstance(c, float) and not math.isfinite(c):
+        return None
+    return c
+
+
+def lam_cell(rec: Record) -> Any:
+    """The cell showing a record's load factor: the number, the band of a
+    cycling sequence, or the status of a method that gave no number."""
+    if math.isfinite(rec.load_factor):
+        return rec.load_factor
+    nonassoc = rec.nonassoc
+    band = None if nonassoc is None else nonassoc.lambda_band
+    if rec.status == "cycling" and band is not None and all(math.isfinite(v) for v in band):
+        return f"{band[0]:.4f}-{band[1]:.4f} (cycling)"
+    return {"not_applicable": "n/a", "not_run": "not run"}.get(rec.status, rec.status)
+
+
+def band_cell(band: tuple[float, float] | None) -> str | None:
+    """``"lo-hi"`` of a mechanism band (4 decimals), or ``None``."""
+    return None if band is None else f"{band[0]:.4f}-{band[1]:.4f}"
+
+
+def delta(ours: float | None, ref: float | None) -> float | None:
+    """Percentage difference of ``ours`` against ``ref``, rounded to the one decimal the tables show."""
+    if ours is None or ref is None or not math.isfinite(ours) or not math.isfinite(ref) or ref == 0:
+        return None
+    return round(100.0 * (ours - ref) / ref, 1)
+
+
+def pct(ours: float | None, ref: float | None) -> str | None:
+    """Signed percentage difference of ``ours`` against ``ref`` (one decimal)."""
+    d = delta(ours, ref)
+    return None if d is None else f"{d:+.1f}"
+
+
+def published(case: PaperCase, model: str, quantity: str = "lambda") -> float:
+    """A value the paper publishes for ``case`` (the tables ask only for values it has)."""
+    value = case.value(model, quantity)
+    if value is None:
+        raise KeyError(f"{case.label}: no published {model} {quantity}")
+    return value.value
+
+
+# ---------------------------------------------------------------- the paper's tables
+
+
+def table5(res: Results) -> Table:
+    """Table 5: the sensitivity analysis, macro model against the paper."""
+    t = Table(
+        "table5",
+        "Table 5: sensitivity analysis, macro model (three storeys; reference t = 1, m = 1/3, o = 60, p = 0, f = 0.6)",
+        [
+            "Set",
+            "parameters",
+            "λ paper",
+            "λ ours (Eq. 10)",
+            "Δ %",
+            "α_c paper",
+            "α_c ours",
+            "α_c/α_b paper",
+            "α_c/α_b ours",
+            "hinge paper",
+            "hinge ours",
+            "λ = min(λ_r, f)",
+            "mechanism",
+        ],
+    )
+    for c in cases_in_table("5"):
+        r = res.macro[c.spec()]
+        lam = published(c, "proposed")
+        t.add(
+            c.label, f"t={c.t:g} m={c.m:.3g} o={c.rows} p={c.p:g} f={c.f:g}", lam, r.rocking_load_factor,
+            pct(r.rocking_load_factor, lam), published(c, "proposed", "alpha_c_deg"), r.alpha_c_deg,
+            published(c, "proposed", "alpha_ratio"), r.alpha_ratio, int(published(c, "proposed", "hinge_storey")),
+            r.hinge_storey, r.load_factor, r.mechanism,
+        )  # fmt: skip
+    set4 = next(res.macro[c.spec()] for c in cases_in_table("5") if c.case == "4")
+    t.note = (
+        f"Set 4, λ with the hinge at storeys 1, 2, 3: paper {', '.join(f'{x:.3f}' for x in SET4_HINGE_LOAD_FACTORS)}; "
+        f"ours {', '.join(f'{h.rocking_load_factor:.4f}' for h in set4.hinges)}."
+    )
+    return t
+
+
+def table7(res: Results) -> Table:
+    """Table 7: the micro-block model against the macro-block model, with ours beside both."""
+    methods, ref = res.plan.methods, res.plan.reference
+    hdr = ["Set", "Orduña micro", "paper macro", "Δ % paper", "macro ours", "Δ % ours vs Orduña"]
+    for m in methods:
+        hdr += [f"{m.kind} ours", f"Δ % vs Orduña ({m.kind})"]
+    hdr += [f"Δ % macro vs {ref.kind}", "collapse states of the non-assoc. mechanism"]
+    t = Table("table7", "Table 7: micro-block against macro-block model (one storey, o = 12, f = 0.75)", hdr)
+    for c in cases_in_table("7"):
+        micro_pub, paper = published(c, "orduna_micro"), published(c, "proposed")
+        lam = res.macro[c.spec()].load_factor
+        row: list[Any] = [c.label, micro_pub, paper, pct(paper, micro_pub), lam, pct(lam, micro_pub)]
+        ours = None
+        for m in methods:
+            rec = res.record(c.spec(), m)
+            ours = rec.load_factor
+            row += [lam_cell(rec), pct(ours, micro_pub)]
+        row += [pct(lam, ours), band_cell(res.mechanism_band(c.spec()))]
+        t.add(*row)
+    return t
+
+
+def bond_variants_table(res: Results) -> Table:
+    """The micro model on Table 7's walls with the other bond phase and frictionless head joints."""
+    t = Table(
+        "bond_variants",
+        "Micro model variants on Table 7's walls: bond phase and head-joint friction",
+        ["Set", "method", "Orduña micro", "full first, frictional heads", "half first", "frictionless heads"],
+        keys=2,
+    )
+    for c in cases_in_table("7"):
+        for m in res.plan.methods:
+            cells = [lam_cell(res.record(c.spec(), v)) for v in bond_variants(m)]
+            t.add(c.label, m.kind, published(c, "orduna_micro"), *cells)
+    return t
+
+
+def table8(res: Results) -> Table:
+    """Table 8: other macro-block models (published) against Orduña's micro model and ours."""
+    ref = res.plan.reference
+    t = Table(
+        "table8",
+        f"Table 8: other macro-block models (published) against Orduña's micro model and our {ref.kind}",
+        [
+            "Set",
+            "Orduña micro",
+            f"ours {ref.kind}",
+            "Orduña macro",
+            "Δ %",
+            "De Buhan & de Felice",
+            "Δ %",
+            "Speranza",
+            "Δ %",
+            "Δ % Speranza vs ours",
+        ],
+    )
+    for c in cases_in_table("8"):
+        micro_pub = published(c, "orduna_micro")
+        rec = res.record(c.spec(), ref)
+        cells: list[Any] = [c.label, micro_pub, lam_cell(rec)]
+        for model in ("orduna_macro", "debuhan_defelice", "speranza"):
+            v = published(c, model)
+            cells += [v, pct(v, micro_pub)]
+        cells.append(pct(published(c, "speranza"), rec.load_factor))
+        t.add(*cells)
+    return t
+
+
+def table9(res: Results) -> Table:
+    """Table 9: the five-storey walls, macro (and, in the full report, micro)."""
+    quick, methods = res.plan.quick, res.plan.methods
+    hdr = ["Set", "p", "λ paper", "λ ours (m = 1/3)", "Δ %", "λ ours, m = 1/2", "Speranza", "Δ % ours vs Speranza"]
+    if not quick:
+        hdr += [f"{m.kind} ours" for m in methods] + ["Δ % macro vs micro (non-assoc., else assoc.)"]
+    t = Table("table9", "Table 9: five-storey walls (t = 1, m = 1/3, o = 150, f = 0.75)", hdr)
+    for c in cases_in_table("9"):
+        lam = res.macro[c.spec()].load_factor
+        paper, sp = published(c, "proposed"), published(c, "speranza")
+        alt = res.macro[table9_alternative(c)].load_factor
+        row: list[Any] = [c.label, f"{c.p:g}", paper, lam, pct(lam, paper), alt, sp, pct(lam, sp)]
+        if not quick:
+            row += [lam_cell(res.record(c.spec(), m)) for m in methods]
+            row += [pct(lam, res.best_micro(c.spec()).load_factor)]
+        t.add(*row)
+    return t
+
+
+# ---------------------------------------------------------------- beyond the paper
+
+
+def all_cases(res: Results) -> Table:
+    """Every case the micro model runs on: macro against micro."""
+    hdr = ["Case", "storeys", "t", "m", "o", "p", "f", "macro λ", "macro mechanism"]
+    for m in res.plan.methods:
+        hdr += [f"{m.kind} λ", f"{m.kind} s"]
+    hdr += ["Δ % macro vs micro (non-assoc., else assoc.)", "blocks"]
+    t = Table("all_cases", "All cases: macro against micro (micro values the paper does not have)", hdr)
+    for c in res.plan.cases:
+        r = res.macro[c.spec()]
+        row: list[Any] = [
+            c.label,
+            c.storeys,
+            f"{c.t:g}",
+            f"{c.m:.4g}",
+            c.rows,
+            f"{c.p:g}",
+            f"{c.f:g}",
+            r.load_factor,
+            r.mechanism,
+        ]
+        blocks = None
+        for m in res.plan.methods:
+            rec = res.record(c.spec(), m)
+            micro = rec.micro
+            row += [lam_cell(rec), None if micro is None else micro.build_seconds + micro.solve_seconds]
+            blocks = blocks if micro is None else micro.blocks
+        row += [pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
+        t.add(*row)
+    t.note = (
+        "n/a: the micro wall cannot be built (wall length not a whole number of half blocks, e.g. Set 8: "
+        "L = 20, v = 1.5)."
+    )
+    return t
+
+
+def mechanism_record(res: Results, case: PaperCase) -> Record:
+    """The record whose mechanism is shown for ``case``.
+
+    The reference's, else (no converged mechanism) the associative one.
+    """
+    rec = res.record(case.spec(), res.plan.reference)
+    return rec if rec.failure is not None else res.record(case.spec(), res.plan.methods[0])
+
+
+def failure_modes(res: Results) -> Table:
+    """The macro crack and hinge against the micro mechanism, case by case."""
+    t = Table(
+        "failure_modes",
+        f"Failure modes: macro crack and hinge against the {res.plan.reference.kind} mechanism",
+        [
+            "Case",
+            "micro mechanism of",
+            "macro α_c",
+            "macro α_c*",
+            "macro hinge",
+            "micro crack slope angle",
+            "micro conventional angle",
+            "micro hinge",
+            "moving blocks %",
+            "courses moving whole",
+            "micro sliding contacts",
+            "micro opening contacts",
+        ],
+    )
+    for c in res.plan.cases:
+        r = res.macro[c.spec()]
+        rec = mechanism_record(res, c)
+        fm, micro = rec.failure, rec.micro
+        states = micro is not None and micro.closed_contacts + micro.opening_contacts + micro.sliding_contacts > 0
+        t.add(
+            c.label, rec.method.kind, r.alpha_c_deg, r.alpha_c_star_deg, r.hinge_storey,
+            None if fm is None else fm.crack_angle_deg, None if fm is None else fm.conventional_angle_deg,
+            None if fm is None else fm.hinge_storey, None if fm is None else 100.0 * fm.moving_fraction,
+            None if fm is None else fm.whole_length_courses,
+            micro.sliding_contacts if micro is not None and states else None,
+            micro.opening_contacts if micro is not None and states else None,
+        )  # fmt: skip
+    t.note = (
+        "α_c: the macro crack through the hinge (Eq. 10's variable); α_c*: its stepped crack (Eq. 9). "
+        "Micro: a block moves when its corner speed exceeds 1e-3 of the largest; the crack slope is a line "
+        "fitted, course by course, to the far edge of the moving blocks (to compare with α_c*); the conventional "
+        "angle joins the hinge to the crack's highest point (to compare with α_c). Where the non-associative "
+        "sequence did not converge, the associative mechanism is shown."
+    )
+    return t
+
+
+def sensitivity(res: Results) -> Table:
+    """λ against each parameter of the base wall, macro and micro."""
+    plan = res.plan
+    t = Table(
+        "sensitivity",
+        "Sensitivity: λ against each parameter, macro and micro",
+        ["parameter", "value", "macro λ", *[f"{m.kind} λ" for m in plan.methods]],
+        keys=2,
+    )
+    for param, values in plan.sweeps.items():
+        for v in values:
+            spec = plan.sweep_spec(param, v)
+            t.add(
+                param, f"{v:.4g}", res.macro[spec].load_factor, *[lam_cell(res.record(spec, m)) for m in plan.methods]
+            )
+    t.note = f"Base wall: {', '.join(f'{k} = {v:.4g}' for k, v in plan.base.items())}. Figure: `sensitivity.png`."
+    return t
+
+
+@dataclass(frozen=True)
+class SpeedRow:
+    """One method, back end and resolution of the speed-accuracy study."""
+
+    label: str
+    family: str
+    rows: int
+    blocks: int | None
+    seconds: float
+    load_factor: float
+    error: float  # |lambda - reference| / reference
+
+
+def speed_reference(res: Results) -> Record:
+    """The reference of the speed-accuracy study: the best micro record of the finest wall."""
+    return res.best_micro(res.plan.speed_spec(res.plan.resolutions[-1], "finest"))
+
+
+def speed_rows(res: Results) -> list[SpeedRow]:
+    """Every method, back end and resolution of the speed-accuracy study, against :func:`speed_reference`."""
+    plan, lam_ref = res.plan, speed_reference(res).load_factor
+
+    def row(label: str, family: str, rows: int, blocks: int | None, seconds: float, lam: float) -> SpeedRow:
+        err = abs(lam - lam_ref) / lam_ref if math.isfinite(lam) else float("nan")
+        return SpeedRow(label, family, rows, blocks, seconds, lam, err)
+
+    base_rows = int(plan.base["rows"])
+    out = [row("macro", "macro", base_rows, None, res.macro_seconds, res.macro[plan.speed_spec(base_rows)].load_factor)]
+    for rows in plan.resolutions:
+        spec = plan.speed_spec(rows)
+        for solver in plan.solvers:
+            rec = res.record(spec, replace(MICRO_ASSOC, solver=solver))
+            blocks = None if rec.micro is None else rec.micro.blocks
+            out.append(
+                row(f"micro-assoc {solver}", f"micro-assoc {solver}", rows, blocks, rec.seconds, rec.load_factor)
+            )
+        for m in plan.methods[1:]:
+            rec = res.record(spec, m)
+            if rec.status != "not_run":
+                blocks = None if rec.micro is None else rec.micro.blocks
+                out.append(row(m.label, m.kind, rows, blocks, rec.seconds, rec.load_factor))
+    return out
+
+
+def speed_accuracy(res: Results) -> Table:
+    """Each method, back end and block resolution against the finest micro reference."""
+    ref = speed_reference(res)
+    t = Table(
+        "speed_accuracy",
+        f"Speed against accuracy (reference: {ref.method.kind}, {res.plan.resolutions[-1]} rows, "
+        f"λ = {ref.load_factor:.4f})",
+        ["method", "rows", "blocks", "seconds", "λ", "rel. error of λ"],
+        keys=2,
+    )
+    for r in speed_rows(res):
+        t.add(r.label, r.rows, r.blocks, r.seconds, r.load_factor, r.error)
+    t.note = "Seconds: build and solve as run (first computation, not a cache read); figure: `speed_accuracy.png`."
+    return t
+
+
+def histories(res: Results) -> Table:
+    """Iterations and status of the iterated LP on every case."""
+    t = Table(
+        "histories", "Iterated LP: iterations and status", ["case", "status", "iterations", "λ", "band min", "band max"]
+    )
+    for c in res.plan.cases:
+        rec = res.record(c.spec(), res.plan.reference)
+        na = rec.nonassoc
+        band = (None, None) if na is None or na.lambda_band is None else na.lambda_band
+        t.add(c.label, rec.status, None if na is None else na.iterations, rec.load_factor, band[0], band[1])
+    t.note = "Figure: `histories.png`."
+    return t
+
+
+def all_tables(res: Results) -> dict[str, Table]:
+    """Every table of the report, by name."""
+    builders = (
+        table5,
+        table7,
+        bond_variants_table,
+        table8,
+        table9,
+        all_cases,
+        failure_modes,
+        sensitivity,
+        speed_accuracy,
+        histories,
+    )
+    tables = [build(res) for build in builders]
+    return {t.name: t for t in tables}

@@ -1,0 +1,34 @@
+"""Run the models on walls, with results cached on disk.
+
+* :mod:`~comparison.runner.methods`: :class:`Method` (macro, associative and
+  non-associative micro LPs, with their options);
+* :mod:`~comparison.runner.records`: :class:`Record`, one method's typed result
+  on one wall;
+* :mod:`~comparison.runner.cache`: :class:`ResultCache`, the on-disk cache, and
+  where it lives by default (:func:`default_cache_dir`);
+* :mod:`~comparison.runner.pool`: :func:`prefetch`, missing entries computed in
+  parallel processes;
+* :mod:`~comparison.runner.runner`: :func:`compute` and the caching :class:`Runner`.
+"""
+
+from comparison.runner.cache import ResultCache, code_version, default_cache_dir
+from comparison.runner.methods import MACRO, MICRO_ASSOC, MICRO_NONASSOC, NONASSOC_SECONDS, Method
+from comparison.runner.pool import prefetch
+from comparison.runner.records import Mechanism, Record
+from comparison.runner.runner import Runner, compute
+
+__all__ = [
+    "MACRO",
+    "MICRO_ASSOC",
+    "MICRO_NONASSOC",
+    "NONASSOC_SECONDS",
+    "Mechanism",
+    "Method",
+    "Record",
+    "ResultCache",
+    "Runner",
+    "code_version",
+    "compute",
+    "default_cache_dir",
+    "prefetch",
+]

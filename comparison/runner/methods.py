@@ -1,0 +1,60 @@
+"""The methods the runner computes: the macro model and the two micro LPs, with their options."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import Literal
+
+Kind = Literal["macro", "micro-assoc", "micro-nonassoc"]
+
+#: The packages whose source decides each kind's results (part of the cache key).
+PACKAGES: dict[str, tuple[str, ...]] = {"macro": ("macro",), "micro-assoc": ("micro",), "micro-nonassoc": ("micro",)}
+
+#: Time budget of the iterated LP per direction in the runner: a sequence that
+#: spends it stops as ``max_iterations`` (``time_budget``) with its last band.
+NONASSOC_SECONDS = 180.0
+
+
+@dataclass(frozen=True)
+class Method:
+    """A way of computing the load factor, with its options.
+
+    Attributes:
+        kind: ``"macro"``, ``"micro-assoc"`` or ``"micro-nonassoc"``.
+        solver: micro back end (see :data:`micro.SOLVERS`).
+        scheme: non-associative scheme (``"a"`` or ``"b"``).
+        first_course: micro bond phase, ``"full"`` or ``"half"``.
+        head_joints: ``"frictional"`` or ``"frictionless"``.
+    """
+
+    kind: Kind
+    solver: str = "highs"
+    scheme: Literal["a", "b"] = "a"
+    first_course: str = "full"
+    head_joints: str = "frictional"
+
+    @property
+    def label(self) -> str:
+        """Short name for tables and figures."""
+        if self.kind == "macro":
+            return "macro"
+        opts = [self.solver] if self.kind == "micro-assoc" else [f"scheme {self.scheme}"]
+        if self.first_course != "full":
+            opts.append("half first")
+        if self.head_joints != "frictional":
+            opts.append("frictionless heads")
+        return f"{self.kind} ({', '.join(opts)})"
+
+    def key(self) -> dict[str, str]:
+        """The options that change the result."""
+        if self.kind == "macro":
+            return {"kind": "macro"}
+        d = asdict(self)
+        if self.kind == "micro-assoc":
+            d.pop("scheme")
+        return d
+
+
+MACRO = Method("macro")
+MICRO_ASSOC = Method("micro-assoc")
+MICRO_NONASSOC = Method("micro-nonassoc")

@@ -1,0 +1,106 @@
+"""The comparison record: one method's typed result on one wall, with its failure mode."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from comparison.failure import FailureMode
+from comparison.runner.methods import Method
+from macro.records import MacroRecord
+from micro.records import AssociativeRecord, NonAssociativeRecord
+
+#: The typed result record of each method kind.
+ResultRecord = MacroRecord | AssociativeRecord | NonAssociativeRecord
+RESULT_TYPES: dict[str, type[ResultRecord]] = {
+    "macro": MacroRecord,
+    "micro-assoc": AssociativeRecord,
+    "micro-nonassoc": NonAssociativeRecord,
+}
+
+#: Why a record holds no result: the micro wall cannot be built, or the report left the method out.
+Skip = Literal["", "not_applicable", "not_run"]
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """The collapse mechanism of a micro record, for the figures.
+
+    Attributes:
+        velocities: ``(n_blocks, 3)`` block velocities ``(u, v, omega)``.
+        direction: the live-load direction it belongs to, ``"+x"`` or ``"-x"``.
+    """
+
+    velocities: NDArray[np.float64]
+    direction: str
+
+
+@dataclass(frozen=True)
+class Record:
+    """One method's result on one wall.
+
+    Attributes:
+        wall: the wall's name.
+        method: the method.
+        seconds: wall time of the computation (as computed, also when read from the cache).
+        result: the typed record of the result (``None`` when skipped).
+        failure: the micro mechanism read in the macro model's terms (``None``
+            for the macro model, a failed solve, or a mechanism that could not be read).
+        skipped: ``"not_applicable"`` (the micro wall cannot be built) or
+            ``"not_run"`` (left out of the report), else ``""``.
+        message: why it was skipped, or why the mechanism could not be read.
+        cached: True when read from the cache.
+    """
+
+    wall: str
+    method: Method
+    seconds: float
+    result: ResultRecord | None = None
+    failure: FailureMode | None = None
+    skipped: Skip = ""
+    message: str = ""
+    cached: bool = False
+
+    @property
+    def load_factor(self) -> float:
+        """The result's load factor (NaN when skipped or failed)."""
+        return math.nan if self.result is None else self.result.load_factor
+
+    @property
+    def status(self) -> str:
+        """The result's status, or why it was skipped."""
+        return self.skipped if self.result is None else self.result.status
+
+    @property
+    def micro(self) -> AssociativeRecord | NonAssociativeRecord | None:
+        """The micro result, if any."""
+        return self.result if isinstance(self.result, (AssociativeRecord, NonAssociativeRecord)) else None
+
+    @property
+    def nonassoc(self) -> NonAssociativeRecord | None:
+        """The non-associative result, if any."""
+        return self.result if isinstance(self.result, NonAssociativeRecord) else None
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary (the typed parts by their own ``to_dict``)."""
+        return {
+            "wall": self.wall,
+            "method": asdict(self.method),
+            "seconds": self.seconds,
+            "result": None if self.result is None else self.result.to_dict(),
+            "failure": None if self.failure is None else self.failure.to_dict(),
+            "skipped": self.skipped,
+            "message": self.message,
+        }
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any], *, cached: bool = False) -> Record:
+        """The record :meth:`to_dict` wrote."""
+        method = Method(**d["method"])
+        result = None if d["result"] is None else RESULT_TYPES[method.kind].from_dict(d["result"])
+        failure = None if d["failure"] is None else FailureMode.from_dict(d["failure"])
+        return cls(d["wall"], method, d["seconds"], result, failure, d["skipped"], d["message"], cached)

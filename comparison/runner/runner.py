@@ -1,0 +1,115 @@
+"""Run one method on one wall: :func:`compute`, and the caching :class:`Runner`.
+
+A :class:`Runner` returns the :class:`~comparison.runner.records.Record` of a
+method on a wall, from memory, from the on-disk
+:class:`~comparison.runner.cache.ResultCache` (see there for the key and for
+where the cache lives) or computed anew, and keeps the micro mechanisms for the
+figures.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from comparison.failure import FailureMode, failure_mode
+from comparison.runner.cache import ResultCache
+from comparison.runner.methods import NONASSOC_SECONDS, Method
+from comparison.runner.records import Mechanism, Record
+from comparison.wall import WallSpec
+from micro.records import AssociativeRecord, NonAssociativeRecord
+
+
+def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
+    """Run ``method`` on ``spec``: its record and, for a micro solve with a mechanism, the mechanism.
+
+    A micro wall that cannot be built (e.g. a length that is not a whole number
+    of half blocks) gives a ``not_applicable`` record, not an exception.
+    """
+    name = spec.name or "wall"
+    t0 = time.perf_counter()
+    if method.kind == "macro":
+        import macro
+
+        result = macro.solve(spec.to_macro()).to_record()
+        return Record(name, method, time.perf_counter() - t0, result), None
+    import micro
+
+    try:
+        wall = spec.to_micro(first_course=method.first_course, head_joints=method.head_joints)
+    except ValueError as exc:
+        return Record(name, method, 0.0, skipped="not_applicable", message=str(exc)), None
+    mechanism = None
+    record: AssociativeRecord | NonAssociativeRecord
+    if method.kind == "micro-assoc":
+        res = micro.solve_associative(wall, solver=method.solver)
+        record = res.to_record()
+        if res.velocities is not None and res.direction:
+            mechanism = Mechanism(np.asarray(res.velocities), res.direction)
+    else:
+        nres = micro.solve_nonassociative(wall, scheme=method.scheme, max_seconds=NONASSOC_SECONDS)
+        record = nres.to_record()
+        gov = next((d for d in nres.directions if d.direction == nres.direction), None)
+        if gov is not None and gov.mechanism is not None:
+            mechanism = Mechanism(np.asarray(gov.mechanism.velocities), nres.direction)
+    failure: FailureMode | None = None
+    message = ""
+    if mechanism is not None:
+        try:
+            failure = failure_mode(wall, mechanism.velocities, mechanism.direction)
+        except ValueError as exc:
+            message = str(exc)
+    return Record(name, method, time.perf_counter() - t0, record, failure, message=message), mechanism
+
+
+class Runner:
+    """Compute methods on walls, each once, caching records on disk.
+
+    Args:
+        cache_dir: where records live (``None``: no disk cache, results kept in memory only).
+        progress: called with one line per computation (``None``: silent).
+
+    Attributes:
+        computed: computations run by this runner.
+        hits: records read from the disk cache.
+    """
+
+    def __init__(self, cache_dir: Path | None, progress: Callable[[str], None] | None = None) -> None:
+        self.cache = None if cache_dir is None else ResultCache(cache_dir)
+        self.progress = progress
+        self.computed = 0
+        self.hits = 0
+        self._memory: dict[tuple[WallSpec, Method], tuple[Record, Mechanism | None]] = {}
+
+    def run(self, spec: WallSpec, method: Method) -> Record:
+        """The record of ``method`` on ``spec``: from memory, from the cache, or computed."""
+        return self._entry(spec, method)[0]
+
+    def mechanism(self, spec: WallSpec, method: Method) -> Mechanism | None:
+        """The mechanism of the micro record of ``method`` on ``spec``, if it has one."""
+        return self._entry(spec, method)[1]
+
+    def _entry(self, spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
+        key = (spec, method)
+        if key in self._memory:
+            return self._memory[key]
+        stored = None if self.cache is None else self.cache.load(spec, method)
+        if stored is not None and self.cache is not None:
+            self.hits += 1
+            entry = (stored, self.cache.mechanism(spec, method))
+        else:
+            entry = compute(spec, method)
+            self.computed += 1
+            record = entry[0]
+            if self.progress:
+                self.progress(
+                    f"{record.wall}: {method.label}: lambda = {record.load_factor:.4f} ({record.status}) "
+                    f"in {record.seconds:.2f} s"
+                )
+            if self.cache is not None:
+                self.cache.store(spec, *entry)
+        self._memory[key] = entry
+        return entry

@@ -1,0 +1,194 @@
+"""The shared wall: one wall, described once, built into each model's input, and its checks.
+
+A :class:`WallSpec` is a dimensional wall (lengths, unit weight, floor loads) in
+the terms both models understand. It is made either from the paper's
+nondimensional parameters (Table 4 of Argiento, Maione & Casapulla 2018) with
+:meth:`WallSpec.from_paper`, or from a TOML scene with
+:func:`comparison.scene.load_scene`. :meth:`WallSpec.to_macro` and
+:meth:`WallSpec.to_micro` build each model's own input, so that ``macro`` and
+``micro`` never import each other.
+
+Every wall parameter is checked with the one vocabulary of :mod:`macro.checks`
+(re-exported here for the scene files and the command line), so that the
+spec, the scenes, ``macro.MacroWall`` and ``macro.sweep`` word a bad value
+alike. The mapping of the paper's parameters onto a dimensional wall is
+:func:`macro.paper.paper_walls` (block height 1, ``H = o``, ``L = o/t``,
+``l = 1/m``, ``q = p H`` on every floor; see that module and the README for the
+reading of ``p``). The load factor is independent of the unit of length and of
+``unit_weight``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
+
+from macro.checks import NO_STOREY, non_negative, positive, positive_int
+from macro.paper import BLOCK_HEIGHT, paper_walls
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    import macro
+    import micro
+
+
+@dataclass(frozen=True)
+class StoreySpec:
+    """One storey, numbered as the paper does (1 = top).
+
+    Attributes:
+        rows: courses of blocks in the storey (positive integer).
+        thickness: thickness of the storey's blocks (the paper's ``b_i``).
+        overload: floor load per unit length of wall on top of the storey
+            (the paper's ``q_i``; force / length).
+    """
+
+    rows: int
+    thickness: float
+    overload: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "rows", positive_int("rows", self.rows))
+        object.__setattr__(self, "thickness", positive("thickness", self.thickness))
+        object.__setattr__(self, "overload", non_negative("overload", self.overload))
+
+
+@dataclass(frozen=True)
+class WallSpec:
+    """A dimensional dry-joint wall of one or more storeys.
+
+    Attributes:
+        length: wall length ``L``.
+        block_length: unit block length ``l`` (the overlap is ``v = l/2``).
+        block_height: unit block height ``b``.
+        storeys: the storeys from the top (storey 1) down.
+        unit_weight: specific weight ``gamma`` (force / volume).
+        friction: friction coefficient ``f`` of every joint.
+        name: a label used in reports.
+    """
+
+    length: float
+    block_length: float
+    block_height: float
+    storeys: tuple[StoreySpec, ...]
+    unit_weight: float = 1.0
+    friction: float = 0.6
+    name: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        for name in ("length", "block_length", "block_height", "unit_weight", "friction"):
+            object.__setattr__(self, name, positive(name, getattr(self, name)))
+        storeys = tuple(self.storeys)
+        if not storeys:
+            raise ValueError(NO_STOREY.format(name="storeys"))
+        if not all(isinstance(s, StoreySpec) for s in storeys):
+            raise ValueError("storeys must be StoreySpec instances")
+        object.__setattr__(self, "storeys", storeys)
+
+    # ------------------------------------------------------------------ paper
+    @classmethod
+    def from_paper(
+        cls,
+        *,
+        t: float,
+        m: float,
+        rows: int,
+        f: float,
+        p: float = 0.0,
+        storeys: int = 1,
+        p_height: Literal["wall", "storey"] = "wall",
+        name: str = "",
+    ) -> WallSpec:
+        """Build a wall from the paper's Table 4 parameters.
+
+        Args:
+            t: wall shape ratio ``H/L``.
+            m: unit shape ratio ``b/l``, in (0, 1].
+            rows: number of rows ``o = H/b``, split equally over the storeys.
+            f: friction coefficient.
+            p: overloading ratio (same on every floor).
+            storeys: number of storeys ``N``.
+            p_height: ``"wall"`` reads ``p = q/(gamma H b)`` with ``H`` the wall
+                height; ``"storey"`` uses the storey height.
+            name: label for reports.
+
+        Raises:
+            ValueError: with a message naming the offending parameter
+                (see :func:`macro.paper.paper_walls`).
+        """
+        w = paper_walls(t, m, rows, f, p, storeys, p_height)
+        per = int(w.rows_per_storey[0])
+        q = float(w.overload[0])
+        return cls(
+            length=float(w.length[0]),
+            block_length=float(w.block_length[0]),
+            block_height=BLOCK_HEIGHT,
+            storeys=tuple(StoreySpec(per, BLOCK_HEIGHT, q) for _ in range(w.storeys)),
+            unit_weight=1.0,
+            friction=float(w.friction[0]),
+            name=name,
+        )
+
+    def paper_parameters(self) -> dict[str, float]:
+        """The paper's nondimensional parameters of this wall (back-mapping).
+
+        ``p`` is taken from the top storey's load and thickness
+        (``p_height="wall"`` reading); walls whose storeys differ have no
+        single paper ``p`` or ``m`` and are returned with the values of storey 1.
+        """
+        height = self.height
+        top = self.storeys[0]
+        return {
+            "t": height / self.length,
+            "m": self.block_height / self.block_length,
+            "rows": self.rows,
+            "storeys": len(self.storeys),
+            "p": top.overload / (self.unit_weight * height * top.thickness),
+            "f": self.friction,
+        }
+
+    # --------------------------------------------------------------- geometry
+    @property
+    def rows(self) -> int:
+        """Total number of rows (courses)."""
+        return sum(s.rows for s in self.storeys)
+
+    @property
+    def height(self) -> float:
+        """Wall height ``H``."""
+        return self.rows * self.block_height
+
+    @property
+    def overlap(self) -> float:
+        """Staggering length ``v = l/2``."""
+        return 0.5 * self.block_length
+
+    # ----------------------------------------------------------------- models
+    def dimensions(self) -> dict[str, Any]:
+        """The wall in the keyword arguments both models take (``macro.MacroWall``, ``micro.build_wall``)."""
+        return {
+            "length": self.length,
+            "block_length": self.block_length,
+            "block_height": self.block_height,
+            "rows": tuple(s.rows for s in self.storeys),
+            "thickness": tuple(s.thickness for s in self.storeys),
+            "overload": tuple(s.overload for s in self.storeys),
+            "unit_weight": self.unit_weight,
+            "friction": self.friction,
+        }
+
+    def to_macro(self) -> macro.MacroWall:
+        """The macro-block model's input for this wall."""
+        import macro
+
+        return macro.MacroWall(**self.dimensions())
+
+    def to_micro(self, **options: Any) -> micro.BlockWall:
+        """The micro model's block assemblage for this wall.
+
+        Args:
+            **options: builder options of :func:`micro.build_wall`
+                (``first_course``, ``head_joints``, ...).
+        """
+        import micro
+
+        return micro.build_wall(**self.dimensions(), **options)

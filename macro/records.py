@@ -1,0 +1,65 @@
+"""The flat record of a macro result: what a table, a cache or a JSON file keeps of it."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields
+from typing import Any
+
+
+def _json_number(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
+
+def _number(x: float | None) -> float:
+    return math.nan if x is None else float(x)
+
+
+@dataclass(frozen=True)
+class MacroRecord:
+    """A :class:`macro.MacroResult` without its wall and its per-storey terms (flat, frozen, JSON-ready).
+
+    Attributes:
+        load_factor: ``min(rocking_load_factor, f)``.
+        rocking_load_factor: minimum of Eq. (10).
+        sliding_load_factor: ``lambda_s`` of Eq. (12) at the optimum crack.
+        tan_alpha_c: crack slope at the optimum; ``alpha_c_deg`` the angle.
+        tan_alpha_c_star: slope of the stepped crack (Eq. 9); ``alpha_c_star_deg`` the angle.
+        alpha_b_deg: ``atan(v/b)``; ``alpha_ratio = alpha_c/alpha_b``.
+        hinge_storey: storey whose base holds the hinge (1 = top).
+        hinge_load_factors: the minimum of Eq. (10) for the hinge at storeys 1, 2, ...
+        mechanism: ``"rocking-sliding"``, ``"rocking"`` or ``"sliding"``.
+        status: ``"optimal"``.
+        solve_seconds: wall-clock time of the solve.
+    """
+
+    load_factor: float
+    rocking_load_factor: float
+    sliding_load_factor: float
+    tan_alpha_c: float
+    alpha_c_deg: float
+    tan_alpha_c_star: float
+    alpha_c_star_deg: float
+    alpha_b_deg: float
+    alpha_ratio: float
+    hinge_storey: int
+    hinge_load_factors: tuple[float, ...]
+    mechanism: str
+    status: str
+    solve_seconds: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary (non-finite numbers as ``None``)."""
+        d = asdict(self)
+        for f in fields(self):
+            if f.type == "float":
+                d[f.name] = _json_number(d[f.name])
+        d["hinge_load_factors"] = [_json_number(x) for x in self.hinge_load_factors]
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> MacroRecord:
+        """The record :meth:`to_dict` wrote."""
+        values: dict[str, Any] = {f.name: (_number(d[f.name]) if f.type == "float" else d[f.name]) for f in fields(cls)}
+        values["hinge_load_factors"] = tuple(_number(x) for x in d["hinge_load_factors"])
+        return cls(**values)

@@ -1,0 +1,177 @@
+"""Flat, JSON-ready records of the micro results.
+
+A record holds what a table, a cache or a report needs of one analysis:
+numbers, strings, bools and tuples of numbers, no arrays (forces and
+velocities stay on the result objects). ``NaN`` is allowed in memory (a
+failed number); :meth:`MicroRecord.to_dict` writes it as ``None`` and
+:meth:`MicroRecord.from_dict` reads it back as ``NaN``, so
+``from_dict(to_dict(r))`` gives the record back.
+
+``iterations`` and ``total_iterations`` (both records):
+
+* ``iterations``: the governing direction's count, or the first failing
+  direction's when the analysis failed (solver iterations for the
+  associative LP, non-associative LPs for the iterated scheme);
+* ``total_iterations``: the sum over the directions solved.
+
+Made by :meth:`micro.LimitResult.to_record` and
+:meth:`micro.NonAssociativeResult.to_record`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import types
+import typing
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, Self
+
+__all__ = ["AssociativeRecord", "MicroRecord", "NonAssociativeRecord"]
+
+Band = tuple[float, float]
+
+
+def _out(value: Any) -> Any:
+    """JSON-ready: NaN and infinities -> None, tuples -> lists."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, tuple):
+        return [_out(v) for v in value]
+    return value
+
+
+def _in(hint: Any, value: Any) -> Any:
+    """The inverse of :func:`_out` for a field of type ``hint``."""
+    args = typing.get_args(hint)
+    optional = isinstance(hint, types.UnionType) and type(None) in args
+    if value is None:
+        return None if optional else (math.nan if hint is float else value)
+    if optional:
+        hint = next(a for a in args if a is not type(None))
+        args = typing.get_args(hint)
+    if typing.get_origin(hint) is tuple:
+        return tuple(math.nan if v is None else float(v) for v in value)
+    return float(value) if hint is float else value
+
+
+@dataclass(frozen=True)
+class MicroRecord:
+    """What every micro analysis reports (governing direction first).
+
+    Attributes:
+        load_factor: governing ``lambda`` (NaN when the analysis failed).
+        status: ``"optimal"`` (associative), ``"converged"`` (iterated LP)
+            or the failing status.
+        solver: the back end, or for the iterated LP which solver did what.
+        direction: governing direction ``"+x"`` / ``"-x"`` (``""`` on failure).
+        load_factor_plus, load_factor_minus: ``lambda`` of each direction
+            (NaN when that direction was not solved, e.g. ``-x`` of a
+            mirror-symmetric wall, or did not succeed).
+        blocks, contacts, points: sizes of the wall.
+        variables, rows, nnz: sizes of the assembled associative LP.
+        iterations: the governing (or first failing) direction's count (module
+            docstring).
+        total_iterations: the sum over the directions solved.
+        build_seconds: assembly of the LP.
+        solve_seconds: every solve.
+        mirror_symmetric: one direction solved (the wall is its own mirror image).
+        closed_contacts, opening_contacts, sliding_contacts: contact states of
+            the governing mechanism (0 when there is none).
+        message: a one-line explanation when the analysis failed.
+    """
+
+    load_factor: float
+    status: str
+    solver: str
+    direction: str
+    load_factor_plus: float
+    load_factor_minus: float
+    blocks: int
+    contacts: int
+    points: int
+    variables: int
+    rows: int
+    nnz: int
+    iterations: int
+    total_iterations: int
+    build_seconds: float
+    solve_seconds: float
+    mirror_symmetric: bool
+    closed_contacts: int
+    opening_contacts: int
+    sliding_contacts: int
+    message: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (NaN -> ``None``, tuples -> lists)."""
+        return {f.name: _out(getattr(self, f.name)) for f in dataclasses.fields(self)}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Self:
+        """The record written by :meth:`to_dict` (``None`` -> NaN for numbers).
+
+        Raises:
+            KeyError: a field is missing from ``data``.
+        """
+        hints = typing.get_type_hints(cls)
+        return cls(**{f.name: _in(hints[f.name], data[f.name]) for f in dataclasses.fields(cls)})
+
+    @property
+    def contact_states(self) -> dict[str, int]:
+        """``{"closed": .., "opening": .., "sliding": ..}``."""
+        return {"closed": self.closed_contacts, "opening": self.opening_contacts, "sliding": self.sliding_contacts}
+
+
+@dataclass(frozen=True)
+class AssociativeRecord(MicroRecord):
+    """Record of :func:`micro.solve_associative` (fields: :class:`MicroRecord`)."""
+
+
+@dataclass(frozen=True)
+class NonAssociativeRecord(MicroRecord):
+    """Record of :func:`micro.solve_nonassociative`.
+
+    The fields below describe the governing direction (the first direction
+    that did not converge when the analysis failed), but for
+    ``fallback_steps`` which is summed over the directions.
+
+    Attributes:
+        scheme: rebuilt yield condition, ``"a"`` or ``"b"``.
+        relaxation: ``beta``.
+        converged: ``status == "converged"``.
+        stop_reason: what stopped the sequence.
+        lambda_band: ``(min, max)`` of ``lambda`` over the cycle or the last
+            window (``None`` when converged).
+        mechanism_band: ``(min, max)`` of ``lambda`` over the collapse states
+            with the final mechanism (``None`` when not computed).
+        last_load_factor: ``lambda`` of the last successful iterate.
+        associative_load_factor: smallest associative ``lambda`` over the
+            directions solved.
+        cold_load_factor: the final iterate re-solved cold.
+        warm_cold_rel_diff: ``|warm - cold| / |cold|``.
+        coulomb_residual: ``max(|s| - mu n, 0) / max n`` of the final forces.
+        dilatancy_residual: largest opening rate at sliding points in
+            contact, relative to the largest slip rate.
+        history_load_factor: ``lambda`` of every LP, the associative one first.
+        cold_algorithm: the algorithm of the cold re-solve.
+        fallback_steps: scheme (b) LPs replaced by a scheme (a) step, over
+            the directions solved.
+    """
+
+    scheme: str
+    relaxation: float
+    converged: bool
+    stop_reason: str
+    lambda_band: Band | None
+    mechanism_band: Band | None
+    last_load_factor: float
+    associative_load_factor: float
+    cold_load_factor: float
+    warm_cold_rel_diff: float
+    coulomb_residual: float
+    dilatancy_residual: float
+    history_load_factor: tuple[float, ...]
+    cold_algorithm: str
+    fallback_steps: int

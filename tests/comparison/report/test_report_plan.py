@@ -1,0 +1,48 @@
+"""The report's explicit run plan: what it lists, and that it is built without running anything."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import pytest
+
+from comparison.cases import case, cases_in_table
+from comparison.report.plan import NONASSOC_MAX_BLOCKS, approximate_blocks, build_plan
+from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, Runner
+
+
+def test_quick_plan_lists_every_pair_once_and_runs_nothing() -> None:
+    runner = Runner(None)
+    plan = build_plan(quick=True)
+    items = plan.items()
+    pairs = [(it.spec, it.method) for it in items]
+    assert len(pairs) == len(set(pairs))
+    assert runner.computed == 0
+    assert all(c.rows <= 12 for c in plan.cases)
+    assert {c.case for c in cases_in_table("7")} <= {c.case for c in plan.cases}
+    # the bond variants of Table 7 and the speed study's back ends are in the plan
+    set12 = case("12").spec()
+    assert (set12, replace(plan.methods[0], first_course="half")) in pairs
+    assert (set12, replace(MICRO_NONASSOC, head_joints="frictionless")) in pairs
+    assert (plan.speed_spec(3), replace(MICRO_ASSOC, solver="cvxpy")) in pairs
+    assert not any(it.skip for it in items)
+
+
+def test_full_plan_skips_the_iterated_lp_on_large_walls() -> None:
+    plan = build_plan(quick=False)
+    skipped = {(it.spec.name, it.method.kind) for it in plan.items() if it.skip}
+    assert ("Set 15", "micro-nonassoc") in skipped and ("Set 10", "micro-nonassoc") in skipped
+    assert ("Ref", "micro-nonassoc") not in skipped
+    assert all(kind == "micro-nonassoc" for _, kind in skipped)
+    big = [it for it in plan.items() if it.skip]
+    assert all(approximate_blocks(it.spec) > NONASSOC_MAX_BLOCKS for it in big)
+    assert plan.reference == MICRO_NONASSOC
+
+
+def test_results_refuse_a_pair_outside_the_plan() -> None:
+    from comparison.report.results import Results
+
+    plan = build_plan(quick=True)
+    res = Results(plan, {}, {}, {}, 0.0)
+    with pytest.raises(KeyError):
+        res.record(case("Ref").spec(), MICRO_ASSOC)

@@ -1,0 +1,96 @@
+"""Records: flat, JSON-ready, round trip, and consistent with the results they come from."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import pytest
+from micro_walls import table7_wall, three_storey_wall
+
+import micro
+
+
+def _eq(u: object, v: object) -> bool:
+    return u == v or (isinstance(u, float) and isinstance(v, float) and math.isnan(u) and math.isnan(v))
+
+
+def _same(a: micro.MicroRecord, b: micro.MicroRecord) -> bool:
+    """Equal field by field, NaN equal to NaN."""
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        xs, ys = (x, y) if isinstance(x, tuple) else ((x,), (y,))
+        if len(xs) != len(ys) or not all(_eq(u, v) for u, v in zip(xs, ys, strict=True)):
+            return False
+    return type(a) is type(b)
+
+
+def _flat(d: dict) -> None:
+    for k, v in d.items():
+        assert v is None or isinstance(v, (int, float, str, bool, list)), k
+        if isinstance(v, list):
+            assert all(x is None or isinstance(x, (int, float)) for x in v), k
+
+
+def test_associative_record() -> None:
+    w = three_storey_wall()
+    r = micro.solve_associative(w)
+    rec = r.to_record()
+    assert isinstance(rec, micro.AssociativeRecord)
+    assert rec.load_factor == r.load_factor and rec.status == "optimal" and rec.direction == r.direction
+    assert {rec.load_factor_plus, rec.load_factor_minus} == {d.load_factor for d in r.directions}
+    assert rec.blocks == w.n_blocks and rec.variables == r.variables and rec.nnz == r.nnz
+    gov = r.by_direction(r.direction)
+    assert rec.iterations == gov.iterations
+    assert rec.total_iterations == sum(d.iterations for d in r.directions) > rec.iterations
+    assert rec.closed_contacts + rec.opening_contacts + rec.sliding_contacts == rec.contacts
+    d = rec.to_dict()
+    _flat(d)
+    assert _same(micro.AssociativeRecord.from_dict(json.loads(json.dumps(d))), rec)
+    # the summary (--json) is built from the record
+    s = r.summary()
+    assert {k: s[k] for k in d} == d
+    assert s["contact_states"] == rec.contact_states
+
+
+def test_failed_associative_record_round_trips_nan() -> None:
+    w = table7_wall("set12")
+    import numpy as np
+
+    r = micro.solve_associative(dataclasses.replace(w, live=np.zeros_like(w.live)))
+    rec = r.to_record()
+    assert rec.status == "unbounded" and math.isnan(rec.load_factor) and rec.direction == ""
+    d = rec.to_dict()
+    assert d["load_factor"] is None and d["load_factor_minus"] is None
+    back = micro.AssociativeRecord.from_dict(json.loads(json.dumps(d)))
+    assert math.isnan(back.load_factor) and _same(back, rec)
+
+
+@pytest.mark.parametrize("kw", [{}, {"relaxation": 1.0, "certify": False}])
+def test_nonassociative_record(kw: dict) -> None:
+    r = micro.solve_nonassociative(table7_wall("set14"), **kw)
+    rec = r.to_record()
+    assert isinstance(rec, micro.NonAssociativeRecord)
+    assert rec.status == r.status and rec.converged == r.converged and rec.scheme == "a"
+    assert rec.stop_reason == r.governing.stop_reason
+    assert rec.iterations == r.iterations == len(rec.history_load_factor) - 1
+    assert rec.total_iterations == sum(d.iterations for d in r.directions)
+    assert rec.lambda_band == r.lambda_band and rec.mechanism_band == r.mechanism_band
+    assert rec.history_load_factor == tuple(h.load_factor for h in r.history)
+    assert rec.solver == "clarabel (start, certificate) + highs-simplex (iterated) + highs-ipm (cold check)"
+    d = rec.to_dict()
+    _flat(d)
+    back = micro.NonAssociativeRecord.from_dict(json.loads(json.dumps(d)))
+    assert _same(back, rec)
+    if not r.converged:
+        assert math.isnan(back.load_factor) and back.lambda_band is not None and back.mechanism_band is None
+    s = r.summary()
+    assert {k: s[k] for k in d} == d
+
+
+def test_from_dict_names_a_missing_field() -> None:
+    d = micro.solve_associative(table7_wall("set12")).to_record().to_dict()
+    del d["nnz"]
+    with pytest.raises(KeyError, match="nnz"):
+        micro.AssociativeRecord.from_dict(d)
