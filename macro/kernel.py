@@ -49,6 +49,7 @@ Array = NDArray[np.float64]
 @njit(cache=True)
 def storey_constants(
     k: int,
+    w: int,
     length: float,
     overlap: float,
     height: float,
@@ -59,9 +60,9 @@ def storey_constants(
     overload: Array,
     out: Array,
 ) -> tuple[float, float, float]:
-    """Per-storey constants of the mechanism with the hinge under storey ``k - 1`` (0 = top).
+    """Per-storey constants of wall ``w`` (row of ``rows``, ``thickness``, ``overload``), hinge under storey ``k - 1``.
 
-    Fills ``out[i]`` (``i < k``) with ``n, B, K, LA, cB, cBy, cC, cD, cg, fx, fy, ft``
+    Storey 0 is the top. Fills ``out[i]`` (``i < k``) with ``n, B, K, LA, cB, cBy, cC, cD, cg, fx, fy, ft``
     (rows, rows below, row weight ``b b_i gamma``, load above, and the
     coefficients named in :class:`macro.equations.HingeProblems`).
 
@@ -72,24 +73,24 @@ def storey_constants(
     below = 0.0
     for i in range(k - 1, -1, -1):
         out[i, 1] = below
-        below += rows[i]
+        below += rows[w, i]
     load = 0.0
     moment_a = overturn_a = 0.0
     b, v, L = height, overlap, length
     for i in range(k):
-        n, B = rows[i], out[i, 1]
-        K = b * thickness[i] * weight
+        n, B, q = rows[w, i], out[i, 1], overload[w, i]
+        K = b * thickness[w, i] * weight
         top = (B + n) * b
-        load += overload[i]
+        load += q
         out[i, 0], out[i, 2], out[i, 3] = n, K, load
         out[i, 4] = 0.5 * K * (L * L - v * v)
         out[i, 5] = K * (L - v) * b
         out[i, 6] = K * b * B
         out[i, 7] = 0.5 * K * b
         out[i, 8] = 0.5 * v * K * friction * b
-        out[i, 9] = 0.5 * overload[i] * L * L
-        out[i, 10] = overload[i] * L * top
-        out[i, 11] = 0.5 * overload[i] * top * top
+        out[i, 9] = 0.5 * q * L * L
+        out[i, 10] = q * L * top
+        out[i, 11] = 0.5 * q * top * top
         load += n * K
         moment_a += 0.5 * v * n * K * v
         overturn_a += n * K * v * (0.5 * n + B) * b
@@ -243,14 +244,22 @@ def lower_bound(a: float, b: float, cf: Array, tau_low: float, alpha_b: float) -
 
 @njit(cache=True)
 def sliding_factor(
-    tau: float, k: int, st: Array, length: float, overlap: float, height: float, friction: float, overload: Array
+    tau: float,
+    k: int,
+    st: Array,
+    length: float,
+    overlap: float,
+    height: float,
+    friction: float,
+    overload: Array,
+    w: int,
 ) -> float:
     """Eq. (12) at the crack slope ``tau``: frictional resistance over weight of the moving part.
 
     The terms of Table 2 and Eqs. (5)-(6) summed storey by storey, as
     :func:`macro.equations.evaluate` does (a test pins the two together);
     ``st`` holds the storey constants of :func:`storey_constants` for the
-    hinge under storey ``k - 1``.
+    hinge under storey ``k - 1`` of wall ``w``.
     """
     e = length / (height * tau)
     y = tau - overlap / (st[0, 1] + st[0, 0]) / height
@@ -260,7 +269,7 @@ def sliding_factor(
         nc = min(max(e - B, 0.0), n)
         floor = length if e <= B + n else (B + n) * height * tau
         weight += K * (n * overlap + (n - nc) * (length - overlap) + y * nc * height * (B + 0.5 * nc))
-        weight += overload[i] * floor
+        weight += overload[w, i] * floor
         resist += overlap * friction * nc * (0.5 * K * (nc + 1.0) + (n - nc) * K + LA)
     return resist / weight
 
@@ -332,14 +341,12 @@ def _minimise_hinge(
 ) -> tuple[float, float]:
     """Minimum of Eq. (10) of wall ``w`` with the hinge under storey ``k - 1``.
 
-    ``walls`` holds the arrays of :func:`minimise_walls`; pieces whose lower
-    bound reaches ``bound`` are skipped.
+    ``walls`` holds the arrays of :func:`macro.search.minimise_walls`; pieces
+    whose lower bound reaches ``bound`` are skipped.
     """
     length, overlap, height, weight, friction, rows, thickness, overload = walls
-    L, v, b = length[w], overlap[w], height[w]
-    moment_a, overturn_a, n = storey_constants(
-        k, L, v, b, weight[w], friction[w], rows[w], thickness[w], overload[w], st
-    )
+    L, v, b, f = length[w], overlap[w], height[w], friction[w]
+    moment_a, overturn_a, n = storey_constants(k, w, L, v, b, weight[w], f, rows, thickness, overload, st)
     tau_low, tau_high, alpha_b = v / (n * b), v / b, math.atan(v / b)
     cells, tol, max_it = int(opts[0]), opts[1], int(opts[2])
     best_l, best_t = math.inf, math.nan
@@ -349,7 +356,7 @@ def _minimise_hinge(
         lo, hi, start = max(tau_low, start), min(tau_high, kink), kink
         if hi < lo or (hi == lo and tau_high > tau_low):
             continue  # the kink lies outside Eq. (11): an empty piece
-        piece_coefficients(p, k, st, moment_a, overturn_a, L, v, b, friction[w], cf)
+        piece_coefficients(p, k, st, moment_a, overturn_a, L, v, b, f, cf)
         if hi == lo:  # a one-row mechanism: Eq. (11) is a point
             return lambda_derivatives(lo, cf, tau_low, alpha_b, False)[0], lo
         if lower_bound(lo, hi, cf, tau_low, alpha_b) >= min(bound, best_l):
@@ -382,6 +389,6 @@ def search_walls(
             if lam[w, k - 1] <= best:  # ties go to the upper hinge
                 best, best_k = lam[w, k - 1], k
         hinge[w] = best_k
-        L, v, b, f, q = length[w], overlap[w], height[w], friction[w], overload[w]
-        storey_constants(best_k, L, v, b, weight[w], f, rows[w], thickness[w], q, st)
-        lam_s[w] = sliding_factor(tau[w, best_k - 1], best_k, st, L, v, b, f, q)
+        L, v, b, f = length[w], overlap[w], height[w], friction[w]
+        storey_constants(best_k, w, L, v, b, weight[w], f, rows, thickness, overload, st)
+        lam_s[w] = sliding_factor(tau[w, best_k - 1], best_k, st, L, v, b, f, overload, w)

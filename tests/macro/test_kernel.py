@@ -22,8 +22,8 @@ def _pieces() -> Iterator[tuple[HingeProblems, NDArray[np.float64], float, float
             for k in range(1, storeys + 1):
                 st, cf = np.empty((storeys, 12)), np.empty(N_COEF)
                 L, v, b = w.length[i], w.overlap[i], w.block_height[i]
-                args = (w.unit_weight[i], w.friction[i], w.rows[i], w.thickness[i], w.overload[i], st)
-                moment_a, overturn_a, n = storey_constants(k, L, v, b, *args)
+                args = (w.unit_weight[i], w.friction[i], w.rows, w.thickness, w.overload, st)
+                moment_a, overturn_a, n = storey_constants(k, i, L, v, b, *args)
                 tau_low, tau_high, alpha_b = v / (n * b), v / b, np.arctan(v / b)
                 kinks = [0.0] + [L / ((st[p, 1] + st[p, 0]) * b) for p in range(k)] + [np.inf]
                 for p in range(k + 1):
