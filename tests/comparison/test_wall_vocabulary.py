@@ -30,6 +30,7 @@ BAD_POSITIVE: tuple[Any, ...] = (*NOT_NUMBERS, math.nan, math.inf, -math.inf, -1
 BAD_NON_NEGATIVE: tuple[Any, ...] = (*NOT_NUMBERS, math.nan, math.inf, -1.0, -1e-9)
 BAD_INT: tuple[Any, ...] = (*NOT_NUMBERS, math.nan, 12.5, 0, -3, 0.0)
 
+
 def _message(template: str, name: str, value: Any) -> str:
     return template.format(name=name, value=value, lo=0.0, hi=1.0)
 
