@@ -38,10 +38,16 @@ exit codes:
 """
 
 
-def add_command(sub: argparse._SubParsersAction, name: str, **kwargs: str) -> argparse.ArgumentParser:
+def add_command(sub: argparse._SubParsersAction, name: str, *, help: str, description: str) -> argparse.ArgumentParser:
     """A subcommand's parser with the options every subcommand has (``--quiet``/``--verbose``) and the exit
-    codes in its help; ``kwargs`` (``help``, ``description``) go to ``add_parser``."""
-    p = sub.add_parser(name, epilog=EXIT_CODES, formatter_class=argparse.RawDescriptionHelpFormatter, **kwargs)
+    codes in its help."""
+    p = sub.add_parser(
+        name,
+        help=help,
+        description=description,
+        epilog=EXIT_CODES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     add_verbosity_options(p)
     return p
 

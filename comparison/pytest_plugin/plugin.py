@@ -1,0 +1,106 @@
+"""The pytest hooks and fixtures (registered through the ``pytest11`` entry point ``xcheck``).
+
+Fixtures:
+
+* ``xcheck_references``: the shipped :class:`~comparison.pytest_plugin.references.References`
+  (session scope); ``xcheck_references.check(case, method, value, rel=...)`` asserts;
+* ``xcheck_table``: the session's :class:`~comparison.pytest_plugin.table.ComparisonTable`;
+  ``xcheck_table.add(case, value, method)`` records a value. The table is printed
+  at the end of the session and written to ``--xcheck-table PATH``;
+* ``xcheck_case``: a test that takes it runs once per wall of ``--xcheck-cases``
+  and ``--xcheck-walls`` (default: every paper case).
+
+Options: ``--xcheck-cases`` (``"7"``, ``"5,9"``, ``"Ref,Set 12"``, ``"all"``),
+``--xcheck-walls FILE.toml`` (see :func:`~comparison.pytest_plugin.walls.walls_from_file`),
+``--xcheck-table PATH`` (``.md`` or ``.csv``), ``--xcheck-against LIST`` (the
+reference columns of the table, default
+:data:`~comparison.pytest_plugin.table.DEFAULT_AGAINST`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import pytest
+
+from comparison.cases import PaperCase
+from comparison.pytest_plugin.references import References
+from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
+from comparison.pytest_plugin.walls import cases_and_walls
+
+_TABLE = pytest.StashKey[ComparisonTable]()
+_REFERENCES = pytest.StashKey[References]()
+_WALLS = pytest.StashKey[Sequence[PaperCase]]()
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    """The plugin's options."""
+    g = parser.getgroup("xcheck", "xcheck-masonry: the paper's walls and reference values")
+    g.addoption("--xcheck-cases", default=None, metavar="LIST", help="paper cases for xcheck_case: tables or cases")
+    g.addoption("--xcheck-walls", default=None, metavar="FILE.toml", help="your own walls for xcheck_case")
+    g.addoption("--xcheck-table", default=None, metavar="PATH", help="write the comparison table (.md or .csv)")
+    g.addoption(
+        "--xcheck-against",
+        default=",".join(DEFAULT_AGAINST),
+        metavar="LIST",
+        help=f"reference columns of the comparison table (default {','.join(DEFAULT_AGAINST)})",
+    )
+
+
+def _references(config: pytest.Config) -> References:
+    if _REFERENCES not in config.stash:
+        config.stash[_REFERENCES] = References.load()
+    return config.stash[_REFERENCES]
+
+
+def _table(config: pytest.Config) -> ComparisonTable:
+    if _TABLE not in config.stash:
+        against = tuple(s.strip() for s in str(config.getoption("xcheck_against")).split(",") if s.strip())
+        config.stash[_TABLE] = ComparisonTable(_references(config), against)
+    return config.stash[_TABLE]
+
+
+@pytest.fixture(scope="session")
+def xcheck_references(pytestconfig: pytest.Config) -> References:
+    """The reference values shipped with xcheck-masonry."""
+    return _references(pytestconfig)
+
+
+@pytest.fixture(scope="session")
+def xcheck_table(pytestconfig: pytest.Config) -> ComparisonTable:
+    """The session's comparison table (printed at the end, written to ``--xcheck-table``)."""
+    return _table(pytestconfig)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Read ``--xcheck-cases`` and ``--xcheck-walls`` once; a bad one stops the run as a usage error."""
+    try:
+        config.stash[_WALLS] = cases_and_walls(config.getoption("xcheck_cases"), config.getoption("xcheck_walls"))
+    except ValueError as exc:
+        raise pytest.UsageError(str(exc)) from None
+
+
+def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
+    """Parametrise ``xcheck_case`` over the selected walls."""
+    if "xcheck_case" in metafunc.fixturenames:
+        walls = metafunc.config.stash[_WALLS]
+        metafunc.parametrize("xcheck_case", walls, ids=[w.label for w in walls])
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """Write the comparison table to ``--xcheck-table``."""
+    path = session.config.getoption("xcheck_table")
+    if path and _TABLE in session.config.stash and session.config.stash[_TABLE].entries:
+        session.config.stash[_TABLE].write(path)
+
+
+def pytest_terminal_summary(terminalreporter: Any, exitstatus: int, config: pytest.Config) -> None:
+    """Print the comparison table when a test filled it."""
+    if _TABLE in config.stash and config.stash[_TABLE].entries:
+        terminalreporter.write_sep("=", "xcheck: your values against the references")
+        terminalreporter.write_line(config.stash[_TABLE].markdown())
+        path = config.getoption("xcheck_table")
+        if path:
+            terminalreporter.write_line(f"written to {path}")
