@@ -202,7 +202,10 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             f"lambda = {result.load_factor:.4f} ({result.direction}), non-associative scheme {result.scheme}, "
             f"{result.blocks} blocks"
         )
-        _write_plot(lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title), args.plot)
+        _write_plot(
+            lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction),
+            args.plot,
+        )
     if args.json:
         solver = "clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)"
         print(_json(result.summary(), args, spec, plotted=mechanism is not None, solver=solver))

@@ -13,14 +13,13 @@ from __future__ import annotations
 
 import math
 import os
-import platform
 from collections.abc import Callable, Iterator
-from importlib import metadata
 from pathlib import Path
 
 from comparison.cases import CASES, MODELS, PaperCase
 from comparison.pytest_plugin.references import LOAD_FACTOR, Reference, References
 from comparison.report.plan import build_plan
+from comparison.report.reproduce import package_versions
 from comparison.runner import MACRO, Record, Runner, code_version, prefetch
 from macro.records import MacroRecord
 
@@ -107,17 +106,6 @@ def micro_cells(c: PaperCase, rec: Record) -> Iterator[Reference]:
         )
 
 
-def _versions() -> dict[str, str]:
-    names = ("xcheck-masonry", "numpy", "scipy", "highspy", "clarabel", "cvxpy")
-    out = {"python": platform.python_version()}
-    for n in names:
-        try:
-            out[n] = metadata.version(n)
-        except metadata.PackageNotFoundError:  # pragma: no cover - every one is a dependency
-            out[n] = "not installed"
-    return out
-
-
 def generate(
     out: Path,
     *,
@@ -153,7 +141,7 @@ def generate(
         cells += micro_cells(c, rec)
     meta = {
         "generated_by": "xcheck references" + (" --quick" if quick else ""),
-        "versions": _versions(),
+        "versions": package_versions(),
         "code_version": {"macro": code_version("macro"), "micro": code_version("micro")},
         "tolerances": {"macro": MACRO_RTOL, "micro-assoc": ASSOC_RTOL, "micro-nonassoc": NONASSOC_RTOL},
         "tolerance_rule": "tolerance = rtol * |value| (rtol by method, above); published values: half a unit "
