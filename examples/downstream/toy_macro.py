@@ -39,6 +39,6 @@ def centroid(poly: np.ndarray) -> tuple[float, float]:
 
 
 def load_factor(t: float, m: float, f: float) -> float:
-    """The toy's collapse load factor of a wall of shape ratio ``t = H/L``, unit shape ``m = b/l`` and friction ``f``."""
+    """The toy's load factor of a wall of shape ratio ``t = H/L``, unit shape ``m = b/l`` and friction ``f``."""
     x_g, y_g = centroid(wedge(t, m))
     return min((1.0 / t - x_g) / y_g, 1.0 / t, f)

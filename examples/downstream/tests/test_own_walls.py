@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import toy_macro
+
 from comparison.pytest_plugin import walls_from_file
 
 WALLS = Path(__file__).with_name("walls.toml")

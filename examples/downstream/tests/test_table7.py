@@ -15,8 +15,8 @@ Run ``pytest --xcheck-table table7.md`` to also write the comparison table.
 from __future__ import annotations
 
 import pytest
-
 import toy_macro
+
 from comparison.pytest_plugin import ComparisonTable, paper_cases
 
 #: How far the toy may be from Orduña's micro values (on top of their rounding).
