@@ -13,14 +13,14 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 from comparison.cases import CASES, MODELS, PaperCase
 from comparison.pytest_plugin.references import LOAD_FACTOR, Reference, References
 from comparison.report.plan import build_plan
 from comparison.report.reproduce import package_versions
-from comparison.runner import MACRO, Record, Runner, code_version, prefetch
+from comparison.runner import MACRO, Method, Record, Runner, code_version, prefetch
 from macro.records import MacroRecord
 
 #: Relative tolerance of the macro model's cells: its global search is within 6e-10 of a
@@ -33,6 +33,9 @@ ASSOC_RTOL = 1e-5
 #: states, and the path to it moved λ by up to 0.25 % with another HiGHS interior point (IPX
 #: against HiPO, reference wall) and 0.35 % under machine load (Set 14).
 NONASSOC_RTOL = 5e-3
+
+#: The methods :func:`wall_cells` computes.
+COMPUTABLE = ("macro", "micro-assoc", "micro-nonassoc")
 
 #: The reference methods' names for the published models of :data:`comparison.cases.MODELS`.
 PUBLISHED = {
@@ -104,6 +107,24 @@ def micro_cells(c: PaperCase, rec: Record) -> Iterator[Reference]:
         yield Reference(
             c.label, method.kind, cell, value if ok else None, _rel(value, rtol) if ok else None, source, status
         )
+
+
+def wall_cells(walls: Sequence[PaperCase], kinds: Sequence[str], cache_dir: Path | None) -> list[Reference]:
+    """Reference cells computed now for walls that have no shipped ones (a user's walls).
+
+    Args:
+        walls: the walls.
+        kinds: the methods, among :data:`COMPUTABLE` (the micro ones with the shipped cells' settings).
+        cache_dir: the result cache (``None``: none).
+    """
+    methods: dict[str, Method] = {m.kind: m for m in (MACRO, *build_plan().methods)}
+    runner = Runner(cache_dir)
+    cells: list[Reference] = []
+    for w in walls:
+        for kind in kinds:
+            rec = runner.run(w.spec(), methods[kind])
+            cells += macro_cells(w, rec) if kind == "macro" else micro_cells(w, rec)
+    return cells
 
 
 def generate(

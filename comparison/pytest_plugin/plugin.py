@@ -10,7 +10,9 @@ Fixtures:
 * ``xcheck_case``: a test that takes it runs once per wall of ``--xcheck-cases``
   and ``--xcheck-walls`` (default: every paper case).
 
-Options: ``--xcheck-cases`` (``"7"``, ``"5,9"``, ``"Ref,Set 12"``, ``"all"``),
+Options: ``--xcheck-compute`` (our methods computed as references for the
+walls of ``--xcheck-walls``, default ``macro``; ``micro-assoc``,
+``micro-nonassoc`` through the result cache), ``--xcheck-cases`` (``"7"``, ``"5,9"``, ``"Ref,Set 12"``, ``"all"``),
 ``--xcheck-walls FILE.toml`` (see :func:`~comparison.pytest_plugin.walls.walls_from_file`),
 ``--xcheck-table PATH`` (``.md`` or ``.csv``), ``--xcheck-against LIST`` (the
 reference columns of the table, default
@@ -27,7 +29,7 @@ import pytest
 from comparison.cases import PaperCase
 from comparison.pytest_plugin.references import References
 from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
-from comparison.pytest_plugin.walls import cases_and_walls
+from comparison.pytest_plugin.walls import UserWall, cases_and_walls
 
 _TABLE = pytest.StashKey[ComparisonTable]()
 _REFERENCES = pytest.StashKey[References]()
@@ -39,6 +41,13 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     g = parser.getgroup("xcheck", "xcheck-masonry: the paper's walls and reference values")
     g.addoption("--xcheck-cases", default=None, metavar="LIST", help="paper cases for xcheck_case: tables or cases")
     g.addoption("--xcheck-walls", default=None, metavar="FILE.toml", help="your own walls for xcheck_case")
+    g.addoption(
+        "--xcheck-compute",
+        default="macro",
+        metavar="LIST",
+        help="our methods computed now as references for --xcheck-walls: macro (default), micro-assoc, "
+        "micro-nonassoc (through the result cache, $XCHECK_CACHE or ~/.cache/xcheck)",
+    )
     g.addoption("--xcheck-table", default=None, metavar="PATH", help="write the comparison table (.md or .csv)")
     g.addoption(
         "--xcheck-against",
@@ -49,8 +58,17 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 
 
 def _references(config: pytest.Config) -> References:
+    """The shipped references, with cells computed now for the user's walls (``--xcheck-compute``)."""
     if _REFERENCES not in config.stash:
-        config.stash[_REFERENCES] = References.load()
+        refs = References.load()
+        own = [w for w in config.stash[_WALLS] if isinstance(w, UserWall)]
+        kinds = _kinds(config)
+        if own and kinds:
+            from comparison.pytest_plugin.generate import wall_cells
+            from comparison.runner import default_cache_dir
+
+            refs = refs.extended(wall_cells(own, kinds, default_cache_dir()))
+        config.stash[_REFERENCES] = refs
     return config.stash[_REFERENCES]
 
 
@@ -79,6 +97,15 @@ def pytest_configure(config: pytest.Config) -> None:
         config.stash[_WALLS] = cases_and_walls(config.getoption("xcheck_cases"), config.getoption("xcheck_walls"))
     except ValueError as exc:
         raise pytest.UsageError(str(exc)) from None
+    from comparison.pytest_plugin.generate import COMPUTABLE
+
+    unknown = [k for k in _kinds(config) if k not in COMPUTABLE]
+    if unknown:
+        raise pytest.UsageError(f"--xcheck-compute: {', '.join(unknown)} not among {', '.join(COMPUTABLE)}")
+
+
+def _kinds(config: pytest.Config) -> list[str]:
+    return [k.strip() for k in str(config.getoption("xcheck_compute")).split(",") if k.strip()]
 
 
 def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:

@@ -120,6 +120,10 @@ class References:
         data = json.loads(text)
         return cls((Reference(**c) for c in data["cells"]), data.get("meta", {}))
 
+    def extended(self, cells: Iterable[Reference]) -> References:
+        """These references and ``cells`` (which replace cells of the same case, method and cell)."""
+        return References([*self, *cells], self.meta)
+
     def __iter__(self) -> Iterator[Reference]:
         return iter(self._cells.values())
 

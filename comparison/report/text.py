@@ -63,6 +63,7 @@ STATUS_LEGEND = {
     f"{NONASSOC_MAX_BLOCKS:,} blocks: too slow for the report)",
     "n/a": "the method cannot be applied: the micro wall cannot be built (its length is not a whole number of "
     "half blocks, e.g. Set 8), or a value that does not exist",
+    "not_applicable": "the micro wall cannot be built (shown as n/a where a λ would be)",
     "–": "no value in this column for this row",
 }
 
@@ -77,7 +78,8 @@ def status_legend(tables: Mapping[str, Table]) -> str:
     every = [c for t in tables.values() for r in t.rows for c in r]
     cells = {c for c in every if isinstance(c, str)}
     cells |= {"–" for c in every if c is None} | {"n/a" for c in every if isinstance(c, float) and not isfinite(c)}
-    shown = [k for k in STATUS_LEGEND if any(c == k or c.endswith(f"({k})") for c in cells)]
+    said = {c.replace("_", " ") for c in cells}  # a status column says not_run where a λ cell says not run
+    shown = [k for k in STATUS_LEGEND if any(c == (w := k.replace("_", " ")) or c.endswith(f"({w})") for c in said)]
     return "\n".join(f"* `{k}`: {STATUS_LEGEND[k]}." for k in shown)
 
 

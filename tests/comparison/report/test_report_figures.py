@@ -23,11 +23,12 @@ def test_status_legend_explains_every_status_shown_and_no_other() -> None:
     t = Table("t", "T", ["case", "λ", "status"])
     t.add("Set 2", "0.5466-0.5493 (cycling)", "cycling")
     t.add("Set 10", "not run", "not_run")
+    t.add("Set 8", "n/a", "not_applicable")
     t.add("Set 8", math.nan, "max_iterations")
     t.add("Set 9", None, "converged")
     legend = status_legend({"t": t})
     shown = [line.split("`")[1] for line in legend.splitlines()]
-    assert shown == ["converged", "cycling", "max_iterations", "not run", "n/a", "–"]
+    assert shown == ["converged", "cycling", "max_iterations", "not run", "n/a", "not_applicable", "–"]
     assert "time budget" in legend  # max_iterations also means the time budget
     assert set(STATUS_LEGEND) >= set(shown)
 
