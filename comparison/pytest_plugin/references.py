@@ -177,8 +177,9 @@ class References:
             The reference cell.
 
         Raises:
-            ReferenceMismatch: ``value`` is outside, e.g. ``Set 12 / micro-nonassoc / load_factor:
-                0.7021 outside 0.7086 ± 0.0035``.
+            ReferenceMismatch: ``value`` is outside, e.g. ``Set 14 / micro-nonassoc / load_factor:
+                0.2600 outside 0.2684 ± 0.0067 (iterated LP, ...; reference tolerance 0.0013 + 2 % of the
+                reference)``.
             MissingReference: there is no reference value for that cell.
         """
         ref = self.get(wall, method, cell)
