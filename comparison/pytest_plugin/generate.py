@@ -34,9 +34,6 @@ ASSOC_RTOL = 1e-5
 #: against HiPO, reference wall) and 0.35 % under machine load (Set 14).
 NONASSOC_RTOL = 5e-3
 
-#: The methods :func:`wall_cells` computes.
-COMPUTABLE = ("macro", "micro-assoc", "micro-nonassoc")
-
 #: The reference methods' names for the published models of :data:`comparison.cases.MODELS`.
 PUBLISHED = {
     "proposed": "paper",
@@ -114,7 +111,7 @@ def wall_cells(walls: Sequence[PaperCase], kinds: Sequence[str], cache_dir: Path
 
     Args:
         walls: the walls.
-        kinds: the methods, among :data:`COMPUTABLE` (the micro ones with the shipped cells' settings).
+        kinds: the methods, among :data:`~comparison.pytest_plugin.references.COMPUTABLE` (the micro ones with the shipped cells' settings).
         cache_dir: the result cache (``None``: none).
     """
     methods: dict[str, Method] = {m.kind: m for m in (MACRO, *build_plan().methods)}

@@ -27,7 +27,7 @@ from typing import Any
 import pytest
 
 from comparison.cases import PaperCase
-from comparison.pytest_plugin.references import References
+from comparison.pytest_plugin.references import COMPUTABLE, References
 from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
 from comparison.pytest_plugin.walls import UserWall, cases_and_walls
 
@@ -97,8 +97,6 @@ def pytest_configure(config: pytest.Config) -> None:
         config.stash[_WALLS] = cases_and_walls(config.getoption("xcheck_cases"), config.getoption("xcheck_walls"))
     except ValueError as exc:
         raise pytest.UsageError(str(exc)) from None
-    from comparison.pytest_plugin.generate import COMPUTABLE
-
     unknown = [k for k in _kinds(config) if k not in COMPUTABLE]
     if unknown:
         raise pytest.UsageError(f"--xcheck-compute: {', '.join(unknown)} not among {', '.join(COMPUTABLE)}")

@@ -34,6 +34,9 @@ DATA_FILE = "references.json"
 #: The cell every method has.
 LOAD_FACTOR = "load_factor"
 
+#: This package's methods, which can also be computed for walls without shipped cells.
+COMPUTABLE = ("macro", "micro-assoc", "micro-nonassoc")
+
 
 def case_label(wall: PaperCase | str) -> str:
     """The label a case is stored under (``"Ref"``, ``"Set 12"``) from a case or a name (``"12"``, ``"Set 12"``).
