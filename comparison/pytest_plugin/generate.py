@@ -111,7 +111,8 @@ def wall_cells(walls: Sequence[PaperCase], kinds: Sequence[str], cache_dir: Path
 
     Args:
         walls: the walls.
-        kinds: the methods, among :data:`~comparison.pytest_plugin.references.COMPUTABLE` (the micro ones with the shipped cells' settings).
+        kinds: the methods, among :data:`~comparison.pytest_plugin.references.COMPUTABLE` (the micro
+            ones with the shipped cells' settings).
         cache_dir: the result cache (``None``: none).
     """
     methods: dict[str, Method] = {m.kind: m for m in (MACRO, *build_plan().methods)}
