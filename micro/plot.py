@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from micro.analysis import LimitResult
 from micro.geometry import BlockWall
+from micro.results import LimitResult
 
 #: The largest virtual displacement drawn, as a fraction of the wall height (when no amplification is given).
 LARGEST_DISPLACEMENT = 0.2

@@ -38,7 +38,7 @@ FRICTION_LAWS = ("associative", "nonassociative")
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``micro`` subcommand."""
-    from micro.solvers import SOLVERS
+    from micro import SOLVERS
 
     p = add_command(
         subparsers,
@@ -104,7 +104,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck micro``."""
     import micro
-    from micro.solvers import SOLVERS
+    from micro import SOLVERS
 
     choice("--friction", args.friction, FRICTION_LAWS)
     choice("--solver", args.solver, SOLVERS)
@@ -146,7 +146,7 @@ def _print_associative(result: LimitResult, verbosity: int) -> None:
         f"build {result.build_seconds:.3f} s, solve {result.solve_seconds:.3f} s"
     )
     for d in result.directions:
-        print(f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.solve_seconds:.3f} s")
+        print(f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.seconds:.3f} s")
     if result.mirror_symmetric:
         print("  the wall is mirror-symmetric: -x gives the same load factor")
     if verbosity >= VERBOSE:
@@ -221,12 +221,11 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
     if result.ok and verbosity == QUIET:
         print(f"{result.load_factor:.6f}")
         return
-    g = result.governing
-    if result.ok and g is not None:
+    if result.ok:
         print(
             f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
             f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
-            f"({g.stop_reason}); associative lambda = {result.associative_load_factor:.6f}"
+            f"({result.stop_reason}); associative lambda = {result.associative_load_factor:.6f}"
         )
         if result.mechanism_band is not None:
             lo, hi = result.mechanism_band
