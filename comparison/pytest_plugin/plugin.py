@@ -62,7 +62,7 @@ def _references(config: pytest.Config) -> References:
     if _REFERENCES not in config.stash:
         refs = References.load()
         own = [w for w in config.stash[_WALLS] if isinstance(w, UserWall)]
-        kinds = _kinds(config)
+        kinds = _listed(config, "xcheck_compute")
         if own and kinds:
             from comparison.pytest_plugin.generate import wall_cells
             from comparison.runner import default_cache_dir
@@ -74,14 +74,13 @@ def _references(config: pytest.Config) -> References:
 
 def _table(config: pytest.Config) -> ComparisonTable:
     if _TABLE not in config.stash:
-        against = tuple(s.strip() for s in str(config.getoption("xcheck_against")).split(",") if s.strip())
-        config.stash[_TABLE] = ComparisonTable(_references(config), against)
+        config.stash[_TABLE] = ComparisonTable(_references(config), _listed(config, "xcheck_against"))
     return config.stash[_TABLE]
 
 
 @pytest.fixture(scope="session")
 def xcheck_references(pytestconfig: pytest.Config) -> References:
-    """The reference values shipped with xcheck-masonry."""
+    """The reference values shipped with xcheck-masonry (and computed for ``--xcheck-walls``)."""
     return _references(pytestconfig)
 
 
@@ -97,13 +96,14 @@ def pytest_configure(config: pytest.Config) -> None:
         config.stash[_WALLS] = cases_and_walls(config.getoption("xcheck_cases"), config.getoption("xcheck_walls"))
     except ValueError as exc:
         raise pytest.UsageError(str(exc)) from None
-    unknown = [k for k in _kinds(config) if k not in COMPUTABLE]
+    unknown = [k for k in _listed(config, "xcheck_compute") if k not in COMPUTABLE]
     if unknown:
         raise pytest.UsageError(f"--xcheck-compute: {', '.join(unknown)} not among {', '.join(COMPUTABLE)}")
 
 
-def _kinds(config: pytest.Config) -> list[str]:
-    return [k.strip() for k in str(config.getoption("xcheck_compute")).split(",") if k.strip()]
+def _listed(config: pytest.Config, option: str) -> list[str]:
+    """The items of a comma-separated option."""
+    return [k.strip() for k in str(config.getoption(option)).split(",") if k.strip()]
 
 
 def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
