@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -76,7 +76,7 @@ class History:
     status: str
     load_factors: Sequence[float]
     band: tuple[float, float] | None = None
-    band_kind: str = field(default="mechanism band")
+    band_kind: str = "mechanism band"
 
 
 def pyplot() -> Any:
@@ -94,6 +94,15 @@ def save_figure(fig: Any, path: Path) -> Path:
     fig.savefig(path, bbox_inches="tight")
     pyplot().close(fig)
     return path
+
+
+def _legend_entries(axes: Any) -> dict[str, Any]:
+    """Every labelled artist of ``axes``, once per label, for one legend of the figure."""
+    handles: dict[str, Any] = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(label, handle)
+    return handles
 
 
 def speed_accuracy(points: Sequence[SpeedPoint], reference: str, path: Path) -> Path:
@@ -180,10 +189,7 @@ def sensitivity(
         ax.set_xlabel(PARAMETERS.get(param, param))
         ax.set_ylabel("λ")
         ax.grid(True, alpha=0.3)
-    handles: dict[str, Any] = {}
-    for ax in flat[: len(panels)]:
-        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
-            handles.setdefault(lab, h)
+    handles = _legend_entries(flat[: len(panels)])
     for ax in flat[len(panels) :]:
         ax.axis("off")
     flat[len(panels)].legend(handles.values(), handles.keys(), loc="center", fontsize=8, frameon=False)
@@ -215,10 +221,7 @@ def histories(series: Sequence[History], path: Path, title: str) -> Path:
         ax.set_xlabel("LP", fontsize=8)
     for ax in axes[:, 0]:
         ax.set_ylabel("λ", fontsize=8)
-    handles: dict[str, Any] = {}
-    for ax in axes.ravel():
-        for hd, lab in zip(*ax.get_legend_handles_labels(), strict=True):
-            handles.setdefault(lab, hd)
+    handles = _legend_entries(axes.ravel())
     fig.legend(handles.values(), handles.keys(), loc="outside lower center", ncol=4, fontsize=8)
     fig.suptitle(title, fontsize=10)
     return save_figure(fig, path)
