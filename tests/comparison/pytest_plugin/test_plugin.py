@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from comparison.pytest_plugin import UserWall, paper_cases, select_cases, walls_from_file
+from comparison.pytest_plugin import References, UserWall, paper_cases, select_cases, walls_from_file
 
 TEST_FILE = """
 import pytest
@@ -59,7 +59,9 @@ def test_downstream_run_table_and_failure_message(tmp_path: Path) -> None:
     # Set 11 is a known gap; test_any_wall passes on Ref and Set 12
     assert run.returncode == 1, out
     assert "1 failed, 4 passed, 2 skipped, 1 xfailed" in out  # test_own_wall_references skips paper cases
-    assert "Set 14 / micro-nonassoc / load_factor: 0.2600 outside 0.2684 ± 0.0067 (iterated LP" in out
+    ref = References.load().get("Set 14", "micro-nonassoc")  # 0.2684 ± 0.0013
+    assert ref.value is not None
+    assert f"Set 14 / micro-nonassoc / load_factor: 0.2600 outside {ref.value:.4f} ± {ref.allowed(0.02):.4f}" in out
     assert "xcheck: your values against the references" in out
     table = (tmp_path / "t.csv").read_text().splitlines()
     assert table[0] == "wall,method,λ,orduna-micro λ,Δ % vs orduna-micro"
