@@ -180,7 +180,7 @@ are at the end.
 
 {figure_list(figures)}
 
-The iterated LP over 104 small walls, seven settings: [stability.md](stability.md); Table 7 per
+The iterated LP over 120 small walls, seven settings: [stability.md](stability.md); Table 7 per
 scheme, bond phase and head-joint friction: [table7_nonassoc.md](table7_nonassoc.md)
 (both by `xcheck stability`).
 
