@@ -61,8 +61,8 @@ STATUS_LEGEND = {
     "time_limit": "the LP back end hit its time limit; no λ",
     "not run": f"the report does not run this method on this wall (the iterated LP on walls above "
     f"{NONASSOC_MAX_BLOCKS:,} blocks: too slow for the report)",
-    "n/a": "the method cannot be applied: the micro wall cannot be built (its length is not a whole number of "
-    "half blocks, e.g. Set 8), or a value that does not exist",
+    "n/a": "no number: the method does not apply to this wall or gave none (the status column or the "
+    "table's note says which)",
     "not_applicable": "the micro wall cannot be built (shown as n/a where a λ would be)",
     "–": "no value in this column for this row",
 }
