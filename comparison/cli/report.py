@@ -6,12 +6,13 @@ import argparse
 import sys
 from pathlib import Path
 
-from comparison.cli.options import add_cache_options, cache_dir_from_args
+from comparison.cli.options import QUIET, add_cache_options, add_command, cache_dir_from_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``report`` subcommand."""
-    p = sub.add_parser(
+    p = add_command(
+        sub,
         "report",
         help="recompute the paper's tables with both models and write reports/REPORT.md",
         description="Tables 5, 7, 8, 9 and beyond, failure modes, sensitivity and speed-accuracy figures.",
@@ -19,19 +20,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", default="reports", help="output directory (default: reports)")
     p.add_argument("--quick", action="store_true", help="the micro model on the small walls only (under a minute)")
     add_cache_options(p)
-    p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Write the report and say where it is."""
+    """Write the report and say where it is.
+
+    ``args.verbosity`` (:data:`~comparison.cli.options.QUIET`: no progress) is the
+    setting the progress display follows.
+    """
     from comparison.report import build_report
 
     path = build_report(
         Path(args.out),
         quick=args.quick,
         cache_dir=cache_dir_from_args(args),
-        progress=None if args.quiet else stderr_progress,
+        progress=None if args.verbosity == QUIET else stderr_progress,
     )
     print(f"wrote {path}")
     return 0

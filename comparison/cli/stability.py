@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import argparse
 
-from comparison.cli.options import UsageError, int_option
+from comparison.cli.options import UsageError, add_command, int_option
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``stability`` subcommand."""
-    p = subparsers.add_parser(
+    p = add_command(
+        subparsers,
         "stability",
         help="convergence study of the non-associative iterated LP on a grid of small walls",
         description="Runs the non-associative iterated LP (schemes a and b, several relaxations) on a grid "

@@ -21,6 +21,7 @@ from typing import Any
 
 from comparison.report import figures
 from comparison.report.findings import findings
+from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
 from comparison.report.tables import Table, all_tables, plain
@@ -77,14 +78,13 @@ def build_report(
 def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Path:
     """Render the tables, figures and text of ``res`` into ``out``."""
     tables = all_tables(res)
-    figure_names = [
-        figures.sensitivity_figure(res, out / "sensitivity.png").name,
-        figures.speed_figure(res, out / "speed_accuracy.png").name,
-    ]
     hist = figures.histories_figure(res, out / "histories.png")
-    if hist is not None:
-        figure_names.append(hist.name)
-    mechanisms = figures.mechanism_figures(res, out)
+    figure_list = [
+        figures.sensitivity_figure(res, out / "sensitivity.png"),
+        figures.speed_figure(res, out / "speed_accuracy.png"),
+        *([] if hist is None else [hist]),
+        *mechanism_figures(res, out),
+    ]
     for tb in tables.values():
         _write_csv(tb, out / f"{tb.name}.csv")
     meta = {**meta, "seconds": time.perf_counter() - start}
@@ -92,7 +92,7 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Pa
         json.dumps({"meta": meta, "tables": {k: v.records() for k, v in tables.items()}}, indent=1, default=str)
     )
     path = out / "REPORT.md"
-    path.write_text(document(res, tables, findings(res), figure_names, mechanisms, meta))
+    path.write_text(document(res, tables, findings(res), figure_list, meta))
     return path
 
 
