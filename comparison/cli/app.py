@@ -11,7 +11,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from comparison.cli import macro, micro, report, stability
+from comparison.cli import macro, micro, report, stability, sweep
 from comparison.cli.options import EXIT_USAGE, UsageError
 
 
@@ -29,7 +29,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Macro-block model vs rigid-block limit analysis of dry-joint masonry walls.",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for module in (macro, micro, report, stability):
+    for module in (macro, micro, report, stability, sweep):
         module.register(sub)
     return parser
 

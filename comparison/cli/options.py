@@ -147,3 +147,37 @@ def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
             raise UsageError("--cache and --no-cache exclude each other")
         return None
     return Path(args.cache) if args.cache is not None else default_cache_dir()
+
+
+def add_verbosity_options(parser: argparse.ArgumentParser) -> None:
+    """``--quiet`` / ``--verbose``, stored as ``args.verbosity`` (see :mod:`comparison.runner.progress`)."""
+    g = parser.add_mutually_exclusive_group()
+    g.add_argument(
+        "--quiet", dest="verbosity", action="store_const", const=-1, default=0, help="no plan, no progress bar"
+    )
+    g.add_argument(
+        "--verbose",
+        dest="verbosity",
+        action="store_const",
+        const=1,
+        help="the plan and one line per computation, also when the output is not a terminal",
+    )
+
+
+def add_executor_options(parser: argparse.ArgumentParser, default_workers: str | None = None) -> None:
+    """``--workers N``: local worker processes (default: the number of CPUs, or ``default_workers``)."""
+    parser.add_argument(
+        "--workers",
+        default=default_workers,
+        metavar="N",
+        help=f"local worker processes (default: {default_workers or 'the number of CPUs'})",
+    )
+
+
+def workers_from_args(args: argparse.Namespace) -> int | None:
+    """The ``--workers`` option as a positive integer (``None``: not given).
+
+    Raises:
+        UsageError: not a positive integer.
+    """
+    return None if args.workers is None else int_option("--workers", args.workers)

@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from comparison.cli.options import add_cache_options, cache_dir_from_args
+from comparison.cli.options import (
+    add_cache_options,
+    add_executor_options,
+    add_verbosity_options,
+    cache_dir_from_args,
+    workers_from_args,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -19,7 +24,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", default="reports", help="output directory (default: reports)")
     p.add_argument("--quick", action="store_true", help="the micro model on the small walls only (under a minute)")
     add_cache_options(p)
-    p.add_argument("--quiet", action="store_true", help="no progress lines")
+    add_executor_options(p)
+    add_verbosity_options(p)
     p.set_defaults(handler=run)
 
 
@@ -31,12 +37,8 @@ def run(args: argparse.Namespace) -> int:
         Path(args.out),
         quick=args.quick,
         cache_dir=cache_dir_from_args(args),
-        progress=None if args.quiet else stderr_progress,
+        verbosity=args.verbosity,
+        workers=workers_from_args(args),
     )
     print(f"wrote {path}")
     return 0
-
-
-def stderr_progress(line: str) -> None:
-    """Progress printer for long runs."""
-    print(line, file=sys.stderr, flush=True)

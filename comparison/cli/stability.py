@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from comparison.cli.options import UsageError, int_option
+from comparison.cli.options import UsageError, add_verbosity_options, int_option
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -28,6 +28,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="store_true",
         help="instead: Table 7 (sets 11-14) per scheme, bond phase and head-joint friction (table7_nonassoc.md)",
     )
+    add_verbosity_options(p)
     p.set_defaults(handler=run)
 
 
@@ -40,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
         if args.table7:
             print(f"md: {table7_variants(args.out)}")
             return 0
-        paths = main_study(args.out, processes=processes, quick=args.quick)
+        paths = main_study(args.out, processes=processes, quick=args.quick, verbosity=args.verbosity)
     except OSError as exc:
         raise UsageError(f"--out: cannot write to {args.out!r} ({exc.strerror})") from None
     for kind, path in paths.items():

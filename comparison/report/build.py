@@ -2,7 +2,8 @@
 
 :func:`build_report` makes the :class:`~comparison.report.plan.Plan` (every
 wall and method the report needs), computes the missing cache entries of the
-plan in parallel processes, reads the whole plan into
+plan in local worker processes (:class:`~comparison.runner.executor.LocalExecutor`,
+with a progress bar), reads the whole plan into
 :class:`~comparison.report.results.Results`, and renders the tables, figures
 and text from them into ``REPORT.md``, one CSV per table, ``report.json`` (every
 number shown) and the figures.
@@ -15,7 +16,7 @@ import json
 import os
 import platform
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -25,7 +26,9 @@ from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
 from comparison.report.tables import Table, all_tables, plain
 from comparison.report.text import document
-from comparison.runner import MACRO, Runner, prefetch
+from comparison.runner import MACRO, Prefetched, Progress, Runner, prefetch
+from comparison.runner.executor import LocalExecutor
+from comparison.runner.progress import NORMAL
 
 
 def build_report(
@@ -33,7 +36,7 @@ def build_report(
     *,
     quick: bool = False,
     cache_dir: Path | None,
-    progress: Callable[[str], None] | None = None,
+    verbosity: int = NORMAL,
     workers: int | None = None,
 ) -> Path:
     """Compute everything and write ``REPORT.md``, CSVs, ``report.json`` and the figures.
@@ -44,7 +47,7 @@ def build_report(
         cache_dir: the result cache (``None``: no cache; everything is computed
             in this process). The command line's default is
             :func:`comparison.runner.default_cache_dir`.
-        progress: called with one line per computation.
+        verbosity: what the progress display shows (see :mod:`comparison.runner.progress`).
         workers: processes for the missing micro computations (default: the number of CPUs).
 
     Returns:
@@ -53,22 +56,28 @@ def build_report(
     start = time.perf_counter()
     out_dir.mkdir(parents=True, exist_ok=True)
     plan = build_plan(quick)
-    runner = Runner(cache_dir, progress)
     runs = [it for it in plan.items() if not it.skip]
-    pending = [] if runner.cache is None else plan.pending(runner.cache)
-    computed = 0
-    if cache_dir is not None:
-        computed = prefetch(
-            cache_dir, [(it.spec, it.method) for it in pending], workers or os.cpu_count() or 1, progress
+    with Progress(verbosity) as progress:
+        runner = Runner(cache_dir, progress.advance)
+        pending = runs if runner.cache is None else plan.pending(runner.cache)
+        progress.say(
+            f"plan: {len(plan.macro_specs())} macro solves and {len(runs)} micro computations: "
+            f"{len(runs) - len(pending)} cached, {len(pending)} to compute"
+            + ("" if runner.cache is None else f" in {workers or os.cpu_count() or 1} processes")
         )
-    results = compute(plan, runner)
+        progress.start(len(pending), "micro")
+        prefetched = Prefetched()
+        if runner.cache is not None and pending:
+            with LocalExecutor(workers or os.cpu_count() or 1) as executor:
+                prefetched = prefetch(runner.cache, [(it.spec, it.method) for it in pending], executor, progress)
+        results = compute(plan, runner)
     meta = {
         "quick": quick,
         "methods": [m.label for m in [MACRO, *plan.methods]],
         "python": platform.python_version(),
         "machine": platform.machine(),
         "cpus": os.cpu_count(),
-        "computed": computed + runner.computed,
+        "computed": prefetched.computed + runner.computed,
         "cached": len(runs) - len(pending) if cache_dir is not None else 0,
     }
     return _write(results, out_dir, meta, start)
