@@ -150,7 +150,7 @@ def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
 
 
 def add_verbosity_options(parser: argparse.ArgumentParser) -> None:
-    """``--quiet`` / ``--verbose``, stored as ``args.verbosity`` (see :mod:`comparison.runner.progress`)."""
+    """``--quiet`` / ``--verbose``, stored as ``args.verbosity`` (see :mod:`comparison.progress`)."""
     g = parser.add_mutually_exclusive_group()
     g.add_argument(
         "--quiet", dest="verbosity", action="store_const", const=-1, default=0, help="no plan, no progress bar"

@@ -62,7 +62,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck sweep``."""
-    from comparison.runner import Progress, ResultCache, default_cache_dir
+    from comparison.progress import Progress
+    from comparison.runner import ResultCache, default_cache_dir
     from comparison.sweep import GridError, load_grid, run_sweep
 
     try:
@@ -74,9 +75,9 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--workers and --scheduler exclude each other (the cluster has its own workers)")
     memory = in_range("--worker-memory", args.worker_memory, "a positive number of gigabytes", float("inf"))
     cache = ResultCache(Path(args.cache) if args.cache is not None else default_cache_dir())
-    with _executor(workers, args.scheduler, None if memory is None else int(memory * GB)) as executor:
-        with Progress(args.verbosity) as progress:
-            done = run_sweep(grid, Path(args.out), cache=cache, executor=executor, progress=progress)
+    executor = _executor(workers, args.scheduler, None if memory is None else int(memory * GB))
+    with executor, Progress(args.verbosity) as progress:
+        done = run_sweep(grid, Path(args.out), cache=cache, executor=executor, progress=progress)
     print(f"table: {done.table}")
     print(f"meta: {done.meta}")
     return 1 if done.counts["failed"] else 0

@@ -20,15 +20,15 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from comparison.progress import NORMAL, Progress
 from comparison.report import figures
 from comparison.report.findings import findings
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
 from comparison.report.tables import Table, all_tables, plain
 from comparison.report.text import document
-from comparison.runner import MACRO, Prefetched, Progress, Runner, prefetch
+from comparison.runner import MACRO, Prefetched, Runner, prefetch
 from comparison.runner.executor import LocalExecutor
-from comparison.runner.progress import NORMAL
 
 
 def build_report(
@@ -47,7 +47,7 @@ def build_report(
         cache_dir: the result cache (``None``: no cache; everything is computed
             in this process). The command line's default is
             :func:`comparison.runner.default_cache_dir`.
-        verbosity: what the progress display shows (see :mod:`comparison.runner.progress`).
+        verbosity: what the progress display shows (see :mod:`comparison.progress`).
         workers: processes for the missing micro computations (default: the number of CPUs).
 
     Returns:

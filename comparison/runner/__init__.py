@@ -10,14 +10,12 @@
   one interface (largest first, memory-bounded, interrupt-safe);
 * :mod:`~comparison.runner.pool`: :func:`prefetch`, missing entries computed on
   an executor and stored as they arrive;
-* :mod:`~comparison.runner.progress`: :class:`Progress`, the plan and a progress bar;
 * :mod:`~comparison.runner.runner`: :func:`compute` and the caching :class:`Runner`.
 """
 
 from comparison.runner.cache import ResultCache, code_version, default_cache_dir
 from comparison.runner.methods import MACRO, MICRO_ASSOC, MICRO_NONASSOC, NONASSOC_SECONDS, Method
 from comparison.runner.pool import Prefetched, approximate_blocks, prefetch
-from comparison.runner.progress import Progress
 from comparison.runner.records import Mechanism, Record
 from comparison.runner.runner import Runner, compute
 
@@ -29,7 +27,6 @@ __all__ = [
     "Mechanism",
     "Method",
     "Prefetched",
-    "Progress",
     "Record",
     "ResultCache",
     "Runner",

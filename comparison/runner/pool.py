@@ -11,10 +11,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+from comparison.progress import Progress
 from comparison.runner.cache import ResultCache
 from comparison.runner.executor import Executor, Outcome, Task
 from comparison.runner.methods import Method
-from comparison.runner.progress import Progress
 from comparison.runner.runner import compute, summary_line
 from comparison.wall import WallSpec
 

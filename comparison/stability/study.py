@@ -18,9 +18,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
+from comparison.progress import NORMAL, Progress
 from comparison.runner.executor import LocalExecutor, Task
 from comparison.runner.pool import approximate_blocks
-from comparison.runner.progress import NORMAL, Progress
 from comparison.wall import WallSpec
 from micro.records import NonAssociativeRecord
 
@@ -280,7 +280,7 @@ def main_study(
 ) -> dict[str, Path]:
     """Run the study and write the reports (``quick``: 12 walls only, for a smoke test).
 
-    ``verbosity`` sets what the progress display shows (see :mod:`comparison.runner.progress`).
+    ``verbosity`` sets what the progress display shows (see :mod:`comparison.progress`).
     """
     from comparison.stability.render import write_reports
 

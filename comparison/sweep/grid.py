@@ -2,7 +2,7 @@
 
 Format (see ``examples/sweeps/``)::
 
-    name = "error map"                 # optional (default: the file's stem)
+    name = "errormap"                  # names the output files (default: the file's stem)
 
     [axes]                             # the paper's Table 4 parameters
     t = [0.5, 1.0, 2.0]                # a list,
@@ -42,6 +42,7 @@ and its line.
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
@@ -74,6 +75,8 @@ METHOD_KEYS: dict[str, set[str]] = {
 SCHEMES = ("a", "b")
 #: The most values one axis may expand to (a range with a tiny step is a typo, not a sweep).
 MAX_AXIS_VALUES = 10_000
+#: What a sweep's name may be made of (it names the table and metadata files).
+NAME_PATTERN = r"[A-Za-z0-9_.\-]+"
 _TOP = {"name", "axes", "bond", "limits", "method"}
 
 
@@ -161,8 +164,9 @@ def parse_grid(text: str, source: str = "<grid>", name: str = "sweep") -> Grid:
         if key not in _TOP:
             raise src.error(f"unknown key {key!r} (allowed: {', '.join(sorted(_TOP))})", "", key)
     label = data.get("name", name)
-    if not isinstance(label, str) or not label:
-        raise src.error(f"name must be a non-empty string, got {label!r}", "", "name")
+    if not isinstance(label, str) or not re.fullmatch(NAME_PATTERN, label):
+        rule = "letters, digits, '_', '-' or '.' (it names the files)"
+        raise src.error(f"name must be {rule}, got {label!r}", "", "name")
     axes = {axis: _axis(_table(data, "axes", src), axis, src) for axis in AXES}
     bond = {key: _bond(_table(data, "bond", src, required=False), key, src) for key in BOND}
     limits = _table(data, "limits", src, required=False)

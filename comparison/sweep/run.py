@@ -20,7 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from comparison.runner import Progress, Record, ResultCache, code_version, prefetch
+from comparison.progress import Progress
+from comparison.runner import Record, ResultCache, code_version, prefetch
 from comparison.runner.executor import Executor, Outcome
 from comparison.runner.methods import PACKAGES
 from comparison.sweep.grid import Grid
@@ -57,8 +58,9 @@ def run_sweep(grid: Grid, out_dir: Path, *, cache: ResultCache, executor: Execut
     rows: dict[int, dict[str, Any]] = {}
     macro_rate = _macro_side(plan, rows)
     runnable = [c for c in plan if c.micro and not c.skip]
-    cached = {c.index for c in runnable if (c.spec, c.method) in cache}
-    pending = list(dict.fromkeys((c.spec, c.method) for c in runnable if c.spec is not None and c.index not in cached))
+    items = {c.index: (c.spec, c.method) for c in runnable if c.spec is not None}
+    cached = {i for i, item in items.items() if item in cache}
+    pending = list(dict.fromkeys(item for i, item in items.items() if i not in cached))
     skipped = sum(1 for c in plan if c.skip)
     progress.say(
         f"plan: {len(plan)} cells: {len(plan) - len(runnable) - skipped} macro (one vectorised call), "
@@ -84,7 +86,7 @@ def run_sweep(grid: Grid, out_dir: Path, *, cache: ResultCache, executor: Execut
         "grid": grid.to_dict(),
         "counts": counts,
         "executor": {"where": executor.where, "workers": executor.workers, "memory": executor.memory_per_worker},
-        "code": {kind: code_version(*pkgs) for kind, pkgs in PACKAGES.items()},
+        "code": {pkg: code_version(pkg) for pkg in sorted({p for pkgs in PACKAGES.values() for p in pkgs})},
         "versions": versions(),
         "machine": machine(),
         "macro_walls_per_second": macro_rate,
@@ -132,9 +134,9 @@ def _macro_side(plan: Sequence[Cell], rows: dict[int, dict[str, Any]]) -> float:
     seconds = 0.0
     for storeys in sorted({c.point.storeys for c in todo}):
         group = [c for c in todo if c.point.storeys == storeys]
-        args = [np.array([getattr(c.point, k) for c in group]) for k in ("t", "m", "rows", "f", "p")]
+        t, m, rows_, f, p = (np.array([getattr(c.point, k) for c in group]) for k in ("t", "m", "rows", "f", "p"))
         t0 = time.perf_counter()
-        r = macro.sweep(*args, storeys=storeys)
+        r = macro.sweep(t, m, rows_, f, p, storeys=storeys)
         dt = time.perf_counter() - t0
         seconds += dt
         for i, cell in enumerate(group):

@@ -83,7 +83,7 @@ class DaskExecutor:
             self._futures.append(
                 self.client.submit(call, task.fn, task.args, key=key, pure=False, priority=int(task.cost))
             )
-        for future in as_completed(self._futures):
+        for future in as_completed(self._futures, loop=self.client.loop):
             task = by_key[future.key]
             try:
                 ok, value, error, seconds = future.result()

@@ -5,13 +5,16 @@ time, largest first, and waits on every pipe and every process at once, so it
 knows which task a worker was running when that worker died (the task is then
 ``lost``; a new worker takes its place). The workers
 
-* ignore Ctrl-C (SIGINT): the parent alone handles it, ends them and re-raises,
-  so an interrupted run stops within a moment with nothing left behind;
+* ignore Ctrl-C (SIGINT, from birth): the parent alone handles it, ends them
+  and re-raises, so an interrupted run stops within a moment with nothing
+  left behind;
 * die with the parent: the kernel kills a worker whose parent dies (Linux
   ``PR_SET_PDEATHSIG``) and a watchdog thread exits when the parent is gone
   (elsewhere), so no orphan outlives a killed parent;
-* start from a fork server (spawned where there is none), not by forking a parent
-  that may run threads.
+* are spawned (fresh interpreters, about a second to start), not forked from a
+  parent that may run threads, and not started from a fork server: a fork
+  server's children keep it alive and are not this process's children, so
+  they would outlive a killed parent.
 """
 
 from __future__ import annotations
@@ -37,35 +40,54 @@ from comparison.runner.executor.base import Outcome, Task, call, describe, order
 PARENT_POLL_SECONDS = 0.5
 #: How long ending a worker may wait for it to exit after SIGKILL (seconds).
 JOIN_SECONDS = 5.0
-#: Modules the fork server imports once, so that every worker forked from it starts at once.
-PRELOAD = ("comparison.runner.runner",)
 #: ``prctl`` option that asks the kernel for a signal when the parent dies (Linux).
 _PR_SET_PDEATHSIG = 1
 
 
-def _die_with_parent() -> None:
-    """End this worker when its parent process does (a kernel signal on Linux, and a watchdog thread).
+def _die_with_parent(parent: int) -> None:
+    """End this worker when its parent process does: a kernel signal (Linux) and a watchdog thread.
 
-    The parent is the fork server, which itself exits when the process that
-    started it does (or that process, under spawn).
+    The kernel's signal works while the worker runs C code that holds the
+    interpreter lock; the watchdog works everywhere else. A parent that died
+    while this worker was starting is caught by the first look.
     """
     if sys.platform.startswith("linux"):
         with contextlib.suppress(OSError, AttributeError):
-            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
-    parent = os.getppid()
+            ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL))
 
     def watch() -> None:
         while os.getppid() == parent:
             time.sleep(PARENT_POLL_SECONDS)
         os._exit(1)
 
+    if os.getppid() != parent:
+        os._exit(1)
     threading.Thread(target=watch, name="xcheck-parent-watch", daemon=True).start()
 
 
-def _worker(conn: Connection) -> None:
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """SIGINT ignored in this process meanwhile (main thread only; elsewhere nothing changes).
+
+    A process started meanwhile is born ignoring it: an ignored signal stays
+    ignored across exec, and Python then installs no handler of its own (a
+    blocked one would not do: the spawn unblocks every signal). A Ctrl-C in
+    these few milliseconds is lost.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _worker(conn: Connection, parent: int) -> None:
     """A worker's loop: receive ``(fn, args)``, send back :func:`call`'s tuple; ``None`` ends it."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent()
+    _die_with_parent(parent)
     while True:
         try:
             item = conn.recv()
@@ -91,12 +113,8 @@ class _Worker:
 
 
 def _context() -> Any:
-    """A fork server (with :data:`PRELOAD` imported) where the platform has one, else spawn."""
-    if "forkserver" not in mp.get_all_start_methods():
-        return mp.get_context("spawn")
-    ctx = mp.get_context("forkserver")
-    ctx.set_forkserver_preload(list(PRELOAD))
-    return ctx
+    """Spawned workers: fresh interpreters, children of this process (see the module docstring)."""
+    return mp.get_context("spawn")
 
 
 class LocalExecutor:
@@ -138,8 +156,9 @@ class LocalExecutor:
 
     def _start(self) -> _Worker:
         parent_end, child_end = self._ctx.Pipe()
-        process = self._ctx.Process(target=_worker, args=(child_end,), name="xcheck-worker", daemon=True)
-        process.start()
+        process = self._ctx.Process(target=_worker, args=(child_end, os.getpid()), name="xcheck-worker", daemon=True)
+        with _sigint_ignored():  # inherited through exec: a Ctrl-C cannot interrupt the worker's start-up
+            process.start()
         child_end.close()
         worker = _Worker(process, parent_end)
         self._pool.append(worker)
