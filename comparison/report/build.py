@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from comparison.progress import NORMAL, Progress
-from comparison.report import figures
+from comparison.report import errormap, figures
 from comparison.report.findings import findings
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
@@ -96,12 +96,14 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Pa
     mechanisms = figures.mechanism_figures(res, out)
     for tb in tables.values():
         _write_csv(tb, out / f"{tb.name}.csv")
+    error_map, error_numbers = errormap.write(out)
     meta = {**meta, "seconds": time.perf_counter() - start}
+    tables_json = {k: v.records() for k, v in tables.items()}
     (out / "report.json").write_text(
-        json.dumps({"meta": meta, "tables": {k: v.records() for k, v in tables.items()}}, indent=1, default=str)
+        json.dumps({"meta": meta, "tables": tables_json, "errormap": error_numbers}, indent=1, default=str)
     )
     path = out / "REPORT.md"
-    path.write_text(document(res, tables, findings(res), figure_names, mechanisms, meta))
+    path.write_text(document(res, tables, findings(res), figure_names, mechanisms, meta) + "\n" + error_map)
     return path
 
 

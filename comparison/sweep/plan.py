@@ -58,7 +58,9 @@ class Cell:
         index: position in the grid's order.
         point: the wall's parameters.
         method: the method, bond options included.
-        spec: the wall (``None`` when the parameters make none).
+        spec: the wall the method runs on (``None`` when the parameters make
+            none); for a micro method, storeys that differ in nothing are one
+            storey (see :func:`micro_spec`).
         blocks: blocks of the micro wall, approximately (0 for the macro model).
         skip: ``""``, or :data:`NOT_APPLICABLE` / :data:`NOT_RUN`.
         message: why it is skipped.
@@ -76,6 +78,19 @@ class Cell:
     def micro(self) -> bool:
         """A micro method's cell."""
         return self.method.kind != "macro"
+
+
+def micro_spec(spec: WallSpec) -> WallSpec:
+    """``spec`` with its storeys merged into one when they differ in nothing but their rows and carry no floor load.
+
+    The block walls of the two are the same, so their micro results are:
+    merged, they share one cache entry (a one- and a three-storey wall without
+    overload are computed once).
+    """
+    first = spec.storeys[0]
+    if len(spec.storeys) == 1 or any(s.thickness != first.thickness or s.overload for s in spec.storeys):
+        return spec
+    return replace(spec, storeys=(replace(first, rows=spec.rows),))
 
 
 def wall_points(grid: Grid) -> list[WallPoint]:
@@ -114,6 +129,7 @@ def _cell(index: int, point: WallPoint, method: Method, spec: WallSpec | None, w
         return Cell(index, point, method, None, skip=NOT_APPLICABLE, message=why)
     if method.kind == "macro":
         return Cell(index, point, method, spec)
+    spec = micro_spec(spec)
     blocks = approximate_blocks(spec)
     if limit is not None and blocks > limit:
         return Cell(index, point, method, spec, blocks, NOT_RUN, f"about {blocks} blocks: above max_blocks = {limit}")
