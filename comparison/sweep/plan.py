@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 from comparison.runner import Method, approximate_blocks
 from comparison.sweep.grid import Grid, GridMethod
 from comparison.wall import WallSpec
+from macro.checks import UNEQUAL_STOREYS
 
 #: Why a cell is not computed: its rows do not split over its storeys, or its wall is over a block limit.
 NOT_APPLICABLE, NOT_RUN = "not_applicable", "not_run"
@@ -58,9 +59,10 @@ class Cell:
         index: position in the grid's order.
         point: the wall's parameters.
         method: the method, bond options included.
-        spec: the wall the method runs on (``None`` when the parameters make
-            none); for a micro method, storeys that differ in nothing are one
-            storey (see :func:`micro_spec`).
+        spec: the micro wall the method runs on, storeys that differ in
+            nothing merged (see :func:`micro_spec`); ``None`` for the macro
+            model (its side is vectorised over the points) and when the
+            parameters make no wall.
         blocks: blocks of the micro wall, approximately (0 for the macro model).
         skip: ``""``, or :data:`NOT_APPLICABLE` / :data:`NOT_RUN`.
         message: why it is skipped.
@@ -101,21 +103,20 @@ def wall_points(grid: Grid) -> list[WallPoint]:
 
 
 def cells(grid: Grid) -> list[Cell]:
-    """The cells of ``grid``, numbered in its order."""
+    """The cells of ``grid``, numbered in its order (a micro wall is built once per wall, none for the macro model)."""
     out: list[Cell] = []
     bonds = list(itertools.product(grid.bond["first_course"], grid.bond["head_joints"]))
+    micro = any(gm.method.kind != "macro" for gm in grid.methods)
     for point in wall_points(grid):
-        try:
-            spec: WallSpec | None = point.spec()
-            why = ""
-        except ValueError as exc:
-            spec, why = None, str(exc)
+        why = "" if point.rows % point.storeys == 0 else UNEQUAL_STOREYS.format(rows=point.rows, storeys=point.storeys)
+        spec = micro_spec(point.spec()) if micro and not why else None
         for gm in grid.methods:
-            variants = [gm.method] if gm.method.kind == "macro" else [
-                replace(gm.method, first_course=fc, head_joints=hj) for fc, hj in bonds
-            ]
-            for method in variants:
-                out.append(_cell(len(out), point, method, spec, why, _limit(grid, gm)))
+            if gm.method.kind == "macro":
+                out.append(Cell(len(out), point, gm.method, None, skip=NOT_APPLICABLE if why else "", message=why))
+                continue
+            for fc, hj in bonds:
+                method = replace(gm.method, first_course=fc, head_joints=hj)
+                out.append(_micro_cell(len(out), point, method, spec, why, _limit(grid, gm)))
     return out
 
 
@@ -124,12 +125,11 @@ def _limit(grid: Grid, gm: GridMethod) -> int | None:
     return min(limits) if limits else None
 
 
-def _cell(index: int, point: WallPoint, method: Method, spec: WallSpec | None, why: str, limit: int | None) -> Cell:
+def _micro_cell(
+    index: int, point: WallPoint, method: Method, spec: WallSpec | None, why: str, limit: int | None
+) -> Cell:
     if spec is None:
         return Cell(index, point, method, None, skip=NOT_APPLICABLE, message=why)
-    if method.kind == "macro":
-        return Cell(index, point, method, spec)
-    spec = micro_spec(spec)
     blocks = approximate_blocks(spec)
     if limit is not None and blocks > limit:
         return Cell(index, point, method, spec, blocks, NOT_RUN, f"about {blocks} blocks: above max_blocks = {limit}")

@@ -139,16 +139,23 @@ def _macro_side(plan: Sequence[Cell], rows: dict[int, dict[str, Any]]) -> float:
         r = macro.sweep(t, m, rows_, f, p, storeys=storeys)
         dt = time.perf_counter() - t0
         seconds += dt
-        for i, cell in enumerate(group):
-            lam = float(r.load_factor[i])
+        results = zip(
+            r.load_factor.tolist(),
+            r.rocking_load_factor.tolist(),
+            r.alpha_c_deg.tolist(),
+            r.hinge_storey.tolist(),
+            r.mechanism.tolist(),
+            strict=True,
+        )
+        for cell, (lam, rocking, alpha, hinge, mechanism) in zip(group, results, strict=True):
             rows[cell.index] = {
                 **_inputs(cell),
                 "load_factor": lam,
                 "status": "optimal" if math.isfinite(lam) else "failed",
-                "rocking_load_factor": float(r.rocking_load_factor[i]),
-                "alpha_c_deg": float(r.alpha_c_deg[i]),
-                "hinge_storey": int(r.hinge_storey[i]),
-                "mechanism": MECHANISMS[int(r.mechanism[i])],
+                "rocking_load_factor": rocking,
+                "alpha_c_deg": alpha,
+                "hinge_storey": hinge,
+                "mechanism": MECHANISMS[mechanism],
                 "seconds": dt / len(group),
                 "cached": False,
             }

@@ -47,7 +47,7 @@ LIGHT = GRID.replace("rows = [12, 18]", "rows = [6, 12]")
 
 def _xcheck(*args: str) -> subprocess.Popen[bytes]:
     return subprocess.Popen(
-        [sys.executable, "-m", "comparison.cli.app", *args],
+        [sys.executable, "-m", "comparison.cli", *args],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         start_new_session=True,
@@ -135,7 +135,7 @@ def test_a_killed_sweep_leaves_no_orphan_and_resumes_without_losing_a_cell(tmp_p
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
     again = subprocess.run(
-        [sys.executable, "-m", "comparison.cli.app", "sweep", str(grid), "--out", str(out), "--cache", str(cache)],
+        [sys.executable, "-m", "comparison.cli", "sweep", str(grid), "--out", str(out), "--cache", str(cache)],
         capture_output=True,
         timeout=600,
     )
