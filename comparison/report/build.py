@@ -57,18 +57,19 @@ def build_report(
     out_dir.mkdir(parents=True, exist_ok=True)
     plan = build_plan(quick)
     runs = [it for it in plan.items() if not it.skip]
+    processes = workers or os.cpu_count() or 1
     with Progress(verbosity) as progress:
         runner = Runner(cache_dir, progress.advance)
         pending = runs if runner.cache is None else plan.pending(runner.cache)
         progress.say(
             f"plan: {len(plan.macro_specs())} macro solves and {len(runs)} micro computations: "
             f"{len(runs) - len(pending)} cached, {len(pending)} to compute"
-            + ("" if runner.cache is None else f" in {workers or os.cpu_count() or 1} processes")
+            + ("" if runner.cache is None else f" in {processes} processes")
         )
         progress.start(len(pending), "micro")
         prefetched = Prefetched()
         if runner.cache is not None and pending:
-            with LocalExecutor(workers or os.cpu_count() or 1) as executor:
+            with LocalExecutor(processes) as executor:
                 prefetched = prefetch(runner.cache, [(it.spec, it.method) for it in pending], executor, progress)
         results = compute(plan, runner)
     meta = {

@@ -51,9 +51,13 @@ class DaskExecutor:
 
         try:
             self.client = Client(address, timeout=CONNECT_SECONDS, set_as_default=False)
-            self.client.wait_for_workers(1, timeout=CONNECT_SECONDS)
         except (OSError, TimeoutError) as exc:
-            raise ClusterError(f"no Dask scheduler with workers at {address} ({type(exc).__name__}: {exc})") from None
+            raise ClusterError(f"no Dask scheduler at {address} ({type(exc).__name__}: {exc})") from None
+        try:
+            self.client.wait_for_workers(1, timeout=CONNECT_SECONDS)
+        except (OSError, TimeoutError):
+            self.client.close()
+            raise ClusterError(f"the Dask scheduler at {address} has no worker after {CONNECT_SECONDS:g} s") from None
         workers = self.client.scheduler_info()["workers"].values()
         self.workers = sum(int(w.get("nthreads", 1)) for w in workers)
         limits = [int(w["memory_limit"]) // max(1, int(w.get("nthreads", 1))) for w in workers if w.get("memory_limit")]

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import psutil
+import pytest
 from executor_tasks import die, fail, pid_after, square
 
 from comparison.runner.executor import LocalExecutor, Task
@@ -59,6 +60,7 @@ def _gone(procs: list[psutil.Process], timeout: float = 10.0) -> list[psutil.Pro
     return [p for p in alive if p.status() != psutil.STATUS_ZOMBIE]
 
 
+@pytest.mark.slow
 def test_workers_exit_when_the_parent_is_killed(tmp_path: Path) -> None:
     """SIGKILL the parent (no chance to clean up): its workers notice and exit, no orphan stays."""
     script = tmp_path / "parent.py"

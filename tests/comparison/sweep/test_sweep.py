@@ -167,5 +167,5 @@ def test_an_unreachable_scheduler_is_one_line_exit_2(tmp_path: Path, capsys: pyt
     finally:
         cluster.CONNECT_SECONDS = saved
     err = capsys.readouterr().err
-    assert code == 2 and err.count("\n") == 1 and "--scheduler: no Dask scheduler" in err, err
+    assert code == 2 and err.count("\n") == 1 and "--scheduler: no Dask scheduler at" in err, err
     shutil.rmtree(tmp_path, ignore_errors=True)
