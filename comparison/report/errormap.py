@@ -189,8 +189,20 @@ def figure(cells: Sequence[MapCell], path: Path) -> Path:
     return path
 
 
-def section(cells: Sequence[MapCell], figure_name: str, source: str) -> str:
-    """The report's error-map section: headline numbers, the figure, the worst cells."""
+def nonassoc_stops(path: Path = TABLE) -> dict[str, int]:
+    """How the iterated LP ended on the walls of the map (bond as in :func:`load`), by status."""
+    stops: dict[str, int] = {}
+    for row in read_table(path):
+        if row["kind"] == "micro-nonassoc" and row["first_course"] == "full" and row["status"] != "not_run":
+            stops[row["status"]] = stops.get(row["status"], 0) + 1
+    return stops
+
+
+def section(cells: Sequence[MapCell], figure_name: str, source: str, stops: dict[str, int] | None = None) -> str:
+    """The report's error-map section: headline numbers, the figure, the worst cells.
+
+    ``stops`` (see :func:`nonassoc_stops`) says why the iterated LP gave no reference where it did not.
+    """
     s = summary(cells)
     a, na, asc = s["all"], s["nonassoc"], s["assoc"]
     lines = [
@@ -207,6 +219,11 @@ def section(cells: Sequence[MapCell], figure_name: str, source: str) -> str:
         f"* Against the converged non-associative LP: {na['unsafe']} of {na['walls']} unsafe ({_share(na)}); "
         f"against the associative LP (where the iterated LP was not run or did not converge): {asc['unsafe']} of "
         f"{asc['walls']} ({_share(asc)}). {s['no_reference']} walls have no micro result (above the block limit).",
+        *(
+            [f"* How the iterated LP ended on the walls it ran on: {_stops(stops)}."]
+            if stops
+            else []
+        ),
         "",
         f"![Error map]({figure_name})",
         "",
@@ -228,6 +245,11 @@ def section(cells: Sequence[MapCell], figure_name: str, source: str) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _stops(stops: dict[str, int]) -> str:
+    why = {"max_iterations": "its time budget of 180 s a direction spent: a faster machine may converge"}
+    return "; ".join(f"{n} `{status}`" + (f" ({why[status]})" if status in why else "") for status, n in stops.items())
+
+
 def _share(part: dict[str, Any]) -> str:
     return f"{100 * part['unsafe'] / part['walls']:.0f} %" if part["walls"] else "no wall"
 
@@ -242,4 +264,5 @@ def write(out: Path, table: Path = TABLE) -> tuple[str, dict[str, Any]]:
     cells = load(table)
     name = figure(cells, out / "errormap.png").name
     numbers = {"summary": summary(cells), "worst": [c.__dict__ | {"error": c.error} for c in worst(cells)]}
-    return section(cells, name, "reports/sweeps/errormap.csv"), numbers
+    stops = nonassoc_stops(table)
+    return section(cells, name, "reports/sweeps/errormap.csv", stops), {**numbers, "nonassoc_stops": stops}
