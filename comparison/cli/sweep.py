@@ -74,6 +74,10 @@ def run(args: argparse.Namespace) -> int:
     if args.scheduler is not None and workers is not None:
         raise UsageError("--workers and --scheduler exclude each other (the cluster has its own workers)")
     memory = in_range("--worker-memory", args.worker_memory, "a positive number of gigabytes", float("inf"))
+    try:  # before an hour of computing, not after
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UsageError(f"--out: cannot write to {args.out!r} ({exc.strerror or exc})") from None
     cache = ResultCache(Path(args.cache) if args.cache is not None else default_cache_dir())
     executor = _executor(workers, args.scheduler, None if memory is None else int(memory * GB))
     with executor, Progress(args.verbosity) as progress:

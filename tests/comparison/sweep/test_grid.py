@@ -113,3 +113,7 @@ def test_missing_grid_file_and_bad_options(tmp_path: Path, capsys: pytest.Captur
         assert main(["sweep", str(good), "--out", str(tmp_path / "o"), *extra]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and word in err, err
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    assert main(["sweep", str(good), "--out", str(blocker / "out")]) == 2
+    assert "--out: cannot write to" in capsys.readouterr().err
