@@ -4,8 +4,8 @@ Each test starts ``xcheck`` as a real process in a session of its own, waits
 until its worker processes run, then either sends SIGINT to the whole process
 group (what Ctrl-C in a terminal does) or SIGKILLs the parent alone (no chance
 to clean up), and checks that every process it had started is gone. Marked
-``slow`` (about 5 s per Ctrl-C test and 15 s for the kill and resume on the
-2-core development machine, worker start-up dominating): ``pytest -m slow``,
+``processes`` (about 5 s per Ctrl-C test and 15 s for the kill and resume on the
+2-core development machine, worker start-up dominating): ``pytest -m processes``,
 which ``.ci/run`` runs after the fast suite.
 """
 
@@ -82,7 +82,7 @@ def _cached(cache: Path) -> int:
     return sum(1 for _ in cache.rglob("*.json"))
 
 
-@pytest.mark.slow
+@pytest.mark.processes
 @pytest.mark.parametrize(
     "command",
     [
@@ -115,7 +115,7 @@ def test_ctrl_c_stops_the_run_with_exit_130_and_ends_its_workers(tmp_path: Path,
             os.killpg(proc.pid, signal.SIGKILL)
 
 
-@pytest.mark.slow
+@pytest.mark.processes
 def test_a_killed_sweep_leaves_no_orphan_and_resumes_without_losing_a_cell(tmp_path: Path) -> None:
     grid = tmp_path / "signals.toml"
     grid.write_text(LIGHT)

@@ -60,7 +60,7 @@ def _gone(procs: list[psutil.Process], timeout: float = 10.0) -> list[psutil.Pro
     return [p for p in alive if p.status() != psutil.STATUS_ZOMBIE]
 
 
-@pytest.mark.slow
+@pytest.mark.processes
 def test_workers_exit_when_the_parent_is_killed(tmp_path: Path) -> None:
     """SIGKILL the parent (no chance to clean up): its workers notice and exit, no orphan stays."""
     script = tmp_path / "parent.py"
