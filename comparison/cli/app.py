@@ -11,7 +11,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from comparison.cli import macro, micro, references, report, stability
+from comparison.cli import macro, micro, references, report, stability, sweep
 from comparison.cli.options import EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
 
 
@@ -31,7 +31,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for module in (macro, micro, report, stability, references):
+    for module in (macro, micro, report, stability, sweep, references):
         module.register(sub)
     return parser
 

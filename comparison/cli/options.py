@@ -12,6 +12,7 @@ import math
 from fractions import Fraction
 from pathlib import Path
 
+from comparison.progress import NORMAL, QUIET, VERBOSE
 from comparison.wall import WallSpec
 
 #: Exit codes of ``xcheck`` (documented in the README and in ``xcheck --help``).
@@ -23,9 +24,8 @@ EXIT_USAGE = 2
 #: Interrupted by Ctrl-C (128 + SIGINT, the shell's convention).
 EXIT_INTERRUPTED = 130
 
-#: Values of ``args.verbosity`` (``-q``/``--quiet``, default, ``-v``/``--verbose``); every subcommand
-#: has the attribute, and long-running ones pass it down to their progress display.
-QUIET, NORMAL, VERBOSE = 0, 1, 2
+# Values of ``args.verbosity`` (``-q``/``--quiet``, default, ``-v``/``--verbose``), defined with the
+# progress display that long-running subcommands pass them down to: QUIET, NORMAL, VERBOSE.
 
 #: The exit codes, as ``xcheck --help`` shows them (the README has the same list).
 EXIT_CODES = """\
@@ -205,3 +205,22 @@ def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
             raise UsageError("--cache and --no-cache exclude each other")
         return None
     return Path(args.cache) if args.cache is not None else default_cache_dir()
+
+
+def add_executor_options(parser: argparse.ArgumentParser, default_workers: str | None = None) -> None:
+    """``--workers N``: local worker processes (default: the number of CPUs, or ``default_workers``)."""
+    parser.add_argument(
+        "--workers",
+        default=default_workers,
+        metavar="N",
+        help=f"local worker processes (default: {default_workers or 'the number of CPUs'})",
+    )
+
+
+def workers_from_args(args: argparse.Namespace) -> int | None:
+    """The ``--workers`` option as a positive integer (``None``: not given).
+
+    Raises:
+        UsageError: not a positive integer.
+    """
+    return None if args.workers is None else int_option("--workers", args.workers)

@@ -5,8 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from comparison.cli.options import QUIET, UsageError, add_cache_options, add_command, cache_dir_from_args
-from comparison.cli.report import stderr_progress
+from comparison.cli.options import UsageError, add_cache_options, add_command, cache_dir_from_args
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -40,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
             out,
             cache_dir=cache_dir_from_args(args),
             quick=args.quick,
-            progress=None if args.verbosity == QUIET else stderr_progress,
+            verbosity=args.verbosity,
         )
     except OSError as exc:
         raise UsageError(f"--out: cannot write {str(out)!r} ({exc.strerror})") from None

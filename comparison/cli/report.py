@@ -3,10 +3,15 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from comparison.cli.options import QUIET, add_cache_options, add_command, cache_dir_from_args
+from comparison.cli.options import (
+    add_cache_options,
+    add_command,
+    add_executor_options,
+    cache_dir_from_args,
+    workers_from_args,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -20,14 +25,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", default="reports", help="output directory (default: reports)")
     p.add_argument("--quick", action="store_true", help="the micro model on the small walls only (under a minute)")
     add_cache_options(p)
+    add_executor_options(p)
     p.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Write the report and say where it is.
 
-    ``args.verbosity`` (:data:`~comparison.cli.options.QUIET`: no progress) is the
-    setting the progress display follows.
+    ``args.verbosity`` is the setting the progress display follows
+    (:mod:`comparison.progress`).
     """
     from comparison.report import build_report
 
@@ -35,12 +41,8 @@ def run(args: argparse.Namespace) -> int:
         Path(args.out),
         quick=args.quick,
         cache_dir=cache_dir_from_args(args),
-        progress=None if args.verbosity == QUIET else stderr_progress,
+        verbosity=args.verbosity,
+        workers=workers_from_args(args),
     )
     print(f"wrote {path}")
     return 0
-
-
-def stderr_progress(line: str) -> None:
-    """Progress printer for long runs."""
-    print(line, file=sys.stderr, flush=True)

@@ -41,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
         if args.table7:
             print(f"md: {table7_variants(args.out)}")
             return 0
-        paths = main_study(args.out, processes=processes, quick=args.quick)
+        paths = main_study(args.out, processes=processes, quick=args.quick, verbosity=args.verbosity)
     except OSError as exc:
         raise UsageError(f"--out: cannot write to {args.out!r} ({exc.strerror})") from None
     for kind, path in paths.items():

@@ -13,14 +13,16 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from comparison.cases import CASES, MODELS, PaperCase
+from comparison.progress import NORMAL, Progress
 from comparison.pytest_plugin.references import LOAD_FACTOR, Reference, References
 from comparison.report.plan import build_plan
 from comparison.report.reproduce import package_versions
 from comparison.runner import MACRO, Method, Record, Runner, code_version, prefetch
+from comparison.runner.executor import LocalExecutor
 from macro.records import MacroRecord
 
 #: Relative tolerance of the macro model's cells: its global search is within 6e-10 of a
@@ -136,7 +138,7 @@ def generate(
     *,
     cache_dir: Path | None,
     quick: bool = False,
-    progress: Callable[[str], None] | None = None,
+    verbosity: int = NORMAL,
 ) -> References:
     """Compute (or read from the cache) every reference and write ``out``.
 
@@ -144,7 +146,7 @@ def generate(
         out: the JSON file to write.
         cache_dir: the result cache (``None``: compute in this process, keep nothing).
         quick: the micro model on the report's quick walls only (Table 7).
-        progress: called with one line per computation.
+        verbosity: what the progress display shows (see :mod:`comparison.progress`).
 
     Returns:
         The references written.
@@ -152,10 +154,16 @@ def generate(
     plan = build_plan(quick)
     skips = {(it.spec, it.method): it.skip for it in plan.items()}
     pairs = [(c, m) for c in plan.cases for m in plan.methods]
-    runner = Runner(cache_dir, progress)
-    if runner.cache is not None and cache_dir is not None:
-        todo = [(c.spec(), m) for c, m in pairs if not skips[(c.spec(), m)] and (c.spec(), m) not in runner.cache]
-        prefetch(cache_dir, todo, os.cpu_count() or 1, progress)
+    with Progress(verbosity) as progress:
+        runner = Runner(cache_dir, progress.advance)
+        if runner.cache is not None:
+            runs = [(c.spec(), m) for c, m in pairs if not skips[(c.spec(), m)]]
+            todo = [item for item in runs if item not in runner.cache]
+            cached = len(runs) - len(todo)
+            progress.say(f"plan: {len(runs)} micro computations: {cached} cached, {len(todo)} to compute")
+            progress.start(len(todo), "micro")
+            with LocalExecutor(os.cpu_count() or 1) as executor:
+                prefetch(runner.cache, todo, executor, progress)
     cells: list[Reference] = []
     for c in CASES:
         cells += published_cells(c)
