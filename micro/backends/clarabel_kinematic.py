@@ -21,13 +21,17 @@ the back end returns and what the independent re-check
 
 The duals meet equilibrium only to Clarabel's tolerance times the largest
 force: on heavily loaded walls (Set 17, p = 8: generators up to 1.7e5 block
-weights) that is beyond the re-check's absolute 1e-6. The forces are therefore
-polished onto exact equilibrium first (:mod:`micro.backends.polish`: the
-smallest relative correction of the generators and the load factor through one
-sparse factorisation); the polished load factor is a lower bound, and ``info``
-keeps the one read from the duals (``unpolished_load_factor``) with its
-residual (``unpolished_residual``). Should the polished state still fail the
-re-check, the static form answers (``info["fallback"]`` says so).
+weights) that is beyond the re-check's absolute 1e-6. A solve whose forces
+fail the re-check is therefore polished onto exact equilibrium
+(:data:`POLISH`; :mod:`micro.backends.polish`: the smallest relative
+correction of the generators and the load factor through one sparse
+factorisation) and re-checked again; the polished load factor is a lower
+bound. ``info`` then keeps the load factor read from the duals
+(``unpolished_load_factor``), its residual (``unpolished_residual``), the
+polish's corrections (``polish_steps``) and time (``polish_seconds``, also in
+``seconds``). Forces that pass the re-check are returned as Clarabel gave them
+(the polish would move their load factor by ~1e-9 and cost 5-20 % of the
+solve, docs/micro-associative.md).
 
 Why: Clarabel's KKT system is then ``n_eq + 2P`` square instead of
 ``2P + n_eq + 2P`` (the static form carries the ``g >= 0`` rows as well), and
@@ -50,7 +54,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from micro.backends.base import Outcome, Status, recheck
+from micro.backends.base import FloatArray, Outcome, Status, recheck
 from micro.backends.clarabel import RETRY_ON, ClarabelBackend, clarabel_settings
 from micro.backends.polish import polish_equilibrium
 from micro.lp import LimitLP
@@ -94,6 +98,18 @@ CLARABEL_KINEMATIC_RETRY: dict[str, Any] = {
 }
 
 
+#: Polish the static forces of a solve that fails the re-check
+#: (:func:`micro.backends.base.recheck`) onto exact equilibrium
+#: (:func:`micro.backends.polish.polish_equilibrium`). It touches no solve
+#: that passes, so it cannot make one fail.
+POLISH = True
+#: Largest change of the load factor the polish may make, relative to
+#: ``max(|lambda|, 1)``; a larger one is not a rounding correction and the
+#: solve stays ``inaccurate`` (``info["polish_rejected"]``). Measured: 2e-9 at
+#: most (Set 17, 443 small walls), 500 times below the 1e-6 the references ask.
+POLISH_MAX_LOAD_FACTOR_CHANGE = 1e-7
+
+
 class ClarabelKinematicBackend:
     """Clarabel on the kinematic form of the associative LP (module docstring).
 
@@ -105,6 +121,7 @@ class ClarabelKinematicBackend:
             slides freely).
         settings: Clarabel settings overriding :data:`CLARABEL_KINEMATIC`.
         time_limit: seconds per solve.
+        polish: polish forces that fail the re-check (:data:`POLISH`).
 
     Raises:
         ValueError: an unknown Clarabel setting.
@@ -120,13 +137,15 @@ class ClarabelKinematicBackend:
         "DualInfeasible": Status.INFEASIBLE,
     }
 
-    def __init__(self, lp: LimitLP, *, settings: dict[str, Any] | None = None, time_limit: float | None = None) -> None:
+    def __init__(self, lp: LimitLP, *, settings: dict[str, Any] | None = None, time_limit: float | None = None,
+                 polish: bool = POLISH) -> None:
         import clarabel
 
         self._cl = clarabel
         self.lp = lp
         self.name = "clarabel"
         self.time_limit = time_limit
+        self.polish = polish
         self.active = np.flatnonzero(lp.col_upper[: lp.lam_col] > 0.0)
         self.work_scale = float(np.sum(np.abs(lp.live)))
         self.A_g = lp.A[:, self.active]
@@ -180,14 +199,34 @@ class ClarabelKinematicBackend:
             return Outcome(status, native, ipm_iterations=iters, seconds=secs, info=extra)
         u = np.asarray(sol.x, dtype=float) / self.work_scale
         z = np.asarray(sol.z, dtype=float)
-        g = np.zeros(2 * self.lp.n_points)
-        g[self.active] = z[1:]
-        n, s = self.lp.forces(g)
         extra["kinematic_load_factor"] = float(self.lp.rhs @ u)
-        lam_column = -float(z[0])
-        out = Outcome(status, native, float(direction) * lam_column, n=n, s=s, duals=u, ipm_iterations=iters,
-                      seconds=secs, info=extra)
-        return recheck(self.lp, direction, out)
+        raw = Outcome(status, native, duals=u, ipm_iterations=iters, seconds=secs, info=extra)
+        out = recheck(self.lp, direction, self._outcome(direction, z[1:], -float(z[0]), raw))
+        if out.ok or not self.polish:
+            return out
+        return self._polished(direction, z[1:], -float(z[0]), raw, out)
+
+    def _outcome(self, direction: int, g_active: FloatArray, lam_column: float, raw: Outcome) -> Outcome:
+        """``raw`` (optimal, no forces yet) with the static state ``(g, lambda column)``."""
+        g = np.zeros(2 * self.lp.n_points)
+        g[self.active] = g_active
+        n, s = self.lp.forces(g)
+        return dataclasses.replace(raw, load_factor=float(direction) * lam_column, n=n, s=s)
+
+    def _polished(self, direction: int, g_active: FloatArray, lam_column: float, raw: Outcome,
+                  failed: Outcome) -> Outcome:
+        """The forces of ``raw``, which failed the re-check (``failed``), polished
+        onto equilibrium (:data:`POLISH`) and re-checked; ``failed`` with the
+        polish's facts if the polish moved the load factor too far."""
+        p = polish_equilibrium(self.A_g, self.lp.live, self.lp.rhs, g_active, lam_column)
+        facts = {"unpolished_load_factor": float(direction) * lam_column,
+                 "unpolished_residual": failed.info["primal_residual"], "polish_steps": p.steps,
+                 "polish_seconds": p.seconds}
+        if abs(p.load_factor - lam_column) > POLISH_MAX_LOAD_FACTOR_CHANGE * max(abs(lam_column), 1.0):
+            facts["polish_rejected"] = f"the polish moved lambda from {lam_column!r} to {p.load_factor!r}"
+            return dataclasses.replace(failed, seconds=failed.seconds + p.seconds, info={**failed.info, **facts})
+        polished = dataclasses.replace(raw, seconds=raw.seconds + p.seconds, info={**raw.info, **facts})
+        return recheck(self.lp, direction, self._outcome(direction, p.g, p.load_factor, polished))
 
     def _static(self, direction: int, native: str, iterations: int, seconds: float) -> Outcome:
         """The static form's answer (:class:`~micro.backends.clarabel.ClarabelBackend`,
