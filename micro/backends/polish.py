@@ -25,11 +25,11 @@ slackness), so the part of ``r0`` along ``u`` can only be closed by the load
 factor (``f_L . u = 1``) or by generators that carry none. Held fixed, the
 load factor made those change by up to 17 times their size, and their sign,
 on 443 small walls. Free, on 581 small walls (9-294 blocks, floors up to
-p = 64) ``lam`` moved by at most 5.6e-10 (on Set 17, 7,575 blocks: 3.5e-9
-relative), always down, towards the lower bound it now certifies; on 569 of
+p = 64) ``lam`` moved by at most 1.4e-9 relative (on Set 17, 7,575 blocks:
+3.5e-9), always down, towards the lower bound it now certifies; on 569 of
 them the residual fell to at most 8e-16 times the largest force. On the
 other 12 (9-42 blocks, residuals 4e-11 to 7e-10, which pass the re-check
-anyway) the correction would have turned two generators negative, and the
+anyway) the correction would have turned generators negative, and the
 polish keeps the state it was given. The polished state is exactly
 admissible, so its ``lam`` is a lower bound; the kinematic objective is the
 upper one.
