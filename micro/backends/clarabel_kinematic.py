@@ -201,11 +201,12 @@ class ClarabelKinematicBackend:
         u = np.asarray(sol.x, dtype=float) / self.work_scale
         z = np.asarray(sol.z, dtype=float)
         extra["kinematic_load_factor"] = float(self.lp.rhs @ u)
+        g, lam_column = z[1:], -float(z[0])
         raw = Outcome(status, native, duals=u, ipm_iterations=iters, seconds=secs, info=extra)
-        out = recheck(self.lp, direction, self._outcome(direction, z[1:], -float(z[0]), raw))
+        out = recheck(self.lp, direction, self._outcome(direction, g, lam_column, raw))
         if out.ok or not self.polish:
             return out
-        return self._polished(direction, z[1:], -float(z[0]), raw, out)
+        return self._polished(direction, g, lam_column, raw, out)
 
     def _outcome(self, direction: int, g_active: FloatArray, lam_column: float, raw: Outcome) -> Outcome:
         """``raw`` (optimal, no forces yet) with the static state ``(g, lambda column)``."""

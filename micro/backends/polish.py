@@ -52,9 +52,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from numpy.typing import NDArray
 
-FloatArray = NDArray[np.float64]
+from micro.backends.base import FloatArray
 
 #: ``W``, the weight of the load-factor column against the generators'
 #: (whose weights are their own values, in block weights). The result did not
@@ -83,8 +82,9 @@ class Polished:
         load_factor: the value of the load-factor column.
         residual_before: largest equilibrium residual before the polish.
         residual: the same after it.
-        steps: corrections kept (0: the factorisation failed or no
-            correction lowered the residual; the state is the one given).
+        steps: corrections kept (0: the factorisation failed, or the first
+            correction did not lower the residual or would have turned a
+            generator negative; the state is then the one given).
         seconds: wall time of the polish.
     """
 
