@@ -21,7 +21,7 @@ ROUNDING_UNITS = 100 * np.finfo(float).eps
 
 
 def loaded_wall() -> micro.BlockWall:
-    """560 blocks, five storeys, floors of 64 wall weights (p = 64): generators up to
+    """560 blocks, five storeys, floors with overloading ratio p = 64: generators up to
     1.2e5 block weights, Set 17's scale (1.7e5) at a thirteenth of its blocks. Clarabel's
     forces miss equilibrium by 3.6e-6 block weights here (Set 17: 4.1e-6)."""
     return WallSpec.from_paper(t=1.0, m=1 / 3, rows=40, f=0.75, p=64.0, storeys=5).to_micro()
