@@ -25,6 +25,7 @@ ORDER = (
     "failure_modes",
     "sensitivity",
     "speed_accuracy",
+    "scaling",
     "histories",
 )
 
