@@ -260,7 +260,7 @@ class Sequence:
         if exact is not None:
             return exact, None, None
         if (o.certify and alpha_done and algo != "fallback-a"
-                and convergence.settled(self.lams, k, self.last_try, o) and self._try_certificate(k, v, lam, out)):
+                and convergence.settled(self.lams, k, self.last_try, o) and self._try_certificate(k, v, lam)):
             return "certified", None, None
         if alpha_done:
             cyc = convergence.detect_cycle(self.lams, self.dns, o.lambda_tol, o.window)
@@ -268,7 +268,7 @@ class Sequence:
                 return cyc[0], cyc[1], None
         return None
 
-    def _try_certificate(self, k: int, v: FloatArray, lam: float, out: Outcome) -> bool:
+    def _try_certificate(self, k: int, v: FloatArray, lam: float) -> bool:
         """Try the certificate on iterate ``k`` (``lambda`` has settled): is it
         an exact collapse state with other forces than the LP's vertex?"""
         cert = self.certificate.certify(v, lam, time_limit=self.o.user_limit)
