@@ -156,6 +156,11 @@ class PersistentHighsModel:
         """Change the cost of one column."""
         self._highs.changeColCost(col, value)
 
+    def set_costs(self, cols: NDArray[Any], values: FloatArray) -> None:
+        """Change the costs of many columns at once (the basis is kept)."""
+        cols = np.asarray(cols, dtype=np.int32)
+        self._highs.changeColsCost(cols.size, cols, np.asarray(values, dtype=np.float64))
+
     def get_basis(self) -> Any:
         """The current basis (an opaque object for :meth:`set_basis`)."""
         return self._highs.getBasis()
