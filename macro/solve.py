@@ -10,8 +10,9 @@ from typing import Any
 import numpy as np
 
 from macro import checks
-from macro.model import DEFAULT_SEARCH, TERM_NAMES, SearchSettings, evaluate, hinge_problems, minimise
+from macro.equations import TERM_NAMES, evaluate, hinge_problems
 from macro.records import MacroRecord
+from macro.search import DEFAULT_SEARCH, SearchSettings, minimise_walls
 
 #: Tolerance on ``alpha_c/alpha_b`` above which the mechanism reads as pure rocking.
 ROCKING_TOL = 1e-9
@@ -239,8 +240,12 @@ def solve(wall: MacroWall, settings: SearchSettings = DEFAULT_SEARCH) -> MacroRe
         The governing :class:`MacroResult`.
     """
     start = time.perf_counter()
+    found = minimise_walls(
+        [wall.length], [wall.overlap], [wall.block_height], [wall.unit_weight], [wall.friction],
+        [wall.rows], [wall.thickness], [wall.overload], settings,
+    )  # fmt: skip
+    lam, tau = found.rocking_load_factor[0], found.tan_alpha_c[0]
     pb = _problems(wall)
-    lam, tau = minimise(pb, settings)
     k = int(np.argmin(lam))
     hinges = tuple(
         HingeResult(i + 1, float(lam[i]), float(tau[i]), math.degrees(math.atan(tau[i]))) for i in range(wall.storeys)

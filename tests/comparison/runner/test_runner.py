@@ -41,10 +41,10 @@ def test_code_version_tracks_the_package_sources() -> None:
 
 
 def test_not_buildable_micro_wall_is_reported_not_raised(tmp_path: Path) -> None:
-    spec = WallSpec.from_paper(t=3, m=1 / 3, rows=60, f=0.6, storeys=3)  # L = 20 is not a whole number of half blocks
+    spec = WallSpec.from_paper(t=30, m=1, rows=12, f=0.6)  # L = 0.4 is shorter than half a block (0.5)
     rec = Runner(tmp_path).run(spec, MICRO_ASSOC)
     assert rec.status == "not_applicable" and math.isnan(rec.load_factor)
-    assert "half blocks" in rec.message and rec.result is None
+    assert "half a block" in rec.message and rec.result is None
 
 
 def test_cached_records_are_typed_and_equal_to_the_computed_ones(tmp_path: Path) -> None:
