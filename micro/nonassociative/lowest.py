@@ -55,6 +55,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -63,9 +64,9 @@ from micro.geometry import HEAD
 from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.model import IterationModel, restart
+from micro.nonassociative.model import IterationModel
 from micro.nonassociative.options import NonAssociativeOptions
-from micro.nonassociative.states import ForceField, ForceLP, MechanismLP, restricted_columns
+from micro.nonassociative.states import ForceField, ForceLP, MechanismLP, PersistentRuns, restricted_columns
 from micro.results import DIR_NAME, DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
@@ -164,14 +165,13 @@ class Descent:
         self.lp, self.d, self.o = lp, direction, options
         self.forces = ForceLP(lp, direction, options.user_limit)
         self.mechanisms = MechanismLP(lp, direction, options.user_limit)
-        self.gilbert: IterationModel | None = None
-        self.gilbert_lps = 0
+        self.gilbert: tuple[IterationModel, PersistentRuns] | None = None
         self.seen: set[bytes] = set()
 
     @property
     def lps(self) -> int:
         """LPs solved so far."""
-        return self.forces.lps + self.mechanisms.lps + self.gilbert_lps
+        return self.forces.lps + self.mechanisms.lps + (self.gilbert[1].lps if self.gilbert is not None else 0)
 
     # ------------------------------------------------------------ checks
     def as_result(self, state: State) -> DirectionResult:
@@ -187,13 +187,22 @@ class Descent:
         return all(v <= EXACT_TOL for k, v in res.items() if k != "slipping_points")
 
     # ------------------------------------------------------------ polish
-    def settle(self, f: ForceField, origin: str) -> State | None:
-        """The field ``f`` with a mechanism exactly compatible with it, if exact."""
-        v = self.mechanisms.compatible(f)
-        if v is None:
-            return None
-        state = State(f.load_factor, f.n, f.s, v, origin)
-        return state if self.exact(state) else None
+    def settle(self, f: ForceField, v: FloatArray, origin: str) -> State | None:
+        """The field ``f`` (the lower end of ``v``'s pattern) with a mechanism
+        exactly compatible with it, or else with ``v`` itself; ``None``
+        unless the state passes :meth:`exact`.
+
+        On large walls the mechanisms of the LPs move by up to 1e-6 of their
+        largest rate at points their pattern reads as closed; a field that
+        loads such a point admits no exactly compatible mechanism, and the
+        state with ``v`` is kept when its residuals are within
+        :data:`EXACT_TOL`."""
+        clean = self.mechanisms.compatible(f)
+        for mech in (clean, v) if clean is not None else (v,):
+            state = State(f.load_factor, f.n, f.s, mech, origin)
+            if self.exact(state):
+                return state
+        return None
 
     def lower_end(self, v: FloatArray) -> ForceField | None:
         """The lower end of the band of ``v`` (``None`` if it has no state)."""
@@ -208,14 +217,14 @@ class Descent:
             The last exact state, or ``None`` when ``v`` gave none.
         """
         f = self.lower_end(v)
-        state = self.settle(f, origin) if f is not None else None
+        state = self.settle(f, v, origin) if f is not None else None
         for _ in range(POLISH_ROUNDS):
             if state is None:
                 break
             f = self.lower_end(state.v)
             if f is None or f.load_factor >= state.load_factor * (1.0 - LOWEST_TOL):
                 break
-            better = self.settle(f, origin if origin.endswith("polish") else f"{origin}, polish")
+            better = self.settle(f, state.v, origin if origin.endswith("polish") else f"{origin}, polish")
             if better is None:
                 break
             state = better
@@ -231,16 +240,16 @@ class Descent:
         friction of the ``released`` points set to zero; the lowest polished
         exact state of the steps' distinct mechanisms (``None`` if none)."""
         if self.gilbert is None:
-            self.gilbert = IterationModel(self.lp, self.d, "a", self.o.alpha0)
-        model, beta = self.gilbert, self.o.beta
+            model = IterationModel(self.lp, self.d, "a", self.o.alpha0)
+            self.gilbert = (model, PersistentRuns(model.model, self.o.user_limit))
+        model, runs = self.gilbert
+        beta = self.o.beta
         n_prev = n_prev2 = state.n
         best: State | None = None
         for k in range(PROPOSAL_STEPS):
             nbar = beta * n_prev + (1.0 - beta) * n_prev2 if k else state.n
             model.set_capacity(np.where(released, 0.0, nbar), 0.0, 0.0, 0.0)
-            model.model.limit_next_run(self.o.user_limit)
-            out = restart(model.model) if k == 0 else model.model.run()
-            self.gilbert_lps += 1
+            out = runs.run()
             if out.x is None or out.duals is None:
                 break
             n_prev2, n_prev = n_prev, model.forces(out.x)[0]
@@ -314,3 +323,45 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: NonAssociativeOpt
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
     return Descent(lp, direction_sign(start.direction), options).run(start)
+
+
+def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirection, ...]) -> dict[str, Any]:
+    """The record fields of the descent (:class:`micro.NonAssociativeRecord`).
+
+    Args:
+        governing: the lowest state over the directions (``None`` without one).
+        lowest: the descent of every direction (empty when it did not run).
+
+    Returns:
+        ``lowest_load_factor``, ``lowest_direction``, ``lowest_band``,
+        ``lowest_moves`` (accepted proposals of the governing direction),
+        ``lowest_lps`` and ``lowest_seconds`` (summed over the directions) and
+        ``lowest_status`` (``""`` when it did not run, ``"found"``, or
+        ``"failed"`` when some direction has no state).
+    """
+    status = "" if not lowest else FOUND if governing is not None else FAILED
+    return {
+        "lowest_load_factor": governing.load_factor if governing is not None else math.nan,
+        "lowest_direction": governing.direction if governing is not None else "",
+        "lowest_band": governing.band if governing is not None else None,
+        "lowest_moves": len(governing.moves) if governing is not None else 0,
+        "lowest_lps": sum(low.lps for low in lowest),
+        "lowest_seconds": sum(low.seconds for low in lowest),
+        "lowest_status": status,
+    }
+
+
+def lowest_summary(low: LowestDirection) -> dict[str, Any]:
+    """One direction's descent as JSON-ready data (NaN -> ``None``)."""
+
+    def num(x: float) -> float | None:
+        return float(x) if math.isfinite(x) else None
+
+    mech = low.state.mechanism if low.state is not None else None
+    return {
+        "direction": low.direction, "status": low.status, "load_factor": num(low.load_factor),
+        "band": None if low.band is None else [num(x) for x in low.band], "path": [num(x) for x in low.path],
+        "moves": list(low.moves), "origin": low.origin, "lps": low.lps, "seconds": low.seconds,
+        "contact_states": mech.state_counts() if mech is not None else {},
+        "residuals": {k: num(v) for k, v in low.residuals.items()}, "message": low.message,
+    }

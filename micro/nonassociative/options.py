@@ -136,6 +136,18 @@ class NonAssociativeOptions:
         cold_tol: relative warm/cold difference beyond which the result is a
             ``solver_failure``.
         time_limit: seconds per LP (``None``: none).
+        lowest: after a converged run, descend from its state to the lowest
+            certified collapse state reachable
+            (:mod:`micro.nonassociative.lowest`; ``lowest_load_factor``). On
+            the walls of ``xcheck stability`` it costs about two iterated-LP
+            runs (median).
+        global_: then search for the global minimum of the collapse load by
+            branch and bound, started from the lowest state
+            (:mod:`micro.nonassociative.global_mip`; a reference tool for
+            walls of a few blocks: on larger walls its lower bound stays 0).
+        global_time_limit: seconds of branch and bound per direction
+            (``None``: none). A search it stops reports its bound and gap
+            (``time_limit``); such numbers depend on the machine.
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -163,6 +175,9 @@ class NonAssociativeOptions:
     cold_check: bool = True
     cold_tol: float = 1e-6
     time_limit: float | None = None
+    lowest: bool = True
+    global_: bool = False
+    global_time_limit: float | None = 300.0
 
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
@@ -199,20 +214,23 @@ class NonAssociativeOptions:
             raise ValueError(f"state_solver must be 'clarabel' or 'highs', got {self.state_solver!r}")
         if self.start not in ("interior", "vertex"):
             raise ValueError(f"start must be 'interior' or 'vertex', got {self.start!r}")
-        tl = self.time_limit
-        if tl is not None and (not math.isfinite(tl) or tl <= 0):
-            raise ValueError(f"time_limit must be a positive number of seconds, got {tl!r}")
+        for name in ("time_limit", "global_time_limit"):
+            tl = getattr(self, name)
+            if tl is not None and (isinstance(tl, bool) or not isinstance(tl, (int, float))
+                                   or not math.isfinite(tl) or tl <= 0):
+                raise ValueError(f"{name} must be a positive number of seconds, got {tl!r}")
 
     def _normalise(self) -> None:
         """Numbers as floats, flags as bools (the dataclass is frozen)."""
         for name in ("alpha0", "alpha_min", "alpha_factor", "cohesion", "lambda_tol", "force_tol", "coulomb_tol",
                      "settle_tol", "cold_tol"):
             object.__setattr__(self, name, float(getattr(self, name)))
-        for name in ("max_seconds", "relaxation"):
+        for name in ("max_seconds", "relaxation", "global_time_limit"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, float(getattr(self, name)))
         object.__setattr__(self, "certify", bool(self.certify))
-        object.__setattr__(self, "mechanism_band", bool(self.mechanism_band))
+        for name in ("mechanism_band", "lowest", "global_"):
+            object.__setattr__(self, name, bool(getattr(self, name)))
 
     @property
     def beta(self) -> float:
