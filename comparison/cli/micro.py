@@ -179,6 +179,8 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
     relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
     max_it = int_option("--max-iterations", args.max_iterations, minimum=2)
+    # with --global, --time-limit also limits each direction's branch and bound
+    global_limit: dict[str, Any] = {} if time_limit is None else {"global_time_limit": time_limit}
     result = micro.solve_nonassociative(
         wall,
         scheme=args.scheme,
@@ -188,7 +190,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         certify=not args.no_certify,
         lowest=not args.no_lowest,
         global_=args.global_,
-        **({} if time_limit is None else {"global_time_limit": time_limit}),
+        **global_limit,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:

@@ -58,7 +58,7 @@ not converge is NaN; the last value and the band are reported beside it.
 from __future__ import annotations
 
 import time
-from typing import Any
+from typing import Any, Literal
 
 from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
@@ -151,6 +151,6 @@ def _global_search(lp: LimitLP, results: tuple[DirectionResult, ...], lowest: tu
     have = {st.direction for st in starts}
     starts += [StartState.from_iterated(lp, r) for r in results
                if r.converged and direction_sign(r.direction) not in have]
-    dirs = tuple(direction_sign(r.direction) for r in results)
     opts = GlobalOptions(time_limit=o.global_time_limit)
-    return solve_global(lp, dirs[0] if len(dirs) == 1 else "both", opts, starts)
+    which: Literal[1, -1, "both"] = "both" if len(results) > 1 else 1 if results[0].direction == "+x" else -1
+    return solve_global(lp, which, opts, starts)

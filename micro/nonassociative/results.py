@@ -6,8 +6,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from micro.nonassociative.lowest import LowestDirection, lowest_fields, lowest_summary
 from micro.nonassociative.global_mip import GlobalResult, global_fields, global_summary
+from micro.nonassociative.lowest import LowestDirection, lowest_fields, lowest_summary
 from micro.nonassociative.options import NonAssociativeOptions
 from micro.records import NonAssociativeRecord
 from micro.results import DirectionResult, record_fields
