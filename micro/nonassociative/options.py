@@ -148,6 +148,9 @@ class NonAssociativeOptions:
         global_time_limit: seconds of branch and bound per direction
             (``None``: none). A search it stops reports its bound and gap
             (``time_limit``); such numbers depend on the machine.
+        global_node_limit: branch-and-bound nodes per direction (``None``:
+            none); unlike the time limit it gives the same answer on every
+            machine (``node_limit``).
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -178,6 +181,7 @@ class NonAssociativeOptions:
     lowest: bool = True
     global_: bool = False
     global_time_limit: float | None = 300.0
+    global_node_limit: int | None = None
 
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
@@ -198,6 +202,8 @@ class NonAssociativeOptions:
         _integer("max_iterations", self.max_iterations, 2)
         _integer("window", self.window, 3)
         _integer("settle_window", self.settle_window, 2)
+        if self.global_node_limit is not None:
+            _integer("global_node_limit", self.global_node_limit, 1)
         self._check_rest()
         self._normalise()
 

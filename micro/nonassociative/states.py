@@ -22,9 +22,8 @@ The columns it forbids are its RESTRICTED columns. Two LPs work on a pattern:
   virtual work.
 
 Both are HiGHS dual-simplex models changed by bounds and costs only, so that
-successive patterns warm-start (:class:`~micro.backends.highs.PersistentHighsModel`);
-the first run of each is an interior point with crossover
-(:func:`micro.nonassociative.model.restart`).
+successive patterns warm-start (:class:`~micro.backends.highs.PersistentHighsModel`,
+:class:`PersistentRuns`); the first run of each is an interior point with crossover.
 
 Unlike the certificate's classification, :func:`restricted_columns` leaves a
 frictionless point (``mu = 0``, frictionless head joints) unrestricted when it
@@ -46,7 +45,6 @@ from micro.backends.base import Outcome, Status
 from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
-from micro.nonassociative.model import restart
 from micro.nonassociative.options import INTERPENETRATION, STATE_RESIDUAL, TINY
 
 FloatArray = NDArray[np.float64]
@@ -156,12 +154,12 @@ def refine(lp: LimitLP, x: FloatArray) -> FloatArray:
 
 
 class PersistentRuns:
-    """Runs of a persistent simplex model: the first cold (IPM + crossover +
-    dual simplex, :func:`~micro.nonassociative.model.restart`), the later
-    ones warm from the last basis, capped at :data:`WARM_ITERATIONS` simplex
-    iterations per row; a warm run that hits the cap, or neither solved nor
-    proved infeasibility, is redone cold. The cap counts iterations, not
-    seconds, so the same runs happen on every machine.
+    """Runs of a persistent simplex model: the first cold (:meth:`_cold`),
+    the later ones warm from the last basis, capped at
+    :data:`WARM_ITERATIONS` simplex iterations per row; a warm run that hits
+    the cap, or neither solved nor proved infeasibility, is redone cold. The
+    cap counts iterations, not seconds, so the same runs happen on every
+    machine.
 
     Args:
         model: the model.
@@ -177,17 +175,41 @@ class PersistentRuns:
 
     def run(self) -> Outcome:
         """Run the model (class docstring)."""
+        out = None
+        if not self.cold:
+            out = self._capped()
+            if out.status in (Status.OPTIMAL, Status.INFEASIBLE):
+                return self._book(out)
+        first = self._cold()
+        return self._book(first if out is None else first.plus_seconds(out.seconds))
+
+    def _capped(self) -> Outcome:
+        """A warm dual-simplex run capped at :attr:`cap` iterations."""
         m = self.model
         m.limit_next_run(self.time_limit)
-        if self.cold:
-            out = restart(m)
-        else:
-            m.limit_iterations(self.cap)
-            out = m.run()
-            m.limit_iterations(None)
-            if out.status not in (Status.OPTIMAL, Status.INFEASIBLE):
-                m.limit_next_run(self.time_limit)
-                out = restart(m).plus_seconds(out.seconds)
+        m.limit_iterations(self.cap)
+        out = m.run()
+        m.limit_iterations(None)
+        return out
+
+    def _cold(self) -> Outcome:
+        """Interior point + crossover, then a capped dual-simplex clean-up
+        from the crossover basis. Unlike the iterated LP's
+        :func:`~micro.nonassociative.model.restart`, an interior point that
+        neither solves nor proves infeasibility (seen on patterns with no
+        force field) is not followed by a cold dual simplex (minutes on
+        1,230 blocks): the run fails."""
+        m = self.model
+        m.clear_solver()
+        m.set_algorithm("ipm", crossover=True)
+        m.limit_next_run(self.time_limit)
+        first = m.run()
+        m.set_algorithm("simplex")
+        if first.status is not Status.OPTIMAL:
+            return first
+        return self._capped().plus_seconds(first.seconds)
+
+    def _book(self, out: Outcome) -> Outcome:
         self.cold = out.status not in (Status.OPTIMAL, Status.INFEASIBLE)
         self.lps += 1
         self.seconds += out.seconds
