@@ -11,8 +11,8 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from comparison.cli import macro, micro, report, stability
-from comparison.cli.options import EXIT_USAGE, UsageError
+from comparison.cli import macro, micro, references, report, stability, sweep
+from comparison.cli.options import EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
 
 
 class Parser(argparse.ArgumentParser):
@@ -27,9 +27,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser = Parser(
         prog="xcheck",
         description="Macro-block model vs rigid-block limit analysis of dry-joint masonry walls.",
+        epilog=EXIT_CODES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for module in (macro, micro, report, stability):
+    for module in (macro, micro, report, stability, sweep, references):
         module.register(sub)
     return parser
 
@@ -45,7 +47,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USAGE
     except KeyboardInterrupt:
         print("xcheck: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -12,10 +12,44 @@ import math
 from fractions import Fraction
 from pathlib import Path
 
+from comparison.progress import NORMAL, QUIET, VERBOSE
 from comparison.wall import WallSpec
 
-#: Exit code of bad input.
+#: Exit codes of ``xcheck`` (documented in the README and in ``xcheck --help``).
+EXIT_OK = 0
+#: A method ran but gave no load factor (a solve that is not optimal, an iterated LP that did not converge).
+EXIT_FAILED = 1
+#: Bad input: a malformed option, an invalid wall, a bad scene file.
 EXIT_USAGE = 2
+#: Interrupted by Ctrl-C (128 + SIGINT, the shell's convention).
+EXIT_INTERRUPTED = 130
+
+# Values of ``args.verbosity`` (``-q``/``--quiet``, default, ``-v``/``--verbose``), defined with the
+# progress display that long-running subcommands pass them down to: QUIET, NORMAL, VERBOSE.
+
+#: The exit codes, as ``xcheck --help`` shows them (the README has the same list).
+EXIT_CODES = """\
+exit codes:
+  0    success: every method asked for gave its load factor
+  1    a method failed: a solve that is not optimal, an iterated LP that did not converge
+       (the reason is printed; lambda is never printed as a number)
+  2    bad input: one line 'xcheck: error: ...' naming the parameter (file and line for scenes)
+  130  interrupted (Ctrl-C)
+"""
+
+
+def add_command(sub: argparse._SubParsersAction, name: str, *, help: str, description: str) -> argparse.ArgumentParser:
+    """A subcommand's parser with the options every subcommand has (``--quiet``/``--verbose``) and the exit
+    codes in its help."""
+    p = sub.add_parser(
+        name,
+        help=help,
+        description=description,
+        epilog=EXIT_CODES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_verbosity_options(p)
+    return p
 
 
 class UsageError(ValueError):
@@ -78,6 +112,30 @@ def in_range(option: str, text: str | None, rule: str, upper: float) -> float | 
     if not (0.0 < value <= upper) or math.isnan(value) or value == math.inf:
         raise UsageError(f"{option} must be {rule}, got {text!r}")
     return value
+
+
+def add_verbosity_options(parser: argparse.ArgumentParser) -> None:
+    """``-q``/``--quiet`` and ``-v``/``--verbose``, stored as ``args.verbosity`` (:data:`QUIET`,
+    :data:`NORMAL` by default, :data:`VERBOSE`)."""
+    g = parser.add_argument_group("output")
+    x = g.add_mutually_exclusive_group()
+    x.add_argument(
+        "-q",
+        "--quiet",
+        dest="verbosity",
+        action="store_const",
+        const=QUIET,
+        help="print only the result (the load factor, or the paths written); no progress",
+    )
+    x.add_argument(
+        "-v",
+        "--verbose",
+        dest="verbosity",
+        action="store_const",
+        const=VERBOSE,
+        help="print more: the wall's parameters, per-direction and per-iteration details",
+    )
+    parser.set_defaults(verbosity=NORMAL)
 
 
 def add_wall_options(parser: argparse.ArgumentParser) -> None:
@@ -147,3 +205,22 @@ def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
             raise UsageError("--cache and --no-cache exclude each other")
         return None
     return Path(args.cache) if args.cache is not None else default_cache_dir()
+
+
+def add_executor_options(parser: argparse.ArgumentParser, default_workers: str | None = None) -> None:
+    """``--workers N``: local worker processes (default: the number of CPUs, or ``default_workers``)."""
+    parser.add_argument(
+        "--workers",
+        default=default_workers,
+        metavar="N",
+        help=f"local worker processes (default: {default_workers or 'the number of CPUs'})",
+    )
+
+
+def workers_from_args(args: argparse.Namespace) -> int | None:
+    """The ``--workers`` option as a positive integer (``None``: not given).
+
+    Raises:
+        UsageError: not a positive integer.
+    """
+    return None if args.workers is None else int_option("--workers", args.workers)

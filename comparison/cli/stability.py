@@ -10,12 +10,13 @@ from __future__ import annotations
 
 import argparse
 
-from comparison.cli.options import UsageError, int_option
+from comparison.cli.options import UsageError, add_command, int_option
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``stability`` subcommand."""
-    p = subparsers.add_parser(
+    p = add_command(
+        subparsers,
         "stability",
         help="convergence study of the non-associative iterated LP on a grid of small walls",
         description="Runs the non-associative iterated LP (schemes a and b, several relaxations) on a grid "
@@ -52,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
 
             paths = main_lowest(args.out, processes=processes, quick=args.quick)
         else:
-            paths = main_study(args.out, processes=processes, quick=args.quick)
+            paths = main_study(args.out, processes=processes, quick=args.quick, verbosity=args.verbosity)
     except OSError as exc:
         raise UsageError(f"--out: cannot write to {args.out!r} ({exc.strerror})") from None
     for kind, path in paths.items():
