@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 import math
 import statistics
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -63,7 +63,7 @@ def write_lowest(runs: Sequence[LowestRun], out: Path, *, seconds: float, proces
         w.writeheader()
         w.writerows(rows)
     s = summarise(runs)
-    lines = _intro(runs, seconds, processes) + table7_lines(runs) + _distribution(s) + _cost(runs, s)
+    lines = _intro(runs, seconds, processes) + table7_lines(rows) + _distribution(s) + _cost(runs, s)
     paths["md"].write_text("\n".join(lines) + "\n")
     _chart(s, paths["png"])
     return paths
@@ -80,7 +80,8 @@ def _intro(runs: Sequence[LowestRun], seconds: float, processes: int) -> list[st
         "(scheme a, relaxation 0.6, certified), then the descent to the lowest certified collapse state "
         "(`micro.nonassociative.lowest`; every state it keeps passes `verify_collapse_state`). The global "
         "search (branch and bound, HiGHS, started from the lowest state; `micro.nonassociative.global_mip`) "
-        f"runs on Table 7's walls ({TABLE7_NODES} nodes per direction) and on every wall of at most "
+        f"runs on Table 7's walls in their default bond ({TABLE7_NODES} nodes per direction) and on every wall "
+        "of at most "
         f"{GLOBAL_MAX_BLOCKS} blocks ({GLOBAL_NODES:,} nodes per direction); node limits, not time limits, so "
         "every number reproduces. Where it closes (`optimal`) its load factor is the global minimum of the "
         "non-associative problem; elsewhere it gives a proven lower bound.",
@@ -88,8 +89,13 @@ def _intro(runs: Sequence[LowestRun], seconds: float, processes: int) -> list[st
     ]
 
 
-def table7_lines(runs: Sequence[LowestRun]) -> list[str]:
-    """Table 7 with the three values against Orduña's."""
+def table7_lines(rows: Sequence[Mapping[str, Any]]) -> list[str]:
+    """Table 7 with the three values against Orduña's.
+
+    Args:
+        rows: the study's CSV rows (:meth:`LowestRun.row`, numbers as floats);
+            only those of group ``"table7"`` are tabulated.
+    """
     lines = [
         "## Table 7: iterated LP, lowest certified state and global search against Orduña",
         "",
@@ -97,15 +103,15 @@ def table7_lines(runs: Sequence[LowestRun]) -> list[str]:
         "| seconds: iterated / descent / global |",
         "|---|---|---|---|---|---|---|",
     ]
-    for r in runs:
-        if r.case.group != "table7":
+    for r in rows:
+        if r["group"] != "table7":
             continue
-        o = r.case.published
+        o, it, low = r["orduna"], r["lambda_iterated"], r["lambda_lowest"]
         lines.append(
-            f"| {r.case.name} | {_f(o, '.2f')} | {_f(r.iterated)} ({_pct(_rel(r.iterated, o))}) | "
-            f"{_f(r.lowest)} ({_pct(_rel(r.lowest, o))}) | {_f(r.global_best)} / {_f(r.global_bound)} / "
-            f"{_f(100 * r.global_gap, '.0f')} % ({r.global_status or 'not run'}) | {r.lowest_moves} | "
-            f"{_f(r.it_seconds, '.2f')} / {_f(r.lowest_seconds, '.2f')} / {_f(r.global_seconds, '.1f')} |"
+            f"| {r['wall']} | {_f(o, '.2f')} | {_f(it)} ({_pct(_rel(it, o))}) | {_f(low)} ({_pct(_rel(low, o))}) | "
+            f"{_f(r['global_best'])} / {_f(r['global_bound'])} / {_f(100 * r['global_gap'], '.0f')} % "
+            f"({r['global_status'] or 'not run'}) | {r['lowest_moves']} | {_f(r['iterated_seconds'], '.2f')} / "
+            f"{_f(r['lowest_seconds'], '.2f')} / {_f(r['global_seconds'], '.1f')} |"
         )
     return [*lines, ""]
 
@@ -164,7 +170,8 @@ def _cost(runs: Sequence[LowestRun], s: dict[str, Any]) -> list[str]:
     lines = [
         "## Cost",
         "",
-        f"Descent time / iterated-LP time: median {_f(statistics.median(s['ratio']) if s['ratio'] else math.nan, '.2f')}"
+        "Descent time / iterated-LP time: median "
+        f"{_f(statistics.median(s['ratio']) if s['ratio'] else math.nan, '.2f')}"
         f", max {_f(max(s['ratio'], default=math.nan), '.1f')} (all walls); per size (blocks): "
         + "; ".join(f"{k}: median {statistics.median(v):.2f} ({len(v)} walls)" for k, v in sorted(by_size.items()))
         + ". Timings are wall-clock on a shared machine: ratios, not seconds, carry over.",
