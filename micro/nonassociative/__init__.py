@@ -151,6 +151,6 @@ def _global_search(lp: LimitLP, results: tuple[DirectionResult, ...], lowest: tu
     have = {st.direction for st in starts}
     starts += [StartState.from_iterated(lp, r) for r in results
                if r.converged and direction_sign(r.direction) not in have]
-    opts = GlobalOptions(time_limit=o.global_time_limit, node_limit=o.global_node_limit)
+    opts = GlobalOptions(time_limit=o.global_time_limit, node_limit=o.global_node_limit, bounds=o.global_bounds)
     which: Literal[1, -1, "both"] = "both" if len(results) > 1 else 1 if results[0].direction == "+x" else -1
     return solve_global(lp, which, opts, starts)

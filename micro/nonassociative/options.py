@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 from micro.backends.clarabel import CLARABEL_RETRY
+from micro.nonassociative.global_bounds import POLICIES as BIG_M_POLICIES
 from micro.results import Directions, check_directions
 
 #: Published rebuilt yield conditions implemented here.
@@ -151,6 +152,10 @@ class NonAssociativeOptions:
         global_node_limit: branch-and-bound nodes per direction (``None``:
             none); unlike the time limit it gives the same answer on every
             machine (``node_limit``).
+        global_bounds: the global search's big-M policy for the normal
+            forces (:class:`~micro.nonassociative.global_mip.GlobalOptions`):
+            ``"per_point"`` (one LP per contact point) or ``"uniform"`` (one
+            LP; cheaper, and as good on the walls tried).
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -182,6 +187,7 @@ class NonAssociativeOptions:
     global_: bool = False
     global_time_limit: float | None = 300.0
     global_node_limit: int | None = None
+    global_bounds: Literal["per_point", "uniform"] = "per_point"
 
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
@@ -212,6 +218,8 @@ class NonAssociativeOptions:
         if isinstance(st, bool) or not isinstance(st, (int, float)) or not (0.0 <= st < 1.0):
             raise ValueError(f"settle_tol must be a number in [0, 1), got {st!r}")
         check_directions(self.directions)
+        if self.global_bounds not in BIG_M_POLICIES:
+            raise ValueError(f"global_bounds must be one of {', '.join(BIG_M_POLICIES)}, got {self.global_bounds!r}")
         ms = self.max_seconds
         if ms is not None and (isinstance(ms, bool) or not isinstance(ms, (int, float))
                                or not math.isfinite(ms) or ms <= 0):
