@@ -296,7 +296,9 @@ class NonAssociativeResult:
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary: the record (:meth:`to_record`) with the
-        contact states, options, history and directions as nested objects."""
+        contact states, the descent, options, history and directions as
+        nested objects (and, after a global search, its direction, nodes and
+        seconds beside its record keys)."""
 
         def num(v: float) -> float | None:
             return v if math.isfinite(v) else None
@@ -306,7 +308,7 @@ class NonAssociativeResult:
             **record.to_dict(),
             "contact_states": record.contact_states if self.governing.mechanism is not None else {},
             "lowest": [lowest_summary(low) for low in self.lowest],
-            "global": None if self.global_search is None else global_summary(self.global_search),
+            **({} if self.global_search is None else global_summary(self.global_search)),
             "options": self.options.as_dict(),
             "history": [r.as_dict() for r in self.history],
             "directions": {
