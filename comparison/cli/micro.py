@@ -114,6 +114,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "state: a proven lower bound and the gap (global_load_factor, global_lower_bound, global_gap, "
         "global_status); a reference tool for walls of a few blocks",
     )
+    na.add_argument(
+        "--node-limit",
+        default=None,
+        metavar="N",
+        help="with --global: branch-and-bound nodes per direction (the same answer on every machine, unlike "
+        "--time-limit)",
+    )
     p.set_defaults(handler=run)
 
 
@@ -204,6 +211,8 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     max_it = int_option("--max-iterations", args.max_iterations, minimum=2)
     # with --global, --time-limit also limits each direction's branch and bound
     global_limit: dict[str, Any] = {} if time_limit is None else {"global_time_limit": time_limit}
+    if args.node_limit is not None:
+        global_limit["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
     result = micro.solve_nonassociative(
         wall,
         scheme=args.scheme,
