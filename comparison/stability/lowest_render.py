@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import math
 import statistics
 from collections.abc import Mapping, Sequence
@@ -17,6 +16,7 @@ from comparison.stability.lowest import (
     TABLE7_NODES,
     LowestRun,
 )
+from comparison.stability.render import write_rows
 
 #: Edges (per cent) of the histogram of the iterated LP's excess.
 BINS = (0.0, 0.01, 0.5, 1.0, 2.0, 5.0, 10.0, 25.0, 100.0)
@@ -65,10 +65,7 @@ def write_lowest(runs: Sequence[LowestRun], out: Path, *, seconds: float, proces
     out.mkdir(parents=True, exist_ok=True)
     paths = {"csv": out / "lowest.csv", "md": out / "lowest.md", "png": out / "lowest.png"}
     rows = [r.row() for r in runs]
-    with paths["csv"].open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(rows, paths["csv"])
     s = summarise(runs)
     lines = _intro(runs, seconds, processes) + table7_lines(rows) + _distribution(s) + _cost(runs, s)
     paths["md"].write_text("\n".join(lines) + "\n")
