@@ -144,7 +144,7 @@ def _distribution(s: dict[str, Any]) -> list[str]:
         "",
         "Where the global search does not close, the lowest certified state is the best known collapse load "
         "(an upper bound of the global minimum), so (λ_iterated − λ_lowest)/λ_lowest is a LOWER bound of the "
-        "iterated LP's excess:",
+        "iterated LP's excess. Over every wall of each group:",
         "",
     ]
     for g, xs in s["it_over_low"].items():
@@ -152,8 +152,8 @@ def _distribution(s: dict[str, Any]) -> list[str]:
     lines += [
         "",
         f"The lowest state lies below the lower end of the iterated LP's mechanism band on {s['below_band']} of "
-        f"{len(ok)} walls (another mechanism, reached by {s['moved']} walls' accepted moves); elsewhere it is that "
-        "lower end.",
+        f"{len(ok)} walls (another mechanism, reached by the polish or by moves; {s['moved']} walls accepted at "
+        "least one move); elsewhere it is that lower end.",
         "",
     ]
     return lines
