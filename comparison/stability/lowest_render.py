@@ -113,10 +113,13 @@ def table7_lines(rows: Sequence[Mapping[str, Any]]) -> list[str]:
         if r["group"] != "table7":
             continue
         o, it, low = r["orduna"], r["lambda_iterated"], r["lambda_lowest"]
+        glob = (
+            f"{_f(r['global_best'])} / {_f(r['global_bound'])} / {_f(100 * r['global_gap'], '.0f')} % "
+            f"({r['global_status']})" if r["global_status"] else "not run"
+        )
         lines.append(
             f"| {r['wall']} | {_f(o, '.2f')} | {_f(it)} ({_pct(_rel(it, o))}) | {_f(low)} ({_pct(_rel(low, o))}) | "
-            f"{_f(r['global_best'])} / {_f(r['global_bound'])} / {_f(100 * r['global_gap'], '.0f')} % "
-            f"({r['global_status'] or 'not run'}) | {r['lowest_moves']} | {_f(r['iterated_seconds'], '.2f')} / "
+            f"{glob} | {r['lowest_moves']} | {_f(r['iterated_seconds'], '.2f')} / "
             f"{_f(r['lowest_seconds'], '.2f')} / {_f(r['global_seconds'], '.1f')} |"
         )
     return [*lines, ""]
