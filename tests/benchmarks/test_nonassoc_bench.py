@@ -112,16 +112,16 @@ def _large(benchmark, name: str, max_iterations: int) -> micro.NonAssociativeRes
     """One round of the iterated LP on a large wall of the paper, capped at
     ``max_iterations`` LPs (a deterministic cap: every machine runs the same
     LPs, only their seconds differ); what it reached is recorded and checked:
-    a converged state passes the exact checks, and no iterate exceeds the
-    associative bound."""
+    a converged state passes the exact checks and lies below the associative
+    bound (an iterate need not: Set 10's first LP gives 0.3061 against 0.2773)."""
     w = case(name).spec().to_micro()
     r = benchmark.pedantic(micro.solve_nonassociative, args=(w,), kwargs=dict(max_iterations=max_iterations),
                            rounds=1, iterations=1)
     _record(benchmark, r)
     assert r.status in ("converged", "cycling", "max_iterations")
     assert r.converged or math.isnan(r.load_factor)
-    assert r.last_load_factor <= r.associative_load_factor * (1 + 2e-5)
-    if r.converged:  # the exact checks, from the forces and the mechanism alone
+    if r.converged:  # below the associative bound; the exact checks, from the forces and the mechanism alone
+        assert r.load_factor <= r.associative_load_factor * (1 + 2e-5)
         v = micro.verify_collapse_state(micro.assemble(w), r.governing)
         assert v["equilibrium"] <= 1e-7 and v["coulomb"] <= 2e-6 and v["interpenetration"] <= 1e-8
         assert v["dilatancy"] <= 1e-8 and v["slip_off_yield"] <= 2e-6 and v["energy"] <= 1e-6
