@@ -32,7 +32,9 @@ DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 #: cold). Scheme (a) solves an iterate cold while the last warm run took more
 #: than this many simplex iterations per equilibrium row of the wall ...
 COLD_SWITCH_PIVOTS = 2.0
-#: ... and goes back to warm after this many cold iterates in a row.
+#: ... and goes back to warm after this many cold iterates in a row, a number
+#: doubled each time the warm run after a cold streak is slow again (or stopped
+#: at its limit below).
 COLD_STREAK = 3
 #: A warm run that takes more than this many simplex iterations per
 #: equilibrium row is stuck (seen: 13 s to declare a 150-block LP
