@@ -26,6 +26,7 @@ from comparison.report.findings import findings
 from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
+from comparison.report.scaling import scaling_figure, scaling_table
 from comparison.report.tables import Table, all_tables, plain
 from comparison.report.text import document
 from comparison.runner import MACRO, Prefetched, Runner, prefetch
@@ -87,12 +88,14 @@ def build_report(
 
 def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Path:
     """Render the tables, figures and text of ``res`` into ``out``."""
-    tables = all_tables(res)
+    tables = {**all_tables(res), "scaling": scaling_table(res)}
     hist = figures.histories_figure(res, out / "histories.png")
+    scaling = scaling_figure(res, out / "scaling.png")
     figure_list = [
         figures.sensitivity_figure(res, out / "sensitivity.png"),
         figures.speed_figure(res, out / "speed_accuracy.png"),
         *([] if hist is None else [hist]),
+        *([] if scaling is None else [scaling]),
         *mechanism_figures(res, out),
     ]
     for tb in tables.values():

@@ -34,6 +34,8 @@ DUAL_SIGN = -1.0
 #: default 1e-7 gave "Optimal" with unscaled residuals of 1e-3.
 SIMPLEX_TOLERANCE = 1e-10
 ALGORITHMS = ("ipm", "simplex")
+#: HiGHS' default (no limit) of ``simplex_iteration_limit`` and ``ipm_iteration_limit``.
+_ITERATIONS_MAX = 2**31 - 1
 
 
 def _highs_inf(a: FloatArray, inf: float) -> FloatArray:
@@ -189,19 +191,25 @@ class PersistentHighsModel:
             self._simplex_tolerances(h)
         self.algorithm = algorithm
 
-    def limit_next_run(self, seconds: float | None) -> None:
-        """Limit the NEXT run to ``seconds`` (``None`` or ``inf``: no limit).
+    def limit_next_run(self, seconds: float | None, *, simplex_iterations: int | None = None,
+                       ipm_iterations: int | None = None) -> None:
+        """Limit the NEXT run to ``seconds`` and to the given simplex and
+        interior-point iteration counts (``None`` or ``inf``: no limit).
 
         HiGHS compares ``time_limit`` with the run time accumulated over
         all runs of the object (measured: a warm run stopped after 0.27 s
         with ``time_limit`` 24 s after 20 s of earlier runs), so the limit is
-        set from the run time so far.
+        set from the run time so far; the iteration limits count per run. A
+        run stopped by an iteration limit reports ``iteration_limit``.
         """
         h = self._highs
         if seconds is not None and np.isfinite(seconds):
             h.setOptionValue("time_limit", float(h.getRunTime()) + float(seconds))
         else:
             h.setOptionValue("time_limit", float("inf"))
+        h.setOptionValue("simplex_iteration_limit", _ITERATIONS_MAX if simplex_iterations is None
+                         else int(simplex_iterations))
+        h.setOptionValue("ipm_iteration_limit", _ITERATIONS_MAX if ipm_iterations is None else int(ipm_iterations))
 
     def limit_iterations(self, iterations: int | None) -> None:
         """Cap the simplex iterations of the next runs (``None``: no cap).

@@ -48,10 +48,12 @@ iterated LP's own fixed point (``load_factor``, unchanged); the global search
 
 A sequence stops as ``converged`` (exactly, or certified), ``cycling``
 (``lambda_band`` is ``[min, max]`` over the cycle or the last window),
-``max_iterations`` (the cap on LPs or the time budget ``max_seconds``), or
-``solver_failure`` (an LP failed warm and cold, or the final iterate
-re-solved cold disagrees with the warm one, HiGHS having open reports of
-wrong objectives after hot starts). The load factor of a sequence that did
+``max_iterations`` (the cap on LPs or the work budget
+``max_simplex_iterations``), ``time_limit`` (a user's wall-clock stop,
+``max_seconds`` or ``time_limit``: no final answer), or ``solver_failure``
+(an LP failed warm and cold, or the final iterate re-solved cold disagrees
+with the warm one, HiGHS having open reports of wrong objectives after hot
+starts). The load factor of a sequence that did
 not converge is NaN; the last value and the band are reported beside it.
 """
 
@@ -74,6 +76,7 @@ from micro.nonassociative.results import (
     MAX_ITERATIONS,
     SOLVER_FAILURE,
     STATUSES,
+    TIME_LIMIT,
     IterationRecord,
     NonAssociativeResult,
     SequenceDiagnostics,
@@ -88,6 +91,7 @@ __all__ = [
     "SCHEMES",
     "SOLVER_FAILURE",
     "STATUSES",
+    "TIME_LIMIT",
     "GlobalOptions",
     "GlobalResult",
     "IterationRecord",

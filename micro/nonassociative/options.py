@@ -23,23 +23,30 @@ SCHEMES = ("a", "b")
 DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 
 # ------------------------------------------------------------ warm / cold policy
+# Every decision of the sequence is taken on deterministic work measures
+# (simplex and interior-point iteration counts, LP counts), never on seconds:
+# a loaded or slower machine follows the same path to the same numbers.
 #: On large walls a warm dual simplex can cost more than a cold solve (7,575
 #: blocks: 78,000-104,000 simplex iterations, 170-200 s, against 45 s for
-#: interior point + crossover): scheme (a) solves an iterate cold while the
-#: last warm run took more than this times the last cold one ...
-COLD_SWITCH_RATIO = 1.5
-#: ... and goes back to warm after this many cold iterates in a row.
+#: interior point + crossover; 1,230 blocks: 514-1,423, 2-6 x faster than
+#: cold). Scheme (a) solves an iterate cold while the last warm run took more
+#: than this many simplex iterations per equilibrium row of the wall ...
+COLD_SWITCH_PIVOTS = 2.0
+#: ... and goes back to warm after this many cold iterates in a row, a number
+#: doubled each time the warm run after a cold streak is slow again (or stopped
+#: at its limit below).
 COLD_STREAK = 3
-#: A warm run that takes this many times the first (cold) LP is stuck (seen:
-#: 13 s to declare a 150-block LP infeasible): it is stopped and recovered.
-WARM_LIMIT_FACTOR = 10.0
-#: Time limit of a certificate try, in multiples of the current LP's time.
-CERTIFICATE_LIMIT_FACTOR = 10.0
-#: Time limit of the mechanism band of a converged run, in multiples of the
-#: median LP time.
-BAND_LIMIT_FACTOR = 20.0
-#: Smallest time limit (seconds) the factors above give.
-MIN_LIMIT_SECONDS = 1.0
+#: A warm run that takes more than this many simplex iterations per
+#: equilibrium row is stuck (seen: 13 s to declare a 150-block LP
+#: infeasible): it is stopped and recovered ...
+WARM_LIMIT_PIVOTS = 10.0
+#: ... with at least this many iterations on small walls.
+MIN_WARM_LIMIT = 20_000
+#: Interior-point iterations allowed to each certificate LP (HiGHS'
+#: ``ipm_iteration_limit``; Clarabel's ``max_iter`` of the tight settings is
+#: the same 400): the only limit of a certificate try besides the user's
+#: ``time_limit``.
+STATE_IPM_ITERATIONS = 400
 
 # --------------------------------------------------------------- certificate
 #: Clarabel settings of the certificate LPs: their ends are checked for
@@ -99,9 +106,16 @@ class NonAssociativeOptions:
             of the associative solution (scale-free; default one millionth
             of the force level).
         max_iterations: cap on non-associative LPs per direction.
-        max_seconds: wall-time budget per direction (``None``: none); when
+        max_simplex_iterations: cap on the simplex iterations (warm runs,
+            crossovers and clean-ups) of the non-associative LPs per
+            direction (``None``: none): a deterministic work budget; when
             spent the sequence stops with status ``max_iterations``
-            (``stop_reason="time_budget"``).
+            (``stop_reason="work_budget"``) and its last band.
+        max_seconds: optional wall-clock stop per direction (``None``: none).
+            A sequence stopped by it has status ``time_limit``
+            (``stop_reason="time_budget"``): another machine would have gone
+            further, so it is no final answer (the runner's cache does not
+            keep it). No other decision of the sequence depends on time.
         lambda_tol: relative change of ``lambda`` for convergence.
         force_tol: largest change of the normal forces, relative to the
             largest normal force, for convergence.
@@ -136,7 +150,9 @@ class NonAssociativeOptions:
         cold_check: re-solve the final iterate cold and compare.
         cold_tol: relative warm/cold difference beyond which the result is a
             ``solver_failure``.
-        time_limit: seconds per LP (``None``: none).
+        time_limit: optional wall-clock limit per LP in seconds (``None``:
+            none); an LP stopped by it ends the sequence with status
+            ``time_limit``.
         lowest: after a converged run, descend from its state to the lowest
             certified collapse state reachable
             (:mod:`micro.nonassociative.lowest`; ``lowest_load_factor``). On
@@ -168,6 +184,7 @@ class NonAssociativeOptions:
     alpha_factor: float = 0.5
     cohesion: float = 1e-6
     max_iterations: int = 100
+    max_simplex_iterations: int | None = None
     max_seconds: float | None = None
     lambda_tol: float = 1e-6
     force_tol: float = 1e-6
@@ -206,6 +223,8 @@ class NonAssociativeOptions:
         if not (0.0 < self.alpha_factor <= 1.0):
             raise ValueError(f"alpha_factor must be in (0, 1], got {self.alpha_factor!r}")
         _integer("max_iterations", self.max_iterations, 2)
+        if self.max_simplex_iterations is not None:
+            _integer("max_simplex_iterations", self.max_simplex_iterations, 1)
         _integer("window", self.window, 3)
         _integer("settle_window", self.settle_window, 2)
         if self.global_node_limit is not None:

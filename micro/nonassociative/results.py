@@ -12,9 +12,12 @@ from micro.nonassociative.options import NonAssociativeOptions
 from micro.records import NonAssociativeRecord
 from micro.results import DirectionResult, record_fields
 
-#: Values of ``status``.
+#: Values of ``status``. ``max_iterations``: the cap on LPs or the work budget
+#: (simplex iterations) spent; ``time_limit``: stopped by a user's wall-clock
+#: stop (``max_seconds``, ``time_limit``), so no final answer.
 CONVERGED, CYCLING, MAX_ITERATIONS, SOLVER_FAILURE = "converged", "cycling", "max_iterations", "solver_failure"
-STATUSES = (CONVERGED, CYCLING, MAX_ITERATIONS, SOLVER_FAILURE)
+TIME_LIMIT = "time_limit"
+STATUSES = (CONVERGED, CYCLING, MAX_ITERATIONS, TIME_LIMIT, SOLVER_FAILURE)
 #: Stop reasons that count as converged.
 CONVERGED_STOPS = ("lambda_and_forces", "lambda_and_coulomb", "certified")
 Band = tuple[float, float]
@@ -74,7 +77,8 @@ class SequenceDiagnostics:
         stop_reason: what stopped the sequence (``"lambda_and_forces"``,
             ``"lambda_and_coulomb"``, ``"certified"``, ``"repeating"``,
             ``"oscillating"``, ``"stagnation"``, ``"max_iterations"``,
-            ``"time_budget"``, ``"lp_failed"``, ``"cold_check_failed"``,
+            ``"work_budget"``, ``"time_budget"`` (``max_seconds``),
+            ``"time_limit"`` (an LP's ``time_limit``), ``"lp_failed"``, ``"cold_check_failed"``,
             ``"equilibrium_residual"``, ``"associative_failed"``).
         last_load_factor: ``lambda`` of the last successful iterate.
         lambda_band: ``(min, max)`` of ``lambda`` over the detected cycle or
