@@ -21,11 +21,12 @@ from pathlib import Path
 from typing import Any
 
 from comparison.progress import NORMAL, Progress
-from comparison.report import errormap, figures
+from comparison.report import errormap, figures, lowest
 from comparison.report.findings import findings
 from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
+from comparison.report.scaling import scaling_figure, scaling_table
 from comparison.report.tables import Table, all_tables, plain
 from comparison.report.text import document
 from comparison.runner import MACRO, Prefetched, Runner, prefetch
@@ -87,12 +88,14 @@ def build_report(
 
 def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Path:
     """Render the tables, figures and text of ``res`` into ``out``."""
-    tables = all_tables(res)
+    tables = {**all_tables(res), "scaling": scaling_table(res)}
     hist = figures.histories_figure(res, out / "histories.png")
+    scaling = scaling_figure(res, out / "scaling.png")
     figure_list = [
         figures.sensitivity_figure(res, out / "sensitivity.png"),
         figures.speed_figure(res, out / "speed_accuracy.png"),
         *([] if hist is None else [hist]),
+        *([] if scaling is None else [scaling]),
         *mechanism_figures(res, out),
     ]
     for tb in tables.values():
@@ -104,7 +107,8 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Pa
         json.dumps({"meta": meta, "tables": tables_json, "errormap": error_numbers}, indent=1, default=str)
     )
     path = out / "REPORT.md"
-    path.write_text(document(res, tables, findings(res), figure_list, meta) + "\n" + error_map)
+    text = document(res, tables, findings(res), figure_list, meta)
+    path.write_text(text + "\n" + error_map + "\n" + lowest.section())
     return path
 
 

@@ -246,7 +246,7 @@ def section(cells: Sequence[MapCell], figure_name: str, source: str, stops: dict
 
 
 def _stops(stops: dict[str, int]) -> str:
-    why = {"max_iterations": "its time budget of 180 s a direction spent: a faster machine may converge"}
+    why = {"max_iterations": "its cap of LPs reached"}
     return "; ".join(f"{n} `{status}`" + (f" ({why[status]})" if status in why else "") for status, n in stops.items())
 
 

@@ -19,7 +19,7 @@ from comparison.wall import WallSpec
 
 #: The report runs the iterated non-associative LP on walls of at most this many
 #: blocks: the Table 5 walls of up to 1,830 blocks take 1-120 s each (the
-#: runner caps a sequence at :data:`comparison.runner.NONASSOC_SECONDS`); Set 10
+#: runner caps a sequence at :data:`comparison.runner.NONASSOC_MAX_LPS`); Set 10
 #: (3,630 blocks) ran over 12 minutes without settling and the 7,575-block
 #: Table 9 walls over 20 minutes (see the README), which would not fit the
 #: report's 15 minutes.

@@ -45,6 +45,5 @@ python3 -m venv .venv && .venv/bin/pip install -e .
 
 `--no-cache` recomputes everything (see the README for the cache). Versions of this run: {versions}.
 Machine: {machine()}. Every number in the tables is independent of the machine but for the
-timings: the iterated LP is stopped by a time budget per direction, so a much slower machine can
-turn a slow sequence into `max_iterations` (see the status legend).
+timings: the iterated LP decides on iteration and LP counts, never on seconds.
 """

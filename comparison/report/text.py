@@ -12,7 +12,7 @@ from comparison.report.plan import NONASSOC_MAX_BLOCKS, table9_alternative
 from comparison.report.reproduce import how_to_reproduce
 from comparison.report.results import Results
 from comparison.report.tables import Table, published
-from comparison.runner import NONASSOC_SECONDS
+from comparison.runner import NONASSOC_MAX_LPS
 
 #: The order of the tables in ``REPORT.md``.
 ORDER = (
@@ -25,6 +25,7 @@ ORDER = (
     "failure_modes",
     "sensitivity",
     "speed_accuracy",
+    "scaling",
     "histories",
 )
 
@@ -54,8 +55,8 @@ STATUS_LEGEND = {
     "its own normal forces, no dilatancy): its λ is a collapse load",
     "cycling": "the iterated LP's λ repeats or oscillates without an exact state; the cell shows the range of "
     "its last values, and no λ",
-    "max_iterations": "the iterated LP stopped without settling, at its cap of LPs or at its time budget "
-    f"({NONASSOC_SECONDS:g} s per load direction in this report); no λ",
+    "max_iterations": "the iterated LP stopped without settling, at its cap of LPs "
+    f"({NONASSOC_MAX_LPS} per load direction in this report) or of simplex iterations; no λ",
     "solver_failure": "an LP of the iterated sequence failed; no λ",
     "inaccurate": "the back end called its answer optimal but it failed the independent re-check; no λ",
     "time_limit": "the LP back end hit its time limit; no λ",

@@ -17,7 +17,7 @@ import numpy as np
 
 from comparison.failure import FailureMode, failure_mode
 from comparison.runner.cache import ResultCache
-from comparison.runner.methods import NONASSOC_SECONDS, Method
+from comparison.runner.methods import NONASSOC_MAX_LPS, Method
 from comparison.runner.records import Mechanism, Record
 from comparison.wall import WallSpec
 from micro.records import AssociativeRecord, NonAssociativeRecord
@@ -50,7 +50,7 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         if res.velocities is not None and res.direction:
             mechanism = Mechanism(np.asarray(res.velocities), res.direction)
     else:
-        nres = micro.solve_nonassociative(wall, scheme=method.scheme, max_seconds=NONASSOC_SECONDS)
+        nres = micro.solve_nonassociative(wall, scheme=method.scheme, max_iterations=NONASSOC_MAX_LPS)
         record = nres.to_record()
         gov = next((d for d in nres.directions if d.direction == nres.direction), None)
         if gov is not None and gov.mechanism is not None:

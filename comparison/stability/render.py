@@ -5,11 +5,11 @@ from __future__ import annotations
 import csv
 import math
 import statistics
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from comparison.stability.study import GRID, MAX_SECONDS, StudyRun
+from comparison.stability.study import GRID, MAX_SIMPLEX_ITERATIONS, StudyRun
 
 
 def _val(v: float) -> str:
@@ -99,15 +99,20 @@ def _wall_spread(rs: Sequence[StudyRun]) -> dict[str, Any]:
     }
 
 
+def write_rows(rows: Sequence[Mapping[str, Any]], path: Path) -> None:
+    """Write ``rows`` (dicts with the same keys, in order) as a CSV table with a header."""
+    with path.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
 def write_reports(runs: Sequence[StudyRun], out: Path, *, seconds: float, processes: int) -> dict[str, Path]:
     """Write ``stability.csv``, ``stability.md`` and ``stability.png`` to ``out``."""
     out.mkdir(parents=True, exist_ok=True)
     paths = {"csv": out / "stability.csv", "md": out / "stability.md", "png": out / "stability.png"}
     rows = [r.row() for r in runs]
-    with paths["csv"].open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(rows, paths["csv"])
     s = summarise(runs)
     lines = _intro(s, len(rows), seconds, processes) + _per_setting(s) + _spread(s) + _failures(runs, s)
     paths["md"].write_text("\n".join(lines))
@@ -125,7 +130,7 @@ def _intro(s: dict[str, Any], n_runs: int, seconds: float, processes: int) -> li
         + " (p = 0; a length that is not a whole number of half blocks ends every course with a cut block). "
         "Setting = scheme/relaxation beta; scheme (a) `|s| <= mu nbar`, scheme (b) line of slope "
         "-alpha through (nbar, mu nbar), alpha halved 0.3 -> 1e-3; start: interior-point associative solution; "
-        f"cap 100 LPs and {MAX_SECONDS:g} s per direction. "
+        f"cap 100 LPs and {MAX_SIMPLEX_ITERATIONS:,} simplex iterations per direction. "
         "A wall counts as converged only if every direction solved converged. "
         "`plain`: the iterated LP alone, converged only when an LP's own forces satisfy Coulomb. Otherwise, "
         "once lambda has settled (spread <= 1e-3 over 3 iterates), the current LP's mechanism is tested for an "

@@ -34,6 +34,8 @@ DUAL_SIGN = -1.0
 #: default 1e-7 gave "Optimal" with unscaled residuals of 1e-3.
 SIMPLEX_TOLERANCE = 1e-10
 ALGORITHMS = ("ipm", "simplex")
+#: HiGHS' default (no limit) of ``simplex_iteration_limit`` and ``ipm_iteration_limit``.
+_ITERATIONS_MAX = 2**31 - 1
 
 
 def _highs_inf(a: FloatArray, inf: float) -> FloatArray:
@@ -156,6 +158,16 @@ class PersistentHighsModel:
         """Change the cost of one column."""
         self._highs.changeColCost(col, value)
 
+    def set_costs(self, cols: NDArray[Any], values: FloatArray) -> None:
+        """Change the costs of many columns at once (the basis is kept)."""
+        cols = np.asarray(cols, dtype=np.int32)
+        self._highs.changeColsCost(cols.size, cols, np.asarray(values, dtype=np.float64))
+
+    @property
+    def n_rows(self) -> int:
+        """Rows of the model."""
+        return int(self._highs.getNumRow())
+
     def get_basis(self) -> Any:
         """The current basis (an opaque object for :meth:`set_basis`)."""
         return self._highs.getBasis()
@@ -179,19 +191,32 @@ class PersistentHighsModel:
             self._simplex_tolerances(h)
         self.algorithm = algorithm
 
-    def limit_next_run(self, seconds: float | None) -> None:
-        """Limit the NEXT run to ``seconds`` (``None`` or ``inf``: no limit).
+    def limit_next_run(self, seconds: float | None, *, simplex_iterations: int | None = None,
+                       ipm_iterations: int | None = None) -> None:
+        """Limit the NEXT run to ``seconds`` and to the given simplex and
+        interior-point iteration counts (``None`` or ``inf``: no limit).
 
         HiGHS compares ``time_limit`` with the run time accumulated over
         all runs of the object (measured: a warm run stopped after 0.27 s
         with ``time_limit`` 24 s after 20 s of earlier runs), so the limit is
-        set from the run time so far.
+        set from the run time so far; the iteration limits count per run. A
+        run stopped by an iteration limit reports ``iteration_limit``.
         """
         h = self._highs
         if seconds is not None and np.isfinite(seconds):
             h.setOptionValue("time_limit", float(h.getRunTime()) + float(seconds))
         else:
             h.setOptionValue("time_limit", float("inf"))
+        h.setOptionValue("simplex_iteration_limit", _ITERATIONS_MAX if simplex_iterations is None
+                         else int(simplex_iterations))
+        h.setOptionValue("ipm_iteration_limit", _ITERATIONS_MAX if ipm_iterations is None else int(ipm_iterations))
+
+    def limit_iterations(self, iterations: int | None) -> None:
+        """Cap the simplex iterations of the next runs (``None``: no cap).
+        Unlike a time limit, the cap stops a run at the same point on every
+        machine."""
+        cap = 2**31 - 1 if iterations is None else max(int(iterations), 1)
+        self._highs.setOptionValue("simplex_iteration_limit", cap)
 
     def cold_copy(self, algorithm: str = "ipm") -> PersistentHighsModel:
         """A new model holding a copy of the CURRENT one (columns, rows,

@@ -47,6 +47,7 @@ from micro.nonassociative.options import (
     BAND_SLACK,
     INTERPENETRATION,
     STATE_CLARABEL,
+    STATE_IPM_ITERATIONS,
     STATE_RESIDUAL,
     TINY,
     NonAssociativeOptions,
@@ -124,9 +125,11 @@ class Certificate:
         up_m = np.where(opening | (slip & (ds < 0)), 0.0, np.inf)  # g- carries s = -mu n
         return up_p, up_m
 
-    def state_lp(self, v: FloatArray, sense: float, time_limit: float) -> tuple[State | None, Outcome]:
+    def state_lp(self, v: FloatArray, sense: float, time_limit: float = math.inf) -> tuple[State | None, Outcome]:
         """Minimise ``sense * lambda`` over the collapse states compatible
-        with the mechanism ``v`` (the generator columns of :meth:`pattern`).
+        with the mechanism ``v`` (the generator columns of :meth:`pattern`),
+        by an interior point capped at :data:`STATE_IPM_ITERATIONS`
+        iterations (and the user's ``time_limit`` in seconds, ``inf``: none).
 
         Returns:
             ``((n, s, lambda) or None, outcome)``: ``None`` unless the
@@ -142,8 +145,9 @@ class Certificate:
         m.set_col_bounds(np.arange(2 * P), np.zeros(2 * P), np.concatenate(pattern))
         m.set_cost(lp.lam_col, float(sense) * d)
         m.clear_solver()
-        m.limit_next_run(time_limit)
+        m.limit_next_run(time_limit, ipm_iterations=STATE_IPM_ITERATIONS)
         out = m.run()
+        m.limit_next_run(None)
         if out.x is None:
             return None, out
         n, s = lp.forces(out.x[: 2 * P])
@@ -165,9 +169,10 @@ class Certificate:
             return None, out
         return (np.asarray(out.n), np.asarray(out.s), d * (out.load_factor * direction)), out
 
-    def certify(self, v: FloatArray, lam: float, *, time_limit: float) -> CertificateResult:
+    def certify(self, v: FloatArray, lam: float, *, time_limit: float = math.inf) -> CertificateResult:
         """Is there a non-associative collapse state at ``lam`` with the
-        mechanism ``v``? (module docstring)"""
+        mechanism ``v``? (module docstring; ``time_limit``: the user's
+        wall-clock limit per LP, ``inf`` for none)"""
         lo, out_lo = self.state_lp(v, 1.0, time_limit)
         seconds, iterations = out_lo.seconds, out_lo.simplex_iterations + out_lo.ipm_iterations
         slack = BAND_SLACK * max(abs(lam), TINY)

@@ -5,8 +5,12 @@ give the first ``nbar``. Iterate ``k >= 1`` rebuilds every point's yield
 condition from ``nbar = beta n_(k-1) + (1 - beta) n_(k-2)`` in the persistent
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
-simplex from the previous basis, or cold again while warm runs are slow
-(:data:`~micro.nonassociative.options.COLD_SWITCH_RATIO`). A failed run is
+simplex from the previous basis, or cold again while warm runs take many
+simplex iterations (:data:`~micro.nonassociative.options.COLD_SWITCH_PIVOTS`).
+Every decision counts work (iterations, LPs), never seconds: the path and its
+numbers are the same on a loaded or slower machine; only the optional user
+stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
+stop has status ``time_limit``. A failed run is
 recovered (:meth:`Sequence._recover`); each iterate is then tested for the
 stops of :mod:`micro.nonassociative.convergence`. The final iterate is
 checked (:mod:`micro.nonassociative.checks`).
@@ -28,14 +32,12 @@ from micro.nonassociative import checks, convergence
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.model import IterationModel, restart
 from micro.nonassociative.options import (
-    BAND_LIMIT_FACTOR,
-    CERTIFICATE_LIMIT_FACTOR,
     COLD_STREAK,
-    COLD_SWITCH_RATIO,
+    COLD_SWITCH_PIVOTS,
     EQUILIBRIUM_RESIDUAL,
-    MIN_LIMIT_SECONDS,
+    MIN_WARM_LIMIT,
     TINY,
-    WARM_LIMIT_FACTOR,
+    WARM_LIMIT_PIVOTS,
     NonAssociativeOptions,
 )
 from micro.nonassociative.results import (
@@ -44,6 +46,7 @@ from micro.nonassociative.results import (
     CYCLING,
     MAX_ITERATIONS,
     SOLVER_FAILURE,
+    TIME_LIMIT,
     Band,
     IterationRecord,
     SequenceDiagnostics,
@@ -75,8 +78,11 @@ class Sequence:
         self.lams: list[float] = []
         self.dns: list[float] = []
         self.final: tuple[FloatArray, FloatArray, FloatArray, float] | None = None  # (v, n, s, lambda)
-        self.warm_limit = self.o.user_limit
-        self.t_warm, self.t_cold, self.cold_streak = 0.0, math.inf, 0
+        # the warm/cold policy, in simplex iterations (module docstring)
+        self.cold_switch = COLD_SWITCH_PIVOTS * lp.n_eq
+        self.warm_limit = max(MIN_WARM_LIMIT, math.ceil(WARM_LIMIT_PIVOTS * lp.n_eq))
+        self.warm_pivots, self.cold_streak, self.pivots = 0, 0, 0
+        self.streak_length = COLD_STREAK
         self.last_try = -(10**9)
 
     # ------------------------------------------------------------ iterate 0
@@ -128,6 +134,9 @@ class Sequence:
         alpha = self.o.alpha0 if self.o.scheme == "b" else 0.0
         model.set_capacity(n0, alpha, self.o.alpha0, self.c0)
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
+        if failed is not None and failed.status is Status.TIME_LIMIT:
+            return self._fail("time_limit", f"LP {len(self.history) - 1} hit the time limit of "
+                              f"{self.o.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
         if failed is not None or self.final is None:
             status = failed.native_status if failed is not None else ""
             return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold ({status})",
@@ -164,6 +173,8 @@ class Sequence:
             n_prev2, n_prev, lam_prev = n_prev, n, lam
             if stop is not None:
                 return stop
+            if o.max_simplex_iterations is not None and self.pivots >= o.max_simplex_iterations:
+                return "work_budget", convergence.window_band(self.lams, o.window), None
             if o.max_seconds is not None and time.perf_counter() - t_start > o.max_seconds:
                 return "time_budget", convergence.window_band(self.lams, o.window), None
         return "max_iterations", convergence.window_band(self.lams, o.window), None
@@ -172,21 +183,28 @@ class Sequence:
     def _solve(self, model: IterationModel, k: int, n_prev: FloatArray, alpha: float) -> tuple[Outcome, str]:
         """Solve iterate ``k``: the first LP, and later ones in cold mode, by
         interior point + crossover + dual-simplex clean-up; the others by a
-        warm dual simplex (limited to :attr:`warm_limit`). Scheme (a) is in
-        cold mode while the last warm run was :data:`COLD_SWITCH_RATIO` x
-        slower than the last cold one, for at most :data:`COLD_STREAK`
-        cold iterates in a row."""
-        user = self.o.user_limit
-        cold = k == 1 or (self.o.scheme == "a" and self.t_warm > COLD_SWITCH_RATIO * self.t_cold
-                          and self.cold_streak < COLD_STREAK)
+        warm dual simplex (limited to :attr:`warm_limit` simplex iterations).
+        Scheme (a) is in cold mode while the last warm run took more than
+        :attr:`cold_switch` simplex iterations, for at most
+        :attr:`streak_length` cold iterates in a row (:data:`COLD_STREAK`,
+        doubled each time the warm run after a cold streak is slow again,
+        or stopped at :attr:`warm_limit`: Set 10, 3,630 blocks, warm runs of
+        102,000 and over 108,000 simplex iterations, 260-360 s, against cold
+        ones of 40-65 s). A run stopped by the user's ``time_limit`` is
+        returned as it is (the sequence ends)."""
+        user = self.o.time_limit
+        cold = k == 1 or (self.o.scheme == "a" and self.warm_pivots > self.cold_switch
+                          and self.cold_streak < self.streak_length)
         if cold:
             model.model.limit_next_run(user)
             out, algo = restart(model.model), COLD
         else:
-            out, algo = model.warm(self.warm_limit), "simplex-warm"
+            out, algo = model.warm(user, self.warm_limit), "simplex-warm"
         model.model.limit_next_run(user)
-        if out.ok:
+        if out.ok or out.status is Status.TIME_LIMIT:
             return out, algo
+        if algo == "simplex-warm" and out.status is Status.ITERATION_LIMIT:
+            self._slow_warm(int(out.simplex_iterations))  # a warm run stopped at its limit was slow
         return self._recover(model, k, out, n_prev, alpha)
 
     def _recover(self, model: IterationModel, k: int, failed: Outcome, n_prev: FloatArray,
@@ -199,7 +217,6 @@ class Sequence:
         goes on. Otherwise an infeasible relaxed iterate is rebuilt from the
         last forces alone (no relaxation). What still fails is restarted cold
         (HiGHS "Unknown" on near-degenerate rows)."""
-        spent = failed.seconds
         out, algo = failed, ""
         if k > 1 and self.o.scheme == "b":
             out, algo = model.fallback_a_step(n_prev), "fallback-a"
@@ -209,18 +226,27 @@ class Sequence:
             out, algo = model.model.run(), "simplex-warm-unrelaxed"
         if not out.ok:
             out, algo = restart(model.model), "ipm-restart"
-        return out.plus_seconds(spent), algo
+        # the failed run's work counts (the work budget, the history)
+        return dataclasses.replace(
+            out, seconds=out.seconds + failed.seconds,
+            simplex_iterations=out.simplex_iterations + failed.simplex_iterations,
+            ipm_iterations=out.ipm_iterations + failed.ipm_iterations), algo
 
     def _account(self, model: IterationModel, k: int, out: Outcome, algo: str) -> None:
-        """Book a good iterate's time for the warm/cold policy and the warm-run limit."""
+        """Book a good iterate's work for the warm/cold policy and the work budget."""
+        self.pivots += int(out.simplex_iterations)
         if algo == "simplex-warm":
-            self.t_warm, self.cold_streak = out.seconds, 0
+            self._slow_warm(int(out.simplex_iterations))
         elif algo == COLD:
-            self.t_cold = out.seconds
             self.cold_streak += k > 1
-        if k == 1:
-            self.warm_limit = min(self.o.user_limit, max(MIN_LIMIT_SECONDS, WARM_LIMIT_FACTOR * out.seconds))
         model.keep_basis()
+
+    def _slow_warm(self, pivots: int) -> None:
+        """Book a warm run of ``pivots`` simplex iterations: a slow one right
+        after a cold streak doubles the next streak."""
+        if pivots > self.cold_switch and self.cold_streak >= self.streak_length:
+            self.streak_length *= 2
+        self.warm_pivots, self.cold_streak = pivots, 0
 
     # ------------------------------------------------------ one iterate
     def _step(self, k: int, lam: float, lam_prev: float, n: FloatArray, n_prev: FloatArray, s: FloatArray,
@@ -248,7 +274,7 @@ class Sequence:
         if exact is not None:
             return exact, None, None
         if (o.certify and alpha_done and algo != "fallback-a"
-                and convergence.settled(self.lams, k, self.last_try, o) and self._try_certificate(k, v, lam, out)):
+                and convergence.settled(self.lams, k, self.last_try, o) and self._try_certificate(k, v, lam)):
             return "certified", None, None
         if alpha_done:
             cyc = convergence.detect_cycle(self.lams, self.dns, o.lambda_tol, o.window)
@@ -256,11 +282,10 @@ class Sequence:
                 return cyc[0], cyc[1], None
         return None
 
-    def _try_certificate(self, k: int, v: FloatArray, lam: float, out: Outcome) -> bool:
+    def _try_certificate(self, k: int, v: FloatArray, lam: float) -> bool:
         """Try the certificate on iterate ``k`` (``lambda`` has settled): is it
         an exact collapse state with other forces than the LP's vertex?"""
-        limit = min(self.o.user_limit, max(MIN_LIMIT_SECONDS, CERTIFICATE_LIMIT_FACTOR * out.seconds))
-        cert = self.certificate.certify(v, lam, time_limit=limit)
+        cert = self.certificate.certify(v, lam, time_limit=self.o.user_limit)
         self.last_try = k
         rec = self.history[-1]
         coul = checks.coulomb_residual(self.lp, *cert.forces) if cert.forces is not None else NAN
@@ -285,13 +310,13 @@ class Sequence:
 
     # ------------------------------------------------------------ finish
     def _fail(self, reason: str, msg: str, t_start: float, lam_assoc: float,
-              band: Band | None = None) -> DirectionResult:
+              band: Band | None = None, status: str = SOLVER_FAILURE) -> DirectionResult:
         last = [r.load_factor for r in self.history[1:] if math.isfinite(r.load_factor)]
         seq = SequenceDiagnostics(
             stop_reason=reason, last_load_factor=last[-1] if last else NAN, lambda_band=band, mechanism_band=None,
             associative_load_factor=lam_assoc, history=tuple(self.history), fallback_steps=self.fallbacks,
         )
-        return DirectionResult(direction=DIR_NAME[self.d], status=SOLVER_FAILURE, load_factor=NAN,
+        return DirectionResult(direction=DIR_NAME[self.d], status=status, load_factor=NAN,
                                iterations=max(len(self.history) - 1, 0), seconds=time.perf_counter() - t_start,
                                message=msg, sequence=seq)
 
@@ -301,8 +326,8 @@ class Sequence:
         assert self.final is not None
         o, lp = self.o, self.lp
         v, n, s, lam = self.final
-        status = CONVERGED if stop in CONVERGED_STOPS else (
-            MAX_ITERATIONS if stop in ("max_iterations", "time_budget") else CYCLING)
+        status = (CONVERGED if stop in CONVERGED_STOPS else TIME_LIMIT if stop == "time_budget"
+                  else MAX_ITERATIONS if stop in ("max_iterations", "work_budget") else CYCLING)
         state = checks.final_state(lp, self.d, v, n, s, lam)
         cold = checks.cold_check(model, lam, o.cold_tol) if o.cold_check else checks.ColdCheck(NAN, NAN, "", "")
         msg = cold_note = ""
@@ -315,9 +340,7 @@ class Sequence:
             status, stop = SOLVER_FAILURE, "equilibrium_residual"
             msg = f"equilibrium residual {state.equilibrium:.2e} block weights at the final iterate"
         if status == CONVERGED and o.mechanism_band and self.mechanism_band is None and o.scheme == "a":
-            typical = float(np.median([r.seconds for r in self.history[1:]]))
-            limit = min(o.user_limit, max(MIN_LIMIT_SECONDS, BAND_LIMIT_FACTOR * typical))
-            self.mechanism_band = self.certificate.certify(v, lam, time_limit=limit).band
+            self.mechanism_band = self.certificate.certify(v, lam, time_limit=o.user_limit).band
         msg = msg or self._message(status, stop, band)
         if cold_note:
             msg += f"; also, {cold_note}"
@@ -340,8 +363,10 @@ class Sequence:
         """Why a sequence did not converge (``""`` when it did)."""
         if status == CYCLING:
             return f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop
-        if status == MAX_ITERATIONS:
-            msg = (f"no convergence in {self.o.max_iterations} iterations" if stop == "max_iterations"
-                   else f"time budget of {self.o.max_seconds:g} s spent after {len(self.history) - 1} LPs")
+        if status in (MAX_ITERATIONS, TIME_LIMIT):
+            msg = {"max_iterations": f"no convergence in {self.o.max_iterations} iterations",
+                   "work_budget": f"work budget of {self.o.max_simplex_iterations} simplex iterations spent after "
+                                  f"{len(self.history) - 1} LPs",
+                   }.get(stop, f"time budget of {self.o.max_seconds} s spent after {len(self.history) - 1} LPs")
             return msg + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else "")
         return stop if status != CONVERGED else ""

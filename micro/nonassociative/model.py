@@ -116,9 +116,10 @@ class IterationModel:
             self.good_basis = self.model.get_basis()
 
     # --------------------------------------------------------------- runs
-    def warm(self, limit: float) -> Outcome:
-        """Dual simplex from the current basis, limited to ``limit`` seconds."""
-        self.model.limit_next_run(limit)
+    def warm(self, seconds: float | None, simplex_iterations: int) -> Outcome:
+        """Dual simplex from the current basis, limited to ``simplex_iterations``
+        (and to the user's ``seconds``, ``None``: none)."""
+        self.model.limit_next_run(seconds, simplex_iterations=simplex_iterations)
         return self.model.run()
 
 

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 from micro.backends.clarabel import CLARABEL_RETRY
+from micro.nonassociative.global_bounds import POLICIES as BIG_M_POLICIES
 from micro.results import Directions, check_directions
 
 #: Published rebuilt yield conditions implemented here.
@@ -22,23 +23,30 @@ SCHEMES = ("a", "b")
 DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 
 # ------------------------------------------------------------ warm / cold policy
+# Every decision of the sequence is taken on deterministic work measures
+# (simplex and interior-point iteration counts, LP counts), never on seconds:
+# a loaded or slower machine follows the same path to the same numbers.
 #: On large walls a warm dual simplex can cost more than a cold solve (7,575
 #: blocks: 78,000-104,000 simplex iterations, 170-200 s, against 45 s for
-#: interior point + crossover): scheme (a) solves an iterate cold while the
-#: last warm run took more than this times the last cold one ...
-COLD_SWITCH_RATIO = 1.5
-#: ... and goes back to warm after this many cold iterates in a row.
+#: interior point + crossover; 1,230 blocks: 514-1,423, 2-6 x faster than
+#: cold). Scheme (a) solves an iterate cold while the last warm run took more
+#: than this many simplex iterations per equilibrium row of the wall ...
+COLD_SWITCH_PIVOTS = 2.0
+#: ... and goes back to warm after this many cold iterates in a row, a number
+#: doubled each time the warm run after a cold streak is slow again (or stopped
+#: at its limit below).
 COLD_STREAK = 3
-#: A warm run that takes this many times the first (cold) LP is stuck (seen:
-#: 13 s to declare a 150-block LP infeasible): it is stopped and recovered.
-WARM_LIMIT_FACTOR = 10.0
-#: Time limit of a certificate try, in multiples of the current LP's time.
-CERTIFICATE_LIMIT_FACTOR = 10.0
-#: Time limit of the mechanism band of a converged run, in multiples of the
-#: median LP time.
-BAND_LIMIT_FACTOR = 20.0
-#: Smallest time limit (seconds) the factors above give.
-MIN_LIMIT_SECONDS = 1.0
+#: A warm run that takes more than this many simplex iterations per
+#: equilibrium row is stuck (seen: 13 s to declare a 150-block LP
+#: infeasible): it is stopped and recovered ...
+WARM_LIMIT_PIVOTS = 10.0
+#: ... with at least this many iterations on small walls.
+MIN_WARM_LIMIT = 20_000
+#: Interior-point iterations allowed to each certificate LP (HiGHS'
+#: ``ipm_iteration_limit``; Clarabel's ``max_iter`` of the tight settings is
+#: the same 400): the only limit of a certificate try besides the user's
+#: ``time_limit``.
+STATE_IPM_ITERATIONS = 400
 
 # --------------------------------------------------------------- certificate
 #: Clarabel settings of the certificate LPs: their ends are checked for
@@ -98,9 +106,16 @@ class NonAssociativeOptions:
             of the associative solution (scale-free; default one millionth
             of the force level).
         max_iterations: cap on non-associative LPs per direction.
-        max_seconds: wall-time budget per direction (``None``: none); when
+        max_simplex_iterations: cap on the simplex iterations (warm runs,
+            crossovers and clean-ups) of the non-associative LPs per
+            direction (``None``: none): a deterministic work budget; when
             spent the sequence stops with status ``max_iterations``
-            (``stop_reason="time_budget"``).
+            (``stop_reason="work_budget"``) and its last band.
+        max_seconds: optional wall-clock stop per direction (``None``: none).
+            A sequence stopped by it has status ``time_limit``
+            (``stop_reason="time_budget"``): another machine would have gone
+            further, so it is no final answer (the runner's cache does not
+            keep it). No other decision of the sequence depends on time.
         lambda_tol: relative change of ``lambda`` for convergence.
         force_tol: largest change of the normal forces, relative to the
             largest normal force, for convergence.
@@ -135,7 +150,28 @@ class NonAssociativeOptions:
         cold_check: re-solve the final iterate cold and compare.
         cold_tol: relative warm/cold difference beyond which the result is a
             ``solver_failure``.
-        time_limit: seconds per LP (``None``: none).
+        time_limit: optional wall-clock limit per LP in seconds (``None``:
+            none); an LP stopped by it ends the sequence with status
+            ``time_limit``.
+        lowest: after a converged run, descend from its state to the lowest
+            certified collapse state reachable
+            (:mod:`micro.nonassociative.lowest`; ``lowest_load_factor``). On
+            the walls of ``xcheck stability --lowest`` it took 1.3 times the
+            iterated LP's time (median; 3.2 on walls of over 160 blocks).
+        global_: then search for the global minimum of the collapse load by
+            branch and bound, started from the lowest state
+            (:mod:`micro.nonassociative.global_mip`; a reference tool for
+            walls of a few blocks: on larger walls its lower bound stays 0).
+        global_time_limit: seconds of branch and bound per direction
+            (``None``: none). A search it stops reports its bound and gap
+            (``time_limit``); such numbers depend on the machine.
+        global_node_limit: branch-and-bound nodes per direction (``None``:
+            none); unlike the time limit it gives the same answer on every
+            machine (``node_limit``).
+        global_bounds: the global search's big-M policy for the normal
+            forces (:class:`~micro.nonassociative.global_mip.GlobalOptions`):
+            ``"per_point"`` (one LP per contact point) or ``"uniform"`` (one
+            LP; cheaper, and as good on the walls tried).
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -148,6 +184,7 @@ class NonAssociativeOptions:
     alpha_factor: float = 0.5
     cohesion: float = 1e-6
     max_iterations: int = 100
+    max_simplex_iterations: int | None = None
     max_seconds: float | None = None
     lambda_tol: float = 1e-6
     force_tol: float = 1e-6
@@ -163,6 +200,11 @@ class NonAssociativeOptions:
     cold_check: bool = True
     cold_tol: float = 1e-6
     time_limit: float | None = None
+    lowest: bool = True
+    global_: bool = False
+    global_time_limit: float | None = 300.0
+    global_node_limit: int | None = None
+    global_bounds: Literal["per_point", "uniform"] = "per_point"
 
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
@@ -181,8 +223,12 @@ class NonAssociativeOptions:
         if not (0.0 < self.alpha_factor <= 1.0):
             raise ValueError(f"alpha_factor must be in (0, 1], got {self.alpha_factor!r}")
         _integer("max_iterations", self.max_iterations, 2)
+        if self.max_simplex_iterations is not None:
+            _integer("max_simplex_iterations", self.max_simplex_iterations, 1)
         _integer("window", self.window, 3)
         _integer("settle_window", self.settle_window, 2)
+        if self.global_node_limit is not None:
+            _integer("global_node_limit", self.global_node_limit, 1)
         self._check_rest()
         self._normalise()
 
@@ -191,6 +237,8 @@ class NonAssociativeOptions:
         if isinstance(st, bool) or not isinstance(st, (int, float)) or not (0.0 <= st < 1.0):
             raise ValueError(f"settle_tol must be a number in [0, 1), got {st!r}")
         check_directions(self.directions)
+        if self.global_bounds not in BIG_M_POLICIES:
+            raise ValueError(f"global_bounds must be one of {', '.join(BIG_M_POLICIES)}, got {self.global_bounds!r}")
         ms = self.max_seconds
         if ms is not None and (isinstance(ms, bool) or not isinstance(ms, (int, float))
                                or not math.isfinite(ms) or ms <= 0):
@@ -199,20 +247,23 @@ class NonAssociativeOptions:
             raise ValueError(f"state_solver must be 'clarabel' or 'highs', got {self.state_solver!r}")
         if self.start not in ("interior", "vertex"):
             raise ValueError(f"start must be 'interior' or 'vertex', got {self.start!r}")
-        tl = self.time_limit
-        if tl is not None and (not math.isfinite(tl) or tl <= 0):
-            raise ValueError(f"time_limit must be a positive number of seconds, got {tl!r}")
+        for name in ("time_limit", "global_time_limit"):
+            tl = getattr(self, name)
+            if tl is not None and (isinstance(tl, bool) or not isinstance(tl, (int, float))
+                                   or not math.isfinite(tl) or tl <= 0):
+                raise ValueError(f"{name} must be a positive number of seconds, got {tl!r}")
 
     def _normalise(self) -> None:
         """Numbers as floats, flags as bools (the dataclass is frozen)."""
         for name in ("alpha0", "alpha_min", "alpha_factor", "cohesion", "lambda_tol", "force_tol", "coulomb_tol",
                      "settle_tol", "cold_tol"):
             object.__setattr__(self, name, float(getattr(self, name)))
-        for name in ("max_seconds", "relaxation"):
+        for name in ("max_seconds", "relaxation", "global_time_limit"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, float(getattr(self, name)))
         object.__setattr__(self, "certify", bool(self.certify))
-        object.__setattr__(self, "mechanism_band", bool(self.mechanism_band))
+        for name in ("mechanism_band", "lowest", "global_"):
+            object.__setattr__(self, name, bool(getattr(self, name)))
 
     @property
     def beta(self) -> float:

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import json
 import math
+import time
 
 import numpy as np
 import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, solve_nonassociative
+from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, TIME_LIMIT, solve_nonassociative
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
 #: 12 rows, f = 0.75: (t, m, lambda).
@@ -160,9 +161,52 @@ def test_vertex_start() -> None:
     assert abs(r.last_load_factor / 0.68 - 1) <= 0.05
 
 
-def test_time_budget_is_not_converged() -> None:
+def test_time_budget_is_its_own_status() -> None:
+    # a wall-clock stop is no final answer: status time_limit, never max_iterations
     r = solve_nonassociative(wall(1.0, 1.0), relaxation=1.0, max_seconds=1e-3)
-    assert r.status == MAX_ITERATIONS and r.stop_reason == "time_budget"
+    assert r.status == TIME_LIMIT and r.stop_reason == "time_budget"
     assert math.isnan(r.load_factor) and r.lambda_band is not None
     with pytest.raises(ValueError, match="max_seconds"):
         solve_nonassociative(wall(1.0, 1.0), max_seconds=0)
+
+
+def test_lp_time_limit_is_its_own_status() -> None:
+    r = solve_nonassociative(wall(1.0, 1 / 3, rows=24), time_limit=1e-9)
+    assert r.status == TIME_LIMIT and math.isnan(r.load_factor)
+
+
+def test_work_budget_is_deterministic() -> None:
+    # the work budget counts simplex iterations: the same LPs on every machine
+    runs = [solve_nonassociative(wall(1.0, 1.0), relaxation=1.0, max_simplex_iterations=300) for _ in range(2)]
+    for r in runs:
+        assert r.status == MAX_ITERATIONS and r.stop_reason == "work_budget"
+        assert sum(h.simplex_iterations for h in r.history[1:]) >= 300
+        assert sum(h.simplex_iterations for h in r.history[1:-1]) < 300
+    assert [h.load_factor for h in runs[0].history] == [h.load_factor for h in runs[1].history]
+    with pytest.raises(ValueError, match="max_simplex_iterations"):
+        solve_nonassociative(wall(1.0, 1.0), max_simplex_iterations=0)
+
+
+@pytest.mark.parametrize("scheme", ["a", "b"])
+def test_slowed_clock_gives_the_same_path(monkeypatch: pytest.MonkeyPatch, scheme: str) -> None:
+    """No decision of the sequence reads the clock: a clock that runs slower
+    and slower (the n-th call to ``time.perf_counter`` is ``n**2`` s further
+    on, so every run looks slower than the one before, as on a machine
+    getting loaded) gives the same LPs, algorithms, certificate outcomes and
+    load factor. (With the former rules, warm runs measured against the
+    first LP's seconds, this clock switched the sequence to cold solves.)"""
+    w = wall(1.0, 1 / 2)
+    ref = solve_nonassociative(w, scheme=scheme)
+    real = time.perf_counter
+    calls = iter(range(10**9))
+    monkeypatch.setattr(time, "perf_counter", lambda: real() + float(next(calls)) ** 2)
+    slow = solve_nonassociative(w, scheme=scheme)
+    monkeypatch.undo()
+
+    def path(r: micro.NonAssociativeResult) -> list[tuple[object, ...]]:
+        return [(h.load_factor, h.algorithm, h.simplex_iterations, h.certificate) for h in r.history]
+
+    assert slow.status == ref.status and slow.stop_reason == ref.stop_reason
+    assert path(slow) == path(ref)
+    assert slow.load_factor == ref.load_factor or (math.isnan(slow.load_factor) and math.isnan(ref.load_factor))
+    assert max(h.seconds for h in slow.history) > 50.0  # the clock did run slow
