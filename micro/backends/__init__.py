@@ -4,12 +4,18 @@
 ``highs``     :class:`HighsBackend` and the :class:`PersistentHighsModel` it (and the iterated LP) runs on;
 ``clarabel``  :class:`ClarabelBackend` (the static form, ``clarabel-static``) and its settings;
 ``clarabel_kinematic``  :class:`ClarabelKinematicBackend` (the kinematic form, ``clarabel``);
+``polish``    :func:`polish_equilibrium`, the kinematic form's forces corrected onto exact equilibrium;
 ``cvxpy_``    :class:`CvxpyBackend`, the readable reference formulation.
 """
 
 from micro.backends.base import ALL_SOLVERS, MAX_RESIDUAL, SOLVERS, Backend, Outcome, Status, make_backend, recheck
 from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT, ClarabelBackend
-from micro.backends.clarabel_kinematic import CLARABEL_KINEMATIC, ClarabelKinematicBackend
+from micro.backends.clarabel_kinematic import (
+    CLARABEL_KINEMATIC,
+    POLISH,
+    POLISH_MAX_LOAD_FACTOR_CHANGE,
+    ClarabelKinematicBackend,
+)
 from micro.backends.cvxpy_ import CvxpyBackend
 from micro.backends.highs import HighsBackend, PersistentHighsModel
 
@@ -19,6 +25,8 @@ __all__ = [
     "CLARABEL_RETRY",
     "CLARABEL_TIGHT",
     "MAX_RESIDUAL",
+    "POLISH",
+    "POLISH_MAX_LOAD_FACTOR_CHANGE",
     "SOLVERS",
     "Backend",
     "ClarabelBackend",

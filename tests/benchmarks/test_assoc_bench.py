@@ -8,7 +8,11 @@ asserts the load factor it timed against the pinned reference of
 * ``assoc-1230``: the Table 5 reference wall (1,230 blocks), target <= 0.3 s;
 * ``assoc-3630``: Set 10 (m = 1, 3,630 blocks);
 * ``assoc-7575``: Set 15, the Table 9 wall (7,575 blocks), target <= 10 s;
-  marked ``slow`` as well and run apart (one round).
+  marked ``slow`` as well and run apart (one round);
+* ``assoc-set17``: Set 17, the same wall with floors p = 8, whose forces are
+  polished onto equilibrium (:mod:`micro.backends.polish`); no vertex
+  reference exists: the polished (lower-bound) load factor is asserted within
+  1e-8 below the kinematic objective. ``slow``, one round.
 
 Run on one core, as measured for the notes::
 
@@ -61,3 +65,20 @@ def test_assoc_3630(benchmark: Any) -> None:
 @pytest.mark.benchmark(group="assoc-7575")
 def test_assoc_7575(benchmark: Any) -> None:
     _bench(benchmark, "w7575 full frictional", rounds=1)
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark(group="assoc-set17")
+def test_assoc_set17(benchmark: Any) -> None:
+    wall = WallSpec.from_paper(t=1.0, m=1 / 3, rows=150, f=0.75, p=8.0, storeys=5).to_micro()
+    result = benchmark.pedantic(micro.solve_associative, args=(wall,), kwargs={"solver": "clarabel"},
+                                rounds=1, iterations=1, warmup_rounds=0)
+    d = result.directions[0]
+    benchmark.extra_info.update(
+        blocks=result.blocks, load_factor=result.load_factor, iterations=result.iterations,
+        solve_seconds=result.solve_seconds, polish_seconds=d.info.get("polish_seconds"),
+        unpolished_residual=d.info.get("unpolished_residual"), primal_residual=d.info.get("primal_residual"),
+    )
+    assert result.ok and result.blocks == 7575 and d.info["polish_steps"] >= 1
+    upper = d.info["kinematic_load_factor"]
+    assert upper * (1.0 - 1e-8) <= result.load_factor <= upper * (1.0 + 1e-12)
