@@ -96,10 +96,10 @@ class Runner:
         key = (spec, method)
         if key in self._memory:
             return self._memory[key]
-        stored = None if self.cache is None else self.cache.load(spec, method)
-        if stored is not None and self.cache is not None:
+        stored = None if self.cache is None else self.cache.entry(spec, method)
+        if stored is not None:
             self.hits += 1
-            entry = (stored, self.cache.mechanism(spec, method))
+            entry = stored
         else:
             entry = compute(spec, method)
             self.computed += 1

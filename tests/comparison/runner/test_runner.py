@@ -65,7 +65,7 @@ def test_cache_entries_are_json_of_the_typed_record(tmp_path: Path) -> None:
     spec = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75)
     rec = Runner(tmp_path).run(spec, MICRO_ASSOC)
     path = ResultCache(tmp_path).path(spec, MICRO_ASSOC)
-    stored = json.loads(path.read_text())
+    stored = json.loads(path.read_text())["record"]
     assert Record.from_dict(stored).result == rec.result
     assert stored["result"]["blocks"] == 54 and stored["method"]["kind"] == "micro-assoc"
 
