@@ -14,27 +14,33 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from macro import checks
+from macro.bounds import MECHANISMS, governing, overturning_load_factor
 from macro.model import SearchSettings, evaluate, hinge_problems, minimise, sample_pieces
 from macro.paper import BLOCK_HEIGHT, paper_walls
+from macro.solve import SEARCH_BYTES_PER_STOREY_CUBED
 
 #: Search used by :func:`sweep`: five samples per smooth piece, ten golden-section
 #: steps and one parabolic step; within 2e-12 of a 100,001-point brute force on
 #: 300 random walls of 1, 3 and 5 storeys.
 SWEEP_SEARCH = SearchSettings(initial_points=5, method="golden", rounds=10)
 
-MECHANISMS = ("rocking-sliding", "rocking", "sliding")
+__all__ = ["MECHANISMS", "SWEEP_SEARCH", "SweepResult", "sweep"]
 
 
 @dataclass(frozen=True)
 class SweepResult:
     """Results of :func:`sweep`, one entry per wall (broadcast shape).
 
-    ``mechanism`` holds indices into :data:`MECHANISMS`.
+    ``mechanism`` holds indices into :data:`MECHANISMS`; ``load_factor`` is
+    the least of Eq. (10), ``f`` and the rigid overturning bound
+    (:mod:`macro.bounds`), NaN where it is not a finite positive number.
     """
 
     load_factor: NDArray[np.float64]
     rocking_load_factor: NDArray[np.float64]
     sliding_load_factor: NDArray[np.float64]
+    overturning_load_factor: NDArray[np.float64]
     tan_alpha_c: NDArray[np.float64]
     alpha_c_deg: NDArray[np.float64]
     alpha_ratio: NDArray[np.float64]
@@ -69,8 +75,9 @@ def sweep(
     """
     walls = paper_walls(t, m, rows, f, p, storeys, p_height)
     shape, N = walls.shape, walls.storeys
-
     W = walls.size
+    need = SEARCH_BYTES_PER_STOREY_CUBED * N**3 * min(W, chunk)
+    checks.fits_in_memory("storeys", f"a batch of {min(W, chunk)} walls of {N} storeys", need)
     out = {k: np.empty(W) for k in ("lam", "lam_s", "tau", "hinge")}
     for s in range(0, W, chunk):
         sl = slice(s, min(s + chunk, W))
@@ -112,12 +119,18 @@ def sweep(
 
     lam, tau = out["lam"], out["tau"]
     ratio = np.arctan(tau) / np.arctan(walls.overlap / BLOCK_HEIGHT)
-    mech = np.where(walls.friction < lam, 2, np.where(ratio >= 1.0 - 1e-9, 1, 0))
+    per_storey = np.repeat(walls.rows_per_storey[:, None], N, axis=1)
+    ones = np.ones(W)
+    lam_o = overturning_load_factor(
+        walls.length, ones, ones, per_storey, np.ones((W, N)), np.repeat(walls.overload[:, None], N, axis=1)
+    )
+    lam_g, mech = governing(lam, walls.friction, lam_o, ratio)
     rs = lambda a: a.reshape(shape)  # noqa: E731
     return SweepResult(
-        load_factor=rs(np.minimum(lam, walls.friction)),
+        load_factor=rs(np.where(np.isfinite(lam_g) & (lam_g > 0), lam_g, np.nan)),
         rocking_load_factor=rs(lam),
         sliding_load_factor=rs(out["lam_s"]),
+        overturning_load_factor=rs(lam_o),
         tan_alpha_c=rs(tau),
         alpha_c_deg=rs(np.degrees(np.arctan(tau))),
         alpha_ratio=rs(ratio),

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
-from comparison.cli.options import add_cache_options, cache_dir_from_args
+from comparison.cli.options import add_cache_options, cache_dir_from_args, output_directory
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -27,8 +26,9 @@ def run(args: argparse.Namespace) -> int:
     """Write the report and say where it is."""
     from comparison.report import build_report
 
+    out = output_directory("--out", args.out)
     path = build_report(
-        Path(args.out),
+        out,
         quick=args.quick,
         cache_dir=cache_dir_from_args(args),
         progress=None if args.quiet else stderr_progress,

@@ -19,6 +19,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
+from comparison.outputs import writable_directory
 from comparison.report import figures
 from comparison.report.findings import findings
 from comparison.report.plan import build_plan
@@ -49,9 +50,14 @@ def build_report(
 
     Returns:
         The path of ``REPORT.md``.
+
+    Raises:
+        ValueError: ``out_dir`` or ``cache_dir`` cannot be written (checked before any work).
     """
     start = time.perf_counter()
-    out_dir.mkdir(parents=True, exist_ok=True)
+    writable_directory("out_dir", out_dir)
+    if cache_dir is not None:
+        writable_directory("cache_dir", cache_dir)
     plan = build_plan(quick)
     runner = Runner(cache_dir, progress)
     runs = [it for it in plan.items() if not it.skip]
