@@ -48,7 +48,14 @@ def test_version(capsys: pytest.CaptureFixture[str]) -> None:
 def test_a_closed_pipe_ends_quietly() -> None:
     """``xcheck macro --json | head``: the reader closes before the output is written."""
     proc = subprocess.Popen(
-        [sys.executable, "-c", "import sys; from comparison.cli import main; sys.exit(main())", "macro", *WALL, "--json"],
+        [
+            sys.executable,
+            "-c",
+            "import sys; from comparison.cli import main; sys.exit(main())",
+            "macro",
+            *WALL,
+            "--json",
+        ],
         cwd=ROOT,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
