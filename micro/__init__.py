@@ -15,29 +15,47 @@ Gilbert, Casapulla & Ahmed (2006) with :func:`solve_nonassociative`::
 
     result = micro.solve_nonassociative(wall, scheme="a")
     result.load_factor, result.status, result.iterations, result.history
+
+Every result has a flat, JSON-ready record (``result.to_record()``).
+
+Layout: ``geometry`` (the wall), ``lp`` (the LP), ``backends`` (the solvers),
+``mechanism``, ``results`` and ``records`` (what comes out), ``associative``
+and ``nonassociative`` (the two analyses), ``plot``.
 """
 
-from micro.analysis import DirectionResult, LimitResult, solve_associative
+from micro.associative import solve_associative
+from micro.backends import SOLVERS, Outcome, Status, make_backend
 from micro.geometry import BlockWall, build_wall, estimate_bytes
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
 from micro.nonassociative import (
+    SCHEMES,
     IterationRecord,
-    NonAssocDirection,
+    NonAssociativeOptions,
     NonAssociativeResult,
+    SequenceDiagnostics,
     solve_nonassociative,
     verify_collapse_state,
 )
 from micro.records import AssociativeRecord, MicroRecord, NonAssociativeRecord
-from micro.solvers import SOLVERS, Status, make_backend
+from micro.results import DirectionResult, LimitResult
 
 __all__ = [
+    "SCHEMES",
     "SOLVERS",
+    "AssociativeRecord",
     "BlockWall",
     "DirectionResult",
+    "IterationRecord",
     "LimitLP",
     "LimitResult",
     "Mechanism",
+    "MicroRecord",
+    "NonAssociativeOptions",
+    "NonAssociativeRecord",
+    "NonAssociativeResult",
+    "Outcome",
+    "SequenceDiagnostics",
     "Status",
     "assemble",
     "build_wall",
@@ -45,14 +63,6 @@ __all__ = [
     "make_backend",
     "mechanism_from_duals",
     "solve_associative",
-    # non-associative friction (issue 4)
-    "IterationRecord",
-    "NonAssocDirection",
-    "NonAssociativeResult",
     "solve_nonassociative",
     "verify_collapse_state",
-    # flat JSON-ready records
-    "AssociativeRecord",
-    "MicroRecord",
-    "NonAssociativeRecord",
 ]

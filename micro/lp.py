@@ -25,15 +25,13 @@ rows per point (``s - mu n <= 0``, ``-s - mu n <= 0``; the cvxpy reference
 back end uses it) has ``2P`` more rows; HiGHS IPM took 6.5 s on it for the
 1,230-block wall versus 2.0 s in generator form, and was no more accurate.
 
-Non-associative friction (next issue): the rebuilt condition
-``|s_p| <= mu_p nbar_p`` is a pair of columns per point, ``n_p >= 0`` along
-the normal and ``s_p`` along the tangent with bounds ``[-mu nbar, mu nbar]``;
-its columns are :meth:`LimitLP.equilibrium_matrix` (``B_n``, ``B_s``). Added
-once to the persistent HiGHS model (``addCols``) with the generator columns'
-upper bounds set to 0, every later iteration is a ``changeColsBounds`` on the
-``s`` columns followed by ``run()``: bound changes only, so the simplex basis
-is kept (see :meth:`micro.solvers.HighsBackend.add_columns` and
-:meth:`~micro.solvers.HighsBackend.set_col_bounds`).
+Non-associative friction: the rebuilt condition ``|s_p| <= mu_p nbar_p`` is
+a pair of columns per point, ``n_p >= 0`` along the normal and ``s_p`` along
+the tangent with bounds ``[-mu nbar, mu nbar]``; its columns are
+:meth:`LimitLP.equilibrium_matrix` (``B_n``, ``B_s``). The iterated LP builds
+them once into a persistent HiGHS model and changes only the bounds of the
+``s`` columns between iterations, so the simplex basis is kept (see
+:class:`micro.nonassociative.model.IterationModel`).
 """
 
 from __future__ import annotations

@@ -74,7 +74,7 @@ def mechanism_from_duals(
     Args:
         lp: the LP the duals belong to.
         velocities: duals of the equilibrium rows in the shared convention
-            (:class:`micro.solvers.RawSolution`), length ``3 * n_blocks``.
+            (:class:`micro.Outcome`), length ``3 * n_blocks``.
         direction: ``+1`` or ``-1``, the live load direction solved.
         state_tol: a relative velocity counts as non-zero above this fraction
             of the largest one.

@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from micro.analysis import LimitResult
 from micro.geometry import BlockWall
+from micro.results import LimitResult
 
 
 def draw_mechanism(

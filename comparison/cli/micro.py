@@ -26,7 +26,7 @@ FRICTION_LAWS = ("associative", "nonassociative")
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``micro`` subcommand."""
-    from micro.solvers import SOLVERS
+    from micro import SOLVERS
 
     p = subparsers.add_parser(
         "micro",
@@ -91,7 +91,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck micro``."""
     import micro
-    from micro.solvers import SOLVERS
+    from micro import SOLVERS
 
     choice("--friction", args.friction, FRICTION_LAWS)
     choice("--solver", args.solver, SOLVERS)
@@ -123,7 +123,7 @@ def run(args: argparse.Namespace) -> int:
             )
             for d in result.directions:
                 print(
-                    f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.solve_seconds:.3f} s"
+                    f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.seconds:.3f} s"
                 )
             if result.mirror_symmetric:
                 print("  the wall is mirror-symmetric: -x gives the same load factor")
@@ -184,12 +184,11 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         solver = "clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)"
         print(_json(result.summary(), args, spec, plotted=mechanism is not None, solver=solver))
     else:
-        g = result.governing
         if result.ok:
             print(
                 f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
                 f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
-                f"({g.stop_reason}); associative lambda = {result.associative_load_factor:.6f}"
+                f"({result.stop_reason}); associative lambda = {result.associative_load_factor:.6f}"
             )
             if result.mechanism_band is not None:
                 lo, hi = result.mechanism_band

@@ -130,7 +130,7 @@ def _intro(s: dict[str, Any], n_runs: int, seconds: float, processes: int) -> li
         "`plain`: the iterated LP alone, converged only when an LP's own forces satisfy Coulomb. Otherwise, "
         "once lambda has settled (spread <= 1e-3 over 3 iterates), the current LP's mechanism is tested for an "
         "exact non-associative collapse state at its lambda among all force fields (`certified`; "
-        "micro.nonassociative._Sequence._certify). Mechanism band: the load factors of all collapse states "
+        "micro.nonassociative.certificate). Mechanism band: the load factors of all collapse states "
         "with the final mechanism.",
         "",
     ]

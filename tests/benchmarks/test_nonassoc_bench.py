@@ -12,7 +12,10 @@ Run with ``pytest -m benchmark --benchmark-enable tests/benchmarks/test_nonassoc
   skip it).
 
 Each benchmark also records the outcome (status, LPs, lambda) in
-``benchmark.extra_info`` so that the JSON output says what was timed.
+``benchmark.extra_info`` so that the JSON output says what was timed, and
+asserts it: the associative load factors and the converged non-associative
+ones against pinned values (:data:`ASSOC`, :data:`NONASSOC`), the others
+against the associative bound.
 """
 
 from __future__ import annotations
@@ -26,6 +29,12 @@ import micro
 from comparison.cases import case
 from comparison.wall import WallSpec
 
+#: Associative load factors (HiGHS IPM).
+ASSOC = {"set12": 0.7120472, "w1230": 0.4695330, "w7575": 0.5072512}
+#: Converged non-associative load factors (default options: scheme (a),
+#: relaxation 0.6, certified) and their LPs.
+NONASSOC = {"set12": (0.7086216, 7), "w1230": (0.4680950, 9)}
+
 
 def _wall(rows: int, storeys: int, t: float = 1.0, m: float = 1 / 3, f: float = 0.75) -> micro.BlockWall:
     return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=0, storeys=storeys).to_micro()
@@ -34,10 +43,10 @@ def _wall(rows: int, storeys: int, t: float = 1.0, m: float = 1 / 3, f: float = 
 def _record(benchmark, r: micro.NonAssociativeResult) -> None:  # type: ignore[no-untyped-def]
     benchmark.extra_info.update(
         status=r.status, iterations=r.iterations, load_factor=r.load_factor,
-        last_load_factor=r.governing.last_load_factor,
+        last_load_factor=r.last_load_factor,
         lambda_band=list(r.lambda_band) if r.lambda_band else None,
         mechanism_band=list(r.mechanism_band) if r.mechanism_band else None,
-        stop_reason=r.governing.stop_reason,
+        stop_reason=r.stop_reason,
         lp_seconds=sum(h.seconds + h.certificate_seconds for h in r.history),
         associative_load_factor=r.associative_load_factor, warm_cold_rel_diff=r.warm_cold_rel_diff,
         blocks=r.blocks,
@@ -48,7 +57,7 @@ def _record(benchmark, r: micro.NonAssociativeResult) -> None:  # type: ignore[n
 def test_bench_table7_assoc(benchmark) -> None:  # type: ignore[no-untyped-def]
     w = _wall(12, 1)
     r = benchmark(micro.solve_associative, w)
-    assert r.ok
+    assert r.ok and r.load_factor == pytest.approx(ASSOC["set12"], rel=1e-6)
 
 
 @pytest.mark.benchmark(group="nonassoc-table7")
@@ -57,6 +66,7 @@ def test_bench_table7_nonassoc(benchmark) -> None:  # type: ignore[no-untyped-de
     r = benchmark(micro.solve_nonassociative, w)
     _record(benchmark, r)
     assert r.converged
+    assert r.load_factor == pytest.approx(NONASSOC["set12"][0], rel=1e-6) and r.iterations == NONASSOC["set12"][1]
 
 
 @pytest.mark.benchmark(group="nonassoc-1230")
@@ -65,7 +75,7 @@ def test_bench_1230_assoc_cold(benchmark) -> None:  # type: ignore[no-untyped-de
     assert w.n_blocks == 1230
     r = benchmark.pedantic(micro.solve_associative, args=(w,), rounds=3, iterations=1)
     benchmark.extra_info.update(load_factor=r.load_factor, blocks=r.blocks)
-    assert r.ok
+    assert r.ok and r.load_factor == pytest.approx(ASSOC["w1230"], rel=5e-6)
 
 
 @pytest.mark.benchmark(group="nonassoc-1230")
@@ -77,8 +87,9 @@ def test_bench_1230_nonassoc(benchmark, scheme: str) -> None:  # type: ignore[no
     _record(benchmark, r)
     if scheme == "a":
         assert r.converged, r.message  # measured: certified after 9 LPs
+        assert r.load_factor == pytest.approx(NONASSOC["w1230"][0], rel=1e-6)
     assert r.status in ("converged", "cycling", "max_iterations")
-    assert r.governing.last_load_factor <= r.associative_load_factor * (1 + 1e-5)
+    assert r.last_load_factor <= r.associative_load_factor * (1 + 1e-5)
 
 
 @pytest.mark.benchmark(group="nonassoc-1230")
@@ -88,7 +99,7 @@ def test_bench_1230_f075_nonassoc(benchmark) -> None:  # type: ignore[no-untyped
                            rounds=1, iterations=1)
     _record(benchmark, r)
     assert r.status in ("converged", "cycling", "max_iterations")
-    assert r.governing.last_load_factor <= r.associative_load_factor * (1 + 1e-7)
+    assert r.last_load_factor <= r.associative_load_factor * (1 + 1e-7)
 
 
 @pytest.mark.benchmark(group="nonassoc-7575")
@@ -105,6 +116,7 @@ def test_bench_7575_nonassoc(benchmark) -> None:  # type: ignore[no-untyped-def]
     # out of reach, the benchmark records what the budget buys
     assert r.status in ("converged", "cycling", "max_iterations", "solver_failure")
     assert r.converged or math.isnan(r.load_factor)
+    assert r.last_load_factor <= ASSOC["w7575"] * (1 + 2e-5)
 
 
 @pytest.mark.benchmark(group="nonassoc-7575")
@@ -113,4 +125,4 @@ def test_bench_7575_assoc_cold(benchmark) -> None:  # type: ignore[no-untyped-de
     w = _wall(150, 5)
     r = benchmark.pedantic(micro.solve_associative, args=(w,), rounds=1, iterations=1)
     benchmark.extra_info.update(load_factor=r.load_factor, blocks=r.blocks)
-    assert r.ok
+    assert r.ok and r.load_factor == pytest.approx(ASSOC["w7575"], rel=2e-5)

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from micro_walls import TABLE7, table7_wall
 
 import micro
-from micro_walls import TABLE7, table7_wall
 
 
 @pytest.fixture(scope="session")

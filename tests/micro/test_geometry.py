@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -28,7 +27,7 @@ def test_two_rows_two_blocks_by_hand() -> None:
     assert w.total_weight == pytest.approx(2 * 6.0)  # 2 rows x length 6 x b=1 x t=1
     contacts = sorted(
         (int(k), int(a), int(b), tuple(px), tuple(py))
-        for k, a, b, px, py in zip(w.contact_kind, w.contact_a, w.contact_b, w.px, w.py)
+        for k, a, b, px, py in zip(w.contact_kind, w.contact_a, w.contact_b, w.px, w.py, strict=True)
     )
     assert contacts == sorted([
         (BASE, -1, 0, (0.0, 3.0), (0.0, 0.0)),

@@ -73,7 +73,7 @@ def test_nonassociative_record(kw: dict) -> None:
     rec = r.to_record()
     assert isinstance(rec, micro.NonAssociativeRecord)
     assert rec.status == r.status and rec.converged == r.converged and rec.scheme == "a"
-    assert rec.stop_reason == r.governing.stop_reason
+    assert rec.stop_reason == r.stop_reason
     assert rec.iterations == r.iterations == len(rec.history_load_factor) - 1
     assert rec.total_iterations == sum(d.iterations for d in r.directions)
     assert rec.lambda_band == r.lambda_band and rec.mechanism_band == r.mechanism_band

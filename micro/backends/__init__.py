@@ -1,0 +1,29 @@
+"""Back ends of the limit-analysis LP: one module per back end behind one small interface.
+
+``base``      :class:`Status`, :class:`Outcome`, the independent re-check, :func:`make_backend`;
+``highs``     :class:`HighsBackend` and the :class:`PersistentHighsModel` it (and the iterated LP) runs on;
+``clarabel``  :class:`ClarabelBackend` and its settings;
+``cvxpy_``    :class:`CvxpyBackend`, the readable reference formulation.
+"""
+
+from micro.backends.base import ALL_SOLVERS, MAX_RESIDUAL, SOLVERS, Backend, Outcome, Status, make_backend, recheck
+from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT, ClarabelBackend
+from micro.backends.cvxpy_ import CvxpyBackend
+from micro.backends.highs import HighsBackend, PersistentHighsModel
+
+__all__ = [
+    "ALL_SOLVERS",
+    "CLARABEL_RETRY",
+    "CLARABEL_TIGHT",
+    "MAX_RESIDUAL",
+    "SOLVERS",
+    "Backend",
+    "ClarabelBackend",
+    "CvxpyBackend",
+    "HighsBackend",
+    "Outcome",
+    "PersistentHighsModel",
+    "Status",
+    "make_backend",
+    "recheck",
+]

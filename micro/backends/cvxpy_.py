@@ -1,0 +1,109 @@
+"""The reference formulation written with cvxpy expressions (one-shot back end).
+
+::
+
+    maximise   d * lam
+    subject to B_n @ n + B_s @ s + lam * f_L == -f_D    (equilibrium)
+               s <= mu * n,  -s <= mu * n,  n >= 0       (Coulomb)
+
+The direction ``d`` is a cvxpy Parameter, so the problem is compiled once
+(DPP) and re-solved for the other direction.
+
+cvxpy dual convention (pinned by ``tests/micro/backends``): for this
+``Maximize`` problem, the dual of the equality ``B x + lam f_L == -f_D``
+satisfies ``(d f_L) . y = +1``, so velocities are ``+y``.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from typing import Any
+
+import numpy as np
+
+from micro.backends.base import Outcome, Status, recheck
+from micro.backends.clarabel import CLARABEL_TIGHT
+from micro.lp import LimitLP
+
+
+class CvxpyBackend:
+    """The cvxpy formulation (module docstring).
+
+    Args:
+        lp: the assembled LP.
+        solver: ``"CLARABEL"`` or ``"HIGHS"``.
+        tight: use :data:`~micro.backends.clarabel.CLARABEL_TIGHT` with
+            Clarabel (``False``: cvxpy's defaults, the "plain" baseline).
+        solver_options: extra keyword arguments for ``Problem.solve``.
+
+    Raises:
+        ValueError: an unknown solver.
+    """
+
+    #: cvxpy status -> shared status (anything else: ``solver_error``).
+    STATUS_MAP = {
+        "optimal": Status.OPTIMAL,
+        "optimal_inaccurate": Status.INACCURATE,
+        "infeasible": Status.INFEASIBLE,
+        "infeasible_inaccurate": Status.INACCURATE,
+        "unbounded": Status.UNBOUNDED,
+        "unbounded_inaccurate": Status.INACCURATE,
+        "infeasible_or_unbounded": Status.INFEASIBLE_OR_UNBOUNDED,
+        "user_limit": Status.TIME_LIMIT,
+        "solver_error": Status.SOLVER_ERROR,
+    }
+
+    def __init__(self, lp: LimitLP, *, solver: str = "CLARABEL", tight: bool = True,
+                 solver_options: dict[str, Any] | None = None) -> None:
+        import cvxpy as cp
+
+        self._cp = cp
+        self.lp = lp
+        solver = solver.upper()
+        if solver not in ("CLARABEL", "HIGHS"):
+            raise ValueError(f"cvxpy solver must be CLARABEL or HIGHS, got {solver!r}")
+        self.solver = solver
+        self.name = f"cvxpy-{solver.lower()}" + ("" if tight or solver != "CLARABEL" else "-default")
+        Bn, Bs = lp.equilibrium_matrix()
+        self.n = cp.Variable(lp.n_points, nonneg=True, name="n")
+        self.s = cp.Variable(lp.n_points, name="s")
+        self.lam = cp.Variable(name="lam")
+        self.d = cp.Parameter(value=1.0, name="direction")
+        self.equilibrium = Bn @ self.n + Bs @ self.s + self.lam * lp.live == lp.rhs
+        friction = [self.s - cp.multiply(lp.mu, self.n) <= 0, -self.s - cp.multiply(lp.mu, self.n) <= 0]
+        self.problem = cp.Problem(cp.Maximize(self.d * self.lam), [self.equilibrium, *friction])
+        opts: dict[str, Any] = {}
+        if solver == "CLARABEL" and tight:
+            opts.update(CLARABEL_TIGHT)
+        opts.update(solver_options or {})
+        self.options = opts
+
+    def solve(self, direction: int) -> Outcome:
+        """Solve for live load direction ``direction`` (``+1`` or ``-1``)."""
+        cp = self._cp
+        self.d.value = float(direction)
+        t0 = time.perf_counter()
+        try:
+            with warnings.catch_warnings():
+                # cvxpy warns "Solution may be inaccurate"; the status below says so
+                warnings.filterwarnings("ignore", message="Solution may be inaccurate")
+                self.problem.solve(solver=self.solver, **self.options)
+        except cp.error.SolverError as exc:
+            return Outcome(Status.SOLVER_ERROR, f"SolverError: {exc}", seconds=time.perf_counter() - t0)
+        secs = time.perf_counter() - t0
+        native = str(self.problem.status)
+        status = self.STATUS_MAP.get(native, Status.SOLVER_ERROR)
+        stats = self.problem.solver_stats
+        iters = int(stats.num_iters or 0) if stats is not None else 0
+        # the iterations as cvxpy reports them: interior point (Clarabel) or simplex (HiGHS)
+        ipm, simplex = (iters, 0) if self.solver == "CLARABEL" else (0, iters)
+        extra = {"solve_time_solver": float(stats.solve_time or 0.0) if stats is not None else float("nan")}
+        if status is not Status.OPTIMAL:
+            return Outcome(status, native, simplex_iterations=simplex, ipm_iterations=ipm, seconds=secs, info=extra)
+        lam = float(np.asarray(self.lam.value))
+        out = Outcome(status, native, float(direction) * lam, n=np.asarray(self.n.value, dtype=float),
+                      s=np.asarray(self.s.value, dtype=float),
+                      duals=np.asarray(self.equilibrium.dual_value, dtype=float), simplex_iterations=simplex,
+                      ipm_iterations=ipm, seconds=secs, info=extra)
+        return recheck(self.lp, direction, out)

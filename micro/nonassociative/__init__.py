@@ -1,0 +1,125 @@
+"""Non-associative (zero-dilatancy) Coulomb friction by a sequence of LPs.
+
+Gilbert, Casapulla & Ahmed (2006) replace the non-associative problem, which
+is not an LP, by a sequence of LPs in which the yield condition of every
+contact point is rebuilt from the normal forces ``nbar`` of the previous
+iterate, until the sequence settles. Two of their rebuilt conditions are
+implemented:
+
+``"a"``  fixed shear capacity ``|s| <= mu nbar``. Its associated flow rule
+         has no dilatancy. In the persistent HiGHS model it is a pure change
+         of the bounds of the ``s`` columns.
+``"b"``  a line through ``(nbar, mu nbar)`` with a small negative slope,
+         ``|s| <= c0 + (1 + alpha) mu nbar - alpha mu n``, ``alpha`` halved
+         every iteration from ``alpha0`` (0.3) down to ``alpha_min`` (1e-3), a
+         tiny cohesion ``c0`` so that contacts with ``nbar = 0`` keep a
+         feasible point. Two rows per point, ``+s + alpha mu n <= rhs`` and
+         ``-s + alpha mu n <= rhs``; their right-hand sides change every
+         iterate and, while ``alpha`` changes, their ``n`` coefficients. The
+         cap ``n <= nbar (1 + alpha)/alpha + c0/(alpha mu)`` that the line
+         implies freezes points with ``nbar ~ 0``; the support can then
+         shrink until the LP is infeasible (seen on every Table 7 wall with
+         ``c0 = 1e-6``). Such an iterate is replaced by one scheme (a) step
+         from the last forces (``algorithm="fallback-a"``) and (b) goes on.
+
+Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
+``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none). Without
+relaxation the plain sequence converged on 50 of the 104 walls of
+``xcheck stability``, 62 with ``beta = 0.6``; with the certificate, 102 and 104.
+
+Modules, one concept each:
+
+``options``      :class:`NonAssociativeOptions` and the policy constants;
+``model``        the persistent HiGHS model of one direction and its updates;
+``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
+``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
+``convergence``  the exact stop, the settle test, cycle detection;
+``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
+``results``      :class:`IterationRecord`, :class:`SequenceDiagnostics`, :class:`NonAssociativeResult`.
+
+A sequence stops as ``converged`` (exactly, or certified), ``cycling``
+(``lambda_band`` is ``[min, max]`` over the cycle or the last window),
+``max_iterations`` (the cap on LPs or the time budget ``max_seconds``), or
+``solver_failure`` (an LP failed warm and cold, or the final iterate
+re-solved cold disagrees with the warm one, HiGHS having open reports of
+wrong objectives after hot starts). The load factor of a sequence that did
+not converge is NaN; the last value and the band are reported beside it.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+from micro.geometry import BlockWall
+from micro.lp import assemble
+from micro.nonassociative.checks import verify_collapse_state
+from micro.nonassociative.convergence import detect_cycle
+from micro.nonassociative.iteration import Sequence
+from micro.nonassociative.options import DEFAULT_RELAXATION, SCHEMES, NonAssociativeOptions
+from micro.nonassociative.results import (
+    CONVERGED,
+    CYCLING,
+    MAX_ITERATIONS,
+    SOLVER_FAILURE,
+    STATUSES,
+    IterationRecord,
+    NonAssociativeResult,
+    SequenceDiagnostics,
+)
+from micro.results import load_directions
+
+__all__ = [
+    "CONVERGED",
+    "CYCLING",
+    "DEFAULT_RELAXATION",
+    "MAX_ITERATIONS",
+    "SCHEMES",
+    "SOLVER_FAILURE",
+    "STATUSES",
+    "IterationRecord",
+    "NonAssociativeOptions",
+    "NonAssociativeResult",
+    "SequenceDiagnostics",
+    "detect_cycle",
+    "solve_nonassociative",
+    "verify_collapse_state",
+]
+
+
+def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None = None,
+                         **overrides: Any) -> NonAssociativeResult:
+    """Collapse load factor of ``wall`` with non-associative (zero-dilatancy) friction.
+
+    Args:
+        wall: the block assemblage (:func:`micro.build_wall`).
+        options: the options (``None``: the defaults).
+        **overrides: option fields to change, e.g. ``scheme="b", max_seconds=20``.
+
+    Returns:
+        The :class:`NonAssociativeResult`; a sequence that did not converge
+        has a NaN load factor and says why.
+
+    Raises:
+        ValueError: a bad option (the message names it).
+        TypeError: an unknown option name.
+    """
+    o = (options or NonAssociativeOptions()).with_overrides(**overrides)
+    t0 = time.perf_counter()
+    lp = assemble(wall)
+    build = time.perf_counter() - t0
+    results = tuple(Sequence(lp, d, o).run() for d in load_directions(o.directions, wall.mirror_symmetric))
+    solve_secs = time.perf_counter() - t0 - build
+    failing = [r for r in results if not r.converged]
+    if failing:
+        g = failing[0]
+        lam, direction, status, msg = float("nan"), "", g.status, f"{g.direction}: {g.message}"
+    else:
+        g = min(results, key=lambda r: r.load_factor)
+        lam, direction, status, msg = g.load_factor, g.direction, CONVERGED, ""
+    return NonAssociativeResult(
+        load_factor=lam, direction=direction, status=status, scheme=o.scheme, relaxation=o.beta,
+        blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
+        nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
+        directions=results, options=o, message=msg,
+    )

@@ -1,0 +1,188 @@
+"""The certificate: is an iterate's mechanism an exact non-associative collapse state?
+
+With the mechanism fixed, the non-associative collapse conditions on the
+forces are linear: equilibrium; ``n = 0`` where the points open;
+``s = -sign(slip) mu n`` where they slip (friction at the yield line, against
+the slip); ``|s| <= mu n`` where they stick. In the generator form of the
+associative LP (:mod:`micro.lp`) that is a choice of columns: both generators
+at a sticking point, the one on the right side of the cone at a slipping
+point, none at an opening point (:meth:`Certificate.pattern`). Any feasible
+field forms with the mechanism an exact non-associative collapse state
+(equilibrium, Coulomb with its own normal forces, no dilatancy where
+``n > 0``, no interpenetration, slip only at the yield line, against the
+slip; the energy balance follows by virtual work). The mechanism of the LP
+``|s| <= mu nbar`` already has no dilatancy where ``n > 0``; what a sequence
+that does not settle in the forces lacks is a field that satisfies Coulomb
+with its own normal forces, and the certificate looks for one among ALL
+fields, not only the LP's optimal ones.
+
+The load factors of these states form an interval, the MECHANISM BAND: its
+ends are two LPs (min and max ``lambda``), solved by an interior point, no
+basis. An iterate's ``lambda`` is certified when it lies in the band
+(relative slack :data:`~micro.nonassociative.options.BAND_SLACK`), and the
+state at ``lambda`` is the convex combination of the two end states
+(equilibrium is linear). A feasibility LP at fixed ``lambda`` would be one LP
+instead of two, but HiGHS' interior point stopped with "Solve error" when
+``lambda`` sat at an end of the band (seen on pure rocking mechanisms, whose
+``lambda`` is a geometric constant). The ends are load factors of feasible
+states found to ~1e-5, so the band can only come out a little narrower than
+the exact one and a certificate is never accepted wrongly.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from micro.backends.base import Outcome, Status
+from micro.backends.clarabel import ClarabelBackend
+from micro.backends.highs import PersistentHighsModel
+from micro.lp import LimitLP
+from micro.mechanism import STATE_TOL
+from micro.nonassociative.options import (
+    BAND_SLACK,
+    INTERPENETRATION,
+    STATE_CLARABEL,
+    STATE_RESIDUAL,
+    TINY,
+    NonAssociativeOptions,
+)
+
+FloatArray = NDArray[np.float64]
+State = tuple[FloatArray, FloatArray, float]
+
+
+@dataclass(frozen=True, eq=False)
+class CertificateResult:
+    """The outcome of one certificate try.
+
+    Attributes:
+        forces: ``(n, s)`` (scaled) of an exact collapse state at the
+            iterate's ``lambda``, or ``None`` (none found).
+        band: the mechanism band ``(min, max)``; ``max`` is NaN when only the
+            lower end was found, ``None`` when no state was found at all.
+        seconds: wall time of the LPs.
+        iterations: their interior-point (and simplex) iterations.
+    """
+
+    forces: tuple[FloatArray, FloatArray] | None
+    band: tuple[float, float] | None
+    seconds: float
+    iterations: int
+
+
+class Certificate:
+    """The certificate LPs of one load direction (module docstring).
+
+    Args:
+        lp: the wall's LP.
+        direction: ``+1`` or ``-1``.
+        options: the options (``scheme``, ``state_solver``, ``time_limit``).
+    """
+
+    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions) -> None:
+        self.lp, self.d, self.o = lp, direction, options
+        self._state: PersistentHighsModel | None = None
+
+    def state_model(self) -> PersistentHighsModel:
+        """The associative LP in generator form as a persistent HiGHS model
+        (built on first use; the vertex start solves it too)."""
+        if self._state is None:
+            self._state = PersistentHighsModel.of(self.lp, +1, algorithm="ipm")
+            self._state.set_cost(self.lp.lam_col, -float(self.d))
+        return self._state
+
+    def pattern(self, v: FloatArray) -> tuple[FloatArray, FloatArray] | None:
+        """Generator bounds of the collapse states compatible with the
+        mechanism ``v`` (block velocities): ``(upper of g+, upper of g-)``,
+        or ``None`` when ``v`` makes points interpenetrate (possible with
+        scheme (b), whose ``n`` columns also enter the friction rows): no
+        force field can then make it a collapse state."""
+        lp = self.lp
+        dn = lp.Bn.T @ v
+        ds = lp.Bs.T @ v
+        scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)), 1e-300)
+        # the simplex duals carry noise: closed points of a scheme (a)
+        # mechanism showed opening rates down to -1.1e-5 of the largest rate
+        # (Set 4), where exact duals give >= 0. The noise level sets the
+        # tolerance of the classification; beyond INTERPENETRATION the
+        # mechanism really interpenetrates (scheme (b): up to ~0.5). Scheme
+        # (b)'s own mechanisms dilate by alpha mu |slip| and its closing rates
+        # are not noise: there the classification stays strict.
+        noise = max(-float(np.min(dn, initial=0.0)), 0.0) / scale
+        scheme_a = self.o.scheme == "a"
+        if noise > (INTERPENETRATION if scheme_a else STATE_TOL):
+            return None
+        tol = (max(STATE_TOL, 10.0 * noise) if scheme_a else STATE_TOL) * scale
+        opening = dn > tol
+        slip = (np.abs(ds) > tol) & ~opening
+        up_p = np.where(opening | (slip & (ds > 0)), 0.0, np.inf)  # g+ carries s = +mu n
+        up_m = np.where(opening | (slip & (ds < 0)), 0.0, np.inf)  # g- carries s = -mu n
+        return up_p, up_m
+
+    def state_lp(self, v: FloatArray, sense: float, time_limit: float) -> tuple[State | None, Outcome]:
+        """Minimise ``sense * lambda`` over the collapse states compatible
+        with the mechanism ``v`` (the generator columns of :meth:`pattern`).
+
+        Returns:
+            ``((n, s, lambda) or None, outcome)``: ``None`` unless the
+            interior point found an optimal state that passes its residual check.
+        """
+        pattern = self.pattern(v)
+        if pattern is None:
+            return None, Outcome(Status.INFEASIBLE, "mechanism interpenetrates")
+        if self.o.state_solver == "clarabel":
+            return self._state_lp_clarabel(*pattern, sense, time_limit)
+        lp, P, d = self.lp, self.lp.n_points, self.d
+        m = self.state_model()
+        m.set_col_bounds(np.arange(2 * P), np.zeros(2 * P), np.concatenate(pattern))
+        m.set_cost(lp.lam_col, float(sense) * d)
+        m.clear_solver()
+        m.limit_next_run(time_limit)
+        out = m.run()
+        if out.x is None:
+            return None, out
+        n, s = lp.forces(out.x[: 2 * P])
+        lam = float(out.x[lp.lam_col]) * d
+        if lp.primal_residual(n, s, lam * d) > STATE_RESIDUAL:
+            return None, out  # the interior point stopped short of an accurate state
+        return (n, s, lam), out
+
+    def _state_lp_clarabel(self, up_p: FloatArray, up_m: FloatArray, sense: float,
+                           time_limit: float) -> tuple[State | None, Outcome]:
+        """:meth:`state_lp` by Clarabel: the generator LP with the excluded
+        columns left out (its own residual check)."""
+        lp, d = self.lp, self.d
+        restricted = dataclasses.replace(lp, col_upper=np.concatenate([up_p, up_m, [np.inf]]))
+        tl = None if not math.isfinite(time_limit) else float(time_limit)
+        direction = -d if sense > 0 else d  # ClarabelBackend maximises direction * lambda_column
+        out = ClarabelBackend(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)
+        if out.status is not Status.OPTIMAL or out.n is None or out.s is None:
+            return None, out
+        return (np.asarray(out.n), np.asarray(out.s), d * (out.load_factor * direction)), out
+
+    def certify(self, v: FloatArray, lam: float, *, time_limit: float) -> CertificateResult:
+        """Is there a non-associative collapse state at ``lam`` with the
+        mechanism ``v``? (module docstring)"""
+        lo, out_lo = self.state_lp(v, 1.0, time_limit)
+        seconds, iterations = out_lo.seconds, out_lo.simplex_iterations + out_lo.ipm_iterations
+        slack = BAND_SLACK * max(abs(lam), TINY)
+        if lo is None or lo[2] > lam + slack:
+            return CertificateResult(None, None if lo is None else (lo[2], math.nan), seconds, iterations)
+        hi, out_hi = self.state_lp(v, -1.0, time_limit)
+        seconds += out_hi.seconds
+        iterations += out_hi.simplex_iterations + out_hi.ipm_iterations
+        if hi is None:
+            return CertificateResult(None, (lo[2], math.nan), seconds, iterations)
+        band = (lo[2], hi[2])
+        if hi[2] < lam - slack:
+            return CertificateResult(None, band, seconds, iterations)
+        width = hi[2] - lo[2]
+        theta = 1.0 if width <= 0 else min(max((hi[2] - lam) / width, 0.0), 1.0)
+        n = theta * lo[0] + (1.0 - theta) * hi[0]
+        s = theta * lo[1] + (1.0 - theta) * hi[1]
+        return CertificateResult((n, s), band, seconds, iterations)

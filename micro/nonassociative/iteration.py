@@ -1,0 +1,347 @@
+"""The iterated LP for one load direction: the start, the loop and its warm/cold policy, the finish.
+
+Iterate 0 is the associative LP (:meth:`Sequence._start`); its normal forces
+give the first ``nbar``. Iterate ``k >= 1`` rebuilds every point's yield
+condition from ``nbar = beta n_(k-1) + (1 - beta) n_(k-2)`` in the persistent
+:class:`~micro.nonassociative.model.IterationModel` and solves it: the first
+by interior point + crossover + dual simplex, the later ones by a warm dual
+simplex from the previous basis, or cold again while warm runs are slow
+(:data:`~micro.nonassociative.options.COLD_SWITCH_RATIO`). A failed run is
+recovered (:meth:`Sequence._recover`); each iterate is then tested for the
+stops of :mod:`micro.nonassociative.convergence`. The final iterate is
+checked (:mod:`micro.nonassociative.checks`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+from numpy.typing import NDArray
+
+from micro.backends.base import Outcome, Status
+from micro.backends.clarabel import ClarabelBackend
+from micro.lp import LimitLP
+from micro.nonassociative import checks, convergence
+from micro.nonassociative.certificate import Certificate
+from micro.nonassociative.model import IterationModel, restart
+from micro.nonassociative.options import (
+    BAND_LIMIT_FACTOR,
+    CERTIFICATE_LIMIT_FACTOR,
+    COLD_STREAK,
+    COLD_SWITCH_RATIO,
+    EQUILIBRIUM_RESIDUAL,
+    MIN_LIMIT_SECONDS,
+    TINY,
+    WARM_LIMIT_FACTOR,
+    NonAssociativeOptions,
+)
+from micro.nonassociative.results import (
+    CONVERGED,
+    CONVERGED_STOPS,
+    CYCLING,
+    MAX_ITERATIONS,
+    SOLVER_FAILURE,
+    Band,
+    IterationRecord,
+    SequenceDiagnostics,
+)
+from micro.results import DIR_NAME, DirectionResult
+
+FloatArray = NDArray[np.float64]
+NAN = math.nan
+COLD = "ipm+crossover+simplex"
+
+
+class Sequence:
+    """The iterated LP for one load direction (module docstring).
+
+    Args:
+        lp: the wall's LP.
+        direction: ``+1`` or ``-1``.
+        options: the options.
+    """
+
+    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions) -> None:
+        self.lp, self.d, self.o = lp, direction, options
+        self.certificate = Certificate(lp, direction, options)
+        self.history: list[IterationRecord] = []
+        self.fallbacks = 0
+        self.c0 = 0.0
+        self.mechanism_band: Band | None = None
+        # the loop's state
+        self.lams: list[float] = []
+        self.dns: list[float] = []
+        self.final: tuple[FloatArray, FloatArray, FloatArray, float] | None = None  # (v, n, s, lambda)
+        self.warm_limit = self.o.user_limit
+        self.t_warm, self.t_cold, self.cold_streak = 0.0, math.inf, 0
+        self.last_try = -(10**9)
+
+    # ------------------------------------------------------------ iterate 0
+    def _start(self) -> tuple[Outcome, str, FloatArray | None]:
+        """The associative LP (iterate 0): ``"interior"`` by Clarabel (tight
+        tolerances; 0.4 s on 1,230 blocks against 1.7 s for HiGHS IPM),
+        HiGHS IPM if Clarabel fails; ``"vertex"`` by HiGHS IPM + crossover +
+        dual simplex (a basic optimal solution).
+
+        Returns:
+            ``(outcome, algorithm, x)`` with ``x`` in the iteration model's
+            layout ``[n, s, d * lambda]`` (``None`` unless optimal).
+        """
+        lp, P = self.lp, self.lp.n_points
+        if self.o.start == "interior":
+            out = ClarabelBackend(lp, time_limit=self.o.time_limit).solve(self.d)
+            if out.ok and out.n is not None and out.s is not None:
+                return out, "clarabel", np.concatenate([out.n, out.s, [out.load_factor * self.d]])
+            out, algo = self.certificate.state_model().run(), "ipm"
+        else:
+            m = self.certificate.state_model()
+            out, algo = restart(m), COLD
+            m.set_algorithm("ipm")
+        if out.x is None:
+            return out, algo, None
+        n, s = lp.forces(out.x[: 2 * P])
+        return out, algo, np.concatenate([n, s, [out.x[lp.lam_col]]])
+
+    # ----------------------------------------------------------------- run
+    def run(self) -> DirectionResult:
+        """Run the sequence to its stop and check the final state."""
+        t_start = time.perf_counter()
+        out, algo0, x = self._start()
+        if x is None:
+            self._record(0, NAN, NAN, NAN, NAN, 0.0, out, algo0)
+            return self._fail("associative_failed", f"the associative LP failed ({out.native_status})",
+                              t_start, NAN)
+        lam_assoc = float(x[2 * self.lp.n_points]) * self.d
+        n0, s0 = x[: self.lp.n_points], x[self.lp.n_points : 2 * self.lp.n_points]
+        n0 = np.maximum(n0, 0.0)
+        # scheme (b)'s cohesion, relative to the largest associative normal force
+        self.c0 = self.o.cohesion * max(float(np.max(n0, initial=0.0)), TINY)
+        self._record(0, lam_assoc, NAN, NAN, checks.coulomb_residual(self.lp, n0, s0), 0.0, out, algo0)
+        if lam_assoc < 0:
+            return self._fail("associative_failed", "equilibrium needs a live load in the opposite direction",
+                              t_start, lam_assoc)
+        t_b = time.perf_counter()
+        model = IterationModel(self.lp, self.d, self.o.scheme, self.o.alpha0)
+        alpha = self.o.alpha0 if self.o.scheme == "b" else 0.0
+        model.set_capacity(n0, alpha, self.o.alpha0, self.c0)
+        stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
+        if failed is not None or self.final is None:
+            status = failed.native_status if failed is not None else ""
+            return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold ({status})",
+                              t_start, lam_assoc, band)
+        return self._finish(model, stop, band, lam_assoc, t_start)
+
+    def _loop(self, model: IterationModel, n0: FloatArray, lam_assoc: float, alpha: float, t_build: float,
+              t_start: float) -> tuple[str, Band | None, Outcome | None]:
+        """Iterates ``1 .. max_iterations``.
+
+        Returns:
+            ``(stop reason, band, the failed outcome or None)``.
+        """
+        o = self.o
+        n_prev, n_prev2, lam_prev = n0, n0, lam_assoc
+        for k in range(1, o.max_iterations + 1):
+            t_it = time.perf_counter()
+            new_alpha = alpha
+            if k > 1:
+                nbar = o.beta * n_prev + (1.0 - o.beta) * n_prev2
+                new_alpha = max(o.alpha_min, alpha * o.alpha_factor) if o.scheme == "b" else 0.0
+                model.set_capacity(nbar, new_alpha, alpha, self.c0)
+            alpha = new_alpha
+            t_upd = time.perf_counter() - t_it + (t_build if k == 1 else 0.0)
+            out, algo = self._solve(model, k, n_prev, alpha)
+            out = out.plus_seconds(t_upd)
+            if out.x is None or out.duals is None:
+                self._record(k, NAN, NAN, NAN, NAN, alpha, out, algo)
+                return "lp_failed", None, out
+            self._account(model, k, out, algo)
+            lam = model.load_factor(out.x)
+            n, s = model.forces(out.x)
+            stop = self._step(k, lam, lam_prev, n, n_prev, s, out, algo, alpha)
+            n_prev2, n_prev, lam_prev = n_prev, n, lam
+            if stop is not None:
+                return stop
+            if o.max_seconds is not None and time.perf_counter() - t_start > o.max_seconds:
+                return "time_budget", convergence.window_band(self.lams, o.window), None
+        return "max_iterations", convergence.window_band(self.lams, o.window), None
+
+    # ------------------------------------------------- warm / cold policy
+    def _solve(self, model: IterationModel, k: int, n_prev: FloatArray, alpha: float) -> tuple[Outcome, str]:
+        """Solve iterate ``k``: the first LP, and later ones in cold mode, by
+        interior point + crossover + dual-simplex clean-up; the others by a
+        warm dual simplex (limited to :attr:`warm_limit`). Scheme (a) is in
+        cold mode while the last warm run was :data:`COLD_SWITCH_RATIO` x
+        slower than the last cold one, for at most :data:`COLD_STREAK`
+        cold iterates in a row."""
+        user = self.o.user_limit
+        cold = k == 1 or (self.o.scheme == "a" and self.t_warm > COLD_SWITCH_RATIO * self.t_cold
+                          and self.cold_streak < COLD_STREAK)
+        if cold:
+            model.model.limit_next_run(user)
+            out, algo = restart(model.model), COLD
+        else:
+            out, algo = model.warm(self.warm_limit), "simplex-warm"
+        model.model.limit_next_run(user)
+        if out.ok:
+            return out, algo
+        return self._recover(model, k, out, n_prev, alpha)
+
+    def _recover(self, model: IterationModel, k: int, failed: Outcome, n_prev: FloatArray,
+                 alpha: float) -> tuple[Outcome, str]:
+        """A failed iterate ``k``. For ``k > 1``, scheme (b) caps every point at
+        ``n <= nbar (1 + alpha) / alpha + c0 / (alpha mu)``: with ``nbar ~ 0``
+        the support can only shrink until no equilibrium is left (HiGHS says
+        "Infeasible", or "Unknown" when it is nearly so); one step of scheme
+        (a) from the last forces replaces the iterate (bounds only), then (b)
+        goes on. Otherwise an infeasible relaxed iterate is rebuilt from the
+        last forces alone (no relaxation). What still fails is restarted cold
+        (HiGHS "Unknown" on near-degenerate rows)."""
+        spent = failed.seconds
+        out, algo = failed, ""
+        if k > 1 and self.o.scheme == "b":
+            out, algo = model.fallback_a_step(n_prev), "fallback-a"
+            self.fallbacks += 1
+        elif k > 1 and failed.status is Status.INFEASIBLE and self.o.beta < 1.0:
+            model.set_capacity(n_prev, alpha, alpha, self.c0)
+            out, algo = model.model.run(), "simplex-warm-unrelaxed"
+        if not out.ok:
+            out, algo = restart(model.model), "ipm-restart"
+        return out.plus_seconds(spent), algo
+
+    def _account(self, model: IterationModel, k: int, out: Outcome, algo: str) -> None:
+        """Book a good iterate's time for the warm/cold policy and the warm-run limit."""
+        if algo == "simplex-warm":
+            self.t_warm, self.cold_streak = out.seconds, 0
+        elif algo == COLD:
+            self.t_cold = out.seconds
+            self.cold_streak += k > 1
+        if k == 1:
+            self.warm_limit = min(self.o.user_limit, max(MIN_LIMIT_SECONDS, WARM_LIMIT_FACTOR * out.seconds))
+        model.keep_basis()
+
+    # ------------------------------------------------------ one iterate
+    def _step(self, k: int, lam: float, lam_prev: float, n: FloatArray, n_prev: FloatArray, s: FloatArray,
+              out: Outcome, algo: str, alpha: float) -> tuple[str, Band | None, None] | None:
+        """Record a good iterate and test the stops (the exact stop, the
+        certificate once ``lambda`` has settled, cycles).
+
+        Returns:
+            ``(stop reason, band, None)`` or ``None`` to go on.
+        """
+        o = self.o
+        assert out.duals is not None
+        nscale = max(float(np.max(n, initial=0.0)), TINY)
+        dlam = abs(lam - lam_prev) / max(abs(lam), TINY)
+        dn = float(np.max(np.abs(n - n_prev), initial=0.0)) / nscale
+        coul = checks.coulomb_residual(self.lp, n, s)
+        self._record(k, lam, dlam, dn, coul, alpha, out, algo)
+        self.lams.append(lam)
+        self.dns.append(dn)
+        v = out.duals[: self.lp.n_eq]
+        self.final = (v, n, s, lam)
+        alpha_done = o.scheme == "a" or alpha <= o.alpha_min
+        coul_tol = o.coulomb_tol + (self.c0 / nscale if o.scheme == "b" else 0.0)
+        exact = convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
+        if exact is not None:
+            return exact, None, None
+        if (o.certify and alpha_done and algo != "fallback-a"
+                and convergence.settled(self.lams, k, self.last_try, o) and self._try_certificate(k, v, lam, out)):
+            return "certified", None, None
+        if alpha_done:
+            cyc = convergence.detect_cycle(self.lams, self.dns, o.lambda_tol, o.window)
+            if cyc is not None:
+                return cyc[0], cyc[1], None
+        return None
+
+    def _try_certificate(self, k: int, v: FloatArray, lam: float, out: Outcome) -> bool:
+        """Try the certificate on iterate ``k`` (``lambda`` has settled): is it
+        an exact collapse state with other forces than the LP's vertex?"""
+        limit = min(self.o.user_limit, max(MIN_LIMIT_SECONDS, CERTIFICATE_LIMIT_FACTOR * out.seconds))
+        cert = self.certificate.certify(v, lam, time_limit=limit)
+        self.last_try = k
+        rec = self.history[-1]
+        coul = checks.coulomb_residual(self.lp, *cert.forces) if cert.forces is not None else NAN
+        self.history[-1] = dataclasses.replace(
+            rec, certificate="certified" if cert.forces is not None else "not found",
+            certificate_seconds=float(cert.seconds), certificate_iterations=int(cert.iterations),
+            coulomb_residual=coul if math.isfinite(coul) else rec.coulomb_residual,
+        )
+        if cert.forces is None:
+            return False
+        self.final = (v, cert.forces[0], cert.forces[1], lam)
+        self.mechanism_band = cert.band
+        return True
+
+    def _record(self, k: int, lam: float, dlam: float, dn: float, coul: float, alpha: float, out: Outcome,
+                algo: str) -> None:
+        self.history.append(IterationRecord(
+            iteration=k, load_factor=lam, lambda_change=dlam, max_dn=dn, coulomb_residual=coul, alpha=alpha,
+            simplex_iterations=int(out.simplex_iterations), ipm_iterations=int(out.ipm_iterations),
+            seconds=float(out.seconds), algorithm=algo, status=out.status.value,
+        ))
+
+    # ------------------------------------------------------------ finish
+    def _fail(self, reason: str, msg: str, t_start: float, lam_assoc: float,
+              band: Band | None = None) -> DirectionResult:
+        last = [r.load_factor for r in self.history[1:] if math.isfinite(r.load_factor)]
+        seq = SequenceDiagnostics(
+            stop_reason=reason, last_load_factor=last[-1] if last else NAN, lambda_band=band, mechanism_band=None,
+            associative_load_factor=lam_assoc, history=tuple(self.history), fallback_steps=self.fallbacks,
+        )
+        return DirectionResult(direction=DIR_NAME[self.d], status=SOLVER_FAILURE, load_factor=NAN,
+                               iterations=max(len(self.history) - 1, 0), seconds=time.perf_counter() - t_start,
+                               message=msg, sequence=seq)
+
+    def _finish(self, model: IterationModel, stop: str, band: Band | None, lam_assoc: float,
+                t_start: float) -> DirectionResult:
+        """The final-state checks, the cold re-solve, the mechanism band and the message."""
+        assert self.final is not None
+        o, lp = self.o, self.lp
+        v, n, s, lam = self.final
+        status = CONVERGED if stop in CONVERGED_STOPS else (
+            MAX_ITERATIONS if stop in ("max_iterations", "time_budget") else CYCLING)
+        state = checks.final_state(lp, self.d, v, n, s, lam)
+        cold = checks.cold_check(model, lam, o.cold_tol) if o.cold_check else checks.ColdCheck(NAN, NAN, "", "")
+        msg = cold_note = ""
+        if o.cold_check and (not math.isfinite(cold.rel_diff) or cold.rel_diff > o.cold_tol):
+            cold_note = (f"the final iterate re-solved cold gives lambda = {cold.load_factor:.9g} against "
+                         f"{lam:.9g} warm (HiGHS hot start; status {cold.native_status})")
+            if status == CONVERGED:
+                status, stop, msg, cold_note = SOLVER_FAILURE, "cold_check_failed", cold_note, ""
+        if status == CONVERGED and state.equilibrium > EQUILIBRIUM_RESIDUAL:
+            status, stop = SOLVER_FAILURE, "equilibrium_residual"
+            msg = f"equilibrium residual {state.equilibrium:.2e} block weights at the final iterate"
+        if status == CONVERGED and o.mechanism_band and self.mechanism_band is None and o.scheme == "a":
+            typical = float(np.median([r.seconds for r in self.history[1:]]))
+            limit = min(o.user_limit, max(MIN_LIMIT_SECONDS, BAND_LIMIT_FACTOR * typical))
+            self.mechanism_band = self.certificate.certify(v, lam, time_limit=limit).band
+        msg = msg or self._message(status, stop, band)
+        if cold_note:
+            msg += f"; also, {cold_note}"
+        seq = SequenceDiagnostics(
+            stop_reason=stop, last_load_factor=lam, lambda_band=None if status == CONVERGED else band,
+            mechanism_band=self.mechanism_band, associative_load_factor=lam_assoc, history=tuple(self.history),
+            cold_load_factor=cold.load_factor, warm_cold_rel_diff=cold.rel_diff, cold_algorithm=cold.algorithm,
+            coulomb_residual=state.coulomb, dilatancy_residual=state.dilatancy,
+            equilibrium_residual=state.equilibrium, sliding_points=state.sliding_points,
+            fallback_steps=self.fallbacks,
+        )
+        fs = lp.force_scale
+        return DirectionResult(
+            direction=DIR_NAME[self.d], status=status, load_factor=lam if status == CONVERGED else NAN,
+            iterations=len(self.history) - 1, seconds=time.perf_counter() - t_start, normal=n * fs, shear=s * fs,
+            mechanism=state.mechanism, message=msg, sequence=seq,
+        )
+
+    def _message(self, status: str, stop: str, band: Band | None) -> str:
+        """Why a sequence did not converge (``""`` when it did)."""
+        if status == CYCLING:
+            return f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop
+        if status == MAX_ITERATIONS:
+            msg = (f"no convergence in {self.o.max_iterations} iterations" if stop == "max_iterations"
+                   else f"time budget of {self.o.max_seconds:g} s spent after {len(self.history) - 1} LPs")
+            return msg + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else "")
+        return stop if status != CONVERGED else ""

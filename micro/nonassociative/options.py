@@ -1,0 +1,241 @@
+"""Options of the iterated LP and its policy constants, in one place.
+
+:class:`NonAssociativeOptions` holds what a caller may choose (validated on
+construction); the module constants below are the fixed policy of the
+iteration (when to solve cold, how long a run may take, what counts as noise),
+each with the measurement that set it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any, Literal
+
+from micro.backends.clarabel import CLARABEL_RETRY
+from micro.results import Directions, check_directions
+
+#: Published rebuilt yield conditions implemented here.
+SCHEMES = ("a", "b")
+#: Default relaxation ``beta`` per scheme (``nbar = beta n_k + (1 - beta) n_(k-1)``).
+DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
+
+# ------------------------------------------------------------ warm / cold policy
+#: On large walls a warm dual simplex can cost more than a cold solve (7,575
+#: blocks: 78,000-104,000 simplex iterations, 170-200 s, against 45 s for
+#: interior point + crossover): scheme (a) solves an iterate cold while the
+#: last warm run took more than this times the last cold one ...
+COLD_SWITCH_RATIO = 1.5
+#: ... and goes back to warm after this many cold iterates in a row.
+COLD_STREAK = 3
+#: A warm run that takes this many times the first (cold) LP is stuck (seen:
+#: 13 s to declare a 150-block LP infeasible): it is stopped and recovered.
+WARM_LIMIT_FACTOR = 10.0
+#: Time limit of a certificate try, in multiples of the current LP's time.
+CERTIFICATE_LIMIT_FACTOR = 10.0
+#: Time limit of the mechanism band of a converged run, in multiples of the
+#: median LP time.
+BAND_LIMIT_FACTOR = 20.0
+#: Smallest time limit (seconds) the factors above give.
+MIN_LIMIT_SECONDS = 1.0
+
+# --------------------------------------------------------------- certificate
+#: Clarabel settings of the certificate LPs: their ends are checked for
+#: feasibility, so optimality to 1e-9 is enough (the tight settings stopped
+#: short on every certificate LP of the Table 7 walls and were retried).
+STATE_CLARABEL = CLARABEL_RETRY
+#: Largest closing rate (relative to the largest rate) that the certificate
+#: still reads as dual noise rather than interpenetration.
+INTERPENETRATION = 1e-3
+#: Largest primal residual (block weights) of a state found by HiGHS IPM: an
+#: interior point that stopped short of it found no state.
+STATE_RESIDUAL = 1e-7
+#: Relative slack of the test "the iterate's lambda lies in the mechanism band".
+BAND_SLACK = 1e-7
+
+# -------------------------------------------------------------- cycles
+#: Periods of the repeating-sequence test (a period seen twice in a row).
+PERIODS = range(2, 7)
+#: Oscillation: the last window's spread of lambda is at least this fraction
+#: of the window before (no contraction). Stagnation: the smallest change of
+#: the forces over the last window is at least this fraction of the window
+#: before (no progress).
+NO_PROGRESS = 0.5
+
+# ----------------------------------------------------------- final state
+#: Largest equilibrium residual (block weights) of a converged final state;
+#: beyond it the run is a ``solver_failure``.
+EQUILIBRIUM_RESIDUAL = 1e-6
+#: A point is in contact when its normal force exceeds this fraction of the
+#: largest one (for the dilatancy residual).
+CONTACT_FORCE = 1e-9
+#: Floor of the scales that residuals are divided by.
+TINY = 1e-12
+
+
+def _positive_finite(name: str, v: Any, lo: float = 0.0) -> None:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= lo:
+        raise ValueError(f"{name} must be a positive finite number, got {v!r}")
+
+
+def _integer(name: str, v: Any, minimum: int) -> None:
+    if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {v!r}")
+
+
+@dataclass(frozen=True)
+class NonAssociativeOptions:
+    """Options of :func:`micro.solve_nonassociative` (validated on construction).
+
+    Attributes:
+        scheme: rebuilt yield condition, ``"a"`` or ``"b"`` (package docstring).
+        relaxation: ``beta`` in ``(0, 1]`` (``None``: :data:`DEFAULT_RELAXATION`;
+            :attr:`beta` is the value used).
+        alpha0, alpha_min, alpha_factor: slope schedule of scheme (b):
+            ``alpha_(k+1) = max(alpha_min, alpha_factor * alpha_k)``.
+        cohesion: ``c0`` of scheme (b) relative to the largest normal force
+            of the associative solution (scale-free; default one millionth
+            of the force level).
+        max_iterations: cap on non-associative LPs per direction.
+        max_seconds: wall-time budget per direction (``None``: none); when
+            spent the sequence stops with status ``max_iterations``
+            (``stop_reason="time_budget"``).
+        lambda_tol: relative change of ``lambda`` for convergence.
+        force_tol: largest change of the normal forces, relative to the
+            largest normal force, for convergence.
+        coulomb_tol: ``max(|s| - mu n, 0) / max n`` accepted as "Coulomb holds".
+        window: iterations per window of the oscillation / stagnation tests.
+        directions: ``"auto"`` (both unless mirror-symmetric), ``"both"``,
+            ``"+x"`` or ``"-x"``.
+        start: how the associative LP (iterate 0, which gives the first
+            ``nbar``) is solved: ``"interior"`` (Clarabel's interior point
+            with tight tolerances, HiGHS IPM if it fails: a point near the
+            centre of the optimal face, 0.4 s on 1,230 blocks) or
+            ``"vertex"`` (HiGHS IPM + crossover + dual simplex: a basic
+            optimal solution as a simplex code returns). The first
+            non-associative LP is solved by IPM + crossover + dual simplex
+            either way. The non-associative solution is not unique and the
+            two starts can end at different load factors (~1-2 %).
+        certify: once ``lambda`` has settled (its spread over the last
+            ``settle_window`` iterates is at most ``settle_tol`` relative),
+            ask whether the current iterate's mechanism admits an exact
+            collapse state at the current ``lambda``
+            (:mod:`micro.nonassociative.certificate`; at most one try per
+            ``settle_window`` iterates). If it does, the sequence stops,
+            converged, with ``stop_reason="certified"`` and that state's
+            forces. ``False``: only the exact test (Coulomb with the LP's
+            own forces) ends a sequence as converged.
+        settle_tol, settle_window: when to try the certificate (above).
+        mechanism_band: for a converged scheme (a) sequence, also compute
+            the band of load factors over all collapse states with the final
+            mechanism (two more interior-point LPs).
+        state_solver: interior point of the certificate LPs: ``"clarabel"``
+            or ``"highs"`` (HiGHS IPM on a persistent model).
+        cold_check: re-solve the final iterate cold and compare.
+        cold_tol: relative warm/cold difference beyond which the result is a
+            ``solver_failure``.
+        time_limit: seconds per LP (``None``: none).
+
+    Raises:
+        ValueError: a bad option (the message names it).
+    """
+
+    scheme: Literal["a", "b"] = "a"
+    relaxation: float | None = None
+    alpha0: float = 0.3
+    alpha_min: float = 1e-3
+    alpha_factor: float = 0.5
+    cohesion: float = 1e-6
+    max_iterations: int = 100
+    max_seconds: float | None = None
+    lambda_tol: float = 1e-6
+    force_tol: float = 1e-6
+    coulomb_tol: float = 1e-6
+    window: int = 20
+    directions: Directions = "auto"
+    start: Literal["interior", "vertex"] = "interior"
+    certify: bool = True
+    settle_tol: float = 1e-3
+    settle_window: int = 3
+    mechanism_band: bool = True
+    state_solver: Literal["clarabel", "highs"] = "clarabel"
+    cold_check: bool = True
+    cold_tol: float = 1e-6
+    time_limit: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.scheme not in SCHEMES:
+            raise ValueError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
+        beta = self.relaxation
+        if beta is not None and (isinstance(beta, bool) or not isinstance(beta, (int, float))
+                                 or not (0.0 < float(beta) <= 1.0)):
+            raise ValueError(f"relaxation must be a number in (0, 1], got {beta!r}")
+        for name, lo in (("alpha0", 0.0), ("alpha_min", 0.0), ("cohesion", -1.0), ("lambda_tol", 0.0),
+                         ("force_tol", 0.0), ("coulomb_tol", 0.0), ("cold_tol", 0.0)):
+            _positive_finite(name, getattr(self, name), lo)
+        if self.cohesion < 0:
+            raise ValueError(f"cohesion must be >= 0, got {self.cohesion!r}")
+        if self.alpha_min > self.alpha0:
+            raise ValueError(f"alpha_min ({self.alpha_min}) must not exceed alpha0 ({self.alpha0})")
+        if not (0.0 < self.alpha_factor <= 1.0):
+            raise ValueError(f"alpha_factor must be in (0, 1], got {self.alpha_factor!r}")
+        _integer("max_iterations", self.max_iterations, 2)
+        _integer("window", self.window, 3)
+        _integer("settle_window", self.settle_window, 2)
+        self._check_rest()
+        self._normalise()
+
+    def _check_rest(self) -> None:
+        st = self.settle_tol
+        if isinstance(st, bool) or not isinstance(st, (int, float)) or not (0.0 <= st < 1.0):
+            raise ValueError(f"settle_tol must be a number in [0, 1), got {st!r}")
+        check_directions(self.directions)
+        ms = self.max_seconds
+        if ms is not None and (isinstance(ms, bool) or not isinstance(ms, (int, float))
+                               or not math.isfinite(ms) or ms <= 0):
+            raise ValueError(f"max_seconds must be a positive number of seconds, got {ms!r}")
+        if self.state_solver not in ("clarabel", "highs"):
+            raise ValueError(f"state_solver must be 'clarabel' or 'highs', got {self.state_solver!r}")
+        if self.start not in ("interior", "vertex"):
+            raise ValueError(f"start must be 'interior' or 'vertex', got {self.start!r}")
+        tl = self.time_limit
+        if tl is not None and (not math.isfinite(tl) or tl <= 0):
+            raise ValueError(f"time_limit must be a positive number of seconds, got {tl!r}")
+
+    def _normalise(self) -> None:
+        """Numbers as floats, flags as bools (the dataclass is frozen)."""
+        for name in ("alpha0", "alpha_min", "alpha_factor", "cohesion", "lambda_tol", "force_tol", "coulomb_tol",
+                     "settle_tol", "cold_tol"):
+            object.__setattr__(self, name, float(getattr(self, name)))
+        for name in ("max_seconds", "relaxation"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, float(getattr(self, name)))
+        object.__setattr__(self, "certify", bool(self.certify))
+        object.__setattr__(self, "mechanism_band", bool(self.mechanism_band))
+
+    @property
+    def beta(self) -> float:
+        """The relaxation used: :attr:`relaxation` or the scheme's default."""
+        return DEFAULT_RELAXATION[self.scheme] if self.relaxation is None else float(self.relaxation)
+
+    @property
+    def user_limit(self) -> float:
+        """:attr:`time_limit` in seconds, ``inf`` for none."""
+        return float(self.time_limit) if self.time_limit is not None else math.inf
+
+    def with_overrides(self, **overrides: Any) -> NonAssociativeOptions:
+        """A copy with some fields changed (validated again).
+
+        Raises:
+            TypeError: an unknown option name.
+        """
+        names = {f.name for f in dataclasses.fields(self)}
+        unknown = sorted(set(overrides) - names)
+        if unknown:
+            raise TypeError(f"unknown option(s) {', '.join(unknown)}; the options are {', '.join(sorted(names))}")
+        return dataclasses.replace(self, **overrides)
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready (``relaxation`` resolved to :attr:`beta`)."""
+        return {**dataclasses.asdict(self), "relaxation": self.beta}

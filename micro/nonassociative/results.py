@@ -1,0 +1,312 @@
+"""Result types of the iterated LP: one LP's record, a direction's diagnostics, the analysis."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from micro.nonassociative.options import NonAssociativeOptions
+from micro.records import NonAssociativeRecord
+from micro.results import DirectionResult, record_fields
+
+#: Values of ``status``.
+CONVERGED, CYCLING, MAX_ITERATIONS, SOLVER_FAILURE = "converged", "cycling", "max_iterations", "solver_failure"
+STATUSES = (CONVERGED, CYCLING, MAX_ITERATIONS, SOLVER_FAILURE)
+#: Stop reasons that count as converged.
+CONVERGED_STOPS = ("lambda_and_forces", "lambda_and_coulomb", "certified")
+Band = tuple[float, float]
+
+
+@dataclass(frozen=True)
+class IterationRecord:
+    """One LP of the sequence.
+
+    Attributes:
+        iteration: 0 for the associative LP, then 1, 2, ...
+        load_factor: ``lambda`` of this LP (NaN if it failed).
+        lambda_change: ``|lambda_k - lambda_(k-1)| / |lambda_k|`` (NaN for k = 0).
+        max_dn: ``max |n_k - n_(k-1)|`` relative to ``max n_k`` (NaN for k = 0).
+        coulomb_residual: ``max(|s_k| - mu n_k, 0)`` relative to ``max n_k``.
+        alpha: slope parameter of scheme (b) (0 for scheme (a) and k = 0).
+        simplex_iterations: simplex iterations of this LP.
+        ipm_iterations: interior-point iterations of this LP.
+        seconds: wall time of the solve (and of the model update before it).
+        algorithm: ``"clarabel"``, ``"ipm"``, ``"ipm+crossover+simplex"``,
+            ``"simplex-warm"``, ``"simplex-warm-unrelaxed"``, ``"fallback-a"``
+            or ``"ipm-restart"`` (after a failed warm run).
+        status: the LP's status (:class:`micro.Status` value).
+        certificate: ``""`` (not tried), ``"not found"`` (no collapse state
+            at this ``lambda`` with this LP's mechanism, or the try hit its
+            time limit) or ``"certified"``; ``coulomb_residual`` is then that
+            of the certified field.
+        certificate_seconds, certificate_iterations: cost of the try
+            (interior-point iterations).
+    """
+
+    iteration: int
+    load_factor: float
+    lambda_change: float
+    max_dn: float
+    coulomb_residual: float
+    alpha: float
+    simplex_iterations: int
+    ipm_iterations: int
+    seconds: float
+    algorithm: str
+    status: str
+    certificate: str = ""
+    certificate_seconds: float = 0.0
+    certificate_iterations: int = 0
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready (NaN -> None)."""
+        return {k: None if isinstance(v, float) and not math.isfinite(v) else v for k, v in self.__dict__.items()}
+
+
+@dataclass(frozen=True)
+class SequenceDiagnostics:
+    """What the iterated LP adds to a :class:`~micro.results.DirectionResult`.
+
+    Attributes:
+        stop_reason: what stopped the sequence (``"lambda_and_forces"``,
+            ``"lambda_and_coulomb"``, ``"certified"``, ``"repeating"``,
+            ``"oscillating"``, ``"stagnation"``, ``"max_iterations"``,
+            ``"time_budget"``, ``"lp_failed"``, ``"cold_check_failed"``,
+            ``"equilibrium_residual"``, ``"associative_failed"``).
+        last_load_factor: ``lambda`` of the last successful iterate.
+        lambda_band: ``(min, max)`` of ``lambda`` over the detected cycle or
+            the last window (``None`` when converged).
+        mechanism_band: ``(min, max)`` of ``lambda`` over ALL collapse
+            states with the final mechanism (certified runs, and converged
+            scheme (a) runs; ``None`` otherwise): the non-associative problem
+            has many solutions, and the same mechanism can form at any load
+            factor in this band.
+        associative_load_factor: ``lambda`` of the associative LP.
+        history: every LP, the associative one first.
+        cold_load_factor: ``lambda`` of the final iterate re-solved cold.
+        warm_cold_rel_diff: ``|warm - cold| / |cold|``.
+        cold_algorithm: ``"ipm"``, ``"simplex"`` (when IPX gave up) or
+            ``"ipm+crossover+simplex"`` (when IPX disagreed).
+        coulomb_residual: ``max(|s| - mu n, 0)`` with the final forces,
+            relative to ``max n``.
+        dilatancy_residual: largest ``|opening rate|`` at sliding points in
+            contact (``n > 0``) of the final mechanism, relative to the
+            largest slip rate.
+        equilibrium_residual: largest equilibrium violation (block weights).
+        sliding_points: points of the final mechanism that slide while in contact.
+        fallback_steps: scheme (b) LPs replaced by a scheme (a) step.
+    """
+
+    stop_reason: str
+    last_load_factor: float
+    lambda_band: Band | None
+    mechanism_band: Band | None
+    associative_load_factor: float
+    history: tuple[IterationRecord, ...] = field(repr=False)
+    cold_load_factor: float = math.nan
+    warm_cold_rel_diff: float = math.nan
+    cold_algorithm: str = ""
+    coulomb_residual: float = math.nan
+    dilatancy_residual: float = math.nan
+    equilibrium_residual: float = math.nan
+    sliding_points: int = 0
+    fallback_steps: int = 0
+
+
+def diagnostics(d: DirectionResult) -> SequenceDiagnostics:
+    """The iterated LP's diagnostics of a direction.
+
+    Raises:
+        ValueError: ``d`` is not a result of the iterated LP.
+    """
+    if d.sequence is None:
+        raise ValueError(f"direction {d.direction} is not a result of the iterated LP")
+    return d.sequence
+
+
+@dataclass(frozen=True, eq=False)
+class NonAssociativeResult:
+    """Result of the non-associative analysis.
+
+    The properties describe the governing direction (:attr:`governing`):
+    the one with the smallest load factor, or the first that did not
+    converge.
+
+    Attributes:
+        load_factor: governing ``lambda`` (NaN unless every direction converged).
+        direction: governing direction (``""`` unless converged).
+        status: :data:`CONVERGED` only if every direction converged, else the
+            status of the first direction that did not.
+        scheme: ``"a"`` or ``"b"``.
+        relaxation: ``beta``.
+        blocks, contacts, points: sizes of the wall.
+        variables, rows, nnz: sizes of the assembled associative LP.
+        build_seconds: assembly of the LP.
+        solve_seconds: all sequences, incl. cold checks.
+        mirror_symmetric: one direction solved.
+        directions: per-direction results (each with its ``sequence``).
+        options: the options used.
+        message: explanation when not converged.
+    """
+
+    load_factor: float
+    direction: str
+    status: str
+    scheme: str
+    relaxation: float
+    blocks: int
+    contacts: int
+    points: int
+    variables: int
+    rows: int
+    nnz: int
+    build_seconds: float
+    solve_seconds: float
+    mirror_symmetric: bool
+    directions: tuple[DirectionResult, ...] = field(repr=False)
+    options: NonAssociativeOptions = field(repr=False)
+    message: str = ""
+
+    @property
+    def converged(self) -> bool:
+        """``status == "converged"``."""
+        return self.status == CONVERGED
+
+    @property
+    def ok(self) -> bool:
+        """True when converged with a finite load factor."""
+        return self.converged and math.isfinite(self.load_factor)
+
+    @property
+    def governing(self) -> DirectionResult:
+        """The direction the summary fields come from."""
+        for d in self.directions:
+            if d.direction == self.direction:
+                return d
+        for d in self.directions:
+            if not d.converged:
+                return d
+        return self.directions[0]
+
+    @property
+    def sequence(self) -> SequenceDiagnostics:
+        """The governing direction's diagnostics."""
+        return diagnostics(self.governing)
+
+    @property
+    def iterations(self) -> int:
+        """Non-associative LPs of the governing (or failing) direction."""
+        return self.governing.iterations
+
+    @property
+    def total_iterations(self) -> int:
+        """Non-associative LPs summed over the directions solved."""
+        return sum(d.iterations for d in self.directions)
+
+    @property
+    def history(self) -> tuple[IterationRecord, ...]:
+        """The governing direction's LPs."""
+        return self.sequence.history
+
+    @property
+    def stop_reason(self) -> str:
+        """What stopped the governing direction's sequence."""
+        return self.sequence.stop_reason
+
+    @property
+    def last_load_factor(self) -> float:
+        """``lambda`` of the governing direction's last successful iterate."""
+        return self.sequence.last_load_factor
+
+    @property
+    def lambda_band(self) -> Band | None:
+        """The governing direction's band when not converged."""
+        return self.sequence.lambda_band
+
+    @property
+    def mechanism_band(self) -> Band | None:
+        """``(min, max)`` of ``lambda`` over the collapse states with the
+        governing direction's final mechanism (:class:`SequenceDiagnostics`)."""
+        return self.sequence.mechanism_band
+
+    @property
+    def associative_load_factor(self) -> float:
+        """Smallest associative ``lambda`` over the directions solved."""
+        return min((diagnostics(d).associative_load_factor for d in self.directions), default=math.nan)
+
+    @property
+    def cold_load_factor(self) -> float:
+        """The governing final iterate re-solved cold."""
+        return self.sequence.cold_load_factor
+
+    @property
+    def warm_cold_rel_diff(self) -> float:
+        """``|warm - cold| / |cold|`` of the governing direction."""
+        return self.sequence.warm_cold_rel_diff
+
+    @property
+    def coulomb_residual(self) -> float:
+        """Coulomb residual of the governing final state."""
+        return self.sequence.coulomb_residual
+
+    @property
+    def dilatancy_residual(self) -> float:
+        """Dilatancy residual of the governing final state."""
+        return self.sequence.dilatancy_residual
+
+    def to_record(self) -> NonAssociativeRecord:
+        """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
+        q = self.sequence
+        return NonAssociativeRecord(
+            solver=solver_description(self.options), **record_fields(self, self.governing.mechanism),
+            scheme=self.scheme, relaxation=self.relaxation, converged=self.converged, stop_reason=q.stop_reason,
+            lambda_band=q.lambda_band, mechanism_band=q.mechanism_band, last_load_factor=q.last_load_factor,
+            associative_load_factor=self.associative_load_factor, cold_load_factor=q.cold_load_factor,
+            warm_cold_rel_diff=q.warm_cold_rel_diff, coulomb_residual=q.coulomb_residual,
+            dilatancy_residual=q.dilatancy_residual, history_load_factor=tuple(r.load_factor for r in q.history),
+            cold_algorithm=q.cold_algorithm,
+            fallback_steps=sum(diagnostics(d).fallback_steps for d in self.directions),
+        )
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready summary: the record (:meth:`to_record`) with the
+        contact states, options, history and directions as nested objects."""
+
+        def num(v: float) -> float | None:
+            return v if math.isfinite(v) else None
+
+        record = self.to_record()
+        return {
+            **record.to_dict(),
+            "contact_states": record.contact_states if self.governing.mechanism is not None else {},
+            "options": self.options.as_dict(),
+            "history": [r.as_dict() for r in self.history],
+            "directions": {
+                d.direction: {
+                    "status": d.status,
+                    "stop_reason": diagnostics(d).stop_reason,
+                    "load_factor": num(d.load_factor),
+                    "last_load_factor": num(diagnostics(d).last_load_factor),
+                    "associative_load_factor": num(diagnostics(d).associative_load_factor),
+                    "iterations": d.iterations,
+                    "seconds": d.seconds,
+                }
+                for d in self.directions
+            },
+        }
+
+
+def solver_description(options: NonAssociativeOptions) -> str:
+    """Which solver does what in the iterated LP, e.g. ``"clarabel (start,
+    certificate) + highs-simplex (iterated) + highs-ipm (cold check)"``."""
+    roles = [("clarabel" if options.start == "interior" else "highs-ipm+crossover", "start")]
+    if options.certify or options.mechanism_band:
+        roles.append(("clarabel" if options.state_solver == "clarabel" else "highs-ipm", "certificate"))
+    roles.append(("highs-simplex", "iterated"))
+    if options.cold_check:
+        roles.append(("highs-ipm", "cold check"))
+    by_solver: dict[str, list[str]] = {}
+    for solver, role in roles:
+        by_solver.setdefault(solver, []).append(role)
+    return " + ".join(f"{solver} ({', '.join(r)})" for solver, r in by_solver.items())

@@ -1,0 +1,226 @@
+"""Result types shared by the associative and the non-associative analyses, and the load directions.
+
+:class:`DirectionResult` is the ONE per-direction type: the associative LP
+fills its common fields and ``native_status``/``info``; the iterated
+non-associative LP adds its diagnostics as ``sequence``
+(:class:`micro.nonassociative.results.SequenceDiagnostics`).
+:class:`LimitResult` is the associative analysis (governing direction first).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from micro.backends.base import Status
+from micro.mechanism import CONTACT_STATE_NAMES, Mechanism
+from micro.records import AssociativeRecord
+
+if TYPE_CHECKING:
+    from micro.nonassociative.results import SequenceDiagnostics
+
+FloatArray = NDArray[np.float64]
+
+#: Name of a load direction (``+1``: live load in ``+x``).
+DIR_NAME = {1: "+x", -1: "-x"}
+#: Values of the ``directions`` option.
+DIRECTIONS = ("auto", "both", "+x", "-x")
+Directions = Literal["auto", "both", "+x", "-x"]
+
+
+def check_directions(directions: str) -> None:
+    """Raise ``ValueError`` unless ``directions`` is one of :data:`DIRECTIONS`."""
+    if directions not in DIRECTIONS:
+        raise ValueError(f"directions must be 'auto', 'both', '+x' or '-x', got {directions!r}")
+
+
+def load_directions(directions: str, mirror_symmetric: bool) -> tuple[int, ...]:
+    """The directions to solve: ``"auto"`` is both unless the wall is
+    mirror-symmetric (then ``+x`` alone), ``"both"``, ``"+x"`` or ``"-x"``.
+
+    Raises:
+        ValueError: an unknown value.
+    """
+    check_directions(directions)
+    if directions == "auto":
+        return (1,) if mirror_symmetric else (1, -1)
+    if directions == "both":
+        return (1, -1)
+    return (1,) if directions == "+x" else (-1,)
+
+
+def direction_sign(name: str) -> int:
+    """``+1`` for ``"+x"``, ``-1`` for ``"-x"``."""
+    return 1 if name == "+x" else -1
+
+
+#: Fields of :class:`micro.records.MicroRecord` that a result has under the same name.
+_RECORD_NAMES = ("load_factor", "status", "direction", "blocks", "contacts", "points", "variables", "rows", "nnz",
+                 "iterations", "total_iterations", "build_seconds", "solve_seconds", "mirror_symmetric", "message")
+
+
+def record_fields(result: Any, mechanism: Mechanism | None) -> dict[str, Any]:
+    """The :class:`~micro.records.MicroRecord` fields but ``solver`` of a
+    result (:class:`LimitResult` or :class:`micro.NonAssociativeResult`):
+    its own fields, ``lambda`` per direction and the contact states of the
+    governing ``mechanism``."""
+    counts = dict.fromkeys(CONTACT_STATE_NAMES, 0) if mechanism is None else mechanism.state_counts()
+    by_dir = {d.direction: d.load_factor for d in result.directions}
+    return {
+        **{name: getattr(result, name) for name in _RECORD_NAMES},
+        "load_factor_plus": by_dir.get("+x", math.nan), "load_factor_minus": by_dir.get("-x", math.nan),
+        "closed_contacts": counts["closed"], "opening_contacts": counts["opening"],
+        "sliding_contacts": counts["sliding"],
+    }
+
+
+@dataclass(frozen=True, eq=False)
+class DirectionResult:
+    """The analysis for one direction of the live load.
+
+    Attributes:
+        direction: ``"+x"`` or ``"-x"``.
+        status: ``"optimal"`` / ``"converged"`` or the failure
+            (:class:`micro.Status` values for the associative LP,
+            :data:`micro.nonassociative.STATUSES` for the iterated one).
+        load_factor: ``lambda`` (NaN unless it succeeded).
+        iterations: solver iterations (associative LP) or non-associative
+            LPs solved (iterated LP).
+        seconds: wall time of the solve(s).
+        normal, shear: final point forces (dimensional), or ``None``.
+        mechanism: the collapse mechanism, or ``None``.
+        message: a one-line explanation when it did not succeed.
+        native_status: the back end's own status (associative LP).
+        info: back-end facts (residual, raw load factor, ...; associative LP).
+        sequence: the iterated LP's diagnostics (``None`` for the associative LP).
+    """
+
+    direction: str
+    status: str
+    load_factor: float
+    iterations: int
+    seconds: float
+    normal: FloatArray | None = field(default=None, repr=False)
+    shear: FloatArray | None = field(default=None, repr=False)
+    mechanism: Mechanism | None = field(default=None, repr=False)
+    message: str = ""
+    native_status: str = ""
+    info: Mapping[str, Any] = field(default_factory=dict, repr=False)
+    sequence: SequenceDiagnostics | None = field(default=None, repr=False)
+
+    @property
+    def converged(self) -> bool:
+        """True when the iterated LP converged."""
+        return self.status == "converged"
+
+    @property
+    def contact_states(self) -> tuple[str, ...] | None:
+        """Contact state names of the mechanism (``None`` without one)."""
+        if self.mechanism is None:
+            return None
+        return tuple(CONTACT_STATE_NAMES[i] for i in self.mechanism.contact_state)
+
+
+@dataclass(frozen=True, eq=False)
+class LimitResult:
+    """Result of an associative limit analysis (governing direction first).
+
+    Attributes:
+        load_factor: governing (smallest) ``lambda``; NaN when any solve failed.
+        direction: governing direction, ``"+x"`` or ``"-x"`` (``""`` on failure).
+        status: ``"optimal"`` or the first failing direction's status.
+        solver: back end name (e.g. ``"highs-ipm"``).
+        build_seconds: wall time of the LP assembly plus the back end's setup.
+        solve_seconds: wall time of all solves.
+        blocks, contacts, points, variables, rows, nnz: problem sizes.
+        iterations: solver iterations of the governing direction (of the
+            first failing direction when a solve failed).
+        total_iterations: solver iterations summed over the directions.
+        normal, shear: point forces of the governing direction (dimensional,
+            point ``2c + k`` is end ``k`` of contact ``c``).
+        velocities: ``(blocks, 3)`` block velocities ``(u, v, omega)`` of the
+            governing mechanism (scaled units; live work = 1).
+        contact_state: ``(contacts,)`` state names ``closed``/``opening``/``sliding``.
+        mirror_symmetric: the wall is its own mirror image (one direction solved).
+        directions: per-direction results.
+        message: a one-line explanation when the status is not optimal.
+    """
+
+    load_factor: float
+    direction: str
+    status: str
+    solver: str
+    build_seconds: float
+    solve_seconds: float
+    blocks: int
+    contacts: int
+    points: int
+    variables: int
+    rows: int
+    nnz: int
+    iterations: int
+    total_iterations: int
+    normal: FloatArray | None = field(repr=False)
+    shear: FloatArray | None = field(repr=False)
+    velocities: FloatArray | None = field(repr=False)
+    contact_state: tuple[str, ...] | None = field(repr=False)
+    mirror_symmetric: bool
+    directions: tuple[DirectionResult, ...] = field(repr=False)
+    message: str = ""
+
+    @property
+    def ok(self) -> bool:
+        """True when the solve was optimal and ``load_factor`` is a number."""
+        return self.status == Status.OPTIMAL.value and math.isfinite(self.load_factor)
+
+    @property
+    def mechanism(self) -> Mechanism | None:
+        """The governing mechanism."""
+        for d in self.directions:
+            if d.direction == self.direction:
+                return d.mechanism
+        return None
+
+    def by_direction(self, direction: str) -> DirectionResult:
+        """The result for ``"+x"`` or ``"-x"``; for a mirror-symmetric wall
+        ``"-x"`` is the mirror image of ``"+x"`` (same load factor).
+
+        Raises:
+            KeyError: that direction was not solved.
+        """
+        for d in self.directions:
+            if d.direction == direction:
+                return d
+        if self.mirror_symmetric and self.directions:
+            d = self.directions[0]
+            return DirectionResult(direction=direction, status=d.status, load_factor=d.load_factor, iterations=0,
+                                   seconds=0.0, native_status=d.native_status, info={"mirror_of": d.direction})
+        raise KeyError(direction)
+
+    def to_record(self) -> AssociativeRecord:
+        """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
+        return AssociativeRecord(solver=self.solver, **record_fields(self, self.mechanism))
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready summary: the record (:meth:`to_record`) with the contact
+        states and the directions as nested objects."""
+        record = self.to_record()
+        return {
+            **record.to_dict(),
+            "contact_states": record.contact_states if self.contact_state is not None else {},
+            "directions": {
+                d.direction: {
+                    "load_factor": None if not math.isfinite(d.load_factor) else d.load_factor,
+                    "status": d.status,
+                    "native_status": d.native_status,
+                    "iterations": d.iterations,
+                    "solve_seconds": d.seconds,
+                }
+                for d in self.directions
+            },
+        }

@@ -1,0 +1,105 @@
+"""The certificate and the mechanism band."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import micro
+from comparison.wall import WallSpec
+from micro.nonassociative import solve_nonassociative
+from micro.nonassociative.certificate import Certificate
+
+#: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
+#: 12 rows, f = 0.75: (t, m, lambda).
+TABLE7 = [(0.5, 1 / 3, 0.69), (1.0, 1 / 3, 0.68), (1.0, 1 / 2, 0.49), (1.0, 1.0, 0.26)]
+
+
+def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, **kw: object) -> micro.BlockWall:
+    return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=0, storeys=storeys).to_micro(**kw)
+
+
+@pytest.mark.parametrize("relaxation", [1.0, 0.6])
+def test_scheme_b_certified_states_are_collapse_states(relaxation: float) -> None:
+    """Regression: scheme (b)'s mechanisms may interpenetrate (its n columns
+    enter the friction rows); such a mechanism is never certified (seen: a
+    "certified" state with a dilatancy residual of 0.5 on this wall)."""
+    from micro.nonassociative import verify_collapse_state
+
+    w = wall(0.5, 1 / 3, rows=6, f=0.6)
+    r = solve_nonassociative(w, scheme="b", relaxation=relaxation)
+    lp = micro.assemble(w)
+    for d in r.directions:
+        if d.converged and d.sequence.stop_reason == "certified":
+            v = verify_collapse_state(lp, d)
+            assert v["interpenetration"] <= 1e-8 and v["dilatancy"] <= 1e-8, v
+            assert d.sequence.dilatancy_residual <= 1e-8
+    # and the test the certificate applies: a mechanism run backwards closes
+    # every opening joint, which no force field can make a collapse state
+    a = solve_nonassociative(w)
+    vel = np.asarray(a.governing.mechanism.velocities).ravel()
+    for scheme in ("a", "b"):
+        cert = Certificate(lp, 1, a.options.with_overrides(scheme=scheme))
+        assert cert.pattern(vel) is not None
+        assert cert.pattern(-vel) is None
+
+
+def test_certified_stop() -> None:
+    """Set 14: the LPs' own forces never satisfy Coulomb (the plain sequence
+    cycles), but a settled iterate's mechanism admits an exact collapse state
+    at its load factor; the band of such states contains it."""
+    w = wall(1.0, 1.0)
+    r = solve_nonassociative(w)
+    assert r.stop_reason == "certified" and r.converged
+    assert r.history[-1].certificate == "certified"
+    assert r.history[-1].certificate_iterations > 0
+    assert r.coulomb_residual <= 1e-9
+    lo, hi = r.mechanism_band
+    assert lo <= r.load_factor <= hi
+    assert hi <= r.associative_load_factor * (1 + 1e-7)
+    # without the certificate the same sequence does not converge
+    assert not solve_nonassociative(w, certify=False).converged
+
+
+def test_certificate_rejects_wrong_load_factor() -> None:
+    """The certificate can fail: no state of the final mechanism lies far outside its band."""
+    w = wall(1.0, 1.0)
+    r = solve_nonassociative(w)
+    lp = micro.assemble(w)
+    cert = Certificate(lp, 1, r.options)
+    v = np.asarray(r.governing.mechanism.velocities).ravel()
+    lo, hi = r.mechanism_band
+    assert cert.certify(v, lo * 0.98, time_limit=60.0).forces is None
+    assert cert.certify(v, hi * 1.02, time_limit=60.0).forces is None
+    found = cert.certify(v, 0.5 * (lo + hi), time_limit=60.0).forces
+    assert found is not None
+    n, s = found
+    assert np.max(np.abs(s) - lp.mu * n) <= 1e-9 * n.max()
+
+
+def test_certificate_agrees_between_interior_point_solvers() -> None:
+    """Clarabel and HiGHS IPM solve the certificate LPs: the same sequence,
+    the same certified load factor, and mechanism bands whose ends agree to
+    the interior points' accuracy (the ends are load factors of feasible
+    states, so a band can only come out narrower)."""
+    w = wall(1.0, 1 / 3)
+    a = solve_nonassociative(w, state_solver="clarabel")
+    b = solve_nonassociative(w, state_solver="highs")
+    assert a.converged and b.converged
+    assert a.load_factor == b.load_factor  # same warm-started LPs, same stop
+    assert a.mechanism_band == pytest.approx(b.mechanism_band, rel=1e-4)
+    for r in (a, b):
+        assert r.mechanism_band[0] <= r.load_factor <= r.mechanism_band[1]
+
+
+def test_certificate_only_ends_the_sequence_earlier() -> None:
+    """The certificate does not change the path of the sequence: with and
+    without it the LPs are the same up to the certified stop."""
+    for t, m, _ in TABLE7:
+        w = wall(t, m)
+        cert = solve_nonassociative(w)
+        plain = solve_nonassociative(w, certify=False)
+        assert cert.converged
+        assert plain.iterations >= cert.iterations
+        k = cert.iterations
+        assert [h.load_factor for h in plain.history[: k + 1]] == [h.load_factor for h in cert.history]

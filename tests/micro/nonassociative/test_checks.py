@@ -1,0 +1,52 @@
+"""The independent collapse-state check on converged and non-converged states."""
+
+from __future__ import annotations
+
+import pytest
+
+import micro
+from comparison.wall import WallSpec
+from micro.nonassociative import CYCLING, solve_nonassociative
+
+#: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
+#: 12 rows, f = 0.75: (t, m, lambda).
+TABLE7 = [(0.5, 1 / 3, 0.69), (1.0, 1 / 3, 0.68), (1.0, 1 / 2, 0.49), (1.0, 1.0, 0.26)]
+
+
+def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, **kw: object) -> micro.BlockWall:
+    return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=0, storeys=storeys).to_micro(**kw)
+
+
+@pytest.mark.parametrize("kw, relaxation", [(dict(t=1.0, m=1 / 3), 0.6), (dict(t=1.0, m=1 / 2), 0.6),
+                                            (dict(t=2.0, m=1.0, rows=6, f=0.6), 0.6),
+                                            (dict(t=0.75, m=1 / 2, rows=6), 1.0)])
+def test_converged_states_are_collapse_states(kw: dict, relaxation: float) -> None:
+    """Converged (and certified) states satisfy every non-associative collapse
+    condition, checked from the forces and the mechanism alone."""
+    from micro.nonassociative import verify_collapse_state
+
+    w = wall(**kw)
+    r = solve_nonassociative(w, relaxation=relaxation)
+    assert r.converged, r.message
+    lp = micro.assemble(w)
+    for d in r.directions:
+        v = verify_collapse_state(lp, d)
+        assert v["equilibrium"] <= 1e-7
+        assert v["coulomb"] <= 2e-6
+        assert v["interpenetration"] <= 1e-8
+        assert v["dilatancy"] <= 1e-8
+        assert v["slip_off_yield"] <= 2e-6
+        assert v["friction_direction"] <= 1e-9
+        assert v["energy"] <= 1e-6
+        assert v["slipping_points"] > 0
+
+
+def test_not_converged_state_violates_yield() -> None:
+    """The check can fail: the last iterate of a cycling sequence slips off the yield line."""
+    from micro.nonassociative import verify_collapse_state
+
+    w = wall(1.0, 1.0)
+    r = solve_nonassociative(w, relaxation=1.0, certify=False)
+    assert r.status == CYCLING
+    v = verify_collapse_state(micro.assemble(w), r.governing)
+    assert v["slip_off_yield"] > 1e-3 or v["coulomb"] > 1e-3

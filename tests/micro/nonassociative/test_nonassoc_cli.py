@@ -1,0 +1,52 @@
+"""xcheck micro --friction nonassociative."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from comparison.cli import main
+
+#: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
+#: 12 rows, f = 0.75: (t, m, lambda).
+TABLE7 = [(0.5, 1 / 3, 0.69), (1.0, 1 / 3, 0.68), (1.0, 1 / 2, 0.49), (1.0, 1.0, 0.26)]
+
+
+def test_cli_json(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75",
+                 "--friction", "nonassociative", "--scheme", "a", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    for key in ("iterations", "converged", "status", "history", "load_factor", "lambda_band"):
+        assert key in out
+    assert out["converged"] is True and out["status"] == "converged"
+    assert out["history"][0]["iteration"] == 0
+    assert len(out["history"]) == out["iterations"] + 1
+    assert abs(out["load_factor"] / 0.68 - 1) <= 0.05
+
+
+def test_cli_plot(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:  # type: ignore[no-untyped-def]
+    png = tmp_path / "mech.png"
+    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75",
+                 "--friction", "nonassociative", "--plot", str(png), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["plot"] == str(png)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_cli_cycling_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["micro", "--t", "1", "--m", "1", "--rows", "12", "--f", "0.75",
+                 "--friction", "nonassociative", "--relaxation", "1", "--no-certify", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 1
+    assert out["converged"] is False and out["status"] == "cycling" and out["load_factor"] is None
+
+
+@pytest.mark.parametrize("extra", [["--scheme", "c"], ["--relaxation", "0"], ["--max-iterations", "x"],
+                                   ["--solver", "clarabel"]])
+def test_cli_bad_options(extra: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "6", "--f", "0.75",
+                 "--friction", "nonassociative", *extra])
+    assert code == 2
+    assert "xcheck: error:" in capsys.readouterr().err

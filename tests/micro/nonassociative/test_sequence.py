@@ -1,0 +1,168 @@
+"""The iterated LP (fast tests, 36-150 blocks): accuracy, stops, history, final state."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import micro
+from comparison.wall import WallSpec
+from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, solve_nonassociative
+
+#: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
+#: 12 rows, f = 0.75: (t, m, lambda).
+TABLE7 = [(0.5, 1 / 3, 0.69), (1.0, 1 / 3, 0.68), (1.0, 1 / 2, 0.49), (1.0, 1.0, 0.26)]
+
+
+def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, **kw: object) -> micro.BlockWall:
+    return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=0, storeys=storeys).to_micro(**kw)
+
+
+@pytest.fixture(scope="module")
+def table7_default() -> list[micro.NonAssociativeResult]:
+    return [solve_nonassociative(wall(t, m)) for t, m, _ in TABLE7]
+
+
+@pytest.mark.parametrize("i", range(4))
+def test_table7_within_5_percent(table7_default: list, i: int) -> None:
+    """Last iterate (or the band of a cycling sequence) within 5 % of Orduna's value."""
+    t, m, ref = TABLE7[i]
+    r = table7_default[i]
+    g = r.governing
+    assert abs(g.sequence.last_load_factor / ref - 1) <= 0.05
+    if r.converged:
+        assert abs(r.load_factor / ref - 1) <= 0.05
+    else:
+        lo, hi = r.lambda_band
+        assert abs(lo / ref - 1) <= 0.05 and abs(hi / ref - 1) <= 0.05
+
+
+def test_table7_sets_11_to_13_converge(table7_default: list) -> None:
+    """The default (scheme a, relaxation 0.6) converges on sets 11-13."""
+    assert [r.status for r in table7_default[:3]] == [CONVERGED] * 3
+
+
+@pytest.mark.parametrize("i", range(4))
+def test_below_associative(table7_default: list, i: int) -> None:
+    r = table7_default[i]
+    assoc = micro.solve_associative(wall(*TABLE7[i][:2])).load_factor
+    assert r.associative_load_factor == pytest.approx(assoc, rel=1e-6)
+    # intermediate iterates may exceed it (|s| <= mu nbar with n free); the final one may not
+    assert r.last_load_factor <= assoc * (1 + 1e-7)
+    if r.lambda_band is not None:
+        assert r.lambda_band[1] <= assoc * (1 + 1e-7)
+
+
+@pytest.mark.parametrize("scheme", ["a", "b"])
+@pytest.mark.parametrize("kw", [dict(t=1.6, m=1 / 3), dict(t=0.8, m=1 / 2, rows=8), dict(t=1, m=1 / 3, rows=6),
+                                dict(t=2, m=1 / 2, rows=6, f=0.6)])
+def test_below_associative_other_walls(scheme: str, kw: dict) -> None:
+    """lambda_nonassoc <= lambda_assoc per direction, also on a wall that is not mirror-symmetric."""
+    w = wall(**kw)
+    r = solve_nonassociative(w, scheme=scheme, directions="both")
+    for d in r.directions:
+        assoc = micro.solve_associative(w, directions=d.direction).load_factor
+        assert d.sequence.associative_load_factor == pytest.approx(assoc, rel=1e-6)
+        # scheme (b)'s tiny cohesion c0 (1e-6 of the largest normal force per
+        # point) may lift lambda by a few 1e-6 relative; scheme (a) has none
+        assert d.sequence.last_load_factor <= assoc * (1 + (1e-7 if scheme == "a" else 2e-5))
+        assert d.status != "solver_failure", d.message
+        assert d.sequence.equilibrium_residual <= 1e-7  # regression: -x once checked with +lambda
+
+
+@pytest.mark.parametrize("i", range(3))
+def test_final_state_checks_scheme_a(table7_default: list, i: int) -> None:
+    r = table7_default[i]
+    assert r.converged
+    assert r.coulomb_residual <= 1e-6
+    assert r.dilatancy_residual <= 1e-8  # |s| <= mu nbar: no dilatancy by construction
+    assert r.warm_cold_rel_diff <= 1e-6
+    g = r.governing
+    assert g.sequence.equilibrium_residual <= 1e-7
+    assert g.sequence.sliding_points > 0
+    # Coulomb recomputed here from the dimensional forces
+    mu = np.repeat(wall(*TABLE7[i][:2]).mu, 2)
+    n, s = g.normal, g.shear
+    assert np.all(n >= -1e-9 * n.max())
+    assert np.max(np.abs(s) - mu * n) <= 1e-6 * n.max()
+
+
+def test_scheme_b_converges_with_small_dilatancy() -> None:
+    r = solve_nonassociative(wall(1.0, 1 / 3), scheme="b")
+    assert r.status == CONVERGED
+    assert r.history[-1].alpha == pytest.approx(1e-3)
+    assert r.dilatancy_residual <= 2 * 1e-3 * 0.75  # slope alpha mu of the last line
+    assert r.coulomb_residual <= 1e-5
+    assert r.warm_cold_rel_diff <= 1e-6
+    assert abs(r.load_factor / 0.68 - 1) <= 0.05
+
+
+@pytest.mark.parametrize("t, m", [(0.5, 1 / 3), (1.0, 1 / 3), (1.0, 1.0)])
+def test_naive_scheme_cycles_default_converges(t: float, m: float) -> None:
+    """Regression: the plain iterated LP (scheme a, no relaxation, no certificate)
+    cycles on these walls; the default converges."""
+    w = wall(t, m)
+    naive = solve_nonassociative(w, scheme="a", relaxation=1.0, certify=False)
+    assert naive.status == CYCLING
+    assert not naive.converged and not naive.ok
+    assert math.isnan(naive.load_factor)
+    lo, hi = naive.lambda_band
+    assert lo <= naive.last_load_factor <= hi
+    assert naive.stop_reason in ("repeating", "oscillating", "stagnation")
+    assert solve_nonassociative(w).status == CONVERGED
+
+
+def test_cycling_band_on_set_14() -> None:
+    """Set 14 (m = 1): the naive scheme oscillates by ~5 %; the band is reported."""
+    r = solve_nonassociative(wall(1.0, 1.0), scheme="a", relaxation=1.0, certify=False)
+    assert r.status == CYCLING
+    lo, hi = r.lambda_band
+    assert hi > lo * 1.01
+    assert r.summary()["lambda_band"] == [lo, hi]
+    assert r.summary()["load_factor"] is None
+
+
+def test_max_iterations_is_not_converged() -> None:
+    r = solve_nonassociative(wall(1.0, 1 / 2), max_iterations=3)
+    assert r.status == MAX_ITERATIONS
+    assert math.isnan(r.load_factor) and not r.converged
+    assert r.iterations == 3 and len(r.history) == 4
+    assert r.lambda_band is not None
+
+
+def test_history_contents(table7_default: list) -> None:
+    r = table7_default[1]
+    h = r.history
+    assert h[0].iteration == 0 and h[0].algorithm in ("clarabel", "ipm", "ipm+crossover+simplex")
+    assert h[0].load_factor == pytest.approx(r.associative_load_factor)
+    assert [rec.iteration for rec in h] == list(range(len(h)))
+    assert len(h) == r.iterations + 1
+    assert all(rec.status == "optimal" for rec in h)
+    assert all(rec.seconds > 0 for rec in h)
+    warm = [rec for rec in h[2:] if rec.algorithm == "simplex-warm"]
+    assert len(warm) == len(h) - 2
+    # warm starts: far fewer simplex iterations than the first (cold) LP on average
+    assert np.mean([rec.simplex_iterations for rec in warm]) < h[1].simplex_iterations
+    # the sequence stopped on a settled, certified iterate
+    assert h[-1].certificate == "certified"
+    assert max(abs(rec.load_factor / h[-1].load_factor - 1) for rec in h[-3:]) <= 1e-3
+    assert r.status in STATUSES
+    json.dumps(r.summary())
+
+
+def test_vertex_start() -> None:
+    r = solve_nonassociative(wall(1.0, 1 / 3), start="vertex")
+    assert r.history[0].algorithm == "ipm+crossover+simplex"
+    assert r.last_load_factor <= r.associative_load_factor * (1 + 1e-7)
+    assert abs(r.last_load_factor / 0.68 - 1) <= 0.05
+
+
+def test_time_budget_is_not_converged() -> None:
+    r = solve_nonassociative(wall(1.0, 1.0), relaxation=1.0, max_seconds=1e-3)
+    assert r.status == MAX_ITERATIONS and r.stop_reason == "time_budget"
+    assert math.isnan(r.load_factor) and r.lambda_band is not None
+    with pytest.raises(ValueError, match="max_seconds"):
+        solve_nonassociative(wall(1.0, 1.0), max_seconds=0)
