@@ -35,6 +35,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from macro import checks
+
 Array = NDArray[np.float64]
 
 #: Names of the per-storey quantities :func:`evaluate` can return, in Table 2 order.
@@ -280,6 +282,13 @@ class SearchSettings:
     method: str = "zoom"
     zoom_points: int = 17
     rounds: int = 4
+
+    def __post_init__(self) -> None:
+        for name in ("initial_points", "zoom_points"):  # a piece's two ends at least
+            if checks.positive_int(name, getattr(self, name)) < 2:
+                raise ValueError(checks.AT_LEAST.format(name=name, lo=2, value=getattr(self, name)))
+        checks.positive_int("rounds", self.rounds)
+        checks.choice("method", self.method, ("zoom", "golden"))
 
 
 DEFAULT_SEARCH = SearchSettings()

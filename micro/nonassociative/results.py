@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from micro.nonassociative.options import NonAssociativeOptions
-from micro.records import NonAssociativeRecord
+from micro.records import NonAssociativeRecord, check_success
 from micro.results import DirectionResult, record_fields
 
 #: Values of ``status``.
@@ -167,6 +167,9 @@ class NonAssociativeResult:
     directions: tuple[DirectionResult, ...] = field(repr=False)
     options: NonAssociativeOptions = field(repr=False)
     message: str = ""
+
+    def __post_init__(self) -> None:
+        check_success("NonAssociativeResult", self.status, self.load_factor)
 
     @property
     def converged(self) -> bool:
