@@ -10,10 +10,8 @@ number shown) and the figures.
 
 from __future__ import annotations
 
-import csv
 import json
 import os
-import platform
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -24,8 +22,9 @@ from comparison.report import figures
 from comparison.report.findings import findings
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
-from comparison.report.tables import Table, all_tables, plain
+from comparison.report.tables import all_tables
 from comparison.report.text import document
+from comparison.report.timings import machine, write_timings
 from comparison.runner import MACRO, Runner, prefetch
 
 
@@ -68,20 +67,19 @@ def build_report(
             cache_dir, [(it.spec, it.method) for it in pending], workers or os.cpu_count() or 1, progress
         )
     results = compute(plan, runner)
-    meta = {
-        "quick": quick,
-        "methods": [m.label for m in [MACRO, *plan.methods]],
-        "python": platform.python_version(),
-        "machine": platform.machine(),
-        "cpus": os.cpu_count(),
+    meta = {"quick": quick, "methods": [m.label for m in [MACRO, *plan.methods]]}
+    run = {
+        **machine(),
         "computed": computed + runner.computed,
         "cached": len(runs) - len(pending) if cache_dir is not None else 0,
     }
-    return _write(results, out_dir, meta, start)
+    path = _write(results, out_dir, meta)
+    write_timings(results, out_dir, {**run, "seconds": time.perf_counter() - start})
+    return path
 
 
-def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Path:
-    """Render the tables, figures and text of ``res`` into ``out``."""
+def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
+    """Render the tables, figures and text of ``res`` into ``out`` (run times: :mod:`~comparison.report.timings`)."""
     tables = all_tables(res)
     figure_names = [
         figures.sensitivity_figure(res, out / "sensitivity.png").name,
@@ -92,18 +90,10 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Pa
         figure_names.append(hist.name)
     mechanisms = figures.mechanism_figures(res, out)
     for tb in tables.values():
-        _write_csv(tb, out / f"{tb.name}.csv")
-    meta = {**meta, "seconds": time.perf_counter() - start}
+        tb.write_csv(out / f"{tb.name}.csv")
     (out / "report.json").write_text(
         json.dumps({"meta": meta, "tables": {k: v.records() for k, v in tables.items()}}, indent=1, default=str)
     )
     path = out / "REPORT.md"
     path.write_text(document(res, tables, findings(res), figure_names, mechanisms, meta))
     return path
-
-
-def _write_csv(table: Table, path: Path) -> None:
-    with path.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(table.header)
-        w.writerows([[plain(c) for c in r] for r in table.rows])
