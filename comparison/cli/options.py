@@ -32,9 +32,13 @@ def parse_fraction(name: str, text: str | float) -> float:
     if isinstance(text, (int, float)) and not isinstance(text, bool):
         return float(text)
     try:
-        return float(Fraction(str(text).strip()))
+        fraction = Fraction(str(text).strip())
     except (ValueError, ZeroDivisionError):
         raise UsageError(f"{name} must be a number or a fraction such as 1/3, got {text!r}") from None
+    try:
+        return float(fraction)
+    except OverflowError:  # beyond the doubles (1e400): infinite, for the wall checks to refuse
+        return math.inf if fraction > 0 else -math.inf
 
 
 def int_option(name: str, text: str, minimum: int = 1) -> int:
