@@ -13,9 +13,9 @@ Example:
     0.583
 """
 
-from macro.model import SearchSettings
 from macro.paper import PaperWalls, paper_walls
 from macro.records import MacroRecord
+from macro.search import SearchSettings
 from macro.solve import HingeResult, MacroResult, MacroWall, StoreyTerms, load_factor_curve, solve
 from macro.sweep import MECHANISMS, SweepResult, sweep
 

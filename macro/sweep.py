@@ -16,16 +16,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from macro import checks
 from macro.bounds import MECHANISMS, governing, overturning_load_factor
-from macro.model import SearchSettings, evaluate, hinge_problems, minimise, sample_pieces
 from macro.paper import BLOCK_HEIGHT, paper_walls
-from macro.solve import SEARCH_BYTES_PER_STOREY_CUBED
+from macro.search import DEFAULT_SEARCH, SearchSettings, minimise_walls
+from macro.solve import search_bytes
 
-#: Search used by :func:`sweep`: five samples per smooth piece, ten golden-section
-#: steps and one parabolic step; within 2e-12 of a 100,001-point brute force on
-#: 300 random walls of 1, 3 and 5 storeys.
-SWEEP_SEARCH = SearchSettings(initial_points=5, method="golden", rounds=10)
-
-__all__ = ["MECHANISMS", "SWEEP_SEARCH", "SweepResult", "sweep"]
+__all__ = ["MECHANISMS", "SweepResult", "sweep"]
 
 
 @dataclass(frozen=True)
@@ -57,7 +52,7 @@ def sweep(
     storeys: int = 1,
     *,
     p_height: str = "wall",
-    settings: SearchSettings = SWEEP_SEARCH,
+    settings: SearchSettings = DEFAULT_SEARCH,
     chunk: int = 4096,
 ) -> SweepResult:
     """Macro-block load factors of many walls at once.
@@ -76,46 +71,24 @@ def sweep(
     walls = paper_walls(t, m, rows, f, p, storeys, p_height)
     shape, N = walls.shape, walls.storeys
     W = walls.size
-    need = SEARCH_BYTES_PER_STOREY_CUBED * N**3 * min(W, chunk)
-    checks.fits_in_memory("storeys", f"a batch of {min(W, chunk)} walls of {N} storeys", need)
+    batch = min(W, chunk)
+    checks.fits_in_memory("storeys", f"a batch of {batch} walls of {N} storeys", search_bytes(N, batch))
     out = {k: np.empty(W) for k in ("lam", "lam_s", "tau", "hinge")}
     for s in range(0, W, chunk):
         sl = slice(s, min(s + chunk, W))
         n_w = sl.stop - sl.start
-        per = walls.rows_per_storey[sl]
-        q = walls.overload[sl]
-        lam = np.empty((N, n_w))
-        tau = np.empty((N, n_w))
-        lam_s = np.empty((N, n_w))
-        problems, samples = [], []
-        for k in range(1, N + 1):  # the hinge storey; storeys below it drop out
-            pb = hinge_problems(
-                length=walls.length[sl],
-                overlap=walls.overlap[sl],
-                block_height=np.ones(n_w),
-                unit_weight=np.ones(n_w),
-                friction=walls.friction[sl],
-                rows=np.repeat(per[:, None], k, axis=1),
-                thickness=np.ones((n_w, k)),
-                overload=np.repeat(q[:, None], k, axis=1),
-                hinge=np.full(n_w, k),
-            )
-            problems.append(pb)
-            samples.append(sample_pieces(pb, settings))
-        # the best sample of any hinge bounds the wall's minimum from above:
-        # pieces (and whole hinges) that cannot go below it are not refined
-        best = np.full(n_w, np.inf)
-        for sm in samples:
-            np.minimum.at(best, sm.owner, sm.best_l)
-        for k, (pb, sm) in enumerate(zip(problems, samples, strict=True)):
-            lam[k], tau[k] = minimise(pb, settings, samples=sm, upper_bound=best)
-            lam_s[k] = evaluate(tau[k][:, None], pb)["lambda_s"][:, 0]
-        best = np.argmin(lam, axis=0)
+        ones = np.ones(n_w)
+        per = np.repeat(walls.rows_per_storey[sl, None], N, axis=1)
+        q = np.repeat(walls.overload[sl, None], N, axis=1)
+        found = minimise_walls(
+            walls.length[sl], walls.overlap[sl], ones * BLOCK_HEIGHT, ones, walls.friction[sl],
+            per, np.ones((n_w, N)), q, settings, wall_minimum_only=True,
+        )  # fmt: skip
         r = np.arange(n_w)
-        out["lam"][sl] = lam[best, r]
-        out["tau"][sl] = tau[best, r]
-        out["lam_s"][sl] = lam_s[best, r]
-        out["hinge"][sl] = best + 1
+        out["hinge"][sl] = found.hinge_storey
+        out["lam"][sl] = found.rocking_load_factor[r, found.hinge_storey - 1]
+        out["tau"][sl] = found.tan_alpha_c[r, found.hinge_storey - 1]
+        out["lam_s"][sl] = found.sliding_load_factor
 
     lam, tau = out["lam"], out["tau"]
     ratio = np.arctan(tau) / np.arctan(walls.overlap / BLOCK_HEIGHT)

@@ -4,8 +4,18 @@ The builder :func:`build_wall` lays the wall out course by course from the
 base up and lists every interface (bed-joint overlap, head joint, base) by its
 two end points, which is exact for rigid blocks in 2-D. Everything is done
 with whole-array numpy operations: the layout of each of the two course types
-is computed once (in units of half a block length, so that it is exact) and
-tiled over the courses.
+is computed once and tiled over the courses.
+
+Walls of any length (at least half a block) are built. Head joints sit at
+whole half blocks from ``x = 0`` (``k * l/2``, the same float in every
+course, so bed-joint overlaps are found by exact comparisons); each course
+ends at ``x = L`` with whatever remains after its last joint. When ``L`` is a
+whole number of half blocks that is a full or a half block, as in the paper;
+otherwise the last block of each course is CUT, to a length in ``(0, l/2)``
+in one course type and in ``(l/2, l)`` in the other. Only the last block of
+a course is cut; a sliver is kept however thin (it did
+not hurt the LP's conditioning, and merging it into its neighbour made the
+load factor jump with ``L``; see ``docs/micro-geometry.md``).
 
 Conventions
 -----------
@@ -24,6 +34,7 @@ Conventions
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 from collections.abc import Sequence
@@ -45,6 +56,11 @@ CONTACT_KIND_NAMES = ("base", "bed", "head")
 #: Clarabel (~32 kB per block, ~100 MB of it interpreter and libraries);
 #: doubled to leave room for cvxpy's canonicalisation copies.
 BYTES_PER_BLOCK = 60_000
+
+#: A length within this relative distance of a whole number of half blocks is
+#: that whole number (the builder's tolerance before cut end blocks, kept so
+#: that such walls come out exactly as before).
+WHOLE_TOLERANCE = 1e-9
 
 
 def available_memory_bytes() -> int | None:
@@ -175,7 +191,7 @@ class BlockWall:
 
     @property
     def block_lengths(self) -> FloatArray:
-        """Length of each block (``l`` or ``l/2``)."""
+        """Length of each block (``l`` or ``l/2``, or shorter at a cut end)."""
         return self.x1 - self.x0
 
     @property
@@ -219,22 +235,31 @@ class BlockWall:
 
 # ---------------------------------------------------------------- validation
 def _number(name: str, value: object, *, positive: bool = True) -> float:
-    if isinstance(value, bool):
-        raise ValueError(f"{name} must be a number, got {value!r}")
-    try:
-        x = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    """``value`` as a finite float, positive (or, with ``positive=False``, zero
+    or positive); else a ``ValueError`` in the shared wording."""
+    kind = "a positive number" if positive else "zero or a positive number"
+    x = math.nan
+    if isinstance(value, (int, float, np.integer, np.floating, str)) and not isinstance(value, bool):
+        with contextlib.suppress(ValueError):
+            x = float(value)
     if not math.isfinite(x) or (x <= 0.0 if positive else x < 0.0):
-        kind = "a positive number" if positive else "zero or a positive number"
         raise ValueError(f"{name} must be {kind}, got {value!r}")
     return x
+
+
+def _positive_int(name: str, value: object) -> int:
+    """``value`` as a positive int (an integral float is accepted)."""
+    if isinstance(value, (int, np.integer, float)) and not isinstance(value, bool):
+        x = float(value)
+        if math.isfinite(x) and x == int(x) and x > 0:
+            return int(x)
+    raise ValueError(f"{name} must be a positive integer, got {value!r}")
 
 
 def _per_storey(name: str, values: object, n: int | None, *, positive: bool) -> tuple[float, ...]:
     if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
         raise ValueError(f"{name} must be a tuple with one value per storey (storey 1 = top), got {values!r}")
-    vals = tuple(values)  # type: ignore[arg-type]
+    vals: tuple[object, ...] = tuple(values)  # type: ignore[arg-type]
     if n is not None and len(vals) != n:
         raise ValueError(f"{name} must have one value per storey: got {len(vals)} values for {n} storeys")
     return tuple(_number(f"{name}[{i}]", v, positive=positive) for i, v in enumerate(vals))
@@ -297,20 +322,32 @@ def physical_bounds(
             )
 
 
-def _course_edges(n_half: int, starts_full: bool) -> IntArray:
-    """Joint positions of one course in half-block units, ``0 ... n_half``."""
-    if starts_full:
-        inner = np.arange(2, n_half, 2, dtype=np.int64)
-    else:
-        inner = np.arange(1, n_half, 2, dtype=np.int64)
-    return np.concatenate([[0], inner, [n_half]]).astype(np.int64)
+def _half_blocks(length: float, half: float) -> tuple[float, bool]:
+    """The wall length in half blocks, and whether it is a whole number of them.
+
+    A ratio within :data:`WHOLE_TOLERANCE` (relative) of an integer counts as
+    whole and is returned as that integer (a length read from a file as
+    ``59.99999999999999`` lays the same blocks as ``60``).
+    """
+    ratio = length / half
+    n = round(ratio)
+    if n >= 1 and abs(ratio - n) <= WHOLE_TOLERANCE * max(1.0, ratio):
+        return float(n), True
+    return ratio, False
 
 
-def _count_blocks(n_half: int, starts_full: bool) -> int:
-    """Blocks in one course (``len(_course_edges) - 1``) without building it."""
-    if starts_full:
-        return (n_half - 1) // 2 + 1
-    return n_half // 2 + 1
+def _count_blocks(last: int, starts_full: bool) -> int:
+    """Blocks in one course whose joints run up to ``last`` (half blocks)."""
+    if starts_full:  # joints 2, 4, ..., <= last
+        return max(last, 0) // 2 + 1
+    return max(last + 1, 0) // 2 + 1  # joints 1, 3, ..., <= last
+
+
+def _course_edges(last: int, end: float, half: float, starts_full: bool) -> FloatArray:
+    """Block edges of one course: ``0``, the joints up to ``last`` (half
+    blocks, times ``half``) and the course's end ``end``."""
+    inner = np.arange(2 if starts_full else 1, last + 1, 2, dtype=np.int64)
+    return np.concatenate([[0.0], inner * half, [end]])
 
 
 def estimate_bytes(n_blocks: int) -> int:
@@ -336,11 +373,13 @@ def build_wall(
 
     Courses alternate between one that starts at ``x = 0`` with a full block
     and one that starts with a half block (overlap ``v = l/2``); each course
-    ends with whatever remains (a full or a half block). The base is a fixed
-    support with a frictional interface under every bottom block.
+    ends with whatever remains: a full or a half block when ``L`` is a whole
+    number of half blocks, else a cut block (see the module docstring). The
+    base is a fixed support with a frictional interface under every bottom
+    block.
 
     Args:
-        length: wall length ``L``; must be a whole number of half blocks.
+        length: wall length ``L``, at least half a block (``l/2``).
         block_length: block length ``l``.
         block_height: block height ``b``.
         rows: courses per storey, storey 1 (TOP) first.
@@ -370,16 +409,13 @@ def build_wall(
     hb = _number("block_height", block_height)
     gamma = _number("unit_weight", unit_weight)
     mu = _number("friction", friction)
-    if isinstance(rows, (str, bytes)) or not hasattr(rows, "__len__") or len(rows) == 0:  # type: ignore[arg-type]
-        raise ValueError(f"rows must be a non-empty tuple of positive integers, storey 1 = top; got {rows!r}")
-    rows_t: list[int] = []
-    for i, r in enumerate(tuple(rows)):
-        if isinstance(r, bool) or not isinstance(r, (int, np.integer, float)) or float(r) != int(r) or int(r) <= 0:
-            raise ValueError(f"rows[{i}] must be a positive integer, got {r!r}")
-        rows_t.append(int(r))
-    n_storeys = len(rows_t)
-    thick = _per_storey("thickness", thickness, n_storeys, positive=True)
-    over = _per_storey("overload", overload, n_storeys, positive=False)
+    if isinstance(rows, (str, bytes)) or not hasattr(rows, "__len__"):
+        raise ValueError(f"rows must be a tuple with one value per storey (storey 1 = top), got {rows!r}")
+    if len(rows) == 0:
+        raise ValueError("rows: a wall needs at least one storey")
+    rows_t = tuple(_positive_int(f"rows[{i}]", r) for i, r in enumerate(tuple(rows)))
+    thick = _per_storey("thickness", thickness, len(rows_t), positive=True)
+    over = _per_storey("overload", overload, len(rows_t), positive=False)
     if first_course not in ("full", "half"):
         raise ValueError(f"first_course must be 'full' or 'half', got {first_course!r}")
     if head_joints not in ("frictional", "frictionless"):
@@ -387,85 +423,110 @@ def build_wall(
     physical_bounds(L, lb, hb, gamma, mu, rows_t, thick, over)
 
     half = 0.5 * lb
-    ratio = L / half
-    n_half = int(round(ratio))
-    if n_half < 1 or abs(ratio - n_half) > 1e-9 * max(1.0, ratio):
-        raise ValueError(
-            f"length must be a whole number of half blocks (l/2 = {half:g}); got length={L:g} = {ratio:.6g} half blocks"
-        )
-
-    # ---- memory guard (arithmetic only; nothing large is allocated yet)
-    n_courses = sum(rows_t)
+    r, whole = _half_blocks(L, half)
+    if r < 1.0:
+        raise ValueError(f"length must be at least half a block (block_length/2 = {half:g}), got {length!r}")
+    last = math.ceil(r) - 1  # the last head joint (half blocks) before the end
     bottom_full = first_course == "full"
+    n_courses = sum(rows_t)
     n_even = (n_courses + 1) // 2  # courses 0, 2, 4, ... (same type as the bottom one)
-    n_odd = n_courses // 2
-    per_even = _count_blocks(n_half, bottom_full)
-    per_odd = _count_blocks(n_half, not bottom_full)
-    n_blocks_est = n_even * per_even + n_odd * per_odd
-    need = estimate_bytes(n_blocks_est)
+    _guard_memory(n_even * _count_blocks(last, bottom_full) + (n_courses // 2) * _count_blocks(last, not bottom_full),
+                  max_bytes)
+
+    end = r * half if whole else L
+    edges = (_course_edges(last, end, half, bottom_full), _course_edges(last, end, half, not bottom_full))
+    blocks = _lay_blocks(edges, n_courses, hb)
+    dead, live, storey = _block_loads(blocks, rows_t, thick, over, gamma, hb)
+    contacts = _contacts(edges, blocks, hb)
+    contact_kind = contacts["contact_kind"]
+    mu_c = np.full(contact_kind.size, mu)
+    if head_joints == "frictionless":
+        mu_c[contact_kind == HEAD] = 0.0
+    y0 = blocks.course.astype(np.float64) * hb
+    return BlockWall(
+        length=L, block_length=lb, block_height=hb, rows=rows_t, thickness=thick, overload=over,
+        unit_weight=gamma, friction=mu, first_course=first_course, head_joints=head_joints,
+        x0=blocks.x0, x1=blocks.x1, y0=y0, y1=y0 + hb, course=blocks.course,
+        storey=storey, dead=dead, live=live, mu=mu_c, **contacts,
+    )
+
+
+def _guard_memory(n_blocks: int, max_bytes: int | None) -> None:
+    """Refuse a wall whose estimated memory exceeds the budget (arithmetic only)."""
+    need = estimate_bytes(n_blocks)
     budget = available_memory_bytes() if max_bytes is None else int(max_bytes)
     if budget is not None and need > budget:
         raise ValueError(
-            f"wall too large: {n_blocks_est:,} blocks need an estimated {need / 1e9:.3g} GB "
+            f"wall too large: {n_blocks:,} blocks need an estimated {need / 1e9:.3g} GB "
             f"({need:,} bytes) but only {budget / 1e9:.3g} GB ({budget:,} bytes) are available"
         )
 
-    # ---- the two course types, laid out once in half-block units
-    e_even = _course_edges(n_half, bottom_full)
-    e_odd = _course_edges(n_half, not bottom_full)
-    edges = (e_even, e_odd)
-    counts = np.array([e_even.size - 1, e_odd.size - 1], dtype=np.int64)
+
+@dataclass(frozen=True)
+class _Blocks:
+    """Blocks laid course by course: extents, course, and where each course
+    starts in the block numbering (``offset``) and which type it is (``ctype``:
+    0 like the bottom course, 1 the other)."""
+
+    x0: FloatArray
+    x1: FloatArray
+    course: IntArray
+    offset: IntArray
+    ctype: IntArray
+
+
+def _lay_blocks(edges: tuple[FloatArray, FloatArray], n_courses: int, hb: float) -> _Blocks:
+    """Tile the two course types' edges over ``n_courses`` alternating courses."""
+    counts = np.array([edges[0].size - 1, edges[1].size - 1], dtype=np.int64)
     ctype = np.arange(n_courses, dtype=np.int64) % 2
     per_course = counts[ctype]
     offset = np.concatenate([[0], np.cumsum(per_course)]).astype(np.int64)
     n_blocks = int(offset[-1])
-    assert n_blocks == n_blocks_est
+    course = np.repeat(np.arange(n_courses, dtype=np.int64), per_course)
+    local = np.arange(n_blocks, dtype=np.int64) - offset[course]
+    even = ctype[course] == 0
+    e0, e1 = edges
+    x0 = np.where(even, e0[np.minimum(local, e0.size - 1)], e1[np.minimum(local, e1.size - 1)])
+    x1 = np.where(even, e0[np.minimum(local + 1, e0.size - 1)], e1[np.minimum(local + 1, e1.size - 1)])
+    return _Blocks(x0, x1, course, offset, ctype)
 
-    block_course = np.repeat(np.arange(n_courses, dtype=np.int64), per_course)
-    local = np.arange(n_blocks, dtype=np.int64) - offset[block_course]
-    btype = ctype[block_course]
-    left_h = np.where(btype == 0, e_even[np.minimum(local, e_even.size - 1)], e_odd[np.minimum(local, e_odd.size - 1)])
-    right_h = np.where(
-        btype == 0, e_even[np.minimum(local + 1, e_even.size - 1)], e_odd[np.minimum(local + 1, e_odd.size - 1)]
-    )
-    x0 = left_h * half
-    x1 = right_h * half
-    y0 = block_course * hb
-    y1 = y0 + hb
 
+def _block_loads(
+    blocks: _Blocks, rows: tuple[int, ...], thick: tuple[float, ...], over: tuple[float, ...], gamma: float, hb: float
+) -> tuple[FloatArray, FloatArray, IntArray]:
+    """Dead and live loads ``(F_x, F_y, M)`` per block and each block's storey."""
+    n_storeys = len(rows)
     # storey of each course: storey N (bottom) holds the first rows[N-1] courses
-    storey_of_course = np.repeat(np.arange(n_storeys, 0, -1, dtype=np.int64), rows_t[::-1])
-    b_storey = storey_of_course[block_course]
-    t_block = np.asarray(thick)[b_storey - 1]
-    top_course_of_storey = np.cumsum(rows_t[::-1])[::-1] - 1  # index i -> storey i+1
-    is_floor = block_course == top_course_of_storey[b_storey - 1]
-
-    lengths = x1 - x0
+    storey_of_course = np.repeat(np.arange(n_storeys, 0, -1, dtype=np.int64), rows[::-1])
+    storey = storey_of_course[blocks.course]
+    t_block = np.asarray(thick)[storey - 1]
+    top_course_of_storey = np.cumsum(rows[::-1])[::-1] - 1  # index i -> storey i+1
+    is_floor = blocks.course == top_course_of_storey[storey - 1]
+    lengths = blocks.x1 - blocks.x0
     weight = gamma * lengths * hb * t_block
-    q_block = np.where(is_floor, np.asarray(over)[b_storey - 1] * lengths, 0.0)
-    dead = np.zeros((n_blocks, 3))
+    q_block = np.where(is_floor, np.asarray(over)[storey - 1] * lengths, 0.0)
+    dead = np.zeros((lengths.size, 3))
     dead[:, 1] = -(weight + q_block)
-    live = np.zeros((n_blocks, 3))
+    live = np.zeros((lengths.size, 3))
     live[:, 0] = weight + q_block
     live[:, 2] = -q_block * 0.5 * hb  # overload mass acts at the top face
+    return dead, live, storey
 
-    # ---- contacts ------------------------------------------------------
-    ca: list[IntArray] = []
-    cb: list[IntArray] = []
-    kind: list[IntArray] = []
-    nrm: list[FloatArray] = []
-    pxs: list[FloatArray] = []
-    pys: list[FloatArray] = []
 
-    # base: under every block of course 0
-    nb0 = int(per_course[0])
-    ca.append(np.full(nb0, -1, dtype=np.int64))
-    cb.append(np.arange(nb0, dtype=np.int64))
-    kind.append(np.full(nb0, BASE, dtype=np.int64))
-    nrm.append(np.tile([0.0, 1.0], (nb0, 1)))
-    pxs.append(np.column_stack([x0[:nb0], x1[:nb0]]))
-    pys.append(np.zeros((nb0, 2)))
+def _contacts(edges: tuple[FloatArray, FloatArray], blocks: _Blocks, hb: float) -> dict[str, np.ndarray]:
+    """Every interface: the base under course 0, the head joints of every
+    course, the bed-joint overlaps of every pair of courses (in that order).
 
+    Returns:
+        ``contact_a``, ``contact_b``, ``contact_kind``, ``normal``, ``px``,
+        ``py`` as :class:`BlockWall` wants them.
+    """
+    offset, ctype = blocks.offset, blocks.ctype
+    nb0 = int(offset[1])
+    parts: list[tuple[IntArray, IntArray, int, tuple[float, float], FloatArray, FloatArray]] = [
+        (np.full(nb0, -1, dtype=np.int64), np.arange(nb0, dtype=np.int64), BASE, (0.0, 1.0),
+         np.column_stack([blocks.x0[:nb0], blocks.x1[:nb0]]), np.zeros((nb0, 2)))
+    ]
     # head joints: interior edges of each course type, tiled over the courses
     for typ in (0, 1):
         courses = np.flatnonzero(ctype == typ)
@@ -474,67 +535,28 @@ def build_wall(
         if k <= 0 or courses.size == 0:
             continue
         left = (offset[courses][:, None] + np.arange(k)[None, :]).ravel()
-        xh = np.tile(e[1:-1] * half, courses.size)
+        xh = np.tile(e[1:-1], courses.size)
         yb = np.repeat(courses * hb, k)
-        m = left.size
-        ca.append(left)
-        cb.append(left + 1)
-        kind.append(np.full(m, HEAD, dtype=np.int64))
-        nrm.append(np.tile([1.0, 0.0], (m, 1)))
-        pxs.append(np.column_stack([xh, xh]))
-        pys.append(np.column_stack([yb, yb + hb]))
-
+        parts.append((left, left + 1, HEAD, (1.0, 0.0), np.column_stack([xh, xh]), np.column_stack([yb, yb + hb])))
     # bed joints: overlaps of course j (below) with course j+1 (above)
     for typ in (0, 1):
         lower = np.flatnonzero(ctype[:-1] == typ)
         if lower.size == 0:
             continue
         el, eu = edges[typ], edges[1 - typ]
-        cuts = np.union1d(el, eu)
-        mid2 = cuts[:-1] + cuts[1:]  # twice the segment midpoints (exact)
-        il = np.searchsorted(2 * el, mid2, side="right") - 1
-        iu = np.searchsorted(2 * eu, mid2, side="right") - 1
-        k = mid2.size
+        cuts = np.union1d(el, eu)  # the edges are exact copies of one another: no tolerance
+        il = np.searchsorted(el, cuts[:-1], side="right") - 1  # block holding each overlap's left end
+        iu = np.searchsorted(eu, cuts[:-1], side="right") - 1
         a = (offset[lower][:, None] + il[None, :]).ravel()
         b = (offset[lower + 1][:, None] + iu[None, :]).ravel()
-        ys = np.repeat((lower + 1) * hb, k)
-        m = a.size
-        ca.append(a)
-        cb.append(b)
-        kind.append(np.full(m, BED, dtype=np.int64))
-        nrm.append(np.tile([0.0, 1.0], (m, 1)))
-        pxs.append(np.column_stack([np.tile(cuts[:-1] * half, lower.size), np.tile(cuts[1:] * half, lower.size)]))
-        pys.append(np.column_stack([ys, ys]))
-
-    contact_kind = np.concatenate(kind)
-    mu_c = np.full(contact_kind.size, mu)
-    if head_joints == "frictionless":
-        mu_c[contact_kind == HEAD] = 0.0
-
-    return BlockWall(
-        length=L,
-        block_length=lb,
-        block_height=hb,
-        rows=tuple(rows_t),
-        thickness=thick,
-        overload=over,
-        unit_weight=gamma,
-        friction=mu,
-        first_course=first_course,
-        head_joints=head_joints,
-        x0=x0,
-        x1=x1,
-        y0=y0,
-        y1=y1,
-        course=block_course,
-        storey=b_storey,
-        dead=dead,
-        live=live,
-        contact_a=np.concatenate(ca),
-        contact_b=np.concatenate(cb),
-        contact_kind=contact_kind,
-        normal=np.concatenate(nrm),
-        px=np.concatenate(pxs),
-        py=np.concatenate(pys),
-        mu=mu_c,
-    )
+        ys = np.repeat((lower + 1) * hb, cuts.size - 1)
+        px = np.column_stack([np.tile(cuts[:-1], lower.size), np.tile(cuts[1:], lower.size)])
+        parts.append((a, b, BED, (0.0, 1.0), px, np.column_stack([ys, ys])))
+    return {
+        "contact_a": np.concatenate([p[0] for p in parts]),
+        "contact_b": np.concatenate([p[1] for p in parts]),
+        "contact_kind": np.concatenate([np.full(p[0].size, p[2], dtype=np.int64) for p in parts]),
+        "normal": np.concatenate([np.tile(p[3], (p[0].size, 1)) for p in parts]),
+        "px": np.concatenate([p[4] for p in parts]),
+        "py": np.concatenate([p[5] for p in parts]),
+    }

@@ -18,7 +18,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "stability",
         help="convergence study of the non-associative iterated LP on a grid of small walls",
         description="Runs the non-associative iterated LP (schemes a and b, several relaxations) on a grid "
-        "of 104 small walls and writes stability.md, stability.csv and stability.png.",
+        "of 120 small walls and writes stability.md, stability.csv and stability.png.",
     )
     p.add_argument("--out", default="reports", metavar="DIR", help="output folder (default reports)")
     p.add_argument("--processes", default="2", metavar="N", help="worker processes (default 2)")

@@ -273,8 +273,8 @@ def all_cases(res: Results) -> Table:
         row += [pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
         t.add(*row)
     t.note = (
-        "n/a: the micro wall cannot be built (wall length not a whole number of half blocks, e.g. Set 8: "
-        "L = 20, v = 1.5)."
+        "n/a: the micro wall cannot be built (shorter than half a block). A length that is not a whole number "
+        "of half blocks (Set 8: L = 20, l = 3) ends every course with a cut block."
     )
     return t
 

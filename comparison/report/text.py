@@ -154,7 +154,7 @@ and in one CSV per table; `n/a` marks a wall the method cannot build or a failed
 
 Micro mechanisms with the macro crack drawn over them: {mech}
 
-The iterated LP over 104 small walls, seven settings: [stability.md](stability.md); Table 7 per
+The iterated LP over 120 small walls, seven settings: [stability.md](stability.md); Table 7 per
 scheme, bond phase and head-joint friction: [table7_nonassoc.md](table7_nonassoc.md)
 (both by `xcheck stability`).
 

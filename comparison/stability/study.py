@@ -22,8 +22,9 @@ from typing import Any, Literal
 from comparison.wall import WallSpec
 from micro.records import NonAssociativeRecord
 
-#: Grid of the study: every valid combination (a length that is not a whole
-#: number of half blocks is skipped). 104 walls of 12-294 blocks.
+#: Grid of the study: every combination that builds (all of them: the 16 whose
+#: length is not a whole number of half blocks end every course with a cut
+#: block). 120 walls of 9-294 blocks.
 GRID: dict[str, tuple[float, ...]] = {
     "t": (0.5, 0.75, 1.0, 1.5, 2.0),
     "m": (1 / 3, 1 / 2, 1.0),

@@ -2,23 +2,27 @@
 
 ``base``      :class:`Status`, :class:`Outcome`, the independent re-check, :func:`make_backend`;
 ``highs``     :class:`HighsBackend` and the :class:`PersistentHighsModel` it (and the iterated LP) runs on;
-``clarabel``  :class:`ClarabelBackend` and its settings;
+``clarabel``  :class:`ClarabelBackend` (the static form, ``clarabel-static``) and its settings;
+``clarabel_kinematic``  :class:`ClarabelKinematicBackend` (the kinematic form, ``clarabel``);
 ``cvxpy_``    :class:`CvxpyBackend`, the readable reference formulation.
 """
 
 from micro.backends.base import ALL_SOLVERS, MAX_RESIDUAL, SOLVERS, Backend, Outcome, Status, make_backend, recheck
 from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT, ClarabelBackend
+from micro.backends.clarabel_kinematic import CLARABEL_KINEMATIC, ClarabelKinematicBackend
 from micro.backends.cvxpy_ import CvxpyBackend
 from micro.backends.highs import HighsBackend, PersistentHighsModel
 
 __all__ = [
     "ALL_SOLVERS",
+    "CLARABEL_KINEMATIC",
     "CLARABEL_RETRY",
     "CLARABEL_TIGHT",
     "MAX_RESIDUAL",
     "SOLVERS",
     "Backend",
     "ClarabelBackend",
+    "ClarabelKinematicBackend",
     "CvxpyBackend",
     "HighsBackend",
     "Outcome",

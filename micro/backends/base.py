@@ -11,9 +11,12 @@ Modelled on cvxpy's solver layer: one module per back end, each a class with a
 ``highs-ipm``      the same, named explicitly;
 ``highs-simplex``  HiGHS dual simplex with 1e-10 feasibility tolerances
                    (cold, it is slow on large walls);
-``clarabel``       Clarabel's direct API (interior point), with tightened
-                   tolerances (:data:`micro.backends.clarabel.CLARABEL_TIGHT`),
-                   the fastest accurate back end measured on every wall size;
+``clarabel``       Clarabel (interior point) on the kinematic (dual) form of
+                   the LP (:mod:`micro.backends.clarabel_kinematic`), the
+                   fastest and most accurate interior point measured on every
+                   wall size (docs/micro-associative.md);
+``clarabel-static`` Clarabel's direct API on the static form, with tightened
+                   tolerances (:data:`micro.backends.clarabel.CLARABEL_TIGHT`);
 ``cvxpy``          the readable reference formulation in cvxpy expressions,
                    solved by Clarabel (``cvxpy`` / ``cvxpy-clarabel``) or by
                    HiGHS (``cvxpy-highs``) through cvxpy.
@@ -150,7 +153,9 @@ class Backend(Protocol):
 #: Names accepted by :func:`make_backend` (and the CLI's ``--solver``).
 SOLVERS = ("highs", "highs-simplex", "highs-ipm", "clarabel", "cvxpy")
 #: Every name :func:`make_backend` accepts, the variants included.
-ALL_SOLVERS = (*SOLVERS, "cvxpy-clarabel", "cvxpy-highs", "clarabel-default", "cvxpy-clarabel-default")
+ALL_SOLVERS = (
+    *SOLVERS, "clarabel-static", "cvxpy-clarabel", "cvxpy-highs", "clarabel-default", "cvxpy-clarabel-default"
+)
 
 
 def check_time_limit(time_limit: float | None) -> float | None:
@@ -176,6 +181,7 @@ def make_backend(lp: LimitLP, solver: str = "highs", *, time_limit: float | None
     """
     time_limit = check_time_limit(time_limit)
     from micro.backends.clarabel import ClarabelBackend
+    from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
     from micro.backends.cvxpy_ import CvxpyBackend
     from micro.backends.highs import HighsBackend
 
@@ -183,8 +189,10 @@ def make_backend(lp: LimitLP, solver: str = "highs", *, time_limit: float | None
         return HighsBackend(lp, algorithm="ipm", time_limit=time_limit)
     if solver == "highs-simplex":
         return HighsBackend(lp, algorithm="simplex", time_limit=time_limit)
-    if solver in ("clarabel", "clarabel-default"):
-        return ClarabelBackend(lp, tight=solver == "clarabel", time_limit=time_limit)
+    if solver == "clarabel":
+        return ClarabelKinematicBackend(lp, time_limit=time_limit)
+    if solver in ("clarabel-static", "clarabel-default"):
+        return ClarabelBackend(lp, tight=solver == "clarabel-static", time_limit=time_limit)
     if solver in ("cvxpy", "cvxpy-clarabel", "cvxpy-clarabel-default"):
         return CvxpyBackend(lp, solver="CLARABEL", tight=not solver.endswith("-default"))
     if solver == "cvxpy-highs":

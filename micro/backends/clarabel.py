@@ -1,4 +1,8 @@
-"""Clarabel's direct API (interior point) as a one-shot back end.
+"""Clarabel's direct API (interior point) on the static form: the ``clarabel-static`` back end.
+
+The iterated non-associative LP solves its start and certificate LPs with
+:class:`ClarabelBackend`; the associative ``clarabel`` back end is the
+kinematic form (:mod:`micro.backends.clarabel_kinematic`).
 
 ``min c.x  s.t.  A x + s = b, s in K``. Rows: the equilibrium equalities
 (zero cone), then ``-g <= 0`` for the friction-cone generators (non-negative
@@ -13,6 +17,7 @@ Clarabel dual convention (pinned by ``tests/micro/backends``): KKT
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -21,7 +26,7 @@ import scipy.sparse as sp
 from micro.backends.base import Outcome, Status, recheck
 from micro.lp import LimitLP
 
-#: Clarabel settings of the ``clarabel`` back end. With Clarabel's defaults
+#: Clarabel settings of the static form (``clarabel-static``). With Clarabel's defaults
 #: (1e-8 gap and feasibility) lambda came out 1e-6 (54-150 blocks) to 2e-4
 #: (1,230 blocks) too low while Clarabel reported Solved: the error is the
 #: dual (kinematic) infeasibility times the contact forces, which add up to
@@ -29,7 +34,11 @@ from micro.lp import LimitLP
 #: feasibility tolerances (1e-11) took 200+ iterations and stalled at ~2e-6;
 #: lowering the static regularisation and tightening iterative refinement as
 #: well reaches 1e-8 (Table 7 walls) and ~1e-6 (1,230 blocks) in ~40 iterations.
+#: QDLDL is named: Clarabel's "auto" picks faer above ~2,700 blocks, 3x slower
+#: on one core (3,630 blocks: 16.6 s against 5.6 s, same lambda to 1e-10);
+#: below that size "auto" is QDLDL, so nothing changes there.
 CLARABEL_TIGHT: dict[str, Any] = {
+    "direct_solve_method": "qdldl",
     "tol_gap_abs": 1e-10,
     "tol_gap_rel": 1e-10,
     "tol_feas": 1e-10,
@@ -53,6 +62,23 @@ CLARABEL_RETRY: dict[str, Any] = {
 #: Native statuses after which a solve with the tight settings is retried
 #: (seen when base sliding governs exactly, a very degenerate optimum).
 RETRY_ON = ("AlmostSolved", "InsufficientProgress", "NumericalError")
+
+
+def clarabel_settings(opts: Mapping[str, Any]) -> Any:
+    """Clarabel's default settings, quiet, with ``opts`` set.
+
+    Raises:
+        ValueError: an unknown Clarabel setting.
+    """
+    import clarabel
+
+    s = clarabel.DefaultSettings()
+    s.verbose = False
+    for k, v in opts.items():
+        if not hasattr(s, k):
+            raise ValueError(f"unknown Clarabel setting {k!r}")
+        setattr(s, k, v)
+    return s
 
 
 class ClarabelBackend:
@@ -92,7 +118,7 @@ class ClarabelBackend:
         self._cl = clarabel
         self.lp = lp
         self.tight = tight
-        self.name = "clarabel" if tight else "clarabel-default"
+        self.name = "clarabel-static" if tight else "clarabel-default"
         n_eq = lp.n_eq
         # columns fixed at zero (g- where mu = 0) are left out: duplicate
         # columns made Clarabel stop with NumericalError
@@ -104,17 +130,12 @@ class ClarabelBackend:
         self.b = np.concatenate([lp.rhs, np.zeros(ng)])
         self.cones = [clarabel.ZeroConeT(n_eq), clarabel.NonnegativeConeT(ng)]
         self.P = sp.csc_matrix((self.active.size, self.active.size))
-        s = clarabel.DefaultSettings()
-        s.verbose = False
         opts = dict(CLARABEL_TIGHT) if tight else {}
         opts.update(settings or {})
         if time_limit is not None:
             opts["time_limit"] = float(time_limit)
-        for k, v in opts.items():
-            if not hasattr(s, k):
-                raise ValueError(f"unknown Clarabel setting {k!r}")
-            setattr(s, k, v)
-        self.settings = s
+        self.settings = clarabel_settings(opts)
+        self.retry_settings = clarabel_settings({**opts, **CLARABEL_RETRY})
 
     def solve(self, direction: int) -> Outcome:
         """Solve for live load direction ``direction`` (``+1`` or ``-1``).
@@ -129,7 +150,7 @@ class ClarabelBackend:
         iters = int(sol.iterations)
         extra: dict[str, Any] = {}
         if self.tight and native in RETRY_ON:
-            sol = self._run(direction, self._retry_settings())
+            sol = self._run(direction, self.retry_settings)
             extra["fallback"] = f"{native} with the tight settings; re-solved with {CLARABEL_RETRY}"
             native = str(sol.status).split(".")[-1]
             iters += int(sol.iterations)
@@ -146,15 +167,6 @@ class ClarabelBackend:
         out = Outcome(status, native, float(direction) * lam, n=n, s=s_, duals=z, ipm_iterations=iters,
                       seconds=secs, info=extra)
         return recheck(self.lp, direction, out)
-
-    def _retry_settings(self) -> Any:
-        s = self._cl.DefaultSettings()
-        for k in dir(self.settings):
-            if not k.startswith("_") and hasattr(s, k) and not callable(getattr(s, k)):
-                setattr(s, k, getattr(self.settings, k))
-        for k, v in CLARABEL_RETRY.items():
-            setattr(s, k, v)
-        return s
 
     def _run(self, direction: int, settings: Any) -> Any:
         c = self.lp.cost(direction)[self.active]

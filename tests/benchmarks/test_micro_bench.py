@@ -32,8 +32,8 @@ WALLS = {
     "w1230": lambda: WallSpec.from_paper(t=1, m=1 / 3, rows=60, f=0.6, storeys=3),  # Table 5 reference
     "w7575": lambda: WallSpec.from_paper(t=1, m=1 / 3, rows=150, f=0.75, storeys=5),  # Table 9 set 15
 }
-SOLVERS = ["highs-ipm", "highs-simplex", "clarabel", "cvxpy", "cvxpy-highs", "cvxpy-clarabel-default",
-           "clarabel-default"]
+SOLVERS = ["highs-ipm", "highs-simplex", "clarabel", "clarabel-static", "cvxpy", "cvxpy-highs",
+           "cvxpy-clarabel-default", "clarabel-default"]
 #: Associative load factors (HiGHS IPM; Clarabel with the tight settings agrees to 2e-6).
 LAMBDA = {"set11": 0.7183568, "set12": 0.7120472, "set13": 0.5563548, "set14": 0.3509942, "w1230": 0.4695330,
           "w7575": 0.5072512}

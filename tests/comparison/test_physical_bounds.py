@@ -102,10 +102,11 @@ def test_an_array_names_the_entry() -> None:
 
 
 def test_the_memory_of_the_macro_search_is_estimated_first() -> None:
-    wall = macro.MacroWall(
-        **(DIMENSIONAL | {"rows": (1,) * 2000, "thickness": (1.0,) * 2000, "overload": (0.0,) * 2000})
-    )
-    with pytest.raises(checks.TooLarge, match="storeys: the search over 2000 storeys needs an estimated"):
+    n = 100_000  # 2 TB estimated: refused before anything is allocated
+    wall = macro.MacroWall(**(DIMENSIONAL | {"rows": (1,) * n, "thickness": (1.0,) * n, "overload": (0.0,) * n}))
+    with pytest.raises(checks.TooLarge, match=f"storeys: the search over {n} storeys needs an estimated"):
         macro.solve(wall)
+    with pytest.raises(checks.TooLarge, match="storeys: a batch of 4096 walls of 200000 storeys"):
+        macro.sweep([1.0] * 5000, 1 / 3, 200_000, 0.6, storeys=200_000)
     with pytest.raises(checks.TooLarge, match="storeys"):
         checks.fits_in_memory("storeys", "a test", need=2 << 30, budget=1 << 30)

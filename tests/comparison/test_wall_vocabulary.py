@@ -4,9 +4,8 @@ The same bad parameters go through ``WallSpec.from_paper``, ``WallSpec(...)``,
 ``StoreySpec(...)``, ``macro.MacroWall(...)``, ``macro.sweep(...)`` and
 ``micro.build_wall(...)``; each must raise ``ValueError`` with the shared
 template of :mod:`macro.checks`, naming the parameter as the API spells it.
-``micro`` spells the templates out itself (it may not import ``macro``): its
-cases that still differ are strict xfails, so they flip when its messages are
-aligned.
+``micro`` spells the templates out itself (it may not import ``macro``), so
+this test is what keeps the two wordings alike.
 """
 
 from __future__ import annotations
@@ -30,8 +29,6 @@ NOT_NUMBERS: tuple[Any, ...] = ("x", None, True)
 BAD_POSITIVE: tuple[Any, ...] = (*NOT_NUMBERS, math.nan, math.inf, -math.inf, -1.0, 0.0, 0)
 BAD_NON_NEGATIVE: tuple[Any, ...] = (*NOT_NUMBERS, math.nan, math.inf, -1.0, -1e-9)
 BAD_INT: tuple[Any, ...] = (*NOT_NUMBERS, math.nan, 12.5, 0, -3, 0.0)
-
-MICRO_DIFFERS = "micro words a non-number 'must be a number' and fails on rows NaN (aligned by the geometry work)"
 
 
 def _message(template: str, name: str, value: Any) -> str:
@@ -82,19 +79,13 @@ def test_sweep_names_the_entry_of_an_array() -> None:
 def _dimensional_cases() -> list[Any]:
     cases = []
     for name in DIMENSIONAL:
-        for v in BAD_POSITIVE:
-            differs = v is None or isinstance(v, (bool, str))
-            cases.append(pytest.param(name, v, _message(checks.POSITIVE, name, v), differs, id=f"{name}={v!r}"))
+        cases += [pytest.param(name, v, _message(checks.POSITIVE, name, v), id=f"{name}={v!r}") for v in BAD_POSITIVE]
     return cases
 
 
-@pytest.mark.parametrize(("name", "value", "message", "micro_differs"), _dimensional_cases())
+@pytest.mark.parametrize(("name", "value", "message"), _dimensional_cases())
 @pytest.mark.parametrize("api", ["WallSpec", "MacroWall", "build_wall"])
-def test_dimensional_parameters(
-    api: str, name: str, value: Any, message: str, micro_differs: bool, request: pytest.FixtureRequest
-) -> None:
-    if api == "build_wall" and micro_differs:
-        request.applymarker(pytest.mark.xfail(strict=True, reason=MICRO_DIFFERS))
+def test_dimensional_parameters(api: str, name: str, value: Any, message: str) -> None:
     if api == "WallSpec":
         storeys = tuple(StoreySpec(r, t, q) for r, t, q in zip(*STOREYS.values(), strict=True))
         _expect(lambda: WallSpec(storeys=storeys, **(DIMENSIONAL | {name: value})), message)
@@ -111,20 +102,13 @@ def _storey_cases() -> list[Any]:
         ("thickness", checks.POSITIVE, BAD_POSITIVE),
         ("overload", checks.NON_NEGATIVE, BAD_NON_NEGATIVE),
     ):
-        for v in bad:
-            nan_rows = name == "rows" and isinstance(v, float) and math.isnan(v)  # micro: "cannot convert float NaN"
-            differs = nan_rows or (name != "rows" and (v is None or isinstance(v, (bool, str))))
-            cases.append(pytest.param(name, v, template, differs, id=f"{name}[1]={v!r}"))
+        cases += [pytest.param(name, v, template, id=f"{name}[1]={v!r}") for v in bad]
     return cases
 
 
-@pytest.mark.parametrize(("name", "value", "template", "micro_differs"), _storey_cases())
+@pytest.mark.parametrize(("name", "value", "template"), _storey_cases())
 @pytest.mark.parametrize("api", ["StoreySpec", "MacroWall", "build_wall"])
-def test_per_storey_parameters(
-    api: str, name: str, value: Any, template: str, micro_differs: bool, request: pytest.FixtureRequest
-) -> None:
-    if api == "build_wall" and micro_differs:
-        request.applymarker(pytest.mark.xfail(strict=True, reason=MICRO_DIFFERS))
+def test_per_storey_parameters(api: str, name: str, value: Any, template: str) -> None:
     if api == "StoreySpec":
         good = {"rows": 6, "thickness": 1.0, "overload": 0.0}
         _expect(lambda: StoreySpec(**(good | {name: value})), _message(template, name, value))
@@ -142,9 +126,7 @@ def test_per_storey_counts(api: str, name: str) -> None:
     _expect(lambda: build(**(DIMENSIONAL | STOREYS | {name: (1.0,)})), message)
 
 
-@pytest.mark.parametrize(
-    "api", ["MacroWall", pytest.param("build_wall", marks=pytest.mark.xfail(strict=True, reason=MICRO_DIFFERS))]
-)
+@pytest.mark.parametrize("api", ["MacroWall", "build_wall"])
 def test_no_storey(api: str) -> None:
     build = macro.MacroWall if api == "MacroWall" else micro.build_wall
     _expect(

@@ -161,8 +161,8 @@ def test_extreme_scene_values_name_the_key_and_line(
 
 
 def test_a_scene_too_large_for_the_macro_search(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """2,000 one-row storeys: refused from the memory estimate before anything is allocated."""
-    storeys = "".join("[[storey]]\nrows = 1\n" for _ in range(2000))
+    """45,000 one-row storeys (405 GB estimated): refused from the memory estimate before anything is allocated."""
+    storeys = "".join("[[storey]]\nrows = 1\n" for _ in range(45_000))
     scene = tmp_path / "tall.toml"
     scene.write_text(f"[wall]\nlength = 6\nfriction = 0.6\n[block]\nlength = 0.3\nheight = 0.1\n{storeys}")
     code, _, err = run(capsys, "macro", "--scene", str(scene))

@@ -41,10 +41,11 @@ def test_code_version_tracks_the_package_sources() -> None:
 
 
 def test_not_buildable_micro_wall_is_reported_not_raised(tmp_path: Path) -> None:
-    spec = WallSpec.from_paper(t=3, m=1 / 3, rows=60, f=0.6, storeys=3)  # L = 20 is not a whole number of half blocks
+    # 600,000 rows of 200,000 blocks: beyond any memory (a wall shorter than a block is refused by WallSpec)
+    spec = WallSpec.from_paper(t=1, m=1 / 3, rows=600_000, f=0.6)
     rec = Runner(tmp_path).run(spec, MICRO_ASSOC)
     assert rec.status == "not_applicable" and math.isnan(rec.load_factor)
-    assert "half blocks" in rec.message and rec.result is None
+    assert "too large" in rec.message and rec.result is None
 
 
 def test_cached_records_are_typed_and_equal_to_the_computed_ones(tmp_path: Path) -> None:

@@ -12,7 +12,7 @@ from micro_walls import TABLE7, table7_wall, three_storey_wall
 import micro
 from micro.backends import Status, make_backend
 
-BACKENDS = ["highs", "highs-simplex", "clarabel", "cvxpy", "cvxpy-highs"]
+BACKENDS = ["highs", "highs-simplex", "clarabel", "clarabel-static", "cvxpy", "cvxpy-highs"]
 REL = 1e-6
 
 
@@ -44,7 +44,7 @@ def test_back_ends_agree(name: str, solver: str, reference: dict[str, micro.Limi
     assert r.iterations > 0 and r.solve_seconds > 0 and r.build_seconds > 0
 
 
-@pytest.mark.parametrize("solver", ["highs", "highs-simplex", "clarabel", "cvxpy", "cvxpy-highs"])
+@pytest.mark.parametrize("solver", BACKENDS)
 def test_dual_sign_convention_virtual_work(solver: str) -> None:
     """Pins each back end's dual sign: raw velocities give live work +1, dead work -lambda."""
     lp = micro.assemble(WALLS["three-storey"])
@@ -83,7 +83,7 @@ def test_time_limit_is_a_status_not_a_number() -> None:
         assert math.isnan(r.load_factor)
 
 
-@pytest.mark.parametrize("solver", ["highs", "clarabel", "cvxpy"])
+@pytest.mark.parametrize("solver", ["highs", "clarabel", "clarabel-static", "cvxpy"])
 def test_outcome_is_one_type_for_success_and_failure(solver: str) -> None:
     w = table7_wall("set12")
     lp = micro.assemble(w)
@@ -98,7 +98,13 @@ def test_outcome_is_one_type_for_success_and_failure(solver: str) -> None:
 
 
 def test_every_back_end_has_a_status_map() -> None:
-    from micro.backends import ClarabelBackend, CvxpyBackend, HighsBackend, PersistentHighsModel
+    from micro.backends import (
+        ClarabelBackend,
+        ClarabelKinematicBackend,
+        CvxpyBackend,
+        HighsBackend,
+        PersistentHighsModel,
+    )
 
-    for cls in (ClarabelBackend, CvxpyBackend, HighsBackend, PersistentHighsModel):
+    for cls in (ClarabelBackend, ClarabelKinematicBackend, CvxpyBackend, HighsBackend, PersistentHighsModel):
         assert Status.OPTIMAL in cls.STATUS_MAP.values() and Status.INFEASIBLE in cls.STATUS_MAP.values()

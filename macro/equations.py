@@ -35,8 +35,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from macro import checks
-
 Array = NDArray[np.float64]
 
 #: Names of the per-storey quantities :func:`evaluate` can return, in Table 2 order.
@@ -192,7 +190,8 @@ def load_factor(tau: Array, pb: HingeProblems) -> Array:
     nc3 = nc / 3.0
     stab = up * pb.coef_B + cd * (pb.coef_C * (0.5 * b * ts * B + v) + nc * pb.coef_D * (ts * b * (nc3 + B) + v))
     stab += np.where(whole, pb.floor_x, pb.floor_t * t * t)
-    over = up * pb.coef_By * (0.5 * (n + nc) + B) + cd * b * (pb.coef_C * (0.5 * nc + B) + nc * pb.coef_D * (2.0 * nc3 + B))
+    over = up * pb.coef_By * (0.5 * (n + nc) + B)
+    over += cd * b * (pb.coef_C * (0.5 * nc + B) + nc * pb.coef_D * (2.0 * nc3 + B))
     over += np.where(whole, pb.floor_y, 2.0 * pb.floor_t * t)
     fric = nc * (pb.coef_g * (nc + 1.0) * (nc3 + B) + (up * pb.row_weight + pb.load_above) * (0.5 * nc + B) * pb.coef_q)
     reduction = 1.0 - np.arctan(tau) / pb.alpha_b
@@ -208,7 +207,8 @@ def evaluate(tau: Array, pb: HingeProblems, detail: bool = False, sliding: bool 
         ``friction_moment`` (unreduced), ``reduction`` (``1 - alpha_c/alpha_b``)
         and every per-storey term of :data:`TERM_NAMES`, shape ``(P, G, N)``.
     """
-    L, v, b, gam, f = pb.length[..., None], pb.overlap[..., None], pb.block_height[..., None], pb.unit_weight[..., None], pb.friction[..., None]
+    L, v, b = pb.length[..., None], pb.overlap[..., None], pb.block_height[..., None]
+    gam, f = pb.unit_weight[..., None], pb.friction[..., None]
     n, thk, q, B = pb.rows, pb.thickness, pb.overload, pb.below
     t = tau[..., None]
     ts = t - pb.tau_low[..., None]  # tan(alpha_c*), Eq. (9)
@@ -258,205 +258,3 @@ def evaluate(tau: Array, pb: HingeProblems, detail: bool = False, sliding: bool 
         out.update({k: full(a) for k, a in terms.items()})
         out.update(stabilising=stab, overturning=over, friction_moment=fric, reduction=reduction)
     return out
-
-
-@dataclass(frozen=True)
-class SearchSettings:
-    """Global search of Eq. (10) over the interval of Eq. (11).
-
-    The interval is cut at the kinks ``alpha_pi`` (where the crack passes a
-    floor level) into smooth pieces. Each piece is sampled at
-    ``initial_points`` crack angles (its ends included) and its best sample
-    refined within the two neighbouring cells, so that a local minimum in
-    every piece is found, not only near the best sample overall (two pieces
-    can hold minima within 1 % of each other):
-
-    * ``method="zoom"``: ``rounds`` rounds of ``zoom_points`` samples on each
-      side of the best point so far; few array operations, for single walls;
-    * ``method="golden"``: ``rounds`` golden-section steps, one sample per
-      piece each, then one parabolic step through the best point and its two
-      neighbours; fewest evaluations, for large batches.
-    """
-
-    initial_points: int = 17
-    method: str = "zoom"
-    zoom_points: int = 17
-    rounds: int = 4
-
-    def __post_init__(self) -> None:
-        for name in ("initial_points", "zoom_points"):  # a piece's two ends at least
-            if checks.positive_int(name, getattr(self, name)) < 2:
-                raise ValueError(checks.AT_LEAST.format(name=name, lo=2, value=getattr(self, name)))
-        checks.positive_int("rounds", self.rounds)
-        checks.choice("method", self.method, ("zoom", "golden"))
-
-
-DEFAULT_SEARCH = SearchSettings()
-
-_INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
-
-
-def _lambda(alpha: Array, pb: HingeProblems) -> Array:
-    """Eq. (10) at crack angles of shape ``(P, pieces, G)``."""
-    P = alpha.shape[0]
-    return load_factor(np.tan(alpha.reshape(P, -1)), pb).reshape(alpha.shape)
-
-
-@dataclass(frozen=True)
-class PieceSamples:
-    """Round 0 of the search: every non-empty smooth piece of every problem sampled.
-
-    All arrays have one entry per piece. ``bound`` estimates from below the
-    minimum the refinement can reach (it searches the two cells around the
-    best sample): the best sample less half the second difference there, i.e.
-    four times the drop a quadratic of that curvature can hide between two
-    samples.
-    """
-
-    owner: NDArray[np.int_]  # problem of each piece
-    start: Array  # piece ends (angles)
-    end: Array
-    best_a: Array  # best sample
-    best_l: Array
-    left: Array  # the two cells around the best sample
-    right: Array
-    f_left: Array  # Eq. (10) at left and right (samples too)
-    f_right: Array
-    bound: Array
-
-
-def sample_pieces(pb: HingeProblems, settings: SearchSettings = DEFAULT_SEARCH) -> PieceSamples:
-    """Cut every problem's interval of Eq. (11) at the kinks and sample each piece."""
-    a_lo = np.arctan(pb.tau_low)  # (P, 1)
-    a_hi = pb.alpha_b
-    kinks = np.clip(np.where(np.isnan(pb.breakpoints), a_lo, np.arctan(pb.breakpoints)), a_lo, a_hi)
-    edges = np.sort(np.concatenate([a_lo, kinks, a_hi], axis=1), axis=1)
-    # Search only the pieces of non-zero width (kinks outside Eq. 11 leave empty
-    # ones); a one-row mechanism, whose interval is a point, keeps its first piece.
-    keep = edges[:, 1:] > edges[:, :-1]
-    keep[:, 0] |= ~keep.any(axis=1)
-    owner, piece = np.nonzero(keep)
-    start, end = edges[owner, piece][:, None], edges[owner, piece + 1][:, None]
-    u = np.linspace(0.0, 1.0, settings.initial_points)
-    alpha = start[..., None] + (end - start)[..., None] * u
-    lam = _lambda(alpha, pb.select(owner))[:, 0, :]
-    j = np.argmin(lam, axis=1)
-    q = np.arange(owner.size)
-    best_a, best_l = alpha[q, 0, j], lam[q, j]
-    start, end = start[:, 0], end[:, 0]
-    cell = (end - start) / (settings.initial_points - 1)
-    if lam.shape[1] > 2:  # second difference around the best sample: the refinement looks there only
-        c = np.clip(j, 1, lam.shape[1] - 2)
-        curvature = np.abs(lam[q, c - 1] - 2.0 * lam[q, c] + lam[q, c + 1])
-    else:
-        curvature = np.zeros(owner.size)
-    return PieceSamples(
-        owner=owner,
-        start=start,
-        end=end,
-        best_a=best_a,
-        best_l=best_l,
-        left=np.maximum(best_a - cell, start),
-        right=np.minimum(best_a + cell, end),
-        f_left=lam[q, np.maximum(j - 1, 0)],
-        f_right=lam[q, np.minimum(j + 1, lam.shape[1] - 1)],
-        bound=best_l - 0.5 * curvature,
-    )
-
-
-def minimise(
-    pb: HingeProblems,
-    settings: SearchSettings = DEFAULT_SEARCH,
-    *,
-    samples: PieceSamples | None = None,
-    upper_bound: Array | None = None,
-) -> tuple[Array, Array]:
-    """Global minimum of Eq. (10) over Eq. (11) for every problem of a batch.
-
-    Args:
-        pb: the problems.
-        settings: the search.
-        samples: round 0 if already computed (:func:`sample_pieces`).
-        upper_bound: per problem, a value of Eq. (10) already reached (for
-            instance by another hinge of the same wall): pieces whose
-            ``bound`` lies above it are not refined, as they cannot hold the
-            minimum. ``None`` refines every piece.
-
-    Returns:
-        ``(lambda_r, tau)`` at the minimum, shape ``(P,)``; a problem none of
-        whose pieces was refined returns its best sample.
-    """
-    s = samples if samples is not None else sample_pieces(pb, settings)
-    lam, alpha = s.best_l.copy(), s.best_a.copy()
-    todo = np.ones(s.owner.size, dtype=bool) if upper_bound is None else s.bound <= upper_bound[s.owner]
-    if todo.any():
-        sub = pb.select(s.owner[todo])
-        lam[todo], alpha[todo] = _refine(
-            sub, s.start[todo], s.end[todo], s.best_a[todo], s.best_l[todo], s.left[todo], s.right[todo],
-            s.f_left[todo], s.f_right[todo], settings,
-        )  # fmt: skip
-    order = np.lexsort((lam, s.owner))
-    first = order[np.r_[True, s.owner[order][1:] != s.owner[order][:-1]]]
-    return lam[first], np.tan(alpha[first])
-
-
-def _refine(
-    pb: HingeProblems,
-    start: Array,
-    end: Array,
-    best_a: Array,
-    best_l: Array,
-    left: Array,
-    right: Array,
-    f_left: Array,
-    f_right: Array,
-    settings: SearchSettings,
-) -> tuple[Array, Array]:
-    """Refine each piece's best sample within its two neighbouring cells (shape ``(Q,)``)."""
-    start, end, best_a, best_l, left, right, f_lo, f_hi = (
-        x[:, None] for x in (start, end, best_a, best_l, left, right, f_left, f_right)
-    )
-    if settings.method == "zoom":
-        w = np.linspace(0.0, 1.0, settings.zoom_points)
-        for _ in range(settings.rounds):
-            alpha = np.concatenate(
-                [left[..., None] + (best_a - left)[..., None] * w, best_a[..., None] + (right - best_a)[..., None] * w],
-                axis=2,
-            )
-            lam = _lambda(alpha, pb)
-            j = np.argmin(lam, axis=2)[..., None]
-            cand_a, cand_l = np.take_along_axis(alpha, j, 2)[..., 0], np.take_along_axis(lam, j, 2)[..., 0]
-            take = cand_l < best_l
-            best_a, best_l = np.where(take, cand_a, best_a), np.where(take, cand_l, best_l)
-            step = (right - left) / (settings.zoom_points - 1)
-            left, right = np.maximum(best_a - step, start), np.minimum(best_a + step, end)
-    elif settings.method == "golden":
-        lo, hi = left, right
-        x1, x2 = hi - _INV_PHI * (hi - lo), lo + _INV_PHI * (hi - lo)
-        f12 = _lambda(np.stack([x1, x2], axis=2), pb)
-        f1, f2 = f12[..., 0], f12[..., 1]
-        for _ in range(settings.rounds):
-            go_left = f1 < f2  # the minimum lies in [lo, x2]
-            hi, f_hi = np.where(go_left, x2, hi), np.where(go_left, f2, f_hi)
-            lo, f_lo = np.where(go_left, lo, x1), np.where(go_left, f_lo, f1)
-            new = np.where(go_left, hi - _INV_PHI * (hi - lo), lo + _INV_PHI * (hi - lo))
-            fn = _lambda(new[..., None], pb)[..., 0]
-            x1, x2 = np.where(go_left, new, x2), np.where(go_left, x1, new)
-            f1, f2 = np.where(go_left, fn, f2), np.where(go_left, f1, fn)
-        # one parabolic step through the best interior point and its neighbours
-        left_side = f1 < f2
-        a, fa = np.where(left_side, lo, x1), np.where(left_side, f_lo, f1)
-        b, fb = np.where(left_side, x1, x2), np.where(left_side, f1, f2)
-        c, fc = np.where(left_side, x2, hi), np.where(left_side, f2, f_hi)
-        num = (b - a) ** 2 * (fb - fc) - (b - c) ** 2 * (fb - fa)
-        den = (b - a) * (fb - fc) - (b - c) * (fb - fa)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            vertex = b - 0.5 * num / den
-        vertex = np.where(np.isfinite(vertex) & (vertex > a) & (vertex < c), vertex, b)
-        fv = _lambda(vertex[..., None], pb)[..., 0]
-        for x, fx in ((x1, f1), (x2, f2), (vertex, fv)):
-            take = fx < best_l
-            best_a, best_l = np.where(take, x, best_a), np.where(take, fx, best_l)
-    else:
-        raise ValueError(f"search method must be 'zoom' or 'golden', got {settings.method!r}")
-    return best_l[:, 0], best_a[:, 0]

@@ -1,0 +1,163 @@
+"""The global MIP of the non-associative collapse load (issue 14, item 2).
+
+The MIP's load factor is compared with an exhaustive search over all contact
+patterns (:mod:`enumeration`, independent code) on walls of 1-6 blocks,
+including walls where the non-associative minimum lies strictly below the
+associative load factor; every returned state is checked against the
+collapse conditions, also by the iterated LP's own check.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from enumeration import STATES, Enumerator
+from hand_walls import column_wall, small_wall
+
+import micro
+from micro.global_bounds import big_m
+from micro.global_mip import GlobalOptions, StartState, global_summary, solve_global
+from micro.nonassociative import verify_collapse_state
+
+#: (name, wall, direction, non-associative minimum strictly below the associative load factor)
+WALLS = [
+    ("block", lambda: small_wall(1.0, 1.0, 2.0, 1, 0.75), 1, False),
+    ("block -x", lambda: small_wall(2.0, 2.0, 1.0, 1, 0.75), -1, False),
+    ("column 3", lambda: column_wall(3, 1.0, 1.0, 0.75), 1, False),
+    ("column 6", lambda: column_wall(6, 1.0, 0.5, 0.75), 1, False),
+    ("two blocks", lambda: small_wall(1.0, 0.5, 1.0, 1, 0.75), 1, True),
+    ("two blocks mu 0.6", lambda: small_wall(0.8, 0.4, 1.0, 1, 0.6), -1, True),
+    ("three blocks bond", lambda: small_wall(1.0, 1.0, 1.0, 2, 0.75), 1, False),
+]
+
+
+@pytest.mark.parametrize("name, make, d, below", WALLS, ids=[w[0] for w in WALLS])
+def test_mip_equals_enumeration(name: str, make, d: int, below: bool) -> None:  # type: ignore[no-untyped-def]
+    """The MIP's least load factor is the minimum over all contact patterns."""
+    w = make()
+    lp = micro.assemble(w)
+    lam_enum, pattern = Enumerator(lp, d).minimum()
+    assert pattern is not None
+    g = solve_global(lp, direction=d)
+    assert g.status == "optimal", g.message
+    assert g.load_factor == pytest.approx(lam_enum, abs=1e-7)
+    assert lam_enum * (1 - 1e-6) - 1e-9 <= g.lower_bound <= g.load_factor + 1e-12
+    assoc = micro.solve_associative(w, directions="+x" if d == 1 else "-x").load_factor
+    assert g.load_factor <= assoc * (1 + 1e-7)
+    assert (assoc - g.load_factor > 1e-3) is below
+
+
+def test_enumeration_pruning_is_exact() -> None:
+    """The depth-first search with its two prunings finds the same minimum as
+    the plain loop over all 10^3 assignments of the two-block wall."""
+    lp = micro.assemble(small_wall(1.0, 0.5, 1.0, 1, 0.75))
+    e = Enumerator(lp, 1)
+    plain = math.inf
+    for states in itertools.product(STATES, repeat=e.C):
+        lam = e.forces(list(states))
+        if lam < plain and e.has_mechanism(list(states)):
+            plain = lam
+    assert e.minimum()[0] == pytest.approx(plain, abs=1e-12)
+
+
+def _as_direction(lp: micro.LimitLP, g) -> micro.DirectionResult:  # type: ignore[no-untyped-def]
+    """A global result in the shape of the micro results, for the iterated LP's own state check."""
+    fs = lp.force_scale
+    return micro.DirectionResult(g.direction, "optimal", g.load_factor, 0, g.seconds, normal=g.normal * fs,
+                                 shear=g.shear * fs, mechanism=g.mechanism)
+
+
+@pytest.mark.parametrize("make", [lambda: small_wall(1.0, 0.5, 1.0, 2, 0.75),
+                                  lambda: small_wall(1.5, 0.5, 1.0, 1, 0.75)])
+def test_state_is_collapse_state(make) -> None:  # type: ignore[no-untyped-def]
+    """The returned state passes the iterated LP's independent check."""
+    w = make()
+    lp = micro.assemble(w)
+    g = solve_global(lp, direction=1).directions[0]
+    assert g.status == "optimal"
+    v = verify_collapse_state(lp, _as_direction(lp, g))
+    assert v["equilibrium"] <= 1e-8 and v["coulomb"] <= 1e-8 and v["interpenetration"] <= 1e-8
+    assert v["dilatancy"] <= 1e-8 and v["slip_off_yield"] <= 1e-8 and v["friction_direction"] <= 1e-9
+    assert v["energy"] <= 1e-7
+    assert g.mechanism is not None and g.mechanism.live_work == pytest.approx(1.0)
+    assert g.pattern_band is not None and g.pattern_band[0] == g.load_factor <= g.pattern_band[1]
+
+
+def test_big_m_bounds_hold_on_known_fields() -> None:
+    """Every normal force of the associative solution and of the iterated LP's
+    final state is within the per-point bounds; the uniform bound is looser."""
+    w = small_wall(4.5, 1.5, 0.5, 4, 0.75)
+    lp = micro.assemble(w)
+    b = big_m(lp, 1)
+    u = big_m(lp, 1, policy="uniform")
+    assert np.all(b.normal <= u.normal + 1e-12) and b.normal.max() < u.normal.max()
+    assert b.lambda_lower == 0.0 and b.lift_nonnegative
+    assoc = micro.solve_associative(w)
+    n_assoc = assoc.directions[0].normal
+    assert n_assoc is not None and np.all(np.asarray(n_assoc) / lp.force_scale <= b.normal)
+    it = micro.solve_nonassociative(w)
+    assert it.converged and it.governing.normal is not None
+    assert np.all(it.governing.normal / lp.force_scale <= b.normal)
+    assert b.associative == pytest.approx(assoc.load_factor, rel=1e-6)
+
+
+def test_start_from_iterated_lp() -> None:
+    """The iterated LP's state is rebuilt from its pattern and started from;
+    the global minimum is at most its load factor."""
+    w = small_wall(1.0, 0.5, 1.0, 2, 0.75)
+    lp = micro.assemble(w)
+    it = micro.solve_nonassociative(w)
+    assert it.converged
+    start = StartState.from_iterated(lp, it.directions[0])
+    g = solve_global(lp, direction=1, start=start)
+    d = g.directions[0]
+    assert g.status == "optimal"
+    assert math.isfinite(d.start_load_factor) and d.start_load_factor <= it.load_factor * (1 + 1e-7)
+    assert g.load_factor <= d.start_load_factor + 1e-12
+    assert g.load_factor == pytest.approx(solve_global(lp, direction=1).load_factor, abs=1e-9)
+
+
+def test_node_limit_reports_bound_and_gap() -> None:
+    """A search stopped by its node limit says so, with a valid bound and gap."""
+    lp = micro.assemble(small_wall(1.0, 0.5, 1.0, 2, 0.75))
+    exact = solve_global(lp, direction=1).load_factor
+    g = solve_global(lp, direction=1, options=GlobalOptions(node_limit=1))
+    assert g.status == "node_limit"
+    assert g.lower_bound <= exact + 1e-9
+    if math.isfinite(g.load_factor):
+        assert g.load_factor >= exact - 1e-9 and g.gap >= 0.0
+    s = global_summary(g)
+    assert s["global_status"] == "node_limit" and s["global_lower_bound"] == pytest.approx(g.lower_bound)
+
+
+def test_summary_keys() -> None:
+    g = solve_global(small_wall(1.0, 0.5, 1.0, 1, 0.75))
+    s = global_summary(g)
+    assert {"global_load_factor", "global_lower_bound", "global_gap", "global_status"} <= set(s)
+    assert s["global_status"] == "optimal" and s["global_load_factor"] == pytest.approx(0.5)
+    assert s["global_gap"] is not None and s["global_gap"] <= 1e-6
+
+
+def test_uniform_bounds_same_answer() -> None:
+    lp = micro.assemble(small_wall(1.0, 0.5, 1.0, 2, 0.75))
+    a = solve_global(lp, direction=1)
+    b = solve_global(lp, direction=1, options=GlobalOptions(bounds="uniform"))
+    assert a.status == b.status == "optimal"
+    assert a.load_factor == pytest.approx(b.load_factor, abs=1e-9)
+
+
+@pytest.mark.parametrize("kw, word", [(dict(time_limit=0), "time_limit"), (dict(time_limit=-1.0), "time_limit"),
+                                      (dict(node_limit=0), "node_limit"), (dict(node_limit=1.5), "node_limit"),
+                                      (dict(mip_gap=1.0), "mip_gap"), (dict(bounds="tight"), "bounds"),
+                                      (dict(seed=-1), "seed")])
+def test_bad_options(kw: dict, word: str) -> None:
+    with pytest.raises(ValueError, match=word):
+        GlobalOptions(**kw)
+
+
+def test_bad_direction() -> None:
+    with pytest.raises(ValueError, match="direction"):
+        solve_global(small_wall(1.0, 1.0, 1.0, 1, 0.75), direction=2)  # type: ignore[arg-type]
