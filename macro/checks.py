@@ -217,6 +217,12 @@ def rows_per_storey(rows: int, storeys: int) -> int:
     return rows // storeys
 
 
+def _within(name: str, x: float, lo: float, hi: float) -> None:
+    """A length already checked as a positive number, within ``(lo, hi]`` block heights (:data:`IN_RANGE`)."""
+    if not lo < x <= hi:
+        raise ValueError(IN_RANGE.format(name=name, lo=lo, hi=hi, value=x) + f": at most {MAX_RATIO:g} block heights")
+
+
 #: The keyword arguments of :func:`wall_bounds` (attributes of every wall type).
 WALL_FIELDS = ("length", "block_length", "block_height", "rows", "thickness", "overload", "unit_weight")
 
@@ -238,7 +244,7 @@ def wall_bounds(
             :data:`AT_MOST` or :data:`AT_LEAST` and the reason after a colon.
     """
     b = block_height
-    in_range("block_length", block_length, b / MAX_RATIO, b * MAX_RATIO, f"at most {MAX_RATIO:g} block heights")
+    _within("block_length", block_length, b / MAX_RATIO, b * MAX_RATIO)
     if length < block_length * (1.0 - LENGTH_SLACK):
         raise ValueError(
             AT_LEAST.format(name="length", lo=block_length, value=length)
@@ -251,7 +257,7 @@ def wall_bounds(
     if sum(rows) > MAX_RATIO:
         raise ValueError(AT_MOST.format(name="rows", hi=MAX_RATIO, value=sum(rows)) + ": rows in all")
     for i, (t, q) in enumerate(zip(thickness, overload, strict=True)):
-        in_range(f"thickness[{i}]", t, b / MAX_RATIO, b * MAX_RATIO, f"at most {MAX_RATIO:g} block heights")
+        _within(f"thickness[{i}]", t, b / MAX_RATIO, b * MAX_RATIO)
         row_weight = unit_weight * b * t
         if q > MAX_RATIO * row_weight:
             raise ValueError(

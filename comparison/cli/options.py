@@ -156,7 +156,9 @@ def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
         if args.cache is not None:
             raise UsageError("--cache and --no-cache exclude each other")
         return None
-    return output_directory("--cache", args.cache if args.cache is not None else default_cache_dir())
+    if args.cache is not None:
+        return output_directory("--cache", args.cache)
+    return output_directory("the cache directory ($XCHECK_CACHE, else the default)", default_cache_dir())
 
 
 def output_directory(option: str, path: str | os.PathLike[str]) -> Path:
