@@ -11,6 +11,9 @@ from numpy.typing import NDArray
 from micro.geometry import BlockWall
 from micro.results import LimitResult
 
+#: The largest virtual displacement drawn, as a fraction of the wall height (when no amplification is given).
+LARGEST_DISPLACEMENT = 0.2
+
 
 def draw_mechanism(
     ax: Any,
@@ -19,13 +22,16 @@ def draw_mechanism(
     *,
     amplification: float | None = None,
     fig: Any = None,
+    direction: str | None = None,
 ) -> float:
-    """Draw the wall and a mechanism on matplotlib axes.
+    """Draw the wall and a mechanism on matplotlib axes, in block heights.
 
     Each block is drawn displaced by its velocity ``(u, v, omega)`` (a
-    virtual displacement, amplified so that the largest one is about a fifth
-    of the wall height) and coloured by the magnitude of its translational
-    velocity; the undeformed outline is drawn in grey.
+    virtual displacement, amplified so that the largest one is
+    :data:`LARGEST_DISPLACEMENT` of the wall height, unless ``amplification``
+    is given) and coloured by the magnitude of its translational velocity; the
+    undeformed outline is drawn in grey. The x label gives the amplification;
+    when ``direction`` is given, an arrow shows the live load.
 
     Args:
         ax: matplotlib axes.
@@ -34,43 +40,58 @@ def draw_mechanism(
             units (lengths in block heights).
         amplification: displacement scale; ``None`` chooses one.
         fig: when given, a colour bar is added to it.
+        direction: the live load's direction, ``"+x"`` or ``"-x"`` (``None``: no arrow).
 
     Returns:
         The amplification used.
     """
     from matplotlib.collections import PolyCollection
 
-    ls = wall.block_height
     vel = np.asarray(velocities)
-    u, v, w = vel[:, 0] * ls, vel[:, 1] * ls, vel[:, 2]  # lengths back to wall units
-    xc, yc = wall.xc, wall.yc
-    corners_x = np.stack([wall.x0, wall.x1, wall.x1, wall.x0], axis=1)
-    corners_y = np.stack([wall.y0, wall.y0, wall.y1, wall.y1], axis=1)
+    u, v, w = vel[:, 0], vel[:, 1], vel[:, 2]  # block heights (the LP's scaled units)
+    ls = wall.block_height
+    xc, yc = wall.xc / ls, wall.yc / ls
+    corners_x = np.stack([wall.x0, wall.x1, wall.x1, wall.x0], axis=1) / ls
+    corners_y = np.stack([wall.y0, wall.y0, wall.y1, wall.y1], axis=1) / ls
     rx, ry = corners_x - xc[:, None], corners_y - yc[:, None]
     # largest corner displacement of the rigid motion
-    dx = u[:, None] - w[:, None] * ry
-    dy = v[:, None] + w[:, None] * rx
-    dmax = float(np.max(np.hypot(dx, dy), initial=0.0))
+    dmax = float(np.max(np.hypot(u[:, None] - w[:, None] * ry, v[:, None] + w[:, None] * rx), initial=0.0))
+    height = wall.height / ls
     if amplification is None:
-        amplification = 0.2 * wall.height / dmax if dmax > 0 else 1.0
+        amplification = LARGEST_DISPLACEMENT * height / dmax if dmax > 0 else 1.0
     # finite rigid rotation of each block by amplification * omega
     th = amplification * w
     c, s = np.cos(th)[:, None], np.sin(th)[:, None]
     X = xc[:, None] + amplification * u[:, None] + c * rx - s * ry
     Y = yc[:, None] + amplification * v[:, None] + s * rx + c * ry
-    speed = np.hypot(u, v)
-    ax.add_collection(
-        PolyCollection(np.stack([corners_x, corners_y], axis=2), facecolors="none", edgecolors="0.8", linewidths=0.3)
-    )
-    pc = PolyCollection(np.stack([X, Y], axis=2), array=speed, cmap="viridis", edgecolors="k", linewidths=0.2)
+    outline = [np.column_stack(q) for q in zip(corners_x, corners_y, strict=True)]
+    ax.add_collection(PolyCollection(outline, facecolors="none", edgecolors="0.8", linewidths=0.3))
+    moved = [np.column_stack(q) for q in zip(X, Y, strict=True)]
+    pc = PolyCollection(moved, array=np.hypot(u, v), cmap="viridis", edgecolors="k", linewidths=0.2)
     ax.add_collection(pc)
     if fig is not None:
-        fig.colorbar(pc, ax=ax, label="|velocity| (live load does unit work)")
+        fig.colorbar(pc, ax=ax, label="block speed |(u, v)|, normalised", shrink=0.8)
+    if direction is not None:
+        _load_arrow(ax, wall.length / ls, height, direction)
     ax.autoscale_view()
     ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    ax.set_xlabel(f"x [block heights]; displacements × {amplification:.3g} (largest: {amplification * dmax:.2g})")
+    ax.set_ylabel("y [block heights]")
     return float(amplification)
+
+
+def _load_arrow(ax: Any, length: float, height: float, direction: str) -> None:
+    """A horizontal arrow beside the wall, at two thirds of its height, pointing the live load's way
+    (``λ W``: λ times the weight of each block)."""
+    span = 0.18 * max(length, height)
+    y = 0.66 * height
+    tail, head = (-1.15 * span, -0.15 * span) if direction == "+x" else (length + 1.15 * span, length + 0.15 * span)
+    ax.annotate(
+        "", xy=(head, y), xytext=(tail, y),
+        arrowprops={"arrowstyle": "-|>", "color": "C3", "lw": 2.0, "mutation_scale": 16},
+    )  # fmt: skip
+    ax.text((tail + head) / 2, y + 0.12 * span, "λ W", ha="center", va="bottom", fontsize=9, color="C3")
+    ax.update_datalim([(tail, y), (head, y)])
 
 
 def plot_velocities(
@@ -80,6 +101,7 @@ def plot_velocities(
     *,
     amplification: float | None = None,
     title: str = "",
+    direction: str | None = None,
 ) -> Path:
     """Draw the wall and a mechanism (see :func:`draw_mechanism`) to an image file.
 
@@ -89,6 +111,7 @@ def plot_velocities(
         path: output file (``.png``, ``.pdf``, ``.svg``).
         amplification: displacement scale; ``None`` chooses one.
         title: figure title.
+        direction: the live load's direction (an arrow), or ``None``.
 
     Returns:
         The written path.
@@ -100,7 +123,7 @@ def plot_velocities(
 
     aspect = wall.height / wall.length
     fig, ax = plt.subplots(figsize=(9, max(3.0, min(9.0, 9 * aspect + 1.5))), dpi=110)
-    draw_mechanism(ax, wall, velocities, amplification=amplification, fig=fig)
+    draw_mechanism(ax, wall, velocities, amplification=amplification, fig=fig, direction=direction)
     ax.set_title(title)
     out = Path(path)
     fig.savefig(out, bbox_inches="tight")
@@ -138,5 +161,7 @@ def plot_mechanism(
         result.velocities,
         path,
         amplification=amplification,
-        title=title or f"lambda = {result.load_factor:.4f} ({result.direction}), {result.blocks} blocks, {result.solver}",
+        title=title
+        or f"lambda = {result.load_factor:.4f} ({result.direction}), {result.blocks} blocks, {result.solver}",
+        direction=result.direction or None,
     )

@@ -5,7 +5,7 @@ Only input validation maps to exit code 2: the parser's own errors and the
 exception is a bug and ends with its traceback. Bare ``xcheck`` prints the
 usage (exit 2); ``xcheck --version`` the version. A reader that closes the
 output early (``xcheck macro --json | head``) ends the run quietly with
-:data:`EXIT_BROKEN_PIPE`; Ctrl-C with 130. Warnings (e.g. an unreadable cache
+:data:`~comparison.cli.options.EXIT_BROKEN_PIPE` (141); Ctrl-C with 130. Warnings (e.g. an unreadable cache
 entry) are one line each, ``xcheck: warning: ...``.
 """
 
@@ -13,20 +13,14 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from importlib import metadata
 
-from comparison.cli import macro, micro, report, stability
-from comparison.cli.options import EXIT_USAGE, UsageError
-
-#: Exit code when the reader of the output went away (128 + SIGPIPE, as a shell reports it).
-EXIT_BROKEN_PIPE = 128 + signal.SIGPIPE
-#: Exit code of an interrupted run (128 + SIGINT).
-EXIT_INTERRUPTED = 128 + signal.SIGINT
+from comparison.cli import macro, micro, references, report, stability, sweep
+from comparison.cli.options import EXIT_BROKEN_PIPE, EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
 
 
 class Parser(argparse.ArgumentParser):
@@ -49,10 +43,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser = Parser(
         prog="xcheck",
         description="Macro-block model vs rigid-block limit analysis of dry-joint masonry walls.",
+        epilog=EXIT_CODES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"xcheck {version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for module in (macro, micro, report, stability):
+    for module in (macro, micro, report, stability, sweep, references):
         module.register(sub)
     return parser
 

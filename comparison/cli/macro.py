@@ -6,13 +6,14 @@ import argparse
 import json
 
 import macro
-from comparison.cli.options import UsageError, add_wall_options, wall_from_args
+from comparison.cli.options import QUIET, VERBOSE, UsageError, add_command, add_wall_options, wall_from_args
 from macro.checks import TooLarge
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``macro`` subcommand."""
-    p = sub.add_parser(
+    p = add_command(
+        sub,
         "macro",
         help="load factor of the macro-block model (Argiento, Maione & Casapulla 2018)",
         description="Minimise Eq. (10) of the paper over the crack angle and the hinge storey.",
@@ -34,7 +35,13 @@ def run(args: argparse.Namespace) -> int:
         d["paper_parameters"] = spec.paper_parameters()
         print(json.dumps(d, indent=2))
         return 0
+    if args.verbosity == QUIET:
+        print(f"{result.load_factor:.6f}")
+        return 0
     print(format_result(result))
+    if args.verbosity >= VERBOSE:
+        paper = ", ".join(f"{k} = {v:.6g}" for k, v in spec.paper_parameters().items())
+        print(f"  paper parameters: {paper}\n  solved in {1e3 * result.solve_seconds:.2f} ms")
     return 0
 
 

@@ -16,9 +16,21 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.wall import WallSpec
-    from micro import BlockWall
+    from micro import BlockWall, LimitResult, NonAssociativeResult
 
-from comparison.cli.options import UsageError, add_wall_options, choice, in_range, int_option, wall_from_args
+from comparison.cli.options import (
+    EXIT_FAILED,
+    EXIT_OK,
+    QUIET,
+    VERBOSE,
+    UsageError,
+    add_command,
+    add_wall_options,
+    choice,
+    in_range,
+    int_option,
+    wall_from_args,
+)
 
 #: Friction laws accepted by ``--friction``.
 FRICTION_LAWS = ("associative", "nonassociative")
@@ -28,7 +40,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``micro`` subcommand."""
     from micro import SOLVERS
 
-    p = subparsers.add_parser(
+    p = add_command(
+        subparsers,
         "micro",
         help="rigid-block limit analysis (LP) of the wall built block by block",
         description="Collapse load factor of the wall built block by block in running bond, "
@@ -115,21 +128,31 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(_json(result.summary(), args, spec, plotted=result.ok))
     else:
-        if result.ok:
-            print(
-                f"lambda = {result.load_factor:.6f} ({result.direction}) by {result.solver}: "
-                f"{result.blocks} blocks, {result.contacts} contacts, "
-                f"build {result.build_seconds:.3f} s, solve {result.solve_seconds:.3f} s"
-            )
-            for d in result.directions:
-                print(
-                    f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.seconds:.3f} s"
-                )
-            if result.mirror_symmetric:
-                print("  the wall is mirror-symmetric: -x gives the same load factor")
-        else:
-            print(f"status {result.status}: {result.message}")
-    return 0 if result.ok else 1
+        _print_associative(result, args.verbosity)
+    return EXIT_OK if result.ok else EXIT_FAILED
+
+
+def _print_associative(result: LimitResult, verbosity: int) -> None:
+    """The associative result in words: λ alone when quiet, sizes and contact states when verbose."""
+    if not result.ok:
+        print(f"status {result.status}: {result.message}")
+        return
+    if verbosity == QUIET:
+        print(f"{result.load_factor:.6f}")
+        return
+    print(
+        f"lambda = {result.load_factor:.6f} ({result.direction}) by {result.solver}: "
+        f"{result.blocks} blocks, {result.contacts} contacts, "
+        f"build {result.build_seconds:.3f} s, solve {result.solve_seconds:.3f} s"
+    )
+    for d in result.directions:
+        print(f"  {d.direction}: lambda = {d.load_factor:.6f}, {d.iterations} iterations, {d.seconds:.3f} s")
+    if result.mirror_symmetric:
+        print("  the wall is mirror-symmetric: -x gives the same load factor")
+    if verbosity >= VERBOSE:
+        rec = result.to_record()
+        print(f"  LP: {rec.variables} variables, {rec.rows} rows, {rec.nnz} nonzeros; contact points {rec.points}")
+        print("  contacts of the mechanism: " + ", ".join(f"{n} {k}" for k, n in rec.contact_states.items()))
 
 
 def _write_plot(draw: Callable[[], object], path: str) -> None:
@@ -179,32 +202,53 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             f"lambda = {result.load_factor:.4f} ({result.direction}), non-associative scheme {result.scheme}, "
             f"{result.blocks} blocks"
         )
-        _write_plot(lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title), args.plot)
+        _write_plot(
+            lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction),
+            args.plot,
+        )
     if args.json:
         solver = "clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)"
         print(_json(result.summary(), args, spec, plotted=mechanism is not None, solver=solver))
     else:
-        if result.ok:
-            print(
-                f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
-                f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
-                f"({result.stop_reason}); associative lambda = {result.associative_load_factor:.6f}"
-            )
-            if result.mechanism_band is not None:
-                lo, hi = result.mechanism_band
-                print(f"  collapse states with this mechanism: lambda in [{lo:.6f}, {hi:.6f}]")
-        else:
-            band = (
-                ""
-                if result.lambda_band is None
-                else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
-            )
-            print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
+        _print_nonassociative(result, args.verbosity)
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
+    return EXIT_OK if result.ok else EXIT_FAILED
+
+
+def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
+    """The iterated LP's result in words: λ alone when quiet, every LP when verbose."""
+    if result.ok and verbosity == QUIET:
+        print(f"{result.load_factor:.6f}")
+        return
+    if result.ok:
         print(
-            f"  warm/cold rel. difference {result.warm_cold_rel_diff:.2e}, Coulomb residual "
-            f"{result.coulomb_residual:.2e}, dilatancy residual {result.dilatancy_residual:.2e}, "
-            f"{result.blocks} blocks, {result.solve_seconds:.3f} s"
+            f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
+            f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
+            f"({result.stop_reason}); associative lambda = {result.associative_load_factor:.6f}"
         )
-    return 0 if result.ok else 1
+        if result.mechanism_band is not None:
+            lo, hi = result.mechanism_band
+            print(f"  collapse states with this mechanism: lambda in [{lo:.6f}, {hi:.6f}]")
+    else:
+        band = (
+            ""
+            if result.lambda_band is None
+            else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
+        )
+        print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
+    if verbosity == QUIET:
+        return
+    print(
+        f"  warm/cold rel. difference {result.warm_cold_rel_diff:.2e}, Coulomb residual "
+        f"{result.coulomb_residual:.2e}, dilatancy residual {result.dilatancy_residual:.2e}, "
+        f"{result.blocks} blocks, {result.solve_seconds:.3f} s"
+    )
+    if verbosity >= VERBOSE:
+        print("  LP   lambda      max dn     simplex it.  seconds  algorithm  certificate")
+        for r in result.history:
+            dn = "" if r.max_dn is None or not math.isfinite(r.max_dn) else f"{r.max_dn:.2e}"
+            print(
+                f"  {r.iteration:>3}  {r.load_factor:.6f}  {dn:>9}  {r.simplex_iterations:>11}  "
+                f"{r.seconds:7.3f}  {r.algorithm}  {r.certificate}".rstrip()
+            )

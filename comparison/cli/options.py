@@ -13,10 +13,47 @@ import os
 from fractions import Fraction
 from pathlib import Path
 
+from comparison.progress import NORMAL, QUIET, VERBOSE
 from comparison.wall import WallSpec
 
-#: Exit code of bad input.
+#: Exit codes of ``xcheck`` (documented in the README and in ``xcheck --help``).
+EXIT_OK = 0
+#: A method ran but gave no load factor (a solve that is not optimal, an iterated LP that did not converge).
+EXIT_FAILED = 1
+#: Bad input: a malformed option, an invalid wall, a bad scene file.
 EXIT_USAGE = 2
+#: Interrupted by Ctrl-C (128 + SIGINT, the shell's convention).
+EXIT_INTERRUPTED = 130
+#: The reader of the output went away (``xcheck macro --json | head``): 128 + SIGPIPE, as a shell reports it.
+EXIT_BROKEN_PIPE = 141
+
+# Values of ``args.verbosity`` (``-q``/``--quiet``, default, ``-v``/``--verbose``), defined with the
+# progress display that long-running subcommands pass them down to: QUIET, NORMAL, VERBOSE.
+
+#: The exit codes, as ``xcheck --help`` shows them (the README has the same list).
+EXIT_CODES = """\
+exit codes:
+  0    success: every method asked for gave its load factor
+  1    a method failed: a solve that is not optimal, an iterated LP that did not converge
+       (the reason is printed; lambda is never printed as a number)
+  2    bad input: one line 'xcheck: error: ...' naming the parameter (file and line for scenes)
+  130  interrupted (Ctrl-C)
+  141  the reader of the output went away (a closed pipe); nothing more is printed
+"""
+
+
+def add_command(sub: argparse._SubParsersAction, name: str, *, help: str, description: str) -> argparse.ArgumentParser:
+    """A subcommand's parser with the options every subcommand has (``--quiet``/``--verbose``) and the exit
+    codes in its help."""
+    p = sub.add_parser(
+        name,
+        help=help,
+        description=description,
+        epilog=EXIT_CODES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_verbosity_options(p)
+    return p
 
 
 class UsageError(ValueError):
@@ -89,6 +126,30 @@ def in_range(option: str, text: str | None, rule: str, upper: float) -> float | 
 WALL_OPTIONS = ("storeys", "rows", "t", "m", "f", "p")
 
 
+def add_verbosity_options(parser: argparse.ArgumentParser) -> None:
+    """``-q``/``--quiet`` and ``-v``/``--verbose``, stored as ``args.verbosity`` (:data:`QUIET`,
+    :data:`NORMAL` by default, :data:`VERBOSE`)."""
+    g = parser.add_argument_group("output")
+    x = g.add_mutually_exclusive_group()
+    x.add_argument(
+        "-q",
+        "--quiet",
+        dest="verbosity",
+        action="store_const",
+        const=QUIET,
+        help="print only the result (the load factor, or the paths written); no progress",
+    )
+    x.add_argument(
+        "-v",
+        "--verbose",
+        dest="verbosity",
+        action="store_const",
+        const=VERBOSE,
+        help="print more: the wall's parameters, per-direction and per-iteration details",
+    )
+    parser.set_defaults(verbosity=NORMAL)
+
+
 def add_wall_options(parser: argparse.ArgumentParser) -> None:
     """Options that describe a wall, shared by every model subcommand."""
     g = parser.add_argument_group("wall (the paper's Table 4 parameters, or a scene file)")
@@ -150,14 +211,23 @@ def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
         UsageError: ``--cache`` together with ``--no-cache``, or a cache
             directory that cannot be written (a file, no permission).
     """
-    from comparison.runner.cache import default_cache_dir
-
     if args.no_cache:
         if args.cache is not None:
             raise UsageError("--cache and --no-cache exclude each other")
         return None
-    if args.cache is not None:
-        return output_directory("--cache", args.cache)
+    return cache_directory(args.cache)
+
+
+def cache_directory(cache: str | None) -> Path:
+    """The cache directory ``--cache`` names, else the default one, checked before any work.
+
+    Raises:
+        UsageError: a cache directory that cannot be written (a file, no permission).
+    """
+    from comparison.runner.cache import default_cache_dir
+
+    if cache is not None:
+        return output_directory("--cache", cache)
     return output_directory("the cache directory ($XCHECK_CACHE, else the default)", default_cache_dir())
 
 
@@ -173,3 +243,22 @@ def output_directory(option: str, path: str | os.PathLike[str]) -> Path:
         return writable_directory(option, path)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+
+
+def add_executor_options(parser: argparse.ArgumentParser, default_workers: str | None = None) -> None:
+    """``--workers N``: local worker processes (default: the number of CPUs, or ``default_workers``)."""
+    parser.add_argument(
+        "--workers",
+        default=default_workers,
+        metavar="N",
+        help=f"local worker processes (default: {default_workers or 'the number of CPUs'})",
+    )
+
+
+def workers_from_args(args: argparse.Namespace) -> int | None:
+    """The ``--workers`` option as a positive integer (``None``: not given).
+
+    Raises:
+        UsageError: not a positive integer.
+    """
+    return None if args.workers is None else int_option("--workers", args.workers)

@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import argparse
 
-from comparison.cli.options import UsageError, int_option, output_directory
+from comparison.cli.options import UsageError, add_command, int_option, output_directory
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``stability`` subcommand."""
-    p = subparsers.add_parser(
+    p = add_command(
+        subparsers,
         "stability",
         help="convergence study of the non-associative iterated LP on a grid of small walls",
         description="Runs the non-associative iterated LP (schemes a and b, several relaxations) on a grid "
@@ -41,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
         if args.table7:
             print(f"md: {table7_variants(args.out)}")
             return 0
-        paths = main_study(args.out, processes=processes, quick=args.quick)
+        paths = main_study(args.out, processes=processes, quick=args.quick, verbosity=args.verbosity)
     except OSError as exc:
         raise UsageError(f"--out: cannot write to {args.out!r} ({exc.strerror})") from None
     for kind, path in paths.items():

@@ -2,7 +2,8 @@
 
 :func:`build_report` makes the :class:`~comparison.report.plan.Plan` (every
 wall and method the report needs), computes the missing cache entries of the
-plan in parallel processes, reads the whole plan into
+plan in local worker processes (:class:`~comparison.runner.executor.LocalExecutor`,
+with a progress bar), reads the whole plan into
 :class:`~comparison.report.results.Results`, and renders the tables, figures
 and text from them into ``REPORT.md``, one CSV per table, ``report.json`` (every
 number shown) and the figures.
@@ -13,19 +14,22 @@ from __future__ import annotations
 import json
 import os
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from comparison.outputs import writable_directory
-from comparison.report import figures
+from comparison.progress import NORMAL, Progress
+from comparison.report import errormap, figures
 from comparison.report.findings import findings
+from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
 from comparison.report.tables import all_tables
 from comparison.report.text import document
-from comparison.report.timings import machine, write_timings
-from comparison.runner import MACRO, Runner, prefetch
+from comparison.report.timings import write_timings
+from comparison.runner import MACRO, Prefetched, Runner, prefetch
+from comparison.runner.executor import LocalExecutor
 
 
 def build_report(
@@ -33,7 +37,7 @@ def build_report(
     *,
     quick: bool = False,
     cache_dir: Path | None,
-    progress: Callable[[str], None] | None = None,
+    verbosity: int = NORMAL,
     workers: int | None = None,
 ) -> Path:
     """Compute everything and write ``REPORT.md``, CSVs, ``report.json`` and the figures.
@@ -44,7 +48,7 @@ def build_report(
         cache_dir: the result cache (``None``: no cache; everything is computed
             in this process). The command line's default is
             :func:`comparison.runner.default_cache_dir`.
-        progress: called with one line per computation.
+        verbosity: what the progress display shows (see :mod:`comparison.progress`).
         workers: processes for the missing micro computations (default: the number of CPUs).
 
     Returns:
@@ -58,19 +62,25 @@ def build_report(
     if cache_dir is not None:
         writable_directory("cache_dir", cache_dir)
     plan = build_plan(quick)
-    runner = Runner(cache_dir, progress)
     runs = [it for it in plan.items() if not it.skip]
-    pending = [] if runner.cache is None else plan.pending(runner.cache)
-    computed = 0
-    if cache_dir is not None:
-        computed = prefetch(
-            cache_dir, [(it.spec, it.method) for it in pending], workers or os.cpu_count() or 1, progress
+    processes = workers or os.cpu_count() or 1
+    with Progress(verbosity) as progress:
+        runner = Runner(cache_dir, progress.advance)
+        pending = runs if runner.cache is None else plan.pending(runner.cache)
+        progress.say(
+            f"plan: {len(plan.macro_specs())} macro solves and {len(runs)} micro computations: "
+            f"{len(runs) - len(pending)} cached, {len(pending)} to compute"
+            + ("" if runner.cache is None else f" in {processes} processes")
         )
-    results = compute(plan, runner)
+        progress.start(len(pending), "micro")
+        prefetched = Prefetched()
+        if runner.cache is not None and pending:
+            with LocalExecutor(processes) as executor:
+                prefetched = prefetch(runner.cache, [(it.spec, it.method) for it in pending], executor, progress)
+        results = compute(plan, runner)
     meta = {"quick": quick, "methods": [m.label for m in [MACRO, *plan.methods]]}
     run = {
-        **machine(),
-        "computed": computed + runner.computed,
+        "computed": prefetched.computed + runner.computed,
         "cached": len(runs) - len(pending) if cache_dir is not None else 0,
     }
     path = _write(results, out_dir, meta)
@@ -81,19 +91,20 @@ def build_report(
 def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
     """Render the tables, figures and text of ``res`` into ``out`` (run times: :mod:`~comparison.report.timings`)."""
     tables = all_tables(res)
-    figure_names = [
-        figures.sensitivity_figure(res, out / "sensitivity.png").name,
-        figures.speed_figure(res, out / "speed_accuracy.png").name,
-    ]
     hist = figures.histories_figure(res, out / "histories.png")
-    if hist is not None:
-        figure_names.append(hist.name)
-    mechanisms = figures.mechanism_figures(res, out)
+    figure_list = [
+        figures.sensitivity_figure(res, out / "sensitivity.png"),
+        figures.speed_figure(res, out / "speed_accuracy.png"),
+        *([] if hist is None else [hist]),
+        *mechanism_figures(res, out),
+    ]
     for tb in tables.values():
         tb.write_csv(out / f"{tb.name}.csv")
+    error_map, error_numbers = errormap.write(out)
+    tables_json = {k: v.records() for k, v in tables.items()}
     (out / "report.json").write_text(
-        json.dumps({"meta": meta, "tables": {k: v.records() for k, v in tables.items()}}, indent=1, default=str)
+        json.dumps({"meta": meta, "tables": tables_json, "errormap": error_numbers}, indent=1, default=str)
     )
     path = out / "REPORT.md"
-    path.write_text(document(res, tables, findings(res), figure_names, mechanisms, meta))
+    path.write_text(document(res, tables, findings(res), figure_list, meta) + "\n" + error_map)
     return path

@@ -14,7 +14,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 from comparison.cases import CASES, PaperCase, cases_in_table
-from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, Method, ResultCache
+from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, Method, ResultCache, approximate_blocks
 from comparison.wall import WallSpec
 
 #: The report runs the iterated non-associative LP on walls of at most this many
@@ -44,11 +44,6 @@ SWEEPS_QUICK: Mapping[str, tuple[float, ...]] = {
     "rows": (6, 9, 12, 18, 24),
     "p": (0.0, 1.0, 4.0),
 }
-
-
-def approximate_blocks(spec: WallSpec) -> int:
-    """Blocks of the running-bond wall of ``spec`` (to within one per course)."""
-    return int(round(spec.rows * (spec.length / spec.block_length + 0.5)))
 
 
 def micro_methods() -> tuple[Method, ...]:

@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from math import isfinite
 from typing import Any
 
 from comparison.cases import CASES, MODELS, SET4_HINGE_LOAD_FACTORS, case, cases_in_table
-from comparison.report.plan import table9_alternative
+from comparison.report.figures import Figure
+from comparison.report.plan import NONASSOC_MAX_BLOCKS, table9_alternative
+from comparison.report.reproduce import how_to_reproduce
 from comparison.report.results import Results
 from comparison.report.tables import Table, published
+from comparison.runner import NONASSOC_SECONDS
 
 #: The order of the tables in ``REPORT.md``.
 ORDER = (
@@ -23,6 +27,65 @@ ORDER = (
     "speed_accuracy",
     "histories",
 )
+
+
+#: The symbols of the report.
+GLOSSARY = {
+    "λ": "the load factor: the horizontal load, as a fraction of the weight, at which the wall collapses",
+    "λ_r": "the macro model's rocking-sliding load factor, the minimum of Eq. (10) over the crack angle and "
+    "the hinge storey: the number the paper tabulates",
+    "λ_s": "the load factor of Eq. (12) at which the macro-block slides along the crack",
+    "macro λ": "min(λ_r, f): no mechanism carries more than f, at which the whole wall slides on a bed joint",
+    "α_c": "the angle from the vertical of the macro crack through the hinge (Eq. 10's variable)",
+    "α_c*": "the angle of the macro model's stepped crack of Eq. (9), tan α_c* = tan α_c − v/(n b)",
+    "α_b": "the angle of the bond's stair, tan α_b = v/b (v the overlap, b the block height)",
+    "band": "mechanism band: the range of λ over which the iterated LP's final mechanism admits an exact "
+    "non-associative collapse state (one value: the solution is unique); cycling band: the range of the last "
+    "λ values of a sequence that did not converge",
+    "t, m, o, p, f": "the paper's Table 4 parameters: H/L, b/l, rows, floor load q/(γHb), friction coefficient",
+    "Δ %": "the first value named against the second, in percent of the second",
+}
+
+#: What every status a table can show means (the report lists those that appear).
+STATUS_LEGEND = {
+    "optimal": "the LP was solved to optimality and its answer passed the independent re-check "
+    "(equilibrium, n ≥ 0, Coulomb to 1e-6 block weights)",
+    "converged": "the iterated LP reached an exact non-associative collapse state (equilibrium, Coulomb with "
+    "its own normal forces, no dilatancy): its λ is a collapse load",
+    "cycling": "the iterated LP's λ repeats or oscillates without an exact state; the cell shows the range of "
+    "its last values, and no λ",
+    "max_iterations": "the iterated LP stopped without settling, at its cap of LPs or at its time budget "
+    f"({NONASSOC_SECONDS:g} s per load direction in this report); no λ",
+    "solver_failure": "an LP of the iterated sequence failed; no λ",
+    "inaccurate": "the back end called its answer optimal but it failed the independent re-check; no λ",
+    "time_limit": "the LP back end hit its time limit; no λ",
+    "not run": f"the report does not run this method on this wall (the iterated LP on walls above "
+    f"{NONASSOC_MAX_BLOCKS:,} blocks: too slow for the report)",
+    "n/a": "no number: the method does not apply to this wall or gave none (the status column or the "
+    "table's note says which)",
+    "not_applicable": "the micro wall cannot be built (shown as n/a where a λ would be)",
+    "–": "no value in this column for this row",
+}
+
+
+def glossary() -> str:
+    """The glossary as a markdown list."""
+    return "\n".join(f"* **{k}**: {v}." for k, v in GLOSSARY.items())
+
+
+def status_legend(tables: Mapping[str, Table]) -> str:
+    """The statuses that appear in ``tables``, explained (markdown list)."""
+    every = [c for t in tables.values() for r in t.rows for c in r]
+    cells = {c for c in every if isinstance(c, str)}
+    cells |= {"–" for c in every if c is None} | {"n/a" for c in every if isinstance(c, float) and not isfinite(c)}
+    said = {c.replace("_", " ") for c in cells}  # a status column says not_run where a λ cell says not run
+    shown = [k for k in STATUS_LEGEND if any(c == (w := k.replace("_", " ")) or c.endswith(f"({w})") for c in said)]
+    return "\n".join(f"* `{k}`: {STATUS_LEGEND[k]}." for k in shown)
+
+
+def figure_list(figures: Sequence[Figure]) -> str:
+    """Every figure, numbered, with its caption."""
+    return "\n\n".join(f"![Figure {i}]({f.name})\n\n**Figure {i}.** {f.caption}" for i, f in enumerate(figures, 1))
 
 
 def _pct(ours: float, ref: float) -> str:
@@ -113,8 +176,7 @@ def document(
     res: Results,
     tables: Mapping[str, Table],
     findings: str,
-    figures: Sequence[str],
-    mechanisms: Sequence[str],
+    figures: Sequence[Figure],
     meta: Mapping[str, Any],
 ) -> str:
     """The text of ``REPORT.md``.
@@ -123,14 +185,11 @@ def document(
         res: the results (for the discrepancies with the paper).
         tables: the tables by name.
         findings: the headline findings (markdown bullets).
-        figures: the file names of the summary figures.
-        mechanisms: the file names of the mechanism figures.
+        figures: every figure with its caption, in the order they are numbered.
         meta: what was run (``quick``, ``methods``); run times, the machine and
             the cache are in ``timings.md`` (:mod:`~comparison.report.timings`).
     """
     body = "\n\n".join(tables[k].markdown() for k in ORDER if k in tables)
-    figs = "\n".join(f"![{n}]({n})" for n in figures)
-    mech = " ".join(f"[{n}]({n})" for n in mechanisms)
     return f"""# Macro-block against rigid-block limit analysis: validation report
 
 Argiento, Maione & Casapulla (2018), *Formulating the in-plane frictional resistances and
@@ -138,7 +197,8 @@ collapse mechanisms for multi-storey masonry block walls*, Frattura ed Integrit�
 46, 226-239, recomputed. Methods: {", ".join(meta["methods"])}.
 {"**Quick run: the micro model on the small walls only.**" if meta["quick"] else ""}
 Δ % is the first value against the second named. Every number shown is in `report.json`
-and in one CSV per table; `n/a` marks a wall the method cannot build or a failed solve.
+and in one CSV per table. The glossary, the status legend and how to reproduce this report
+are at the end.
 
 ## Findings
 
@@ -150,9 +210,7 @@ and in one CSV per table; `n/a` marks a wall the method cannot build or a failed
 
 ## Figures
 
-{figs}
-
-Micro mechanisms with the macro crack drawn over them: {mech}
+{figure_list(figures)}
 
 The iterated LP over 120 small walls, seven settings: [stability.md](stability.md); Table 7 per
 scheme, bond phase and head-joint friction: [table7_nonassoc.md](table7_nonassoc.md)
@@ -168,6 +226,17 @@ scheme, bond phase and head-joint friction: [table7_nonassoc.md](table7_nonassoc
 
 {chr(10).join(f"* `{k}`: {v}" for k, v in MODELS.items())}
 
+## Status legend
+
+{status_legend(tables)}
+
+## Glossary
+
+{glossary()}
+
+## How to reproduce
+
+{how_to_reproduce(meta)}
 ## Run times
 
 Seconds, the machine and what came from the result cache are in [timings.md](timings.md)

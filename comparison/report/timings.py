@@ -10,22 +10,17 @@ the report on another machine changes nothing else.
 from __future__ import annotations
 
 import json
-import os
 import platform
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from comparison.report.reproduce import machine
 from comparison.report.results import MACRO_TIMING_REPEATS, Results
 from comparison.report.tables import Table
 
 #: The files of a report that hold run times (everything else reproduces exactly).
 TIMING_FILES = ("timings.md", "timings.csv", "timings.json", "speed_accuracy.png")
-
-
-def machine() -> dict[str, Any]:
-    """Where the report ran: Python, the machine and its CPUs."""
-    return {"python": platform.python_version(), "machine": platform.machine(), "cpus": os.cpu_count()}
 
 
 def timings_table(res: Results) -> Table:
@@ -60,17 +55,18 @@ def write_timings(res: Results, out: Path, run: Mapping[str, Any]) -> Path:
     Args:
         res: the results.
         out: the report's directory.
-        run: this run's facts (``seconds``, ``computed``, ``cached``, and :func:`machine`).
+        run: this run's facts (``seconds``, ``computed``, ``cached``); the machine is added here.
 
     Returns:
         The path of ``timings.md``.
     """
+    run = {"python": platform.python_version(), "machine": machine(), **run}
     table = timings_table(res)
     table.write_csv(out / "timings.csv")
     (out / "timings.json").write_text(json.dumps({"run": dict(run), "timings": table.records()}, indent=1))
     path = out / "timings.md"
     path.write_text(
-        f"# Run times of the report\n\nPython {run['python']} on {run['machine']}, {run['cpus']} CPUs. "
+        f"# Run times of the report\n\nPython {run['python']} on {run['machine']}. "
         f"This run: {run['seconds']:.1f} s, {run['computed']} computations, {run['cached']} read from the result "
         "cache (keyed by the wall, the method and the source of the packages it runs). Seconds change from run "
         "to run and machine to machine; nothing else in the report does. Figure: `speed_accuracy.png`.\n\n"

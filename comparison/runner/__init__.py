@@ -6,14 +6,16 @@
   on one wall;
 * :mod:`~comparison.runner.cache`: :class:`ResultCache`, the on-disk cache, and
   where it lives by default (:func:`default_cache_dir`);
-* :mod:`~comparison.runner.pool`: :func:`prefetch`, missing entries computed in
-  parallel processes;
+* :mod:`~comparison.runner.executor`: local processes or a Dask cluster behind
+  one interface (largest first, memory-bounded, interrupt-safe);
+* :mod:`~comparison.runner.pool`: :func:`prefetch`, missing entries computed on
+  an executor and stored as they arrive;
 * :mod:`~comparison.runner.runner`: :func:`compute` and the caching :class:`Runner`.
 """
 
 from comparison.runner.cache import ResultCache, code_version, default_cache_dir
 from comparison.runner.methods import MACRO, MICRO_ASSOC, MICRO_NONASSOC, NONASSOC_SECONDS, Method
-from comparison.runner.pool import prefetch
+from comparison.runner.pool import Prefetched, approximate_blocks, prefetch
 from comparison.runner.records import Mechanism, Record
 from comparison.runner.runner import Runner, compute
 
@@ -24,9 +26,11 @@ __all__ = [
     "NONASSOC_SECONDS",
     "Mechanism",
     "Method",
+    "Prefetched",
     "Record",
     "ResultCache",
     "Runner",
+    "approximate_blocks",
     "code_version",
     "compute",
     "default_cache_dir",

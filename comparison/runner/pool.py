@@ -1,48 +1,72 @@
-"""Compute missing cache entries in parallel processes, largest walls first."""
+"""Compute missing cache entries on an executor, largest walls first, and store them.
+
+The workers only compute (:func:`comparison.runner.runner.compute`); this
+process stores each record in the cache as it arrives, so that the workers need
+no shared disk (a Dask cluster) and a run killed at any point keeps every
+record finished before it: a restart computes only the rest.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from pathlib import Path
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 
+from comparison.progress import Progress
+from comparison.runner.cache import ResultCache
+from comparison.runner.executor import Executor, Outcome, Task
 from comparison.runner.methods import Method
-from comparison.runner.runner import Runner
+from comparison.runner.runner import compute, summary_line
 from comparison.wall import WallSpec
 
-
-def _size(item: tuple[WallSpec, Method]) -> float:
-    """Blocks of the wall, roughly: the order of the work."""
-    spec = item[0]
-    return spec.rows * spec.length / spec.block_length
+Item = tuple[WallSpec, Method]
 
 
-def _compute_one(cache_dir: Path, spec: WallSpec, method: Method) -> str:
-    lines: list[str] = []
-    Runner(cache_dir, lines.append).run(spec, method)
-    return lines[0] if lines else f"{spec.name}: {method.label}: cached"
+def approximate_blocks(spec: WallSpec) -> int:
+    """Blocks of the running-bond wall of ``spec`` (to within one per course)."""
+    return int(round(spec.rows * (spec.length / spec.block_length + 0.5)))
+
+
+def compute_task(spec: WallSpec, method: Method) -> Task:
+    """The task that computes ``method`` on ``spec``: its cost is the wall's blocks, its memory their estimate."""
+    from micro.geometry import estimate_bytes
+
+    blocks = approximate_blocks(spec)
+    memory = 0 if method.kind == "macro" else estimate_bytes(blocks)
+    return Task((spec, method), compute, (spec, method), blocks, memory, f"{spec.name or 'wall'}: {method.label}")
+
+
+@dataclass(frozen=True)
+class Prefetched:
+    """What :func:`prefetch` did.
+
+    Attributes:
+        computed: records computed and stored.
+        failures: the outcome of every item that gave no record (failed, lost or refused).
+    """
+
+    computed: int = 0
+    failures: dict[Item, Outcome] = field(default_factory=dict)
 
 
 def prefetch(
-    cache_dir: Path,
-    items: Sequence[tuple[WallSpec, Method]],
-    workers: int,
-    progress: Callable[[str], None] | None = None,
-) -> int:
-    """Compute the records of ``items`` into the cache at ``cache_dir`` in ``workers`` processes.
+    cache: ResultCache, items: Sequence[Item], executor: Executor, progress: Progress | None = None
+) -> Prefetched:
+    """Compute the records of ``items`` on ``executor`` and store each in ``cache`` as it arrives.
 
-    The largest walls go first, so that the processes finish together.
-
-    Returns:
-        The number of computations.
+    A failure is kept in the result, never raised: the other items go on.
     """
-    if not items:
-        return 0
-    order = sorted(items, key=_size, reverse=True)
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(_compute_one, cache_dir, spec, method) for spec, method in order]
-        for done, fut in enumerate(as_completed(futures), start=1):
-            line = fut.result()
-            if progress:
-                progress(f"[{done}/{len(futures)}] {line}")
-    return len(futures)
+    computed = 0
+    failures: dict[Item, Outcome] = {}
+    for outcome in executor.run([compute_task(spec, method) for spec, method in items]):
+        key: Item = outcome.task.key  # type: ignore[assignment]
+        if outcome.ok:
+            record, mechanism = outcome.value
+            cache.store(key[0], record, mechanism)
+            computed += 1
+            line = summary_line(record)
+        else:
+            failures[key] = outcome
+            line = f"{outcome.task.label}: {outcome.kind}: {outcome.error}"
+        if progress is not None:
+            progress.advance(line)
+    return Prefetched(computed, failures)

@@ -65,6 +65,14 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
     return Record(name, method, time.perf_counter() - t0, record, failure, message=message), mechanism
 
 
+def summary_line(record: Record) -> str:
+    """One line for a progress display: the wall, the method, lambda, the status and the time."""
+    return (
+        f"{record.wall}: {record.method.label}: lambda = {record.load_factor:.4f} ({record.status}) "
+        f"in {record.seconds:.2f} s"
+    )
+
+
 class Runner:
     """Compute methods on walls, each once, caching records on disk.
 
@@ -105,10 +113,7 @@ class Runner:
             self.computed += 1
             record = entry[0]
             if self.progress:
-                self.progress(
-                    f"{record.wall}: {method.label}: lambda = {record.load_factor:.4f} ({record.status}) "
-                    f"in {record.seconds:.2f} s"
-                )
+                self.progress(summary_line(record))
             if self.cache is not None:
                 self.cache.store(spec, *entry)
         self._memory[key] = entry

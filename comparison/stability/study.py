@@ -14,11 +14,13 @@ import math
 import os
 import time
 from collections.abc import Iterable, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
+from comparison.progress import NORMAL, Progress
+from comparison.runner.executor import LocalExecutor, Task
+from comparison.runner.pool import approximate_blocks
 from comparison.wall import WallSpec
 from micro.records import NonAssociativeRecord
 
@@ -240,16 +242,33 @@ def _run_one(args: tuple[WallCase, tuple[Setting, ...], int]) -> list[StudyRun]:
 
 
 def run_study(
-    walls: Sequence[WallCase], settings: Sequence[Setting] = SETTINGS, *, processes: int = 2, max_iterations: int = 100
+    walls: Sequence[WallCase],
+    settings: Sequence[Setting] = SETTINGS,
+    *,
+    processes: int = 2,
+    max_iterations: int = 100,
+    progress: Progress | None = None,
 ) -> list[StudyRun]:
-    """Run every setting on every wall (``processes`` worker processes)."""
-    tasks = [(w, tuple(settings), max_iterations) for w in walls]
-    if processes <= 1:
-        results = [_run_one(t) for t in tasks]
-    else:
-        with ProcessPoolExecutor(max_workers=processes) as ex:
-            results = list(ex.map(_run_one, tasks, chunksize=1))
-    return [run for runs in results for run in runs]
+    """Run every setting on every wall in ``processes`` worker processes, largest walls first.
+
+    A wall whose task fails as a whole (its associative solve raised, or its
+    worker died) gets one run per setting with the error; the runs come back in
+    the order of ``walls``.
+    """
+    job = (tuple(settings), max_iterations)
+    tasks = [Task(i, _run_one, ((w, *job),), approximate_blocks(w.spec()), 0, w.label) for i, w in enumerate(walls)]
+    results: dict[int, list[StudyRun]] = {}
+    with LocalExecutor(processes) as executor:
+        for outcome in executor.run(tasks):
+            i = outcome.task.key
+            assert isinstance(i, int)
+            results[i] = outcome.value if outcome.ok else [
+                StudyRun(walls[i], s, 0, math.nan, outcome.seconds, None, f"{outcome.kind}: {outcome.error}")
+                for s in settings
+            ]
+            if progress is not None:
+                progress.advance(f"{walls[i].label}: {outcome.kind} in {outcome.seconds:.1f} s")
+    return [run for i in range(len(walls)) for run in results[i]]
 
 
 def main_study(
@@ -258,13 +277,24 @@ def main_study(
     processes: int = 2,
     quick: bool = False,
     settings: Iterable[Setting] = SETTINGS,
+    verbosity: int = NORMAL,
 ) -> dict[str, Path]:
-    """Run the study and write the reports (``quick``: 12 walls only, for a smoke test)."""
+    """Run the study and write the reports (``quick``: 12 walls only, for a smoke test).
+
+    ``verbosity`` sets what the progress display shows (see :mod:`comparison.progress`).
+    """
     from comparison.stability.render import write_reports
 
     walls = grid_walls()
     if quick:
         walls = walls[:: max(1, len(walls) // 12)][:12]
+    chosen = tuple(settings)
     t0 = time.perf_counter()
-    runs = run_study(walls, tuple(settings), processes=processes)
+    with Progress(verbosity) as progress:
+        progress.say(
+            f"plan: {len(walls)} walls x {len(chosen)} settings = {len(walls) * len(chosen)} iterated LPs "
+            f"in {processes} processes"
+        )
+        progress.start(len(walls), "walls")
+        runs = run_study(walls, chosen, processes=processes, progress=progress)
     return write_reports(runs, Path(out), seconds=time.perf_counter() - t0, processes=processes)

@@ -164,9 +164,11 @@ def test_console_script_no_traceback() -> None:
 
 
 def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, err = run(capsys, "report", "--out", str(tmp_path), "--quick", "--cache", str(tmp_path / "cache"))
+    cache = ["--cache", str(tmp_path / "cache")]
+    code, out, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache, "--verbose")
     assert code == 0 and "REPORT.md" in out
-    assert "micro-assoc" in err  # progress lines
+    assert err.startswith("plan: ") and "0 cached" in err.splitlines()[0]  # the plan first
+    assert "micro-assoc" in err  # then one line per computation (not a terminal: no bar)
     text = (tmp_path / "REPORT.md").read_text()
     for heading in (
         "Table 5",
@@ -179,9 +181,11 @@ def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.C
         assert heading in text
     for name in ("table7.csv", "report.json", "sensitivity.png", "speed_accuracy.png", "mechanism_12.png"):
         assert (tmp_path / name).stat().st_size > 0, name
-    # a second run reads everything from the cache
-    code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", "--cache", str(tmp_path / "cache"))
+    # a second run reads everything from the cache; not on a terminal and not --verbose: silent
+    code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache)
     assert code == 0 and err == ""
+    code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache, "--verbose")
+    assert code == 0 and ", 0 to compute" in err and "micro-assoc" not in err
 
 
 def test_cache_and_no_cache_exclude_each_other(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

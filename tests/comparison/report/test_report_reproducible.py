@@ -43,4 +43,4 @@ def test_the_result_files_hold_no_run_times(quick_report_dir: Path) -> None:
             assert "second" not in column and not column.endswith(" s"), (name, column)
     assert "timings.md" in (quick_report_dir / "REPORT.md").read_text()
     run = json.loads((quick_report_dir / "timings.json").read_text())["run"]
-    assert {"seconds", "computed", "cached", "python", "machine", "cpus"} <= set(run)
+    assert {"seconds", "computed", "cached", "python", "machine"} <= set(run)

@@ -1,0 +1,48 @@
+"""``xcheck references``: regenerate the pytest plugin's reference values (``references.json``)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from comparison.cli.options import UsageError, add_cache_options, add_command, cache_dir_from_args
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``references`` subcommand."""
+    p = add_command(
+        sub,
+        "references",
+        help="regenerate the pytest plugin's reference values from the paper and this package's results",
+        description="Runs the report's methods on the paper's cases (through the result cache: after "
+        "`xcheck report` it only reads) and writes the reference cells, with tolerances and sources, "
+        "that the pytest plugin ships.",
+    )
+    p.add_argument(
+        "--out",
+        default=None,
+        metavar="FILE.json",
+        help="where to write (default: the plugin's own comparison/pytest_plugin/references.json)",
+    )
+    p.add_argument("--quick", action="store_true", help="the micro model on Table 7's walls only")
+    add_cache_options(p)
+    p.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Write the references and say how many cells."""
+    from comparison.pytest_plugin import generate
+
+    out = Path(args.out) if args.out else Path(generate.__file__).with_name("references.json")
+    try:
+        refs = generate.generate(
+            out,
+            cache_dir=cache_dir_from_args(args),
+            quick=args.quick,
+            verbosity=args.verbosity,
+        )
+    except OSError as exc:
+        raise UsageError(f"--out: cannot write {str(out)!r} ({exc.strerror})") from None
+    valued = sum(c.value is not None for c in refs)
+    print(f"wrote {out}: {len(refs)} cells, {valued} with a value")
+    return 0

@@ -1,0 +1,100 @@
+"""``xcheck sweep``: both models over a grid of walls, on local processes or a Dask cluster.
+
+Example::
+
+    xcheck sweep examples/sweeps/errormap.toml --out reports/sweeps --workers 2
+    xcheck sweep examples/sweeps/tiny.toml --out /tmp/sweep --scheduler tcp://127.0.0.1:8786
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import TYPE_CHECKING
+
+from comparison.cli.options import (
+    UsageError,
+    add_command,
+    add_executor_options,
+    cache_directory,
+    in_range,
+    output_directory,
+    workers_from_args,
+)
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    from comparison.runner.executor import Executor
+
+#: Bytes in a gigabyte (``--worker-memory`` is given in GB).
+GB = 1e9
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``sweep`` subcommand."""
+    p = add_command(
+        sub,
+        "sweep",
+        help="run the models over a grid of walls (local processes or a Dask cluster)",
+        description="Reads a grid file (axes, bonds, methods; see examples/sweeps/) and writes one CSV table "
+        "and its JSON metadata into --out. Micro results go through the result cache: a sweep run again "
+        "computes only what is missing.",
+    )
+    p.add_argument("grid", metavar="GRID.toml", help="the grid file")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory (GRID's name .csv and .json)")
+    add_executor_options(p)
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="a dask.distributed scheduler, e.g. tcp://host:8786: every micro computation becomes a Dask task",
+    )
+    p.add_argument(
+        "--worker-memory",
+        metavar="GB",
+        help="memory one computation may use (default: the memory available over --workers, or the Dask "
+        "workers' limit); walls whose estimate exceeds it are refused",
+    )
+    p.add_argument(
+        "--cache",
+        default=None,
+        metavar="DIR",
+        help="result cache directory (default: $XCHECK_CACHE, else $XDG_CACHE_HOME/xcheck, else ~/.cache/xcheck)",
+    )
+    p.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Handler of ``xcheck sweep``."""
+    from comparison.progress import Progress
+    from comparison.runner import ResultCache
+    from comparison.sweep import GridError, load_grid, run_sweep
+
+    try:
+        grid = load_grid(args.grid)
+    except GridError as exc:
+        raise UsageError(str(exc)) from None
+    workers = workers_from_args(args)
+    if args.scheduler is not None and workers is not None:
+        raise UsageError("--workers and --scheduler exclude each other (the cluster has its own workers)")
+    memory = in_range("--worker-memory", args.worker_memory, "a positive number of gigabytes", float("inf"))
+    out = output_directory("--out", args.out)  # before an hour of computing, not after
+    cache = ResultCache(cache_directory(args.cache))
+    executor = _executor(workers, args.scheduler, None if memory is None else int(memory * GB))
+    with executor, Progress(args.verbosity) as progress:
+        done = run_sweep(grid, out, cache=cache, executor=executor, progress=progress)
+    print(f"table: {done.table}")
+    print(f"meta: {done.meta}")
+    return 1 if done.counts["failed"] else 0
+
+
+def _executor(workers: int | None, scheduler: str | None, memory: int | None) -> Executor:
+    """The executor the options ask for; a scheduler that cannot be reached is bad input."""
+    from comparison.runner.executor import make_executor
+    from comparison.runner.executor.cluster import ClusterError
+
+    if scheduler is not None and "://" not in scheduler:
+        raise UsageError(f"--scheduler must be an address such as tcp://host:8786, got {scheduler!r}")
+    try:
+        return make_executor(workers, scheduler, memory)
+    except ImportError:  # pragma: no cover - dask is in the [dask] extra
+        raise UsageError("--scheduler needs dask.distributed: pip install 'xcheck-masonry[dask]'") from None
+    except ClusterError as exc:
+        raise UsageError(f"--scheduler: {exc}") from None

@@ -1,0 +1,131 @@
+"""The pytest hooks and fixtures (registered through the ``pytest11`` entry point ``xcheck``).
+
+Fixtures:
+
+* ``xcheck_references``: the shipped :class:`~comparison.pytest_plugin.references.References`
+  (session scope); ``xcheck_references.check(case, method, value, rel=...)`` asserts;
+* ``xcheck_table``: the session's :class:`~comparison.pytest_plugin.table.ComparisonTable`;
+  ``xcheck_table.add(case, value, method)`` records a value. The table is printed
+  at the end of the session and written to ``--xcheck-table PATH``;
+* ``xcheck_case``: a test that takes it runs once per wall of ``--xcheck-cases``
+  and ``--xcheck-walls`` (default: every paper case).
+
+Options: ``--xcheck-compute`` (our methods computed as references for the
+walls of ``--xcheck-walls``, default ``macro``; ``micro-assoc``,
+``micro-nonassoc`` through the result cache), ``--xcheck-cases`` (``"7"``, ``"5,9"``, ``"Ref,Set 12"``, ``"all"``),
+``--xcheck-walls FILE.toml`` (see :func:`~comparison.pytest_plugin.walls.walls_from_file`),
+``--xcheck-table PATH`` (``.md`` or ``.csv``), ``--xcheck-against LIST`` (the
+reference columns of the table, default
+:data:`~comparison.pytest_plugin.table.DEFAULT_AGAINST`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import pytest
+
+from comparison.cases import PaperCase
+from comparison.pytest_plugin.references import COMPUTABLE, References
+from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
+from comparison.pytest_plugin.walls import UserWall, cases_and_walls
+
+_TABLE = pytest.StashKey[ComparisonTable]()
+_REFERENCES = pytest.StashKey[References]()
+_WALLS = pytest.StashKey[Sequence[PaperCase]]()
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    """The plugin's options."""
+    g = parser.getgroup("xcheck", "xcheck-masonry: the paper's walls and reference values")
+    g.addoption("--xcheck-cases", default=None, metavar="LIST", help="paper cases for xcheck_case: tables or cases")
+    g.addoption("--xcheck-walls", default=None, metavar="FILE.toml", help="your own walls for xcheck_case")
+    g.addoption(
+        "--xcheck-compute",
+        default="macro",
+        metavar="LIST",
+        help="our methods computed now as references for --xcheck-walls: macro (default), micro-assoc, "
+        "micro-nonassoc (through the result cache, $XCHECK_CACHE or ~/.cache/xcheck)",
+    )
+    g.addoption("--xcheck-table", default=None, metavar="PATH", help="write the comparison table (.md or .csv)")
+    g.addoption(
+        "--xcheck-against",
+        default=",".join(DEFAULT_AGAINST),
+        metavar="LIST",
+        help=f"reference columns of the comparison table (default {','.join(DEFAULT_AGAINST)})",
+    )
+
+
+def _references(config: pytest.Config) -> References:
+    """The shipped references, with cells computed now for the user's walls (``--xcheck-compute``)."""
+    if _REFERENCES not in config.stash:
+        refs = References.load()
+        own = [w for w in config.stash[_WALLS] if isinstance(w, UserWall)]
+        kinds = _listed(config, "xcheck_compute")
+        if own and kinds:
+            from comparison.pytest_plugin.generate import wall_cells
+            from comparison.runner import default_cache_dir
+
+            refs = refs.extended(wall_cells(own, kinds, default_cache_dir()))
+        config.stash[_REFERENCES] = refs
+    return config.stash[_REFERENCES]
+
+
+def _table(config: pytest.Config) -> ComparisonTable:
+    if _TABLE not in config.stash:
+        config.stash[_TABLE] = ComparisonTable(_references(config), _listed(config, "xcheck_against"))
+    return config.stash[_TABLE]
+
+
+@pytest.fixture(scope="session")
+def xcheck_references(pytestconfig: pytest.Config) -> References:
+    """The reference values shipped with xcheck-masonry (and computed for ``--xcheck-walls``)."""
+    return _references(pytestconfig)
+
+
+@pytest.fixture(scope="session")
+def xcheck_table(pytestconfig: pytest.Config) -> ComparisonTable:
+    """The session's comparison table (printed at the end, written to ``--xcheck-table``)."""
+    return _table(pytestconfig)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Read ``--xcheck-cases`` and ``--xcheck-walls`` once; a bad one stops the run as a usage error."""
+    try:
+        config.stash[_WALLS] = cases_and_walls(config.getoption("xcheck_cases"), config.getoption("xcheck_walls"))
+    except ValueError as exc:
+        raise pytest.UsageError(str(exc)) from None
+    unknown = [k for k in _listed(config, "xcheck_compute") if k not in COMPUTABLE]
+    if unknown:
+        raise pytest.UsageError(f"--xcheck-compute: {', '.join(unknown)} not among {', '.join(COMPUTABLE)}")
+
+
+def _listed(config: pytest.Config, option: str) -> list[str]:
+    """The items of a comma-separated option."""
+    return [k.strip() for k in str(config.getoption(option)).split(",") if k.strip()]
+
+
+def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
+    """Parametrise ``xcheck_case`` over the selected walls."""
+    if "xcheck_case" in metafunc.fixturenames:
+        walls = metafunc.config.stash[_WALLS]
+        metafunc.parametrize("xcheck_case", walls, ids=[w.label for w in walls])
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """Write the comparison table to ``--xcheck-table``."""
+    path = session.config.getoption("xcheck_table")
+    if path and _TABLE in session.config.stash and session.config.stash[_TABLE].entries:
+        session.config.stash[_TABLE].write(path)
+
+
+def pytest_terminal_summary(terminalreporter: Any, exitstatus: int, config: pytest.Config) -> None:
+    """Print the comparison table when a test filled it."""
+    if _TABLE in config.stash and config.stash[_TABLE].entries:
+        terminalreporter.write_sep("=", "xcheck: your values against the references")
+        terminalreporter.write_line(config.stash[_TABLE].markdown())
+        path = config.getoption("xcheck_table")
+        if path:
+            terminalreporter.write_line(f"written to {path}")

@@ -1,0 +1,204 @@
+"""The reference values the plugin ships, and the assertion helper that checks a value against one.
+
+``references.json`` (package data, written by ``xcheck references``, see
+:mod:`comparison.pytest_plugin.generate`) holds one cell per (case, method,
+quantity): its value, its tolerance and where it comes from. Methods:
+
+* ``macro``, ``micro-assoc``, ``micro-nonassoc``: this package's results
+  (``micro-nonassoc`` also has the ends of its mechanism band, ``band_min`` and
+  ``band_max``);
+* ``paper`` and ``orduna-micro``, ``orduna-macro``, ``debuhan-defelice``,
+  ``speranza``: the values Argiento, Maione & Casapulla (2018) publish, with
+  half a unit of their last printed decimal as tolerance.
+
+A cell whose method gave no number on that wall (a micro wall that cannot be
+built, a sequence that did not converge, a wall the report leaves out) is kept
+with ``value`` ``None`` and its status, so that a test asking for it learns why.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import asdict, dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from comparison.cases import PaperCase, case
+
+#: The data file inside the package.
+DATA_FILE = "references.json"
+
+#: The cell every method has.
+LOAD_FACTOR = "load_factor"
+
+#: This package's methods, which can also be computed for walls without shipped cells.
+COMPUTABLE = ("macro", "micro-assoc", "micro-nonassoc")
+
+
+def case_label(wall: PaperCase | str) -> str:
+    """The label a case is stored under (``"Ref"``, ``"Set 12"``) from a case or a name (``"12"``, ``"Set 12"``).
+
+    A name that is not one of the paper's cases is returned as it is (a user's wall).
+    """
+    if isinstance(wall, PaperCase):
+        return wall.label
+    try:
+        return case(wall).label
+    except ValueError:
+        return wall
+
+
+@dataclass(frozen=True)
+class Reference:
+    """One reference cell.
+
+    Attributes:
+        case: the case's label (``"Set 12"``).
+        method: who computed or published it (``"micro-nonassoc"``, ``"paper"``, ...).
+        cell: the quantity (``"load_factor"``, ``"alpha_c_deg"``, ``"band_min"``, ...).
+        value: the value (``None``: the method gave none on this wall, see ``status``).
+        tolerance: how precisely the value is known (absolute; ``None`` with ``value``).
+        source: where the value comes from (table, solver, settings).
+        status: the method's status on this wall (``"converged"``, ``"cycling"``, ``"published"``, ...).
+    """
+
+    case: str
+    method: str
+    cell: str
+    value: float | None
+    tolerance: float | None
+    source: str
+    status: str = ""
+
+    @property
+    def name(self) -> str:
+        """``"Set 12 / micro-nonassoc / load_factor"``."""
+        return f"{self.case} / {self.method} / {self.cell}"
+
+    def allowed(self, rel: float = 0.0, abs: float = 0.0) -> float:
+        """The half-width a value may be off: the reference's tolerance, plus ``rel`` of its value, plus ``abs``.
+
+        Raises:
+            MissingReference: the cell has no value.
+        """
+        if self.value is None or self.tolerance is None:
+            raise MissingReference(f"{self.name}: no reference value ({self.status or 'not computed'})")
+        return self.tolerance + rel * math.fabs(self.value) + abs
+
+
+class MissingReference(LookupError):
+    """A (case, method, cell) without a reference value."""
+
+
+class ReferenceMismatch(AssertionError):
+    """A value outside its reference's interval; the message names the case, the method and the cell."""
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.4f}" if 1e-4 <= math.fabs(x) < 1e4 else f"{x:.3e}"
+
+
+class References:
+    """The shipped reference cells, looked up by case, method and cell.
+
+    Args:
+        cells: the reference cells.
+        meta: how they were made (versions, tolerance rules).
+    """
+
+    def __init__(self, cells: Iterable[Reference], meta: Mapping[str, Any] | None = None) -> None:
+        self._cells = {(c.case, c.method, c.cell): c for c in cells}
+        self.meta: Mapping[str, Any] = meta or {}
+
+    @classmethod
+    def load(cls, path: str | Path | None = None) -> References:
+        """The references of ``path``, by default the ones shipped with the package."""
+        if path is None:
+            text = resources.files("comparison.pytest_plugin").joinpath(DATA_FILE).read_text(encoding="utf-8")
+        else:
+            text = Path(path).read_text(encoding="utf-8")
+        data = json.loads(text)
+        return cls((Reference(**c) for c in data["cells"]), data.get("meta", {}))
+
+    def extended(self, cells: Iterable[Reference]) -> References:
+        """These references and ``cells`` (which replace cells of the same case, method and cell)."""
+        return References([*self, *cells], self.meta)
+
+    def __iter__(self) -> Iterator[Reference]:
+        return iter(self._cells.values())
+
+    def __len__(self) -> int:
+        return len(self._cells)
+
+    def methods(self, wall: PaperCase | str) -> tuple[str, ...]:
+        """The methods with a load-factor cell on ``wall`` (valued or not)."""
+        label = case_label(wall)
+        return tuple(m for (c, m, cell) in self._cells if c == label and cell == LOAD_FACTOR)
+
+    def get(self, wall: PaperCase | str, method: str, cell: str = LOAD_FACTOR) -> Reference:
+        """The cell of ``method`` on ``wall``.
+
+        Raises:
+            MissingReference: no such cell (the message lists the methods that ``wall`` has).
+        """
+        label = case_label(wall)
+        try:
+            return self._cells[(label, method, cell)]
+        except KeyError:
+            have = ", ".join(self.methods(label)) or "none: not one of the paper's cases"
+            raise MissingReference(f"{label} / {method} / {cell}: no such reference (methods: {have})") from None
+
+    def value(self, wall: PaperCase | str, method: str, cell: str = LOAD_FACTOR) -> float | None:
+        """The value of a cell (``None`` when the method gave none on that wall)."""
+        return self.get(wall, method, cell).value
+
+    def check(
+        self,
+        wall: PaperCase | str,
+        method: str,
+        value: float,
+        cell: str = LOAD_FACTOR,
+        *,
+        rel: float = 0.0,
+        abs: float = 0.0,
+    ) -> Reference:
+        """Assert that ``value`` lies within the reference's tolerance, widened by ``rel`` and ``abs``.
+
+        Args:
+            wall: the case (``PaperCase`` or a name such as ``"Set 12"``).
+            method: the reference to check against (``"micro-nonassoc"``, ``"paper"``, ...).
+            value: the value to check (e.g. your model's load factor).
+            cell: the quantity.
+            rel: allowed relative difference on top of the reference's own tolerance
+                (how far your model may be from the reference: 0.05 for 5 %).
+            abs: allowed absolute difference on top of it.
+
+        Returns:
+            The reference cell.
+
+        Raises:
+            ReferenceMismatch: ``value`` is outside, e.g. ``Set 14 / micro-nonassoc / load_factor:
+                0.2600 outside 0.2684 ± 0.0067 (iterated LP, ...; reference tolerance 0.0013 + 2 % of the
+                reference)``.
+            MissingReference: there is no reference value for that cell.
+        """
+        ref = self.get(wall, method, cell)
+        allowed = ref.allowed(rel, abs)
+        assert ref.value is not None  # allowed() raised otherwise
+        if not math.isfinite(value) or math.fabs(value - ref.value) > allowed:
+            widened = "" if rel == 0 and abs == 0 else f"; reference tolerance {_fmt(ref.tolerance or 0.0)}"
+            widened += f" + {100 * rel:g} % of the reference" if rel else ""
+            widened += f" + {_fmt(abs)}" if abs else ""
+            raise ReferenceMismatch(
+                f"{ref.name}: {_fmt(value)} outside {_fmt(ref.value)} ± {_fmt(allowed)} ({ref.source}{widened})"
+            )
+        return ref
+
+    def to_json(self) -> str:
+        """The references as ``references.json`` stores them (one cell per line)."""
+        lines = [json.dumps(asdict(c), ensure_ascii=False) for c in self._cells.values()]
+        meta = json.dumps(self.meta, indent=1, ensure_ascii=False)
+        return '{\n"meta": ' + meta + ',\n"cells": [\n' + ",\n".join(lines) + "\n]}\n"

@@ -1,0 +1,124 @@
+"""The walls a downstream test runs on: the paper's cases, a selection of them, or the user's own list.
+
+Each wall is a :class:`comparison.cases.PaperCase` (the paper's Table 4
+parameters ``t, m, rows, f, p, storeys``, ``label``, and ``spec()`` for the
+dimensional wall); a user's wall is a :class:`UserWall`, the same without
+published values.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from comparison.cases import CASES, PaperCase, case, cases_in_table
+from comparison.wall import WallSpec
+
+#: The keys of a wall in a walls file, and their defaults.
+WALL_KEYS: Mapping[str, Any] = {"name": None, "t": None, "m": None, "rows": None, "f": None, "p": 0.0, "storeys": 1}
+
+
+@dataclass(frozen=True)
+class UserWall(PaperCase):
+    """A wall of the user's list, in the paper's parameters (no published values)."""
+
+    @property
+    def label(self) -> str:
+        """The wall's name as given."""
+        return self.case
+
+
+def select_cases(selection: str) -> tuple[PaperCase, ...]:
+    """The paper's cases a comma-separated ``selection`` names: tables (``"7"``, ``"table 9"``),
+    cases (``"Ref"``, ``"Set 12"``, ``"12"``) or ``"all"``; tables are read as tables first.
+
+    Raises:
+        ValueError: a name that is neither a table nor a case.
+    """
+    out: dict[str, PaperCase] = {}
+    for raw in (s.strip() for s in selection.split(",") if s.strip()):
+        key = raw.lower().removeprefix("table").strip()
+        if key == "all":
+            found: tuple[PaperCase, ...] = CASES
+        elif raw.lower().startswith("table") or (key.isdigit() and cases_in_table(key)):
+            found = cases_in_table(key)
+            if not found:
+                raise ValueError(f"--xcheck-cases: no table {key!r} (tables 5, 6, 7, 8, 9)")
+        else:
+            found = (case(raw),)
+        out |= {c.label: c for c in found}
+    return tuple(c for c in CASES if c.label in out)
+
+
+def paper_cases(*tables: str, known_gaps: Mapping[str, str] | None = None) -> list[Any]:
+    """The paper's cases of ``tables`` (all when none) as ``pytest.param`` values, for ``parametrize``.
+
+    Args:
+        tables: ``"5"``, ``"7"``, ``"8"``, ``"9"``.
+        known_gaps: cases your method is known to miss (``{"Set 11": "why"}``): their tests are
+            marked ``xfail(strict=True)`` with the reason, so they report as expected failures
+            and fail again the day they pass (then drop the entry).
+
+    Raises:
+        ValueError: a known gap names a case outside the selection.
+    """
+    cases = tuple(c for c in CASES if not tables or any(t in c.tables for t in tables))
+    gaps = {case(k).label: v for k, v in (known_gaps or {}).items()}
+    stray = sorted(set(gaps) - {c.label for c in cases})
+    if stray:
+        raise ValueError(f"known_gaps: {', '.join(stray)} not among the selected cases")
+    return [
+        pytest.param(c, id=c.label, marks=[pytest.mark.xfail(reason=gaps[c.label], strict=True)])
+        if c.label in gaps
+        else pytest.param(c, id=c.label)
+        for c in cases
+    ]
+
+
+def walls_from_file(path: str | Path) -> tuple[UserWall, ...]:
+    """The walls of a TOML file: one ``[[wall]]`` table each, with ``name``, ``t``, ``m`` (``"1/3"``
+    allowed), ``rows``, ``f`` and optionally ``p`` (default 0) and ``storeys`` (default 1).
+
+    Raises:
+        ValueError: the file cannot be read, or a wall is malformed (naming the file, the wall and the key).
+    """
+    p = Path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise ValueError(f"{p}: {exc}") from None
+    walls = data.get("wall")
+    if not isinstance(walls, list) or not walls:
+        raise ValueError(f"{p}: no [[wall]] tables")
+    return tuple(_wall(f"{p}: wall[{i}]", w) for i, w in enumerate(walls))
+
+
+def _wall(where: str, w: Any) -> UserWall:
+    if not isinstance(w, dict):
+        raise ValueError(f"{where}: not a table")
+    unknown = sorted(set(w) - set(WALL_KEYS))
+    missing = sorted(k for k, v in WALL_KEYS.items() if v is None and k not in w)
+    if unknown or missing:
+        problems = [*(f"unknown key {k!r}" for k in unknown), *(f"missing {k!r}" for k in missing)]
+        raise ValueError(f"{where}: " + "; ".join(problems))
+    v = {**WALL_KEYS, **w}
+    try:
+        m = float(Fraction(str(v["m"]))) if isinstance(v["m"], str) else v["m"]
+        WallSpec.from_paper(t=v["t"], m=m, rows=v["rows"], f=v["f"], p=v["p"], storeys=v["storeys"])
+    except (ValueError, ZeroDivisionError, TypeError) as exc:
+        raise ValueError(f"{where} ({v['name']}): {exc}") from None
+    return UserWall(str(v["name"]), v["t"], m, v["rows"], v["f"], v["p"], v["storeys"], tables=())
+
+
+def cases_and_walls(selection: str | None, walls_file: str | None) -> Sequence[PaperCase]:
+    """What ``--xcheck-cases`` and ``--xcheck-walls`` select (all the paper's cases when neither is given)."""
+    chosen: list[PaperCase] = list(select_cases(selection)) if selection else []
+    if walls_file:
+        chosen += walls_from_file(walls_file)
+    return chosen if selection or walls_file else list(CASES)

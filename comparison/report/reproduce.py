@@ -1,0 +1,54 @@
+"""The report's "How to reproduce" section: the commands and the package and solver versions.
+
+The machine is named in ``timings.md`` (:mod:`comparison.report.timings`), apart from the results.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+from collections.abc import Mapping
+from importlib import metadata
+from typing import Any
+
+#: The distributions whose versions decide the numbers (the solvers among them).
+PACKAGES = ("xcheck-masonry", "numpy", "scipy", "highspy", "clarabel", "cvxpy", "matplotlib")
+
+
+def package_versions() -> dict[str, str]:
+    """Python's and :data:`PACKAGES`' versions as installed."""
+    out = {"python": platform.python_version()}
+    for name in PACKAGES:
+        try:
+            out[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            out[name] = "not installed"
+    return out
+
+
+def machine() -> str:
+    """The machine in one line: OS, architecture, CPUs."""
+    return f"{platform.system()} {platform.release()} on {platform.machine()}, {os.cpu_count()} CPUs"
+
+
+def how_to_reproduce(meta: Mapping[str, Any]) -> str:
+    """The section's markdown for a report run with ``meta`` (``quick``)."""
+    quick = " --quick" if meta.get("quick") else ""
+    versions = ", ".join(f"{k} {v}" for k, v in package_versions().items())
+    return f"""\
+From a clone of the repository:
+
+```sh
+python3 -m venv .venv && .venv/bin/pip install -e .
+.venv/bin/xcheck report{quick} --out reports          # this report (cached results are reused)
+.venv/bin/xcheck stability --out reports          # stability.md: the iterated LP over 104 walls
+.venv/bin/xcheck stability --table7 --out reports # table7_nonassoc.md: Table 7 per bond variant
+.venv/bin/xcheck references                       # the pytest plugin's reference values
+```
+
+`--no-cache` recomputes everything (see the README for the cache). Versions of this run: {versions}.
+The machine and the run times are in [timings.md](timings.md). Every number in the tables is
+independent of the machine but for the timings: the iterated LP is stopped by a time budget per
+direction, so a much slower machine can turn a slow sequence into `max_iterations` (see the status
+legend).
+"""

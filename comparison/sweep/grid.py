@@ -1,0 +1,298 @@
+"""Sweep grid files: the axes of a sweep and its methods, in TOML.
+
+Format (see ``examples/sweeps/``)::
+
+    name = "errormap"                  # names the output files (default: the file's stem)
+
+    [axes]                             # the paper's Table 4 parameters
+    t = [0.5, 1.0, 2.0]                # a list,
+    m = ["1/3", "1/2", 1]              # fractions written as strings,
+    rows = { from = 12, to = 60, step = 12 }   # a range (both ends included),
+    f = 0.6                            # or one value
+    p = 0                              # optional (default 0)
+    storeys = 3                        # optional (default 1)
+
+    [bond]                             # micro walls only; optional
+    first_course = ["full", "half"]    # default "full"
+    head_joints = "frictional"         # default "frictional"
+
+    [limits]                           # optional
+    max_blocks = 1500                  # micro walls of more blocks are not run
+
+    [[method]]
+    kind = "macro"
+
+    [[method]]
+    kind = "micro-assoc"
+    solver = "clarabel"                # a micro back end (default "highs")
+
+    [[method]]
+    kind = "micro-nonassoc"
+    scheme = "a"                       # "a" or "b" (default "a")
+    max_blocks = 600                   # this method on walls of at most 600 blocks
+
+A range is ``{ from, to, step }`` or ``{ from, to, num }`` (``num`` values,
+evenly spaced). Every wall is every combination of the axes' values (a
+combination whose rows do not split equally over its storeys is recorded as
+``not_applicable``); every micro method runs on every bond of every wall. A
+malformed file raises :class:`GridError`, one line naming the file, the key
+and its line.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, replace
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+from comparison.runner.methods import MACRO, Method
+from comparison.scene import _key_line, _table_line
+from macro import checks
+
+#: The axes, each with its check (the wall vocabulary) and its default (``None``: required).
+AXES: dict[str, tuple[Callable[[str, object], float], float | None]] = {
+    "t": (checks.positive, None),
+    "m": (lambda name, v: checks.in_range(name, v, 0.0, 1.0), None),
+    "rows": (checks.positive_int, None),
+    "f": (checks.positive, None),
+    "p": (checks.non_negative, 0.0),
+    "storeys": (checks.positive_int, 1),
+}
+#: The bond options of the micro walls, with their choices (the first is the default).
+BOND: dict[str, tuple[str, ...]] = {"first_course": ("full", "half"), "head_joints": ("frictional", "frictionless")}
+#: Method kinds and the keys each takes.
+METHOD_KEYS: dict[str, set[str]] = {
+    "macro": {"kind"},
+    "micro-assoc": {"kind", "solver", "max_blocks"},
+    "micro-nonassoc": {"kind", "scheme", "max_blocks"},
+}
+#: Schemes of the iterated LP.
+SCHEMES = ("a", "b")
+#: The most values one axis may expand to (a range with a tiny step is a typo, not a sweep).
+MAX_AXIS_VALUES = 10_000
+#: What a sweep's name may be made of (it names the table and metadata files).
+NAME_PATTERN = r"[A-Za-z0-9_.\-]+"
+_TOP = {"name", "axes", "bond", "limits", "method"}
+
+
+class GridError(ValueError):
+    """A malformed grid file; the message names the file, the key and its line."""
+
+
+@dataclass(frozen=True)
+class GridMethod:
+    """One method of a sweep.
+
+    Attributes:
+        method: the method (bond options left at their defaults: the bond is an axis).
+        max_blocks: run it on walls of at most this many blocks (``None``: the grid's limit).
+    """
+
+    method: Method
+    max_blocks: int | None = None
+
+
+@dataclass(frozen=True)
+class Grid:
+    """A parsed grid file.
+
+    Attributes:
+        name: the sweep's name.
+        axes: the values of ``t``, ``m``, ``rows``, ``f``, ``p``, ``storeys``, in that order.
+        bond: the values of ``first_course`` and ``head_joints``.
+        methods: the methods.
+        max_blocks: micro walls of more blocks are not run (``None``: no limit).
+    """
+
+    name: str
+    axes: Mapping[str, tuple[float, ...]]
+    bond: Mapping[str, tuple[str, ...]]
+    methods: tuple[GridMethod, ...]
+    max_blocks: int | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready description (for the sweep's metadata)."""
+        return {
+            "name": self.name,
+            "axes": {k: list(v) for k, v in self.axes.items()},
+            "bond": {k: list(v) for k, v in self.bond.items()},
+            "max_blocks": self.max_blocks,
+            "methods": [{**m.method.key(), "max_blocks": m.max_blocks} for m in self.methods],
+        }
+
+
+class _Source:
+    """The text of a grid file and its name, to word errors with the key's line."""
+
+    def __init__(self, text: str, source: str) -> None:
+        self.text, self.source = text, source
+
+    def error(self, msg: str, table: str = "", key: str | None = None, index: int = 0) -> GridError:
+        line = _key_line(self.text, table, key, index) if key else _table_line(self.text, table, index)
+        where = f" (line {line})" if line else ""
+        return GridError(f"grid {self.source}{where}: {msg}")
+
+
+def load_grid(path: str | Path) -> Grid:
+    """Read a grid file.
+
+    Raises:
+        GridError: unreadable file, TOML syntax error, unknown or missing key,
+            or a bad value; the message names the key and its line.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise GridError(f"grid {path}: cannot read ({getattr(exc, 'strerror', None) or exc})") from None
+    return parse_grid(text, source=str(path), name=path.stem)
+
+
+def parse_grid(text: str, source: str = "<grid>", name: str = "sweep") -> Grid:
+    """Parse the text of a grid file; see :func:`load_grid`."""
+    try:
+        data: dict[str, Any] = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise GridError(f"grid {source}: malformed TOML: {exc}") from None
+    src = _Source(text, source)
+    for key in data:
+        if key not in _TOP:
+            raise src.error(f"unknown key {key!r} (allowed: {', '.join(sorted(_TOP))})", "", key)
+    label = data.get("name", name)
+    if not isinstance(label, str) or not re.fullmatch(NAME_PATTERN, label):
+        rule = "letters, digits, '_', '-' or '.' (it names the files)"
+        raise src.error(f"name must be {rule}, got {label!r}", "", "name")
+    axes = {axis: _axis(_table(data, "axes", src), axis, src) for axis in AXES}
+    bond = {key: _bond(_table(data, "bond", src, required=False), key, src) for key in BOND}
+    limits = _table(data, "limits", src, required=False)
+    _known(limits, {"max_blocks"}, "limits", src)
+    max_blocks = _max_blocks(limits, "limits", 0, src)
+    return Grid(label, axes, bond, _methods(data, src), max_blocks)
+
+
+def _table(data: dict[str, Any], table: str, src: _Source, *, required: bool = True) -> dict[str, Any]:
+    if table not in data:
+        if required:
+            raise GridError(f"grid {src.source}: missing table [{table}]")
+        return {}
+    if not isinstance(data[table], dict):
+        raise src.error(f"{table} must be a table, written [{table}]", "", table)
+    if table == "axes":
+        _known(data[table], set(AXES), table, src)
+    elif table == "bond":
+        _known(data[table], set(BOND), table, src)
+    return data[table]
+
+
+def _known(entry: dict[str, Any], allowed: set[str], table: str, src: _Source, index: int = 0) -> None:
+    for key in entry:
+        if key not in allowed:
+            raise src.error(f"unknown key {table}.{key} (allowed: {', '.join(sorted(allowed))})", table, key, index)
+
+
+def _axis(axes: dict[str, Any], axis: str, src: _Source) -> tuple[float, ...]:
+    """The checked, distinct values of one axis."""
+    check, default = AXES[axis]
+    if axis not in axes:
+        if default is None:
+            raise src.error(f"missing key axes.{axis}", "axes")
+        return (default,)
+    raw = axes[axis]
+    try:
+        values = _expand(raw, axis) if isinstance(raw, dict) else (raw if isinstance(raw, list) else [raw])
+        if not values:
+            raise ValueError(f"{axis} must have at least one value")
+        checked = [check(axis, _number(axis, v)) for v in values]
+    except ValueError as exc:
+        raise src.error(f"axes.{axis}: {exc}", "axes", axis) from None
+    return tuple(dict.fromkeys(checked))
+
+
+def _number(name: str, value: object) -> object:
+    """A fraction string (``"1/3"``) as a float; anything else as it is (the check words it)."""
+    if isinstance(value, str):
+        try:
+            return float(Fraction(value.strip()))
+        except (ValueError, ZeroDivisionError):
+            raise ValueError(f"{name} must be a number or a fraction such as 1/3, got {value!r}") from None
+    return value
+
+
+def _expand(spec: dict[str, Any], axis: str) -> list[float]:
+    """The values of a range ``{from, to, step}`` or ``{from, to, num}``."""
+    keys = set(spec)
+    if keys not in ({"from", "to", "step"}, {"from", "to", "num"}):
+        raise ValueError(f"a range must be {{from, to, step}} or {{from, to, num}}, got keys {sorted(keys)}")
+    lo, hi = (float(checks.non_negative(f"{axis}.{k}", _number(axis, spec[k]))) for k in ("from", "to"))
+    if "num" in spec:
+        num = checks.positive_int(f"{axis}.num", spec["num"])
+        count, step = num, (hi - lo) / (num - 1) if num > 1 else 0.0
+    else:
+        step = checks.positive(f"{axis}.step", _number(axis, spec["step"]))
+        count = math.floor((hi - lo) / step * (1 + 1e-12)) + 1
+    if hi < lo:
+        raise ValueError(f"{axis}: from must not exceed to, got from = {lo:g}, to = {hi:g}")
+    if count > MAX_AXIS_VALUES:
+        raise ValueError(f"{axis}: the range gives {count} values, more than {MAX_AXIS_VALUES}")
+    return [round(lo + i * step, 12) for i in range(count)]
+
+
+def _bond(bond: dict[str, Any], key: str, src: _Source) -> tuple[str, ...]:
+    choices = BOND[key]
+    raw = bond.get(key, choices[0])
+    values = raw if isinstance(raw, list) else [raw]
+    try:
+        if not values:
+            raise ValueError(f"{key} must have at least one value")
+        return tuple(dict.fromkeys(checks.choice(key, v, choices) for v in values))
+    except ValueError as exc:
+        raise src.error(f"bond.{key}: {exc}", "bond", key) from None
+
+
+def _max_blocks(entry: dict[str, Any], table: str, index: int, src: _Source) -> int | None:
+    if "max_blocks" not in entry:
+        return None
+    try:
+        return checks.positive_int("max_blocks", entry["max_blocks"])
+    except ValueError as exc:
+        raise src.error(f"{table}.{exc}", table, "max_blocks", index) from None
+
+
+def _methods(data: dict[str, Any], src: _Source) -> tuple[GridMethod, ...]:
+    entries = data.get("method")
+    if not entries:
+        raise GridError(f"grid {src.source}: no [[method]] given; a sweep needs at least one")
+    if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
+        raise src.error("method must be an array of tables, written [[method]]", "", "method")
+    methods = [_method(entry, i, src) for i, entry in enumerate(entries)]
+    seen: set[Method] = set()
+    for i, gm in enumerate(methods):
+        if gm.method in seen:
+            raise src.error(f"method {i + 1}: the same method twice ({gm.method.label})", "method", None, i)
+        seen.add(gm.method)
+    return tuple(methods)
+
+
+def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
+    import micro
+
+    kind = entry.get("kind")
+    if kind not in METHOD_KEYS:
+        where = ("method", "kind", index) if "kind" in entry else ("method", None, index)
+        raise src.error(f"method.kind must be one of {', '.join(METHOD_KEYS)}, got {kind!r}", *where)
+    _known(entry, METHOD_KEYS[kind], "method", src, index)
+    if kind == "macro":
+        return GridMethod(MACRO)
+    options: dict[str, Any] = {}
+    for key, choices, default in (("solver", micro.SOLVERS, "highs"), ("scheme", SCHEMES, "a")):
+        if key in METHOD_KEYS[kind]:
+            try:
+                options[key] = checks.choice(f"method.{key}", entry.get(key, default), choices)
+            except ValueError as exc:
+                raise src.error(str(exc), "method", key, index) from None
+    return GridMethod(replace(Method(kind), **options), _max_blocks(entry, "method", index, src))

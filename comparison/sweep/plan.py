@@ -1,0 +1,136 @@
+"""A sweep's cells: every wall of the grid, every method, every bond of a micro method.
+
+A :class:`Cell` is one row of the sweep's table. The cells are numbered in the
+grid's order (axes in the order ``t, m, rows, f, p, storeys``, then the
+methods, then the bonds), which is the order of the table whatever order they
+were computed in.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, replace
+
+from comparison.runner import Method, approximate_blocks
+from comparison.sweep.grid import Grid, GridMethod
+from comparison.wall import WallSpec
+from macro.checks import UNEQUAL_STOREYS
+
+#: Why a cell is not computed: its rows do not split over its storeys, or its wall is over a block limit.
+NOT_APPLICABLE, NOT_RUN = "not_applicable", "not_run"
+
+
+@dataclass(frozen=True)
+class WallPoint:
+    """One combination of the grid's axes (the paper's Table 4 parameters).
+
+    Attributes:
+        t, m, rows, f, p, storeys: the parameters.
+    """
+
+    t: float
+    m: float
+    rows: int
+    f: float
+    p: float
+    storeys: int
+
+    @property
+    def label(self) -> str:
+        """Short name, e.g. ``t=1 m=0.3333 o=60 f=0.6 p=0 N=3``."""
+        return f"t={self.t:g} m={self.m:.4g} o={self.rows} f={self.f:g} p={self.p:g} N={self.storeys}"
+
+    def spec(self) -> WallSpec:
+        """The dimensional wall.
+
+        Raises:
+            ValueError: the rows do not split equally over the storeys.
+        """
+        return WallSpec.from_paper(
+            t=self.t, m=self.m, rows=self.rows, f=self.f, p=self.p, storeys=self.storeys, name=self.label
+        )
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One row of a sweep: a method on a wall (with a bond, for a micro method).
+
+    Attributes:
+        index: position in the grid's order.
+        point: the wall's parameters.
+        method: the method, bond options included.
+        spec: the micro wall the method runs on, storeys that differ in
+            nothing merged (see :func:`micro_spec`); ``None`` for the macro
+            model (its side is vectorised over the points) and when the
+            parameters make no wall.
+        blocks: blocks of the micro wall, approximately (0 for the macro model).
+        skip: ``""``, or :data:`NOT_APPLICABLE` / :data:`NOT_RUN`.
+        message: why it is skipped.
+    """
+
+    index: int
+    point: WallPoint
+    method: Method
+    spec: WallSpec | None
+    blocks: int = 0
+    skip: str = ""
+    message: str = ""
+
+    @property
+    def micro(self) -> bool:
+        """A micro method's cell."""
+        return self.method.kind != "macro"
+
+
+def micro_spec(spec: WallSpec) -> WallSpec:
+    """``spec`` with its storeys merged into one when they differ in nothing but their rows and carry no floor load.
+
+    The block walls of the two are the same, so their micro results are:
+    merged, they share one cache entry (a one- and a three-storey wall without
+    overload are computed once).
+    """
+    first = spec.storeys[0]
+    if len(spec.storeys) == 1 or any(s.thickness != first.thickness or s.overload for s in spec.storeys):
+        return spec
+    return replace(spec, storeys=(replace(first, rows=spec.rows),))
+
+
+def wall_points(grid: Grid) -> list[WallPoint]:
+    """Every combination of the grid's axes, in the grid's order."""
+    a = grid.axes
+    combos = itertools.product(a["t"], a["m"], a["rows"], a["f"], a["p"], a["storeys"])
+    return [WallPoint(float(t), float(m), int(o), float(f), float(p), int(n)) for t, m, o, f, p, n in combos]
+
+
+def cells(grid: Grid) -> list[Cell]:
+    """The cells of ``grid``, numbered in its order (a micro wall is built once per wall, none for the macro model)."""
+    out: list[Cell] = []
+    bonds = list(itertools.product(grid.bond["first_course"], grid.bond["head_joints"]))
+    micro = any(gm.method.kind != "macro" for gm in grid.methods)
+    for point in wall_points(grid):
+        why = "" if point.rows % point.storeys == 0 else UNEQUAL_STOREYS.format(rows=point.rows, storeys=point.storeys)
+        spec = micro_spec(point.spec()) if micro and not why else None
+        for gm in grid.methods:
+            if gm.method.kind == "macro":
+                out.append(Cell(len(out), point, gm.method, None, skip=NOT_APPLICABLE if why else "", message=why))
+                continue
+            for fc, hj in bonds:
+                method = replace(gm.method, first_course=fc, head_joints=hj)
+                out.append(_micro_cell(len(out), point, method, spec, why, _limit(grid, gm)))
+    return out
+
+
+def _limit(grid: Grid, gm: GridMethod) -> int | None:
+    limits = [x for x in (grid.max_blocks, gm.max_blocks) if x is not None]
+    return min(limits) if limits else None
+
+
+def _micro_cell(
+    index: int, point: WallPoint, method: Method, spec: WallSpec | None, why: str, limit: int | None
+) -> Cell:
+    if spec is None:
+        return Cell(index, point, method, None, skip=NOT_APPLICABLE, message=why)
+    blocks = approximate_blocks(spec)
+    if limit is not None and blocks > limit:
+        return Cell(index, point, method, spec, blocks, NOT_RUN, f"about {blocks} blocks: above max_blocks = {limit}")
+    return Cell(index, point, method, spec, blocks)

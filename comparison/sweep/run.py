@@ -1,0 +1,192 @@
+"""Run a sweep: the macro side in one vectorised call, the micro side on an executor through the cache.
+
+The micro cells go through the report's content-addressed cache (keyed by the
+wall, the method and its options, and the code version): a cell in the cache is
+read, the others are computed on the executor, largest walls first, and stored
+as each arrives. A sweep killed at any point and started again computes only
+what is missing, and two sweeps that share walls compute them once. A cell
+whose computation fails, whose worker dies, or whose memory estimate exceeds a
+worker's memory is recorded with that status; the sweep goes on.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from comparison.progress import Progress
+from comparison.runner import Record, ResultCache, code_version, prefetch
+from comparison.runner.executor import Executor, Outcome
+from comparison.runner.methods import PACKAGES
+from comparison.sweep.grid import Grid
+from comparison.sweep.plan import Cell, cells
+from comparison.sweep.table import machine, versions, write_meta, write_table
+
+#: The status of a cell whose computation gave no record, by the executor's outcome.
+FAILURE_STATUS = {"failed": "error", "lost": "worker_died", "refused": "refused_memory"}
+
+
+@dataclass(frozen=True)
+class SweepRun:
+    """What a sweep wrote and did.
+
+    Attributes:
+        table: the CSV table.
+        meta: the JSON metadata.
+        counts: cells by what happened to them (``macro``, ``cached``, ``computed``, ``failed``, ``skipped``).
+        macro_walls_per_second: speed of the vectorised macro side.
+        micro_seconds: wall time of the micro computations.
+    """
+
+    table: Path
+    meta: Path
+    counts: dict[str, int]
+    macro_walls_per_second: float
+    micro_seconds: float
+
+
+def run_sweep(grid: Grid, out_dir: Path, *, cache: ResultCache, executor: Executor, progress: Progress) -> SweepRun:
+    """Compute every cell of ``grid`` and write ``<name>.csv`` and ``<name>.json`` into ``out_dir``."""
+    start = time.perf_counter()
+    plan = cells(grid)
+    rows: dict[int, dict[str, Any]] = {}
+    macro_rate = _macro_side(plan, rows)
+    runnable = [c for c in plan if c.micro and not c.skip]
+    items = {c.index: (c.spec, c.method) for c in runnable if c.spec is not None}
+    cached = {i for i, item in items.items() if item in cache}
+    pending = list(dict.fromkeys(item for i, item in items.items() if i not in cached))
+    skipped = sum(1 for c in plan if c.skip)
+    progress.say(
+        f"plan: {len(plan)} cells: {len(plan) - len(runnable) - skipped} macro (one vectorised call), "
+        f"{len(runnable)} micro ({len(cached)} cached, {len(pending)} to compute on {executor.where}), "
+        f"{skipped} skipped"
+    )
+    progress.start(len(pending), "micro")
+    t0 = time.perf_counter()
+    done = prefetch(cache, pending, executor, progress)
+    micro_seconds = time.perf_counter() - t0
+    progress.close()
+    rows.update({c.index: _micro_row(c, cache, done.failures, c.index in cached) for c in plan if c.micro})
+    counts = {
+        "cells": len(plan),
+        "macro": sum(1 for c in plan if not c.micro and not c.skip),
+        "cached": len(cached),
+        "computed": done.computed,
+        "failed": len(done.failures),
+        "skipped": skipped,
+    }
+    table = write_table((rows[c.index] for c in plan), out_dir / f"{grid.name}.csv")
+    meta = {
+        "grid": grid.to_dict(),
+        "counts": counts,
+        "executor": {"where": executor.where, "workers": executor.workers, "memory": executor.memory_per_worker},
+        "code": {pkg: code_version(pkg) for pkg in sorted({p for pkgs in PACKAGES.values() for p in pkgs})},
+        "versions": versions(),
+        "machine": machine(),
+        "macro_walls_per_second": macro_rate,
+        "micro_seconds": micro_seconds,
+        "seconds": time.perf_counter() - start,
+    }
+    path = write_meta(meta, out_dir / f"{grid.name}.json")
+    progress.say(
+        f"{counts['computed']} computed, {counts['cached']} cached, {counts['failed']} failed, "
+        f"{counts['skipped']} skipped in {meta['seconds']:.1f} s: {table}"
+    )
+    return SweepRun(table, path, counts, macro_rate, micro_seconds)
+
+
+def _inputs(cell: Cell) -> dict[str, Any]:
+    """The columns that say what the cell is."""
+    p, m = cell.point, cell.method
+    micro = cell.micro
+    return {
+        "cell": cell.index,
+        "wall": p.label,
+        **{k: getattr(p, k) for k in ("t", "m", "rows", "f", "p", "storeys")},
+        "method": m.label,
+        "kind": m.kind,
+        "solver": m.solver if m.kind == "micro-assoc" else None,
+        "scheme": m.scheme if m.kind == "micro-nonassoc" else None,
+        "first_course": m.first_course if micro else None,
+        "head_joints": m.head_joints if micro else None,
+        "blocks": cell.blocks or None,
+    }
+
+
+def _skipped(cell: Cell) -> dict[str, Any]:
+    return {**_inputs(cell), "load_factor": math.nan, "status": cell.skip, "message": cell.message}
+
+
+def _macro_side(plan: Sequence[Cell], rows: dict[int, dict[str, Any]]) -> float:
+    """The rows of the macro cells, one :func:`macro.sweep` call per number of storeys; walls per second."""
+    import macro
+    from macro.sweep import MECHANISMS
+
+    todo = [c for c in plan if not c.micro]
+    rows.update({c.index: _skipped(c) for c in todo if c.skip})
+    todo = [c for c in todo if not c.skip]
+    seconds = 0.0
+    for storeys in sorted({c.point.storeys for c in todo}):
+        group = [c for c in todo if c.point.storeys == storeys]
+        t, m, rows_, f, p = (np.array([getattr(c.point, k) for c in group]) for k in ("t", "m", "rows", "f", "p"))
+        t0 = time.perf_counter()
+        r = macro.sweep(t, m, rows_, f, p, storeys=storeys)
+        dt = time.perf_counter() - t0
+        seconds += dt
+        results = zip(
+            r.load_factor.tolist(),
+            r.rocking_load_factor.tolist(),
+            r.alpha_c_deg.tolist(),
+            r.hinge_storey.tolist(),
+            r.mechanism.tolist(),
+            strict=True,
+        )
+        for cell, (lam, rocking, alpha, hinge, mechanism) in zip(group, results, strict=True):
+            rows[cell.index] = {
+                **_inputs(cell),
+                "load_factor": lam,
+                "status": "optimal" if math.isfinite(lam) else "failed",
+                "rocking_load_factor": rocking,
+                "alpha_c_deg": alpha,
+                "hinge_storey": hinge,
+                "mechanism": MECHANISMS[mechanism],
+                "seconds": dt / len(group),
+                "cached": False,
+            }
+    return len(todo) / seconds if seconds > 0 else math.nan
+
+
+def _micro_row(cell: Cell, cache: ResultCache, failures: dict[Any, Outcome], cached: bool) -> dict[str, Any]:
+    """The row of a micro cell: skipped, failed, or its record (from the cache)."""
+    if cell.skip:
+        return _skipped(cell)
+    outcome = failures.get((cell.spec, cell.method))
+    if outcome is not None:
+        status = FAILURE_STATUS[outcome.kind]
+        return {**_skipped(cell), "status": status, "seconds": outcome.seconds, "message": outcome.error}
+    assert cell.spec is not None
+    record = cache.load(cell.spec, cell.method)
+    if record is None:  # pragma: no cover - stored by prefetch a moment ago
+        raise RuntimeError(f"cell {cell.index} ({cell.point.label}, {cell.method.label}) missing from the cache")
+    return {**_inputs(cell), **_record_fields(record), "cached": cached}
+
+
+def _record_fields(record: Record) -> dict[str, Any]:
+    """The result columns of a micro record."""
+    r = record.micro
+    fields: dict[str, Any] = {"load_factor": record.load_factor, "status": record.status, "seconds": record.seconds}
+    if r is None:
+        return {**fields, "message": record.message}
+    fields.update(blocks=r.blocks, iterations=r.iterations, direction=r.direction, message=r.message or record.message)
+    na = record.nonassoc
+    if na is not None:
+        band, mband = na.lambda_band or (None, None), na.mechanism_band or (None, None)
+        fields.update(associative_load_factor=na.associative_load_factor, band_lo=band[0], band_hi=band[1])
+        fields.update(mechanism_band_lo=mband[0], mechanism_band_hi=mband[1])
+    return fields

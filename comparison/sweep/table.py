@@ -1,0 +1,123 @@
+"""The sweep's table: one CSV row per cell, every input and result, and its JSON metadata.
+
+CSV, not Parquet: measured on a table of 10,000 rows of these columns, the
+CSV is 3.0 MB (0.9 MB gzipped), written and read back by the standard library
+in about a second each on a loaded 2-core machine; Parquet makes it 0.9 MB and
+writes it in 0.24 s, but needs ``pyarrow``, a 55 MB wheel (170 MB installed),
+to save disk space nobody misses at this size, while a CSV opens in every tool.
+Floats are written exactly (``repr``), so a table read back gives the same
+numbers; ``nan`` is a NaN, an empty field a value that does not apply.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import platform
+from collections.abc import Iterable, Mapping, Sequence
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+#: The table's columns, in order.
+COLUMNS = (
+    "cell",
+    "wall",
+    "t",
+    "m",
+    "rows",
+    "f",
+    "p",
+    "storeys",
+    "method",
+    "kind",
+    "solver",
+    "scheme",
+    "first_course",
+    "head_joints",
+    "blocks",
+    "load_factor",
+    "status",
+    "iterations",
+    "direction",
+    "associative_load_factor",
+    "band_lo",
+    "band_hi",
+    "mechanism_band_lo",
+    "mechanism_band_hi",
+    "rocking_load_factor",
+    "alpha_c_deg",
+    "hinge_storey",
+    "mechanism",
+    "seconds",
+    "cached",
+    "message",
+)
+#: Columns that depend on the run, not on the cell: when and where it was computed.
+RUN_COLUMNS = ("seconds", "cached")
+#: Packages whose versions the metadata records.
+PACKAGES = ("xcheck-masonry", "numpy", "scipy", "highspy", "clarabel", "cvxpy", "dask", "distributed", "tqdm")
+
+
+def _text(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "1" if value else "0"
+    if isinstance(value, float):
+        return "nan" if math.isnan(value) else repr(value)
+    return str(value)
+
+
+def write_table(rows: Iterable[Mapping[str, Any]], path: Path) -> Path:
+    """Write ``rows`` (dicts keyed by :data:`COLUMNS`; missing keys are empty) as CSV."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    with tmp.open("w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(COLUMNS)
+        writer.writerows([_text(row.get(c)) for c in COLUMNS] for row in rows)
+    tmp.replace(path)
+    return path
+
+
+def read_table(path: Path) -> list[dict[str, str]]:
+    """The rows of a sweep table, as strings keyed by column."""
+    with Path(path).open(newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def number(text: str) -> float:
+    """A table field as a float (NaN when empty)."""
+    return float(text) if text else math.nan
+
+
+def versions(packages: Sequence[str] = PACKAGES) -> dict[str, str | None]:
+    """Installed versions of ``packages`` (``None`` when not installed)."""
+    out: dict[str, str | None] = {}
+    for name in packages:
+        try:
+            out[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            out[name] = None
+    return out
+
+
+def machine() -> dict[str, Any]:
+    """The machine the sweep ran on."""
+    return {
+        "python": platform.python_version(),
+        "platform": platform.platform(),
+        "machine": platform.machine(),
+        "processor": platform.processor(),
+        "cpus": os.cpu_count(),
+    }
+
+
+def write_meta(meta: Mapping[str, Any], path: Path) -> Path:
+    """Write the metadata as JSON."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(meta, indent=1, default=str) + "\n")
+    return path

@@ -1,0 +1,79 @@
+"""``--json`` output against its documented schema (``docs/schemas/*.schema.json``).
+
+Every key the commands print must be in the schema (``additionalProperties`` /
+``unevaluatedProperties`` are false), so a new or renamed key fails here until
+the schema documents it; a failed analysis must carry ``load_factor: null``.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+jsonschema = pytest.importorskip("jsonschema")
+
+from comparison.cli import main  # noqa: E402
+
+SCHEMAS = Path(__file__).parents[3] / "docs" / "schemas"
+WALL = ["--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75"]  # Table 7, Set 12
+
+
+def _validator(name: str) -> Any:
+    schema = json.loads((SCHEMAS / f"{name}.schema.json").read_text())
+    jsonschema.Draft202012Validator.check_schema(schema)
+    return jsonschema.Draft202012Validator(schema)
+
+
+def _run(argv: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, dict[str, Any]]:
+    rc = main(argv)
+    return rc, json.loads(capsys.readouterr().out)
+
+
+def _errors(validator: Any, doc: dict[str, Any]) -> list[str]:
+    return [f"{'/'.join(map(str, e.absolute_path))}: {e.message}" for e in validator.iter_errors(doc)]
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        WALL,
+        ["--t", "1", "--m", "1/3", "--rows", "60", "--f", "0.6", "--p", "2", "--storeys", "3"],  # Table 5, Set 3
+        ["--scene", str(Path(__file__).parents[3] / "examples" / "three-storey.toml")],
+    ],
+    ids=["set12", "set3", "scene"],
+)
+def test_macro_json_matches_schema(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+    rc, doc = _run(["macro", *argv, "--json"], capsys)
+    assert rc == 0
+    assert _errors(_validator("macro"), doc) == []
+
+
+@pytest.mark.parametrize(
+    ("argv", "rc_expected", "status"),
+    [
+        (["--friction", "associative", "--solver", "highs"], 0, "optimal"),
+        (["--friction", "associative", "--solver", "clarabel", "--t", "0.5"], 0, "optimal"),
+        (["--friction", "nonassociative"], 0, "converged"),
+        (["--friction", "nonassociative", "--max-iterations", "2"], 1, "max_iterations"),
+    ],
+    ids=["assoc-highs", "assoc-clarabel-set11", "nonassoc", "nonassoc-failed"],
+)
+def test_micro_json_matches_schema(
+    argv: list[str], rc_expected: int, status: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    rc, doc = _run(["micro", *WALL, *argv, "--json"], capsys)
+    assert (rc, doc["status"]) == (rc_expected, status)
+    assert _errors(_validator("micro"), doc) == []
+
+
+def test_schema_refuses_undocumented_keys_and_numbers_on_failure(capsys: pytest.CaptureFixture[str]) -> None:
+    """The schemas can fail: an extra key, and a number beside a failure status, are refused."""
+    _, doc = _run(["micro", *WALL, "--friction", "nonassociative", "--max-iterations", "2", "--json"], capsys)
+    micro = _validator("micro")
+    assert _errors(micro, {**doc, "undocumented": 1})
+    assert _errors(micro, {**doc, "load_factor": 0.71})
+    _, mdoc = _run(["macro", *WALL, "--json"], capsys)
+    assert _errors(_validator("macro"), {**mdoc, "undocumented": 1})

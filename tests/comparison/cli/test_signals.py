@@ -1,0 +1,150 @@
+"""Ctrl-C and kills: a run stops within seconds with exit 130, and no worker outlives its parent.
+
+Each test starts ``xcheck`` as a real process in a session of its own, waits
+until its worker processes run, then either sends SIGINT to the whole process
+group (what Ctrl-C in a terminal does) or SIGKILLs the parent alone (no chance
+to clean up), and checks that every process it had started is gone. Marked
+``processes`` (about 5 s per Ctrl-C test and 15 s for the kill and resume on the
+2-core development machine, worker start-up dominating): ``pytest -m processes``,
+which ``.ci/run`` runs after the fast suite.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import psutil
+import pytest
+
+from comparison.sweep import read_table
+
+#: How long an interrupted run may take to exit (seconds): "within a few seconds", with room for a loaded machine.
+EXIT_SECONDS = 20.0
+#: How long to wait for a run's worker processes to appear (seconds).
+START_SECONDS = 120.0
+
+#: A sweep of 16 walls of 54-333 blocks (the iterated LP, tenths of a second to seconds each): still
+#: running when it is interrupted.
+GRID = """
+name = "signals"
+[axes]
+t = [0.5, 1.0, 1.5, 2.0]
+m = ["1/3", "1/2"]
+rows = [12, 18]
+f = 0.6
+[[method]]
+kind = "micro-nonassoc"
+"""
+#: 16 walls of 9-150 blocks, about 0.1-0.5 s each: long enough to be killed in the middle, short to resume.
+LIGHT = GRID.replace("rows = [12, 18]", "rows = [6, 12]")
+
+
+def _xcheck(*args: str) -> subprocess.Popen[bytes]:
+    return subprocess.Popen(
+        [sys.executable, "-m", "comparison.cli", *args],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
+
+
+def _workers(proc: subprocess.Popen[bytes], count: int) -> list[psutil.Process]:
+    """The descendants of ``proc`` once ``count`` of them run Python code of ours (spawned workers)."""
+    deadline = time.monotonic() + START_SECONDS
+    while time.monotonic() < deadline:
+        assert proc.poll() is None, proc.stderr.read().decode() if proc.stderr else proc.returncode
+        kids = psutil.Process(proc.pid).children(recursive=True)
+        if sum("spawn_main" in " ".join(_cmdline(k)) for k in kids) >= count:
+            return kids
+        time.sleep(0.05)
+    raise AssertionError(f"no {count} workers after {START_SECONDS} s")
+
+
+def _cmdline(p: psutil.Process) -> list[str]:
+    try:
+        return p.cmdline()
+    except psutil.Error:
+        return []
+
+
+def _alive(procs: list[psutil.Process], timeout: float) -> list[psutil.Process]:
+    _, alive = psutil.wait_procs(procs, timeout=timeout)
+    return [p for p in alive if p.is_running() and p.status() != psutil.STATUS_ZOMBIE]
+
+
+def _cached(cache: Path) -> int:
+    return sum(1 for _ in cache.rglob("*.json"))
+
+
+@pytest.mark.processes
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["report", "--quick", "--workers", "2"],
+        ["stability", "--quick", "--processes", "2"],
+        ["sweep", "GRID", "--workers", "2"],
+    ],
+    ids=["report", "stability", "sweep"],
+)
+def test_ctrl_c_stops_the_run_with_exit_130_and_ends_its_workers(tmp_path: Path, command: list[str]) -> None:
+    grid = tmp_path / "signals.toml"
+    grid.write_text(GRID)
+    args = [str(grid) if a == "GRID" else a for a in command]
+    cache = ["--cache", str(tmp_path / "c")] if command[0] != "stability" else []
+    proc = _xcheck(*args, "--out", str(tmp_path / "out"), *cache)
+    try:
+        kids = _workers(proc, 2)
+        time.sleep(1.0)  # let them work
+        t0 = time.monotonic()
+        os.killpg(proc.pid, signal.SIGINT)
+        code = proc.wait(EXIT_SECONDS)
+        took = time.monotonic() - t0
+        err = proc.stderr.read().decode() if proc.stderr else ""
+        assert code == 130, err
+        assert "Traceback" not in err and "interrupted" in err, err
+        assert not _alive(kids, timeout=5.0), "processes left behind"
+        assert took < EXIT_SECONDS
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+
+
+@pytest.mark.processes
+def test_a_killed_sweep_leaves_no_orphan_and_resumes_without_losing_a_cell(tmp_path: Path) -> None:
+    grid = tmp_path / "signals.toml"
+    grid.write_text(LIGHT)
+    cache, out = tmp_path / "c", tmp_path / "out"
+    proc = _xcheck("sweep", str(grid), "--out", str(out), "--cache", str(cache), "--workers", "2")
+    try:
+        kids = _workers(proc, 2)
+        while _cached(cache) < 3 and proc.poll() is None:
+            time.sleep(0.02)
+        proc.send_signal(signal.SIGKILL)  # the parent alone: no chance to end its workers
+        proc.wait(EXIT_SECONDS)
+        done_before = _cached(cache)
+        assert 3 <= done_before < 16, "killed too late to test a resume"
+        assert not _alive(kids, timeout=10.0), "workers outlived their killed parent"
+        assert not (out / "signals.csv").exists()  # the table is written at the end only
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    again = subprocess.run(
+        [sys.executable, "-m", "comparison.cli", "sweep", str(grid), "--out", str(out), "--cache", str(cache)],
+        capture_output=True,
+        timeout=600,
+    )
+    assert again.returncode == 0, again.stderr.decode()
+    rows = read_table(out / "signals.csv")
+    meta = json.loads((out / "signals.json").read_text())
+    assert [int(r["cell"]) for r in rows] == list(range(16))
+    assert len({r["wall"] for r in rows}) == 16
+    counts = meta["counts"]
+    assert counts["cached"] >= done_before and counts["cached"] + counts["computed"] == 16
+    assert counts["failed"] == 0 and _cached(cache) == 16
+    assert all(r["status"] in ("converged", "cycling", "not_applicable", "max_iterations") for r in rows)

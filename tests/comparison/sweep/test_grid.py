@@ -1,0 +1,119 @@
+"""Grid files: the documented format parses; a malformed one is one line naming the key (exit 2)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from comparison.cli import main
+from comparison.runner import MACRO, MICRO_ASSOC, MICRO_NONASSOC
+from comparison.sweep import GridError, cells, load_grid, parse_grid
+
+ROOT = Path(__file__).resolve().parents[3]
+
+GOOD = """
+name = "g"
+[axes]
+t = [1.0, 2.0]
+m = ["1/3", 1]
+rows = { from = 12, to = 24, step = 6 }
+f = 0.6
+storeys = [1, 4]
+[bond]
+first_course = ["full", "half"]
+[limits]
+max_blocks = 100
+[[method]]
+kind = "macro"
+[[method]]
+kind = "micro-assoc"
+solver = "clarabel"
+[[method]]
+kind = "micro-nonassoc"
+max_blocks = 50
+"""
+
+
+def test_a_grid_expands_to_its_cells() -> None:
+    g = parse_grid(GOOD)
+    assert g.name == "g" and g.axes["rows"] == (12, 18, 24) and g.axes["m"] == (1 / 3, 1.0)
+    assert g.axes["p"] == (0.0,) and g.axes["storeys"] == (1, 4)
+    assert [m.method for m in g.methods] == [MACRO, replace(MICRO_ASSOC, solver="clarabel"), MICRO_NONASSOC]
+    cs = cells(g)
+    walls = 2 * 2 * 3 * 2
+    assert len(cs) == walls * (1 + 2 + 2) and [c.index for c in cs] == list(range(len(cs)))
+    # 18 rows do not split over 4 storeys: every method's cell says so
+    odd = [c for c in cs if c.point.rows == 18 and c.point.storeys == 4]
+    assert odd and all(c.skip == "not_applicable" and "storeys" in c.message for c in odd)
+    # the nonassoc limit is the smaller of the grid's and its own
+    na = [c for c in cs if c.method.kind == "micro-nonassoc" and not c.skip]
+    assert na and all(c.blocks <= 50 for c in na)
+    assert any(c.skip == "not_run" and c.method.kind == "micro-nonassoc" and c.blocks <= 100 for c in cs)
+
+
+def test_the_example_grids_parse() -> None:
+    for path in sorted((ROOT / "examples" / "sweeps").glob("*.toml")):
+        assert cells(load_grid(path)), path
+
+
+def test_a_range_by_count() -> None:
+    g = parse_grid(GOOD.replace("{ from = 12, to = 24, step = 6 }", "{ from = 12, to = 24, num = 3 }"))
+    assert g.axes["rows"] == (12, 18, 24)
+
+
+@pytest.mark.parametrize(
+    ("edit", "words"),
+    [
+        (("t = [1.0, 2.0]", "t = [1.0, -2.0]"), ["line 4", "axes.t", "t must be a positive number, got -2.0"]),
+        (("m = [", "mm = ["), ["line 5", "unknown key axes.mm"]),
+        (('m = ["1/3", 1]', 'm = ["1/x", 1]'), ["axes.m", "fraction"]),
+        (("m = [", "q = 1\nm = ["), ["unknown key axes.q"]),
+        (("f = 0.6\n", ""), ["missing key axes.f"]),
+        (("step = 6", "stride = 6"), ["axes.rows", "range"]),
+        (('solver = "clarabel"', 'solver = "gurobi"'), ["line 17", "method.solver", "gurobi"]),
+        (('kind = "micro-nonassoc"', 'kind = "micro-magic"'), ["line 19", "method.kind"]),
+        (("max_blocks = 50", "max_blocks = 0"), ["line 20", "max_blocks must be a positive integer"]),
+        (('first_course = ["full", "half"]', 'first_course = "middle"'), ["bond.first_course", "middle"]),
+        (('[[method]]\nkind = "macro"', '[[method]]\nkind = "macro"\nsolver = "x"'), ["unknown key method.solver"]),
+        (("name = \"g\"", "name = \"g\"\nspeed = 1"), ["unknown key 'speed'"]),
+        (("name = \"g\"", "name = \"a b\""), ["line 2", "name must be letters"]),
+        (("rows = {", "rows = [{"), ["malformed TOML"]),
+    ],
+)
+def test_a_malformed_grid_is_one_line_naming_the_key_exit_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: tuple[str, str], words: list[str]
+) -> None:
+    text = GOOD.replace(*edit)
+    assert text != GOOD
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(GridError):
+        load_grid(path)
+    assert main(["sweep", str(path), "--out", str(tmp_path / "out"), "--cache", str(tmp_path / "c")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("xcheck: error: grid ") and str(path) in err, err
+    for w in words:
+        assert w in err, (w, err)
+    assert not (tmp_path / "out").exists()
+
+
+def test_missing_grid_file_and_bad_options(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["sweep", str(tmp_path / "none.toml"), "--out", str(tmp_path)]) == 2
+    assert "cannot read" in capsys.readouterr().err
+    good = tmp_path / "g.toml"
+    good.write_text(GOOD)
+    for extra, word in (
+        (["--workers", "0"], "--workers must be a positive integer"),
+        (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "exclude each other"),
+        (["--scheduler", "127.0.0.1:8786"], "--scheduler must be an address"),
+        (["--worker-memory", "-1"], "--worker-memory must be a positive number"),
+    ):
+        assert main(["sweep", str(good), "--out", str(tmp_path / "o"), *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and word in err, err
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    assert main(["sweep", str(good), "--out", str(blocker / "out")]) == 2
+    assert "--out: cannot write to" in capsys.readouterr().err
