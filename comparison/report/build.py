@@ -77,6 +77,7 @@ def build_report(
         if runner.cache is not None and pending:
             with LocalExecutor(processes) as executor:
                 prefetched = prefetch(runner.cache, [(it.spec, it.method) for it in pending], executor, progress)
+            runner.keep(prefetched.unstored)
         results = compute(plan, runner)
     meta = {"quick": quick, "methods": [m.label for m in [MACRO, *plan.methods]]}
     run = {

@@ -10,7 +10,7 @@ figures.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -99,6 +99,10 @@ class Runner:
     def mechanism(self, spec: WallSpec, method: Method) -> Mechanism | None:
         """The mechanism of the micro record of ``method`` on ``spec``, if it has one."""
         return self._entry(spec, method)[1]
+
+    def keep(self, entries: Mapping[tuple[WallSpec, Method], tuple[Record, Mechanism | None]]) -> None:
+        """Hold ``entries`` (computed elsewhere, not in the cache) for this runner's lifetime."""
+        self._memory.update(entries)
 
     def _entry(self, spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         key = (spec, method)

@@ -6,7 +6,8 @@
   recomputed, never raised;
 * two processes storing and reading the same entries at once never see a part
   of a file;
-* a result stopped by a wall-clock limit is not stored as a final answer.
+* a result stopped by a wall-clock limit is not stored as a final answer (its
+  run uses it; the next one computes it again).
 """
 
 from __future__ import annotations
@@ -18,12 +19,14 @@ import signal
 import subprocess
 import sys
 import textwrap
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from comparison.runner import MICRO_ASSOC, ResultCache, Runner
+from comparison.runner import MICRO_ASSOC, ResultCache, Runner, prefetch
+from comparison.runner.executor import Outcome, Task
 from comparison.wall import WallSpec
 
 SPEC = WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75, name="six rows")
@@ -63,7 +66,8 @@ ResultCache(sys.argv[1]).store(spec, record, mechanism)
 WRITER_SCRIPT = """
 import sys, warnings
 warnings.simplefilter("error")
-from comparison.runner import MICRO_ASSOC, ResultCache, Runner
+from comparison.runner import MICRO_ASSOC, ResultCache, Runner, prefetch
+from comparison.runner.executor import Outcome, Task
 from comparison.wall import WallSpec
 
 specs = [WallSpec.from_paper(t=1, m=1 / 3, rows=r, f=0.75) for r in (3, 6, 9)]
@@ -189,3 +193,29 @@ def test_a_stored_mechanism_reads_back_equal(tmp_path: Path) -> None:
     back = ResultCache(tmp_path).mechanism(SPEC, MICRO_ASSOC)
     assert mine is not None and back is not None and back.direction == mine.direction
     np.testing.assert_array_equal(back.velocities, mine.velocities)
+
+
+class _StoppedByTheClock:
+    """An executor whose every task 'ran out of time': it returns ``stopped`` for each."""
+
+    workers, memory_per_worker, where = 1, None, "test"
+
+    def __init__(self, stopped: object) -> None:
+        self.stopped = stopped
+
+    def run(self, tasks: Sequence[Task]) -> Iterator[Outcome]:
+        for task in tasks:
+            yield Outcome(task, "done", self.stopped)
+
+
+def test_a_result_stopped_by_the_clock_is_used_by_its_run_but_not_stored(tmp_path: Path) -> None:
+    record = Runner(None).run(SPEC, MICRO_ASSOC)
+    assert record.micro is not None
+    stopped = dataclasses.replace(record, result=dataclasses.replace(record.micro, status="time_limit"))
+    runner = Runner(tmp_path)
+    assert runner.cache is not None
+    done = prefetch(runner.cache, [(SPEC, MICRO_ASSOC)], _StoppedByTheClock((stopped, None)))  # type: ignore[arg-type]
+    assert done.computed == 1 and list(done.unstored) == [(SPEC, MICRO_ASSOC)]
+    assert (SPEC, MICRO_ASSOC) not in runner.cache
+    runner.keep(done.unstored)
+    assert runner.run(SPEC, MICRO_ASSOC) is stopped and runner.computed == 0  # not computed a second time
