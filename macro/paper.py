@@ -153,8 +153,10 @@ def _paper_bounds(
         ),
         entry,
     )
+    with np.errstate(over="ignore"):  # p near the double range: an infinite product is over the bound too
+        too_heavy = p * p_rows > R
     _first_bad(
-        p * p_rows > R,
+        too_heavy,
         lambda i: (
             checks.AT_MOST.format(name="p", hi=R / p_rows[i], value=shown("p", i))
             + f": a floor load of at most {R:g} times the weight of one row"
