@@ -176,6 +176,21 @@ class NonAssociativeRecord(MicroRecord):
         cold_algorithm: the algorithm of the cold re-solve.
         fallback_steps: scheme (b) LPs replaced by a scheme (a) step, over
             the directions solved.
+        lowest_load_factor: the lowest certified collapse state over the
+            directions (:mod:`micro.nonassociative.lowest`; NaN when not
+            computed or not found in every direction).
+        lowest_direction: its direction.
+        lowest_band: ``(lambda, greatest lambda)`` of the collapse states
+            with its mechanism.
+        lowest_moves: moves between mechanisms that led to it.
+        lowest_lps, lowest_seconds: cost of the descent over the directions.
+        lowest_status: ``""`` (not run), ``"found"`` or ``"failed"``.
+        global_load_factor: best collapse state of the global search
+            (:mod:`micro.nonassociative.global_mip`; NaN when not run).
+        global_lower_bound: its proven lower bound of every collapse load factor.
+        global_gap: ``(global_load_factor - global_lower_bound) / global_load_factor``.
+        global_status: ``""`` (not run), ``"optimal"`` (the gap closed),
+            ``"time_limit"``, ``"node_limit"``, ``"infeasible"`` or ``"solver_error"``.
     """
 
     scheme: str
@@ -193,3 +208,14 @@ class NonAssociativeRecord(MicroRecord):
     history_load_factor: tuple[float, ...]
     cold_algorithm: str
     fallback_steps: int
+    lowest_load_factor: float = math.nan
+    lowest_direction: str = ""
+    lowest_band: Band | None = None
+    lowest_moves: int = 0
+    lowest_lps: int = 0
+    lowest_seconds: float = 0.0
+    lowest_status: str = ""
+    global_load_factor: float = math.nan
+    global_lower_bound: float = math.nan
+    global_gap: float = math.nan
+    global_status: str = ""

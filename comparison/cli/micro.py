@@ -4,6 +4,7 @@ Example::
 
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction associative --solver highs --json
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --scheme a --json
+    xcheck micro --t 2 --m 1/3 --rows 6 --f 0.6 --friction nonassociative --global --time-limit 60 --json
 """
 
 from __future__ import annotations
@@ -73,7 +74,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="frictional|frictionless",
         help="friction on the head joints (default frictional)",
     )
-    g.add_argument("--time-limit", default=None, metavar="SECONDS", help="time limit per LP solve")
+    g.add_argument("--time-limit", default=None, metavar="SECONDS",
+                   help="time limit per LP solve (with --global also of each direction's branch and bound, "
+                   "default 300)")
     g.add_argument("--json", action="store_true", help="print one JSON object")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
     # ---- non-associative friction (issue 4)
@@ -97,6 +100,26 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="store_true",
         help="stop only when an LP's own forces satisfy Coulomb (the plain iterated LP); by default a "
         "settled iterate whose mechanism admits an exact collapse state ends the sequence",
+    )
+    na.add_argument(
+        "--no-lowest",
+        action="store_true",
+        help="skip the descent to the lowest certified collapse state (lowest_load_factor)",
+    )
+    na.add_argument(
+        "--global",
+        dest="global_",
+        action="store_true",
+        help="then search for the global minimum by branch and bound (HiGHS MIP), started from the lowest "
+        "state: a proven lower bound and the gap (global_load_factor, global_lower_bound, global_gap, "
+        "global_status); a reference tool for walls of a few blocks",
+    )
+    na.add_argument(
+        "--node-limit",
+        default=None,
+        metavar="N",
+        help="with --global: branch-and-bound nodes per direction (the same answer on every machine, unlike "
+        "--time-limit)",
     )
     p.set_defaults(handler=run)
 
@@ -186,6 +209,10 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
     relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
     max_it = int_option("--max-iterations", args.max_iterations, minimum=2)
+    # with --global, --time-limit also limits each direction's branch and bound
+    global_limit: dict[str, Any] = {} if time_limit is None else {"global_time_limit": time_limit}
+    if args.node_limit is not None:
+        global_limit["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
     result = micro.solve_nonassociative(
         wall,
         scheme=args.scheme,
@@ -193,6 +220,9 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         max_iterations=max_it,
         time_limit=time_limit,
         certify=not args.no_certify,
+        lowest=not args.no_lowest,
+        global_=args.global_,
+        **global_limit,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:
@@ -230,6 +260,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
         if result.mechanism_band is not None:
             lo, hi = result.mechanism_band
             print(f"  collapse states with this mechanism: lambda in [{lo:.6f}, {hi:.6f}]")
+        _print_lowest(result)
     else:
         band = (
             ""
@@ -252,3 +283,19 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
                 f"  {r.iteration:>3}  {r.load_factor:.6f}  {dn:>9}  {r.simplex_iterations:>11}  "
                 f"{r.seconds:7.3f}  {r.algorithm}  {r.certificate}".rstrip()
             )
+
+
+def _print_lowest(result: NonAssociativeResult) -> None:
+    """The lowest certified state and the global search, when they ran."""
+    low = result.lowest_state
+    if low is not None:
+        n = len(low.moves)
+        moves = f", {n} move{'s' if n > 1 else ''}" if n else ""
+        print(f"  lowest certified collapse state: lambda = {low.load_factor:.6f} ({low.direction}; "
+              f"{low.origin}{moves}; {low.lps} LPs, {low.seconds:.3f} s)")
+    elif result.lowest:
+        print(f"  lowest certified collapse state: none ({'; '.join(x.message for x in result.lowest if x.message)})")
+    g = result.global_search
+    if g is not None:
+        print(f"  global search ({g.status}): best lambda = {g.load_factor:.6f}, proven lower bound "
+              f"{g.lower_bound:.6f}, gap {100 * g.gap:.2f} %, {g.seconds:.1f} s")

@@ -3,6 +3,7 @@
 Example::
 
     xcheck stability --out reports --processes 2
+    xcheck stability --lowest --out reports
 """
 
 from __future__ import annotations
@@ -29,6 +30,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="store_true",
         help="instead: Table 7 (sets 11-14) per scheme, bond phase and head-joint friction (table7_nonassoc.md)",
     )
+    p.add_argument(
+        "--lowest",
+        action="store_true",
+        help="instead: the iterated LP against the lowest certified state and the global minimum on Table 7's "
+        "walls, the grid and tiny walls (lowest.md, lowest.csv, lowest.png)",
+    )
     p.set_defaults(handler=run)
 
 
@@ -42,7 +49,12 @@ def run(args: argparse.Namespace) -> int:
         if args.table7:
             print(f"md: {table7_variants(args.out)}")
             return 0
-        paths = main_study(args.out, processes=processes, quick=args.quick, verbosity=args.verbosity)
+        if args.lowest:
+            from comparison.stability.lowest import main_lowest
+
+            paths = main_lowest(args.out, processes=processes, quick=args.quick)
+        else:
+            paths = main_study(args.out, processes=processes, quick=args.quick, verbosity=args.verbosity)
     except OSError as exc:
         raise UsageError(f"--out: cannot write to {args.out!r} ({exc.strerror})") from None
     for kind, path in paths.items():

@@ -20,7 +20,7 @@ from typing import Any
 
 from comparison.outputs import writable_directory
 from comparison.progress import NORMAL, Progress
-from comparison.report import errormap, figures
+from comparison.report import errormap, figures, lowest
 from comparison.report.findings import findings
 from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
@@ -107,5 +107,6 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
         json.dumps({"meta": meta, "tables": tables_json, "errormap": error_numbers}, indent=1, default=str)
     )
     path = out / "REPORT.md"
-    path.write_text(document(res, tables, findings(res), figure_list, meta) + "\n" + error_map)
+    text = document(res, tables, findings(res), figure_list, meta)
+    path.write_text(text + "\n" + error_map + "\n" + lowest.section())
     return path

@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 import math
 import statistics
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -99,15 +99,20 @@ def _wall_spread(rs: Sequence[StudyRun]) -> dict[str, Any]:
     }
 
 
+def write_rows(rows: Sequence[Mapping[str, Any]], path: Path) -> None:
+    """Write ``rows`` (dicts with the same keys, in order) as a CSV table with a header."""
+    with path.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
 def write_reports(runs: Sequence[StudyRun], out: Path, *, seconds: float, processes: int) -> dict[str, Path]:
     """Write ``stability.csv``, ``stability.md`` and ``stability.png`` to ``out``."""
     out.mkdir(parents=True, exist_ok=True)
     paths = {"csv": out / "stability.csv", "md": out / "stability.md", "png": out / "stability.png"}
     rows = [r.row() for r in runs]
-    with paths["csv"].open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(rows, paths["csv"])
     s = summarise(runs)
     lines = _intro(s, len(rows), seconds, processes) + _per_setting(s) + _spread(s) + _failures(runs, s)
     paths["md"].write_text("\n".join(lines))

@@ -156,6 +156,16 @@ class PersistentHighsModel:
         """Change the cost of one column."""
         self._highs.changeColCost(col, value)
 
+    def set_costs(self, cols: NDArray[Any], values: FloatArray) -> None:
+        """Change the costs of many columns at once (the basis is kept)."""
+        cols = np.asarray(cols, dtype=np.int32)
+        self._highs.changeColsCost(cols.size, cols, np.asarray(values, dtype=np.float64))
+
+    @property
+    def n_rows(self) -> int:
+        """Rows of the model."""
+        return int(self._highs.getNumRow())
+
     def get_basis(self) -> Any:
         """The current basis (an opaque object for :meth:`set_basis`)."""
         return self._highs.getBasis()
@@ -192,6 +202,13 @@ class PersistentHighsModel:
             h.setOptionValue("time_limit", float(h.getRunTime()) + float(seconds))
         else:
             h.setOptionValue("time_limit", float("inf"))
+
+    def limit_iterations(self, iterations: int | None) -> None:
+        """Cap the simplex iterations of the next runs (``None``: no cap).
+        Unlike a time limit, the cap stops a run at the same point on every
+        machine."""
+        cap = 2**31 - 1 if iterations is None else max(int(iterations), 1)
+        self._highs.setOptionValue("simplex_iteration_limit", cap)
 
     def cold_copy(self, algorithm: str = "ipm") -> PersistentHighsModel:
         """A new model holding a copy of the CURRENT one (columns, rows,

@@ -35,7 +35,16 @@ Modules, one concept each:
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
 ``convergence``  the exact stop, the settle test, cycle detection;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
-``results``      :class:`IterationRecord`, :class:`SequenceDiagnostics`, :class:`NonAssociativeResult`.
+``results``      :class:`IterationRecord`, :class:`SequenceDiagnostics`, :class:`NonAssociativeResult`;
+``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
+``lowest``       the descent to the lowest certified collapse state (``options.lowest``);
+``global_mip``   the mixed-integer search for the global minimum (``options.global_``), with
+                 ``global_bounds``, ``global_model``, ``global_pattern`` and ``global_search``.
+
+After a converged run, the descent (on by default) reports the lowest
+certified collapse state it reaches (``lowest_load_factor``) beside the
+iterated LP's own fixed point (``load_factor``, unchanged); the global search
+(off by default) adds a proven lower bound (``global_lower_bound``) and the gap.
 
 A sequence stops as ``converged`` (exactly, or certified), ``cycling``
 (``lambda_band`` is ``[min, max]`` over the cycle or the last window),
@@ -49,13 +58,15 @@ not converge is NaN; the last value and the band are reported beside it.
 from __future__ import annotations
 
 import time
-from typing import Any
+from typing import Any, Literal
 
 from micro.geometry import BlockWall
-from micro.lp import assemble
+from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.convergence import detect_cycle
+from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
 from micro.nonassociative.iteration import Sequence
+from micro.nonassociative.lowest import LowestDirection, lowest_state
 from micro.nonassociative.options import DEFAULT_RELAXATION, SCHEMES, NonAssociativeOptions
 from micro.nonassociative.results import (
     CONVERGED,
@@ -67,7 +78,7 @@ from micro.nonassociative.results import (
     NonAssociativeResult,
     SequenceDiagnostics,
 )
-from micro.results import load_directions
+from micro.results import DirectionResult, direction_sign, load_directions
 
 __all__ = [
     "CONVERGED",
@@ -77,11 +88,16 @@ __all__ = [
     "SCHEMES",
     "SOLVER_FAILURE",
     "STATUSES",
+    "GlobalOptions",
+    "GlobalResult",
     "IterationRecord",
+    "LowestDirection",
     "NonAssociativeOptions",
     "NonAssociativeResult",
     "SequenceDiagnostics",
     "detect_cycle",
+    "lowest_state",
+    "solve_global",
     "solve_nonassociative",
     "verify_collapse_state",
 ]
@@ -109,6 +125,8 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     lp = assemble(wall)
     build = time.perf_counter() - t0
     results = tuple(Sequence(lp, d, o).run() for d in load_directions(o.directions, wall.mirror_symmetric))
+    lowest = tuple(lowest_state(lp, r, o) for r in results if r.converged) if o.lowest else ()
+    glob = _global_search(lp, results, lowest, o) if o.global_ else None
     solve_secs = time.perf_counter() - t0 - build
     failing = [r for r in results if not r.converged]
     if failing:
@@ -121,5 +139,18 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         load_factor=lam, direction=direction, status=status, scheme=o.scheme, relaxation=o.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
-        directions=results, options=o, message=msg,
+        directions=results, options=o, message=msg, lowest=lowest, global_search=glob,
     )
+
+
+def _global_search(lp: LimitLP, results: tuple[DirectionResult, ...], lowest: tuple[LowestDirection, ...],
+                   o: NonAssociativeOptions) -> GlobalResult:
+    """The branch and bound over the directions solved, each started from the
+    lowest certified state (else the iterated LP's converged state)."""
+    starts = [StartState.from_iterated(lp, low.state) for low in lowest if low.state is not None]
+    have = {st.direction for st in starts}
+    starts += [StartState.from_iterated(lp, r) for r in results
+               if r.converged and direction_sign(r.direction) not in have]
+    opts = GlobalOptions(time_limit=o.global_time_limit, node_limit=o.global_node_limit, bounds=o.global_bounds)
+    which: Literal[1, -1, "both"] = "both" if len(results) > 1 else 1 if results[0].direction == "+x" else -1
+    return solve_global(lp, which, opts, starts)

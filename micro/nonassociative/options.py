@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 from micro.backends.clarabel import CLARABEL_RETRY
+from micro.nonassociative.global_bounds import POLICIES as BIG_M_POLICIES
 from micro.results import Directions, check_directions
 
 #: Published rebuilt yield conditions implemented here.
@@ -136,6 +137,25 @@ class NonAssociativeOptions:
         cold_tol: relative warm/cold difference beyond which the result is a
             ``solver_failure``.
         time_limit: seconds per LP (``None``: none).
+        lowest: after a converged run, descend from its state to the lowest
+            certified collapse state reachable
+            (:mod:`micro.nonassociative.lowest`; ``lowest_load_factor``). On
+            the walls of ``xcheck stability --lowest`` it took 1.3 times the
+            iterated LP's time (median; 3.2 on walls of over 160 blocks).
+        global_: then search for the global minimum of the collapse load by
+            branch and bound, started from the lowest state
+            (:mod:`micro.nonassociative.global_mip`; a reference tool for
+            walls of a few blocks: on larger walls its lower bound stays 0).
+        global_time_limit: seconds of branch and bound per direction
+            (``None``: none). A search it stops reports its bound and gap
+            (``time_limit``); such numbers depend on the machine.
+        global_node_limit: branch-and-bound nodes per direction (``None``:
+            none); unlike the time limit it gives the same answer on every
+            machine (``node_limit``).
+        global_bounds: the global search's big-M policy for the normal
+            forces (:class:`~micro.nonassociative.global_mip.GlobalOptions`):
+            ``"per_point"`` (one LP per contact point) or ``"uniform"`` (one
+            LP; cheaper, and as good on the walls tried).
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -163,6 +183,11 @@ class NonAssociativeOptions:
     cold_check: bool = True
     cold_tol: float = 1e-6
     time_limit: float | None = None
+    lowest: bool = True
+    global_: bool = False
+    global_time_limit: float | None = 300.0
+    global_node_limit: int | None = None
+    global_bounds: Literal["per_point", "uniform"] = "per_point"
 
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
@@ -183,6 +208,8 @@ class NonAssociativeOptions:
         _integer("max_iterations", self.max_iterations, 2)
         _integer("window", self.window, 3)
         _integer("settle_window", self.settle_window, 2)
+        if self.global_node_limit is not None:
+            _integer("global_node_limit", self.global_node_limit, 1)
         self._check_rest()
         self._normalise()
 
@@ -191,6 +218,8 @@ class NonAssociativeOptions:
         if isinstance(st, bool) or not isinstance(st, (int, float)) or not (0.0 <= st < 1.0):
             raise ValueError(f"settle_tol must be a number in [0, 1), got {st!r}")
         check_directions(self.directions)
+        if self.global_bounds not in BIG_M_POLICIES:
+            raise ValueError(f"global_bounds must be one of {', '.join(BIG_M_POLICIES)}, got {self.global_bounds!r}")
         ms = self.max_seconds
         if ms is not None and (isinstance(ms, bool) or not isinstance(ms, (int, float))
                                or not math.isfinite(ms) or ms <= 0):
@@ -199,20 +228,23 @@ class NonAssociativeOptions:
             raise ValueError(f"state_solver must be 'clarabel' or 'highs', got {self.state_solver!r}")
         if self.start not in ("interior", "vertex"):
             raise ValueError(f"start must be 'interior' or 'vertex', got {self.start!r}")
-        tl = self.time_limit
-        if tl is not None and (not math.isfinite(tl) or tl <= 0):
-            raise ValueError(f"time_limit must be a positive number of seconds, got {tl!r}")
+        for name in ("time_limit", "global_time_limit"):
+            tl = getattr(self, name)
+            if tl is not None and (isinstance(tl, bool) or not isinstance(tl, (int, float))
+                                   or not math.isfinite(tl) or tl <= 0):
+                raise ValueError(f"{name} must be a positive number of seconds, got {tl!r}")
 
     def _normalise(self) -> None:
         """Numbers as floats, flags as bools (the dataclass is frozen)."""
         for name in ("alpha0", "alpha_min", "alpha_factor", "cohesion", "lambda_tol", "force_tol", "coulomb_tol",
                      "settle_tol", "cold_tol"):
             object.__setattr__(self, name, float(getattr(self, name)))
-        for name in ("max_seconds", "relaxation"):
+        for name in ("max_seconds", "relaxation", "global_time_limit"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, float(getattr(self, name)))
         object.__setattr__(self, "certify", bool(self.certify))
-        object.__setattr__(self, "mechanism_band", bool(self.mechanism_band))
+        for name in ("mechanism_band", "lowest", "global_"):
+            object.__setattr__(self, name, bool(getattr(self, name)))
 
     @property
     def beta(self) -> float:

@@ -6,6 +6,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from micro.nonassociative.global_mip import GlobalResult, global_fields, global_summary
+from micro.nonassociative.lowest import LowestDirection, lowest_fields, lowest_summary
 from micro.nonassociative.options import NonAssociativeOptions
 from micro.records import NonAssociativeRecord, check_success
 from micro.results import DirectionResult, record_fields
@@ -148,6 +150,10 @@ class NonAssociativeResult:
         directions: per-direction results (each with its ``sequence``).
         options: the options used.
         message: explanation when not converged.
+        lowest: the lowest certified state of every converged direction
+            (``options.lowest``; :mod:`micro.nonassociative.lowest`).
+        global_search: the branch and bound for the global minimum
+            (``options.global_``; :mod:`micro.nonassociative.global_mip`), or ``None``.
     """
 
     load_factor: float
@@ -167,6 +173,8 @@ class NonAssociativeResult:
     directions: tuple[DirectionResult, ...] = field(repr=False)
     options: NonAssociativeOptions = field(repr=False)
     message: str = ""
+    lowest: tuple[LowestDirection, ...] = field(default=(), repr=False)
+    global_search: GlobalResult | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         check_success("NonAssociativeResult", self.status, self.load_factor)
@@ -258,6 +266,22 @@ class NonAssociativeResult:
         """Dilatancy residual of the governing final state."""
         return self.sequence.dilatancy_residual
 
+    @property
+    def lowest_state(self) -> LowestDirection | None:
+        """The lowest certified state over the directions (``None`` unless
+        the run converged and every direction has one): the load factor a
+        safety assessment should quote (README, "Which load factor to quote")."""
+        found = [low for low in self.lowest if low.found]
+        if not self.converged or not found or len(found) < len(self.directions):
+            return None
+        return min(found, key=lambda low: low.load_factor)
+
+    @property
+    def lowest_load_factor(self) -> float:
+        """``lambda`` of :attr:`lowest_state` (NaN without one); never above :attr:`load_factor`."""
+        low = self.lowest_state
+        return low.load_factor if low is not None else math.nan
+
     def to_record(self) -> NonAssociativeRecord:
         """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
         q = self.sequence
@@ -270,11 +294,14 @@ class NonAssociativeResult:
             dilatancy_residual=q.dilatancy_residual, history_load_factor=tuple(r.load_factor for r in q.history),
             cold_algorithm=q.cold_algorithm,
             fallback_steps=sum(diagnostics(d).fallback_steps for d in self.directions),
+            **lowest_fields(self.lowest_state, self.lowest), **global_fields(self.global_search),
         )
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary: the record (:meth:`to_record`) with the
-        contact states, options, history and directions as nested objects."""
+        contact states, the descent, options, history and directions as
+        nested objects (and, after a global search, its direction, nodes and
+        seconds beside its record keys)."""
 
         def num(v: float) -> float | None:
             return v if math.isfinite(v) else None
@@ -283,6 +310,8 @@ class NonAssociativeResult:
         return {
             **record.to_dict(),
             "contact_states": record.contact_states if self.governing.mechanism is not None else {},
+            "lowest": [lowest_summary(low) for low in self.lowest],
+            **({} if self.global_search is None else global_summary(self.global_search)),
             "options": self.options.as_dict(),
             "history": [r.as_dict() for r in self.history],
             "directions": {

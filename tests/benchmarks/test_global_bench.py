@@ -16,7 +16,7 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.global_mip import GlobalOptions, StartState, solve_global
+from micro.nonassociative.global_mip import GlobalOptions, StartState, solve_global
 
 #: Nodes per search: enough to show that the bound does not move.
 NODES = 20

@@ -18,9 +18,9 @@ from enumeration import STATES, Enumerator
 from hand_walls import column_wall, small_wall
 
 import micro
-from micro.global_bounds import big_m
-from micro.global_mip import GlobalOptions, StartState, global_summary, solve_global
 from micro.nonassociative import verify_collapse_state
+from micro.nonassociative.global_bounds import big_m
+from micro.nonassociative.global_mip import GlobalOptions, StartState, global_summary, solve_global
 
 #: (name, wall, direction, non-associative minimum strictly below the associative load factor)
 WALLS = [

@@ -44,9 +44,21 @@ def test_cli_cycling_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 @pytest.mark.parametrize("extra", [["--scheme", "c"], ["--relaxation", "0"], ["--max-iterations", "x"],
-                                   ["--solver", "clarabel"]])
+                                   ["--solver", "clarabel"], ["--global", "--node-limit", "0"]])
 def test_cli_bad_options(extra: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "6", "--f", "0.75",
                  "--friction", "nonassociative", *extra])
     assert code == 2
     assert "xcheck: error:" in capsys.readouterr().err
+
+
+def test_cli_global_node_limit(capsys: pytest.CaptureFixture[str]) -> None:
+    """A node-limited search (5 blocks): the lowest state, the bound and the gap, flat JSON keys."""
+    code = main(["micro", "--t", "1", "--m", "1", "--rows", "2", "--f", "0.6", "--friction", "nonassociative",
+                 "--global", "--node-limit", "5", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    assert out["lowest_load_factor"] == pytest.approx(0.5, rel=1e-9)
+    assert out["lowest_load_factor"] <= out["load_factor"]
+    assert out["global_status"] in ("node_limit", "optimal") and out["global_nodes"] >= 1
+    assert out["global_lower_bound"] <= out["global_load_factor"] <= out["lowest_load_factor"] * (1 + 1e-7)

@@ -17,7 +17,7 @@ ASSOCIATIVE problem: equilibrium, ``n >= 0``, ``|s| <= mu n``. Hence
   LP per point, policy ``"per_point"``), or at most the largest TOTAL normal
   force ``sum_p n_p`` over them (one LP, policy ``"uniform"``, looser).
 
-The LP optima carry the solver's tolerance (:data:`~micro.global_highs.LP_TOLERANCE`);
+The LP optima carry the solver's tolerance (:data:`~micro.backends.highs_mip.LP_TOLERANCE`);
 each ``N_p`` is widened by :data:`BOUND_MARGIN` so that rounding cannot cut a
 state off. The rate bounds of the mechanism need no LP: the mechanism is
 normalised so that its rates (opening rates, absolute slip rates) sum to 1,
@@ -31,11 +31,10 @@ import time
 from dataclasses import dataclass, field
 from typing import Literal
 
-import highspy
 import numpy as np
 from numpy.typing import NDArray
 
-from micro import global_highs as gh
+from micro.backends import highs_mip as gh
 from micro.lp import LimitLP
 
 FloatArray = NDArray[np.float64]
@@ -82,7 +81,7 @@ class BoundError(RuntimeError):
     """A bound could not be established (an LP failed or is unbounded)."""
 
 
-def _static_model(lp: LimitLP, direction: int) -> highspy.Highs:
+def _static_model(lp: LimitLP, direction: int) -> gh.Model:
     """The associative static LP in generator form with the column ``lambda``
     (``B_n n + B_s s + d lambda f_L = -f_D``), zero cost."""
     A = lp.A.tocsc(copy=True)
@@ -91,7 +90,7 @@ def _static_model(lp: LimitLP, direction: int) -> highspy.Highs:
     return gh.tight_lp(h)
 
 
-def _optimum(h: highspy.Highs, what: str) -> float:
+def _optimum(h: gh.Model, what: str) -> float:
     out = gh.run(h)
     if not out.optimal:
         raise BoundError(f"the LP for {what} ended with status {out.status!r}")

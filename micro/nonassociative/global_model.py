@@ -29,15 +29,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import highspy
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from micro import global_highs as gh
-from micro.global_bounds import BigM
-from micro.global_pattern import Pattern
+from micro.backends import highs_mip as gh
 from micro.lp import LimitLP
+from micro.nonassociative.global_bounds import BigM
+from micro.nonassociative.global_pattern import Pattern
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -102,13 +101,13 @@ def _slip_rows(lp: LimitLP) -> sp.csr_matrix:
     return first
 
 
-def build_mip(lp: LimitLP, direction: int, bounds: BigM, *, energy_cut: bool = True) -> tuple[highspy.Highs, Layout]:
+def build_mip(lp: LimitLP, direction: int, bounds: BigM, *, energy_cut: bool = True) -> tuple[gh.Model, Layout]:
     """Assemble the model of one load direction.
 
     Args:
         lp: the LP of the wall.
         direction: ``+1`` or ``-1``.
-        bounds: the big-M bounds (:func:`micro.global_bounds.big_m`).
+        bounds: the big-M bounds (:func:`micro.nonassociative.global_bounds.big_m`).
         energy_cut: add ``lift <= lambda_up * live work`` (valid when the
             mechanisms cannot lower the dead load, see :class:`BigM`).
 

@@ -2,9 +2,9 @@
 
 The MIP's own solution is never reported as it stands: its binaries (the
 contact pattern) are rounded and the state is rebuilt by the two LPs of the
-pattern (:func:`micro.global_pattern.force_state` and
-:func:`~micro.global_pattern.mechanism`), then checked by
-:func:`~micro.global_pattern.collapse_residuals`. The rebuilt load factor is
+pattern (:func:`micro.nonassociative.global_pattern.force_state` and
+:func:`~micro.nonassociative.global_pattern.mechanism`), then checked by
+:func:`~micro.nonassociative.global_pattern.collapse_residuals`. The rebuilt load factor is
 the least of the pattern, so it is at most the MIP's (up to HiGHS'
 feasibility tolerances on the big-M rows, which it removes).
 """
@@ -16,19 +16,18 @@ import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-import highspy
 import numpy as np
 from numpy.typing import NDArray
 
-from micro import global_highs as gh
-from micro.global_bounds import BigM, BoundError, big_m
-from micro.global_model import Layout, build_mip, pattern_of, solution_vector
-from micro.global_pattern import Pattern, collapse_residuals, force_state, is_collapse_state, mechanism
+from micro.backends import highs_mip as gh
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
+from micro.nonassociative.global_bounds import BigM, BoundError, big_m
+from micro.nonassociative.global_model import Layout, build_mip, pattern_of, solution_vector
+from micro.nonassociative.global_pattern import Pattern, collapse_residuals, force_state, is_collapse_state, mechanism
 
 if TYPE_CHECKING:
-    from micro.global_mip import GlobalOptions
+    from micro.nonassociative.global_mip import GlobalOptions
 
 FloatArray = NDArray[np.float64]
 
@@ -112,7 +111,7 @@ class SearchOutcome:
     message: str = ""
 
 
-def _configure(h: highspy.Highs, opts: GlobalOptions) -> None:
+def _configure(h: gh.Model, opts: GlobalOptions) -> None:
     h.setOptionValue("output_flag", bool(opts.log))
     h.setOptionValue("mip_rel_gap", float(opts.mip_gap))
     h.setOptionValue("mip_abs_gap", MIP_ABS_GAP)
@@ -125,11 +124,8 @@ def _configure(h: highspy.Highs, opts: GlobalOptions) -> None:
         h.setOptionValue("mip_max_nodes", int(opts.node_limit))
 
 
-def _start(h: highspy.Highs, lp: LimitLP, layout: Layout, inc: Incumbent) -> None:
-    sol = highspy.HighsSolution()
-    sol.col_value = list(solution_vector(lp, layout, inc.pattern, inc.n, inc.s, inc.load_factor, inc.v))
-    sol.value_valid = True
-    h.setSolution(sol)
+def _start(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent) -> None:
+    gh.set_start(h, solution_vector(lp, layout, inc.pattern, inc.n, inc.s, inc.load_factor, inc.v))
 
 
 def search_direction(lp: LimitLP, direction: int, opts: GlobalOptions, inc: Incumbent | None) -> SearchOutcome:

@@ -3,13 +3,13 @@
 With non-associative (zero-dilatancy) friction the collapse load factor is
 not unique: the iterated LP (:mod:`micro.nonassociative`) returns one exact
 collapse state, a local answer. :func:`solve_global` writes the collapse
-conditions with binary contact states (:mod:`micro.global_model`), minimises
+conditions with binary contact states (:mod:`micro.nonassociative.global_model`), minimises
 ``lambda`` with HiGHS' branch and bound, and returns the proven lower bound,
 the best state and the gap; where the gap closes, ``lambda`` is the global
 minimum of the non-associative problem (to the MIP gap). Every big-M bound is
-provable (:mod:`micro.global_bounds`), and every returned state is rebuilt by
+provable (:mod:`micro.nonassociative.global_bounds`), and every returned state is rebuilt by
 two LPs from its contact pattern and checked against the collapse conditions
-(:mod:`micro.global_pattern`) before it is reported. Derivation and figures:
+(:mod:`micro.nonassociative.global_pattern`) before it is reported. Derivation and figures:
 ``docs/global-minimum.md``. A reference tool for small walls: the search
 closes on tens of blocks, not thousands.
 """
@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -25,11 +26,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.geometry import BlockWall
-from micro.global_bounds import POLICIES, BigM
-from micro.global_pattern import Pattern
-from micro.global_search import Incumbent, search_direction
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism
+from micro.nonassociative.global_bounds import POLICIES, BigM
+from micro.nonassociative.global_pattern import Pattern
+from micro.nonassociative.global_search import Incumbent, search_direction
 
 FloatArray = NDArray[np.float64]
 
@@ -140,7 +141,7 @@ class GlobalDirection:
         pattern: its contact pattern, or ``None``.
         pattern_band: least and greatest ``lambda`` over the force fields of
             that pattern (any of them forms a collapse state with the mechanism).
-        residuals: its check (:func:`micro.global_pattern.collapse_residuals`).
+        residuals: its check (:func:`micro.nonassociative.global_pattern.collapse_residuals`).
         bounds: the big-M bounds used, or ``None``.
         binaries: binary columns of the model.
         nodes: branch-and-bound nodes.
@@ -207,7 +208,8 @@ def relative_gap(value: float, bound: float) -> float:
 
 
 def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "both", "auto"] = "auto",
-                 options: GlobalOptions | None = None, start: StartState | None = None) -> GlobalResult:
+                 options: GlobalOptions | None = None,
+                 start: StartState | Sequence[StartState] | None = None) -> GlobalResult:
     """Least collapse load factor with non-associative friction, with a proof.
 
     Args:
@@ -215,9 +217,10 @@ def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "bot
         direction: ``+1``, ``-1``, ``"both"`` or ``"auto"`` (both unless the
             wall is mirror-symmetric).
         options: :class:`GlobalOptions` (default: the defaults).
-        start: a known collapse state of one direction: its contact pattern is
-            rebuilt into an exact state, handed to HiGHS as the first
-            incumbent, and its load factor bounds the search.
+        start: a known collapse state of one direction (or one state per
+            direction): its contact pattern is rebuilt into an exact state,
+            handed to HiGHS as the first incumbent, and its load factor
+            bounds the search.
 
     Returns:
         The :class:`GlobalResult`.
@@ -238,10 +241,12 @@ def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "bot
         dirs = (1,)
     else:
         raise ValueError(f"direction must be 1, -1, 'both' or 'auto', got {direction!r}")
-    if start is not None and start.direction not in (1, -1):
-        raise ValueError(f"start.direction must be 1 or -1, got {start.direction!r}")
-    results = tuple(_direction(lp, d, opts, start if start is not None and start.direction == d else None)
-                    for d in dirs)
+    starts = () if start is None else (start,) if isinstance(start, StartState) else tuple(start)
+    for st in starts:
+        if st.direction not in (1, -1):
+            raise ValueError(f"start.direction must be 1 or -1, got {st.direction!r}")
+    by_dir = {st.direction: st for st in starts}
+    results = tuple(_direction(lp, d, opts, by_dir.get(d)) for d in dirs)
     return _combine(results, opts, time.perf_counter() - t0)
 
 
@@ -301,3 +306,14 @@ def global_summary(result: GlobalResult) -> dict[str, Any]:
         "global_nodes": sum(r.nodes for r in result.directions),
         "global_seconds": result.seconds,
     }
+
+
+def global_fields(result: GlobalResult | None) -> dict[str, Any]:
+    """The record fields of the global search (:class:`micro.NonAssociativeRecord`):
+    ``global_load_factor``, ``global_lower_bound``, ``global_gap`` and
+    ``global_status`` (NaN and ``""`` when there was no search)."""
+    if result is None:
+        return {"global_load_factor": math.nan, "global_lower_bound": math.nan, "global_gap": math.nan,
+                "global_status": ""}
+    return {"global_load_factor": result.load_factor, "global_lower_bound": result.lower_bound,
+            "global_gap": result.gap, "global_status": result.status}

@@ -34,7 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from micro import global_highs as gh
+from micro.backends import highs_mip as gh
 from micro.lp import LimitLP
 
 FloatArray = NDArray[np.float64]

@@ -1,6 +1,6 @@
 """A thin HiGHS layer for the global (mixed-integer) search and its small LPs.
 
-The global search (:mod:`micro.global_mip`) builds its own models, column by
+The global search (:mod:`micro.nonassociative.global_mip`) builds its own models, column by
 column, from the matrices of :class:`micro.lp.LimitLP`; this module passes
 such a model to ``highspy`` and reads the outcome back in one shape, so that
 the bounds, the pattern LPs and the MIP do not each repeat the ``HighsLp``
@@ -18,6 +18,9 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
+#: The HiGHS model object the global search holds (its modules name the type
+#: through this alias: they do not import ``highspy`` themselves).
+Model = highspy.Highs
 
 #: Primal and dual feasibility tolerance of the small LPs (scaled units:
 #: forces in block weights, rates normalised to at most 1).
@@ -107,6 +110,14 @@ def tight_lp(h: highspy.Highs) -> highspy.Highs:
     h.setOptionValue("primal_feasibility_tolerance", LP_TOLERANCE)
     h.setOptionValue("dual_feasibility_tolerance", LP_TOLERANCE)
     return h
+
+
+def set_start(h: highspy.Highs, x: FloatArray) -> None:
+    """Hand HiGHS a feasible point ``x`` (all columns) as its first incumbent."""
+    sol = highspy.HighsSolution()
+    sol.col_value = list(np.asarray(x, dtype=np.float64))
+    sol.value_valid = True
+    h.setSolution(sol)
 
 
 def run(h: highspy.Highs, *, mip: bool = False) -> Outcome:

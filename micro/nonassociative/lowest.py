@@ -1,0 +1,367 @@
+"""The lowest certified collapse state: a descent from the iterated LP's fixed point.
+
+With non-associative friction the collapse load is not unique: the final
+mechanism of the iterated LP admits exact collapse states over a band of load
+factors, and other mechanisms admit others. The descent looks for the lowest
+exact state it can reach, and certifies every state it keeps.
+
+Why these moves. For a statically admissible field ``(n, s)`` at ``lambda``
+and a mechanism ``v`` (unit live-load work), virtual work gives
+``lambda = lift(v) - n . dn(v) - s . ds(v) <= L(v, n) = lift(v) + sum mu n |ds(v)|``,
+with equality exactly when ``(n, s, v)`` is a collapse state. The lowest
+collapse load is therefore ``min lambda`` over admissible fields and
+mechanisms with ``L(v, n) <= lambda``, a bilinear problem, and:
+
+* with ``v`` fixed it is the LP of the band's LOWER END
+  (:class:`~micro.nonassociative.states.ForceLP`);
+* with ``n`` fixed, ``min_v L(v, n)`` is the dual of Gilbert's LP
+  ``|s| <= mu nbar`` with ``nbar = n``. At the lower end ``(n_lo, lambda_lo)``
+  it returns ``lambda_lo`` itself: the lower end is a fixed point of the
+  iterated LP, whose next LP cannot move it. Its optimal mechanisms are the
+  mechanisms compatible with ``n_lo``.
+
+Alternating the two is the convex-concave procedure on this problem. POLISH
+(:meth:`Descent.polish`) does it with a choice: among the mechanisms
+compatible with the current state it takes the one
+(:class:`~micro.nonassociative.states.MechanismLP`) that restricts least of
+the columns whose reduced cost says they would lower ``lambda``. The next
+lower end is never higher (the current state is one of its fields); polish
+stops at a state that no compatible mechanism improves.
+
+Such a stop is local. A PROPOSAL (:meth:`Descent.propose`) jumps to other
+mechanisms: :data:`PROPOSAL_STEPS` relaxed steps of Gilbert's LP from the
+current normal forces with the friction of the head joints released (their
+shear capacity set to zero). The head joints carry shear that the mechanism
+does not fix: they make the band wide, and with frictionless head joints it
+shrinks to a point. Every distinct mechanism of the steps is polished into an
+exact state; the lowest is accepted when it is strictly lower. The descent
+stops when no proposal is (a relative decrease below :data:`LOWEST_TOL`
+counts as none) or after :data:`LOWEST_MAX_MOVES` accepted proposals.
+Releasing the bed joints, random halves of the head joints or the head joints
+of one part of the wall (left, right, top, bottom, moving blocks) was tried on
+the walls of ``xcheck stability`` and found lower states on 3 of 16 walls,
+by 0.05 % at most but one (0.9 %), at three to four times the cost.
+
+Every state the descent keeps is checked by
+:func:`~micro.nonassociative.checks.verify_collapse_state` (every residual at
+most :data:`EXACT_TOL`); a state that fails is discarded. The start, the
+iterated LP's own converged state, is a candidate too, so the lowest state is
+never above the iterated LP's load factor. No decision depends on time: the
+same wall gives the same state on every machine.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from micro.geometry import HEAD
+from micro.lp import LimitLP
+from micro.mechanism import mechanism_from_duals
+from micro.nonassociative.checks import verify_collapse_state
+from micro.nonassociative.model import IterationModel
+from micro.nonassociative.options import NonAssociativeOptions
+from micro.nonassociative.states import ForceField, ForceLP, MechanismLP, PersistentRuns, restricted_columns
+from micro.results import DIR_NAME, DirectionResult, direction_sign
+
+FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+
+#: A relative decrease of ``lambda`` below this counts as no decrease.
+LOWEST_TOL = 1e-6
+#: Cap on accepted proposals (moves between mechanisms) per direction.
+LOWEST_MAX_MOVES = 10
+#: Cap on polish rounds (force LP + mechanism LP) per start.
+POLISH_ROUNDS = 20
+#: Relaxed Gilbert steps per proposal (``nbar = beta n_k + (1 - beta) n_(k-1)``);
+#: on the walls of ``xcheck stability`` the accepted ones came from steps 1-6.
+PROPOSAL_STEPS = 6
+#: Contact kinds whose friction a proposal releases.
+RELEASED_KINDS = (HEAD,)
+#: Largest residual of :func:`verify_collapse_state` (every entry but the
+#: slipping-point count) of a state the descent keeps.
+EXACT_TOL = 1e-6
+#: Values of :attr:`LowestDirection.status`.
+FOUND, FAILED = "found", "failed"
+
+
+@dataclass(frozen=True, eq=False)
+class State:
+    """An exact collapse state of one direction (scaled units).
+
+    Attributes:
+        load_factor: its ``lambda``.
+        n, s: normal and shear forces.
+        v: block velocities (unit live-load work).
+        origin: how it was found (``"iterated"``, ``"lower end"``,
+            ``"release head joints, step 2"``, each ``", polish"`` when the
+            polish lowered it).
+    """
+
+    load_factor: float
+    n: FloatArray = field(repr=False)
+    s: FloatArray = field(repr=False)
+    v: FloatArray = field(repr=False)
+    origin: str
+
+
+@dataclass(frozen=True, eq=False)
+class LowestDirection:
+    """The lowest certified state of one load direction.
+
+    Attributes:
+        direction: ``"+x"`` or ``"-x"``.
+        status: ``"found"`` (an exact state, checked) or ``"failed"``.
+        load_factor: its ``lambda`` (NaN when failed).
+        band: ``(lambda, greatest lambda)`` of the collapse states with its
+            mechanism (``None`` when failed).
+        path: ``lambda`` of the iterated LP's state, of its band's lower end
+            after the polish (when lower) and after every accepted move.
+        moves: the accepted proposals (their origin).
+        lps: LPs solved by the descent.
+        seconds: its wall time.
+        state: the state as a direction result (dimensional forces, mechanism,
+            contact states; ``None`` when failed).
+        residuals: its :func:`verify_collapse_state`.
+        origin: how the state was found.
+        message: why it failed.
+    """
+
+    direction: str
+    status: str
+    load_factor: float
+    band: tuple[float, float] | None
+    path: tuple[float, ...]
+    moves: tuple[str, ...]
+    lps: int
+    seconds: float
+    state: DirectionResult | None = field(repr=False)
+    residuals: dict[str, float] = field(repr=False)
+    origin: str = ""
+    message: str = ""
+
+    @property
+    def found(self) -> bool:
+        """True when an exact state was found."""
+        return self.status == FOUND
+
+
+class Descent:
+    """The descent in one load direction (module docstring).
+
+    Args:
+        lp: the wall's LP.
+        direction: ``+1`` or ``-1``.
+        options: the options (``relaxation`` of the proposals' steps,
+            ``time_limit`` per LP).
+    """
+
+    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions) -> None:
+        self.lp, self.d, self.o = lp, direction, options
+        self.forces = ForceLP(lp, direction, options.user_limit)
+        self.mechanisms = MechanismLP(lp, direction, options.user_limit)
+        self.gilbert: tuple[IterationModel, PersistentRuns] | None = None
+        self.seen: set[bytes] = set()
+
+    @property
+    def lps(self) -> int:
+        """LPs solved so far."""
+        return self.forces.lps + self.mechanisms.lps + (self.gilbert[1].lps if self.gilbert is not None else 0)
+
+    # ------------------------------------------------------------ checks
+    def as_result(self, state: State) -> DirectionResult:
+        """``state`` as a :class:`~micro.results.DirectionResult` (dimensional forces)."""
+        fs = self.lp.force_scale
+        return DirectionResult(direction=DIR_NAME[self.d], status=FOUND, load_factor=state.load_factor,
+                               iterations=0, seconds=0.0, normal=state.n * fs, shear=state.s * fs,
+                               mechanism=mechanism_from_duals(self.lp, state.v, self.d))
+
+    def exact(self, state: State) -> bool:
+        """Every residual of :func:`verify_collapse_state` is at most :data:`EXACT_TOL`."""
+        res = verify_collapse_state(self.lp, self.as_result(state))
+        return all(v <= EXACT_TOL for k, v in res.items() if k != "slipping_points")
+
+    # ------------------------------------------------------------ polish
+    def settle(self, f: ForceField, v: FloatArray, origin: str) -> State | None:
+        """The field ``f`` (the lower end of ``v``'s pattern) with a mechanism
+        exactly compatible with it, or else with ``v`` itself; ``None``
+        unless the state passes :meth:`exact`.
+
+        On large walls the mechanisms of the LPs move by up to 1e-6 of their
+        largest rate at points their pattern reads as closed; a field that
+        loads such a point admits no exactly compatible mechanism, and the
+        state with ``v`` is kept when its residuals are within
+        :data:`EXACT_TOL`."""
+        clean = self.mechanisms.compatible(f)
+        for mech in (clean, v) if clean is not None else (v,):
+            state = State(f.load_factor, f.n, f.s, mech, origin)
+            if self.exact(state):
+                return state
+        return None
+
+    def lower_end(self, v: FloatArray) -> ForceField | None:
+        """The lower end of the band of ``v`` (``None`` if it has no state)."""
+        restricted = restricted_columns(self.lp, v)
+        return None if restricted is None else self.forces.solve(restricted)
+
+    def polish(self, v: FloatArray, origin: str) -> State | None:
+        """The lower end of ``v``'s band, then the convex-concave rounds
+        (module docstring) until no compatible mechanism lowers it.
+
+        Returns:
+            The last exact state, or ``None`` when ``v`` gave none.
+        """
+        f = self.lower_end(v)
+        state = self.settle(f, v, origin) if f is not None else None
+        for _ in range(POLISH_ROUNDS):
+            if state is None:
+                break
+            f = self.lower_end(state.v)
+            if f is None or f.load_factor >= state.load_factor * (1.0 - LOWEST_TOL):
+                break
+            better = self.settle(f, state.v, origin if origin.endswith("polish") else f"{origin}, polish")
+            if better is None:
+                break
+            state = better
+        return state
+
+    # --------------------------------------------------------- proposals
+    def released(self) -> BoolArray:
+        """The points whose friction a proposal releases (:data:`RELEASED_KINDS`)."""
+        return np.isin(np.repeat(self.lp.wall.contact_kind, 2), RELEASED_KINDS) & (self.lp.mu > 0.0)
+
+    def propose(self, state: State, released: BoolArray) -> State | None:
+        """Relaxed Gilbert steps from ``state``'s normal forces with the
+        friction of the ``released`` points set to zero; the lowest polished
+        exact state of the steps' distinct mechanisms (``None`` if none)."""
+        if self.gilbert is None:
+            model = IterationModel(self.lp, self.d, "a", self.o.alpha0)
+            self.gilbert = (model, PersistentRuns(model.model, self.o.user_limit))
+        model, runs = self.gilbert
+        beta = self.o.beta
+        n_prev = n_prev2 = state.n
+        best: State | None = None
+        for k in range(PROPOSAL_STEPS):
+            nbar = beta * n_prev + (1.0 - beta) * n_prev2 if k else state.n
+            model.set_capacity(np.where(released, 0.0, nbar), 0.0, 0.0, 0.0)
+            out = runs.run()
+            if out.x is None or out.duals is None:
+                break
+            n_prev2, n_prev = n_prev, model.forces(out.x)[0]
+            v = out.duals[: self.lp.n_eq]
+            restricted = restricted_columns(self.lp, v)
+            if restricted is None or restricted.tobytes() in self.seen:
+                continue
+            self.seen.add(restricted.tobytes())
+            cand = self.polish(v, f"release head joints, step {k + 1}")
+            if cand is not None and (best is None or cand.load_factor < best.load_factor):
+                best = cand
+        return best
+
+    # -------------------------------------------------------------- run
+    def run(self, start: DirectionResult) -> LowestDirection:
+        """Descend from the converged direction ``start`` of the iterated LP."""
+        t0 = time.perf_counter()
+        assert start.normal is not None and start.shear is not None and start.mechanism is not None
+        fs = self.lp.force_scale
+        v0 = np.asarray(start.mechanism.velocities, dtype=float).ravel()
+        lam0 = start.sequence.last_load_factor if start.sequence is not None else start.load_factor
+        it = State(lam0, start.normal / fs, start.shear / fs, v0, "iterated")
+        best = it if self.exact(it) else None
+        path = [] if best is None else [best.load_factor]
+        lower = self.polish(v0, "lower end")
+        if lower is not None and (best is None or lower.load_factor < best.load_factor * (1.0 - LOWEST_TOL)):
+            best = lower
+            path.append(best.load_factor)
+        moves: list[str] = []
+        released = self.released()
+        while best is not None and released.any() and len(moves) < LOWEST_MAX_MOVES:
+            new = self.propose(best, released)
+            if new is None or new.load_factor >= best.load_factor * (1.0 - LOWEST_TOL):
+                break
+            best = new
+            moves.append(new.origin)
+            path.append(new.load_factor)
+        return self._finish(best, tuple(path), tuple(moves), t0)
+
+    def _finish(self, best: State | None, path: tuple[float, ...], moves: tuple[str, ...],
+                t0: float) -> LowestDirection:
+        """The band of the lowest state's mechanism and the result."""
+        name = DIR_NAME[self.d]
+        if best is None:
+            return LowestDirection(name, FAILED, math.nan, None, path, moves, self.lps, time.perf_counter() - t0,
+                                   None, {}, message="no collapse state passed the check, the iterated LP's "
+                                                     "included")
+        restricted = restricted_columns(self.lp, best.v)
+        top = self.forces.solve(restricted, sense=-1.0) if restricted is not None else None
+        band = (best.load_factor, top.load_factor if top is not None else math.nan)
+        result = self.as_result(best)
+        return LowestDirection(name, FOUND, best.load_factor, band, path, moves, self.lps,
+                               time.perf_counter() - t0, result, verify_collapse_state(self.lp, result),
+                               origin=best.origin)
+
+
+def lowest_state(lp: LimitLP, start: DirectionResult, options: NonAssociativeOptions) -> LowestDirection:
+    """The lowest certified state reached from a converged direction of the iterated LP.
+
+    Args:
+        lp: the wall's LP.
+        start: a converged direction (its final forces and mechanism).
+        options: the options of the iterated LP.
+
+    Returns:
+        The :class:`LowestDirection`.
+
+    Raises:
+        ValueError: ``start`` has no final state.
+    """
+    if start.normal is None or start.shear is None or start.mechanism is None:
+        raise ValueError(f"direction {start.direction} has no final state ({start.status})")
+    return Descent(lp, direction_sign(start.direction), options).run(start)
+
+
+def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirection, ...]) -> dict[str, Any]:
+    """The record fields of the descent (:class:`micro.NonAssociativeRecord`).
+
+    Args:
+        governing: the lowest state over the directions (``None`` without one).
+        lowest: the descent of every direction (empty when it did not run).
+
+    Returns:
+        ``lowest_load_factor``, ``lowest_direction``, ``lowest_band``,
+        ``lowest_moves`` (accepted proposals of the governing direction),
+        ``lowest_lps`` and ``lowest_seconds`` (summed over the directions) and
+        ``lowest_status`` (``""`` when it did not run, ``"found"``, or
+        ``"failed"`` when some direction has no state).
+    """
+    status = "" if not lowest else FOUND if governing is not None else FAILED
+    return {
+        "lowest_load_factor": governing.load_factor if governing is not None else math.nan,
+        "lowest_direction": governing.direction if governing is not None else "",
+        "lowest_band": governing.band if governing is not None else None,
+        "lowest_moves": len(governing.moves) if governing is not None else 0,
+        "lowest_lps": sum(low.lps for low in lowest),
+        "lowest_seconds": sum(low.seconds for low in lowest),
+        "lowest_status": status,
+    }
+
+
+def lowest_summary(low: LowestDirection) -> dict[str, Any]:
+    """One direction's descent as JSON-ready data (NaN -> ``None``)."""
+
+    def num(x: float) -> float | None:
+        return float(x) if math.isfinite(x) else None
+
+    mech = low.state.mechanism if low.state is not None else None
+    return {
+        "direction": low.direction, "status": low.status, "load_factor": num(low.load_factor),
+        "band": None if low.band is None else [num(x) for x in low.band], "path": [num(x) for x in low.path],
+        "moves": list(low.moves), "origin": low.origin, "lps": low.lps, "seconds": low.seconds,
+        "contact_states": mech.state_counts() if mech is not None else {},
+        "residuals": {k: num(v) for k, v in low.residuals.items()}, "message": low.message,
+    }

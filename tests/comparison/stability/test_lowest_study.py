@@ -1,0 +1,46 @@
+"""The lowest-state study on a few walls: typed runs, the three values, the files and the report section."""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+from comparison.report import lowest as report_lowest
+from comparison.stability import WallCase
+from comparison.stability.lowest import GLOBAL_MATCH, LowestCase, LowestRun, run_cases, study_cases
+from comparison.stability.lowest_render import write_lowest
+
+
+def test_study_cases() -> None:
+    cases = study_cases(quick=True)
+    table7 = [c for c in cases if c.group == "table7"]
+    assert [c.name for c in table7] == ["Set 11", "Set 12", "Set 13", "Set 14"]
+    assert all(c.nodes > 0 and math.isfinite(c.published) for c in table7)
+    assert all(c.group == "tiny" and c.nodes > 0 for c in cases if c not in table7)
+
+
+def test_small_study(tmp_path: Path) -> None:
+    cases = [
+        LowestCase("tiny", WallCase(0.5, 1 / 3, 2, 0.6, 1), nodes=5_000),  # 4 blocks: the search closes
+        LowestCase("table7", WallCase(1.0, 1.0, 6, 0.75, 1), published=0.5, label="Set X"),  # no search
+    ]
+    runs = run_cases(cases, processes=1)
+    assert all(isinstance(r, LowestRun) and r.status == "converged" for r in runs)
+    for r in runs:  # the descent never climbs above the iterated LP
+        assert r.lowest <= r.iterated * (1 + 1e-9)
+    closed, other = runs
+    assert closed.closed and closed.global_gap <= 1e-6
+    assert closed.global_min <= closed.lowest * (1 + GLOBAL_MATCH)
+    assert closed.global_bound <= closed.global_min * (1 + 1e-9)
+    assert not other.global_status and math.isnan(other.global_min)
+    paths = write_lowest(runs, tmp_path, seconds=1.0, processes=1)
+    rows = list(csv.DictReader(paths["csv"].open()))
+    assert [row["wall"] for row in rows] == ["t0.5 m1/3 r2 f0.6 s1", "Set X"]
+    assert float(rows[0]["lambda_lowest"]) == closed.lowest
+    text = paths["md"].read_text()
+    assert "| Set X | 0.50 |" in text and "closed on 1 of the 1 walls" in text
+    assert paths["png"].stat().st_size > 0
+    section = report_lowest.section(paths["csv"])
+    assert "| Set X | 0.50 |" in section and "t0.5" not in section
+    assert "missing" in report_lowest.section(tmp_path / "none.csv")

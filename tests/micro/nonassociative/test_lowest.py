@@ -1,0 +1,172 @@
+"""The lowest certified collapse state (issue 14, item 1): the descent and its two LPs."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import micro
+from comparison.wall import WallSpec
+from micro.nonassociative import solve_nonassociative, verify_collapse_state
+from micro.nonassociative.lowest import EXACT_TOL, LOWEST_TOL, Descent, lowest_state
+from micro.nonassociative.model import IterationModel, restart
+from micro.nonassociative.states import ForceLP, refine, restricted_columns
+
+#: Table 7 of the paper (single storey, 12 rows, f = 0.75): (t, m) and the
+#: lowest certified load factor the descent reaches (full first course,
+#: frictional head joints), below the iterated LP's 0.7144, 0.7086, 0.4913, 0.2684.
+TABLE7 = {"set11": ((0.5, 1 / 3), 0.7005249), "set12": ((1.0, 1 / 3), 0.6911080),
+          "set13": ((1.0, 1 / 2), 0.4894591), "set14": ((1.0, 1.0), 0.2658313)}
+
+
+def wall(t: float, m: float, rows: int = 12, f: float = 0.75, **kw: object) -> micro.BlockWall:
+    return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=0, storeys=1).to_micro(**kw)
+
+
+def check_states(w: micro.BlockWall, r: micro.NonAssociativeResult) -> None:
+    """Every state the descent reports is an exact collapse state, at most the
+    iterated LP's load factor, reached by a path that never goes up."""
+    lp = micro.assemble(w)
+    assert r.converged and len(r.lowest) == len(r.directions)
+    for low, d in zip(r.lowest, r.directions, strict=True):
+        assert low.found and low.state is not None, low.message
+        res = verify_collapse_state(lp, low.state)
+        assert all(v <= EXACT_TOL for k, v in res.items() if k != "slipping_points"), res
+        assert res == pytest.approx(low.residuals, abs=1e-15)
+        assert low.load_factor <= d.load_factor * (1 + 1e-12)
+        assert all(b <= a * (1 + 1e-12) for a, b in zip(low.path, low.path[1:], strict=False))
+        assert low.path[-1] == low.load_factor
+        assert low.band is not None and low.band[0] == low.load_factor <= low.band[1] * (1 + 1e-9)
+        assert low.band[1] <= d.sequence.associative_load_factor * (1 + 1e-7)
+    assert r.lowest_load_factor == min(low.load_factor for low in r.lowest) <= r.load_factor
+
+
+@pytest.mark.parametrize("name", list(TABLE7))
+def test_table7_lowest_states(name: str) -> None:
+    """On Table 7's walls the descent reaches an exact state below the lower
+    end of the iterated LP's band; every state it reports passes the check."""
+    (t, m), lam = TABLE7[name]
+    w = wall(t, m)
+    r = solve_nonassociative(w)
+    check_states(w, r)
+    assert r.lowest_load_factor <= r.mechanism_band[0] * (1 + 1e-9)
+    assert r.lowest_load_factor == pytest.approx(lam, rel=1e-6)
+
+
+@pytest.mark.parametrize("kw", [dict(t=2.0, m=1 / 2, rows=6, f=0.6), dict(t=0.75, m=1 / 2, rows=6),
+                                dict(t=1.0, m=1 / 3, first_course="half"),
+                                dict(t=1.0, m=1 / 2, head_joints="frictionless")])
+def test_other_walls(kw: dict) -> None:
+    """Walls with both load directions, a half first course, frictionless head joints."""
+    w = wall(**kw)
+    r = solve_nonassociative(w)
+    check_states(w, r)
+    if kw.get("head_joints") == "frictionless":
+        assert all(not low.moves for low in r.lowest)  # no head-joint friction to release
+
+
+def test_lower_end_is_a_fixed_point_of_the_iterated_lp() -> None:
+    """Gilbert's LP with nbar = the lower end's normal forces returns the
+    lower end's load factor: the iterated LP's next step cannot descend."""
+    w = wall(1.0, 1 / 3)
+    lp = micro.assemble(w)
+    r = solve_nonassociative(w, lowest=False)
+    v = r.governing.mechanism.velocities.ravel()
+    f = ForceLP(lp, 1).solve(restricted_columns(lp, v))
+    assert f is not None and f.load_factor == pytest.approx(r.mechanism_band[0], rel=1e-7)
+    model = IterationModel(lp, 1, "a", 0.3)
+    model.set_capacity(f.n, 0.0, 0.0, 0.0)
+    out = restart(model.model)
+    assert out.x is not None
+    assert model.load_factor(out.x) == pytest.approx(f.load_factor, rel=1e-9)
+
+
+def test_polish_never_goes_up_and_keeps_exact_states() -> None:
+    """Polish from the iterated LP's mechanism: at most its band's lower end."""
+    w = wall(1.0, 1 / 3, first_course="half")
+    lp = micro.assemble(w)
+    r = solve_nonassociative(w, lowest=False)
+    desc = Descent(lp, 1, r.options)
+    state = desc.polish(r.governing.mechanism.velocities.ravel(), "lower end")
+    assert state is not None and desc.exact(state)
+    assert state.load_factor <= r.mechanism_band[0] * (1 + LOWEST_TOL)
+    assert state.load_factor < r.mechanism_band[0] * (1 - 1e-3)  # it does descend here (0.6935 -> 0.6915)
+
+
+def test_restricted_columns() -> None:
+    """Opening points lose both generators, slipping points the one on the
+    slip's side; frictionless points keep theirs when they slip; a mechanism
+    run backwards interpenetrates (no pattern)."""
+    w = wall(1.0, 1 / 2, head_joints="frictionless")
+    lp = micro.assemble(w)
+    r = solve_nonassociative(w, lowest=False)
+    v = r.governing.mechanism.velocities.ravel()
+    mask = restricted_columns(lp, v)
+    assert mask is not None and restricted_columns(lp, -v) is None
+    P = lp.n_points
+    dn, ds = lp.Bn.T @ v, lp.Bs.T @ v
+    tol = 1e-6 * max(np.abs(dn).max(), np.abs(ds).max())
+    opening = dn > tol
+    assert np.all(mask[:P][opening]) and np.all(mask[P:][opening])
+    frictionless_slip = (lp.mu == 0) & (np.abs(ds) > tol) & ~opening
+    assert frictionless_slip.any() and not mask[:P][frictionless_slip].any()
+    slip_pos = (lp.mu > 0) & (ds > tol) & ~opening
+    assert np.all(mask[:P][slip_pos]) and not mask[P:][slip_pos].any()
+
+
+def test_refine_removes_the_equilibrium_residual() -> None:
+    """A vertex perturbed by 1e-6 is brought back to equilibrium on its support."""
+    w = wall(1.0, 1.0)
+    lp = micro.assemble(w)
+    f = ForceLP(lp, 1).solve(np.zeros(2 * lp.n_points, dtype=bool))
+    assert f is not None
+    x = np.concatenate([f.g, [f.load_factor]])
+    noisy = x.copy()
+    support = np.flatnonzero(x[:-1] > 1e-3)
+    noisy[support] *= 1 + 1e-6 * np.cos(np.arange(support.size))
+    before = float(np.max(np.abs(lp.A @ noisy - lp.rhs)))
+    fixed = refine(lp, noisy)
+    assert before > 1e-7 and float(np.max(np.abs(lp.A @ fixed - lp.rhs))) < 1e-11
+    assert np.all(fixed[:-1] >= 0) and np.array_equal(fixed[:-1] > 0, noisy[:-1] > 0)
+
+
+def test_lowest_off_and_records() -> None:
+    """lowest=False leaves the fields empty; the record carries the descent."""
+    w = wall(1.0, 1 / 3)
+    off = solve_nonassociative(w, lowest=False)
+    assert off.lowest == () and math.isnan(off.lowest_load_factor) and off.to_record().lowest_status == ""
+    on = solve_nonassociative(w)
+    rec = on.to_record()
+    assert rec.lowest_status == "found" and rec.lowest_load_factor == on.lowest_load_factor
+    assert rec.lowest_band == on.lowest_state.band and rec.lowest_moves == len(on.lowest_state.moves)
+    assert rec.global_status == "" and math.isnan(rec.global_load_factor)
+    assert type(rec).from_dict(rec.to_dict()).to_dict() == rec.to_dict()
+    s = on.summary()
+    assert s["lowest_load_factor"] == on.lowest_load_factor and s["lowest"][0]["contact_states"]
+    assert on.load_factor == off.load_factor  # the iterated LP's own value is unchanged
+
+
+def test_lowest_state_needs_a_final_state() -> None:
+    w = wall(1.0, 1.0)
+    r = solve_nonassociative(w, relaxation=1.0, certify=False, lowest=False)
+    assert not r.converged
+    with pytest.raises(ValueError, match="has no final state"):
+        lowest_state(micro.assemble(w), micro.DirectionResult("+x", "cycling", math.nan, 0, 0.0), r.options)
+
+
+@pytest.mark.parametrize("bad", [0, -1.0, math.inf, "10", True])
+def test_global_time_limit_is_checked(bad: object) -> None:
+    with pytest.raises(ValueError, match="global_time_limit must be a positive number of seconds"):
+        micro.NonAssociativeOptions(global_time_limit=bad)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("name, bad, message", [
+    ("global_node_limit", 0, "global_node_limit must be"),
+    ("global_node_limit", 1.5, "global_node_limit must be"),
+    ("global_bounds", "tight", "global_bounds must be one of per_point, uniform"),
+])
+def test_global_search_options_are_checked(name: str, bad: object, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        micro.NonAssociativeOptions(**{name: bad})
