@@ -19,17 +19,35 @@ Format (see ``examples/three-storey.toml``)::
     overload = 2.0        # q_i, floor load per unit length on top of the storey (optional, default 0)
 
 Any unit system works as long as it is consistent; the load factor does not
-depend on it. Every error names the key and, where it can, its line.
+depend on it. Every error names the file, the key and, where it can, its line;
+values are held to the physical bounds of :func:`macro.checks.wall_bounds`. A
+scene is UTF-8 text (a byte-order mark is allowed) of at most
+:data:`MAX_SCENE_BYTES`.
 """
 
 from __future__ import annotations
 
+import codecs
 import re
 import tomllib
 from pathlib import Path
 from typing import Any
 
-from comparison.wall import StoreySpec, WallSpec, positive
+from comparison.wall import StoreySpec, WallSpec
+from macro.checks import friction, magnitude
+
+#: Largest scene file read (a scene is a few hundred bytes; this refuses a wrong file before reading it whole).
+MAX_SCENE_BYTES = 1 << 20
+
+#: The scene key of each parameter of the wall (table, key) for the line of an error.
+_SCENE_KEYS = {
+    "length": ("wall", "length"),
+    "block_length": ("block", "length"),
+    "block_height": ("block", "height"),
+    "unit_weight": ("wall", "unit_weight"),
+    "friction": ("wall", "friction"),
+    "rows": ("storey", "rows"),
+}
 
 _ALLOWED: dict[str, set[str]] = {
     "": {"name", "wall", "block", "storey"},
@@ -85,10 +103,31 @@ def load_scene(path: str | Path) -> WallSpec:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        with path.open("rb") as fh:
+            data = fh.read(MAX_SCENE_BYTES + 1)
     except OSError as exc:
-        raise SceneError(f"scene {path}: cannot read ({exc.strerror})") from None
-    return parse_scene(text, source=str(path))
+        raise SceneError(f"scene {path}: cannot read ({exc.strerror or exc})") from None
+    if len(data) > MAX_SCENE_BYTES:
+        raise SceneError(f"scene {path}: larger than {MAX_SCENE_BYTES:,} bytes; a scene is a short TOML text")
+    return parse_scene(decode_scene(data, str(path)), source=str(path))
+
+
+def decode_scene(data: bytes, source: str) -> str:
+    """The text of a scene file: UTF-8, with or without a byte-order mark.
+
+    Raises:
+        SceneError: UTF-16/32 text or bytes that are not UTF-8, naming the file and the line.
+    """
+    if data.startswith((codecs.BOM_UTF32_LE, codecs.BOM_UTF32_BE, codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        raise SceneError(f"scene {source}: UTF-16 or UTF-32 text; save the scene as UTF-8")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise SceneError(
+            f"scene {source} (line {line}): not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start}); "
+            "a scene is a TOML text file"
+        ) from None
 
 
 class _Source:
@@ -141,6 +180,8 @@ def _tables(data: dict[str, Any], src: _Source) -> dict[str, list[dict[str, Any]
     tables["storey"] = storeys
     for table, entries in tables.items():
         for index, entry in enumerate(entries):
+            if not isinstance(entry, dict):
+                raise src.error(f"[[{table}]] entry {index + 1} must be a table, got {entry!r}", table, None, index)
             _check_keys(table, index, entry, src)
     return tables
 
@@ -157,18 +198,15 @@ def _check_keys(table: str, index: int, entry: dict[str, Any], src: _Source) -> 
 def _wall(tables: dict[str, list[dict[str, Any]]], name: str, src: _Source) -> WallSpec:
     """The wall of checked tables; a bad value is worded with the wall vocabulary and its line."""
     scalars = {}
-    for table, key, default in (
-        ("wall", "length", None),
-        ("block", "length", None),
-        ("block", "height", None),
-        ("wall", "unit_weight", 1.0),
-        ("wall", "friction", None),
-    ):
+    for param, (table, key) in _SCENE_KEYS.items():
+        if table == "storey":
+            continue
+        check = friction if key == "friction" else magnitude
         try:
-            scalars[(table, key)] = positive(f"{table}.{key}", tables[table][0].get(key, default))
+            scalars[param] = check(f"{table}.{key}", tables[table][0].get(key, 1.0 if key == "unit_weight" else None))
         except ValueError as exc:
             raise src.error(str(exc), table, key) from None
-    height = scalars[("block", "height")]
+    height = scalars["block_height"]
     built: list[StoreySpec] = []
     for i, entry in enumerate(tables["storey"]):
         try:
@@ -176,12 +214,18 @@ def _wall(tables: dict[str, list[dict[str, Any]]], name: str, src: _Source) -> W
         except ValueError as exc:
             key = str(exc).split(" must", 1)[0]
             raise src.error(f"storey {i + 1}: {exc}", "storey", key, i) from None
-    return WallSpec(
-        length=scalars[("wall", "length")],
-        block_length=scalars[("block", "length")],
-        block_height=height,
-        storeys=tuple(built),
-        unit_weight=scalars[("wall", "unit_weight")],
-        friction=scalars[("wall", "friction")],
-        name=name,
-    )
+    try:
+        return WallSpec(storeys=tuple(built), name=name, **scalars)
+    except ValueError as exc:
+        raise _bound_error(str(exc), src) from None
+
+
+def _bound_error(message: str, src: _Source) -> SceneError:
+    """A physical bound of the wall (``macro.checks.wall_bounds``) in the scene's terms, with the key's line."""
+    param, _, rest = message.partition(" must")
+    entry = re.fullmatch(r"(\w+)\[(\d+)\]", param)
+    if entry:
+        key, index = entry.group(1), int(entry.group(2))
+        return src.error(f"storey {index + 1}: {key} must{rest}", "storey", key, index)
+    table, key = _SCENE_KEYS.get(param, ("", param))
+    return src.error(f"{table}.{key} must{rest}" if table != "storey" else message, table, key)

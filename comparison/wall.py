@@ -11,7 +11,9 @@ nondimensional parameters (Table 4 of Argiento, Maione & Casapulla 2018) with
 Every wall parameter is checked with the one vocabulary of :mod:`macro.checks`
 (re-exported here for the scene files and the command line), so that the
 spec, the scenes, ``macro.MacroWall`` and ``macro.sweep`` word a bad value
-alike. The mapping of the paper's parameters onto a dimensional wall is
+alike, and within the physical bounds of :func:`macro.checks.wall_bounds`
+(sizes where double precision is exact enough, a wall at least one block
+long). The mapping of the paper's parameters onto a dimensional wall is
 :func:`macro.paper.paper_walls` (block height 1, ``H = o``, ``L = o/t``,
 ``l = 1/m``, ``q = p H`` on every floor; see that module and the README for the
 reading of ``p``). The load factor is independent of the unit of length and of
@@ -23,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
-from macro.checks import NO_STOREY, non_negative, positive, positive_int
+from macro.checks import NO_STOREY, WALL_FIELDS, friction, magnitude, non_negative, positive, positive_int, wall_bounds
 from macro.paper import BLOCK_HEIGHT, paper_walls
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
@@ -75,14 +77,17 @@ class WallSpec:
     name: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
-        for name in ("length", "block_length", "block_height", "unit_weight", "friction"):
-            object.__setattr__(self, name, positive(name, getattr(self, name)))
+        for name in ("length", "block_length", "block_height", "unit_weight"):
+            object.__setattr__(self, name, magnitude(name, getattr(self, name)))
+        object.__setattr__(self, "friction", friction("friction", self.friction))
         storeys = tuple(self.storeys)
         if not storeys:
             raise ValueError(NO_STOREY.format(name="storeys"))
         if not all(isinstance(s, StoreySpec) for s in storeys):
             raise ValueError("storeys must be StoreySpec instances")
         object.__setattr__(self, "storeys", storeys)
+        dims = self.dimensions()
+        wall_bounds(**{k: dims[k] for k in WALL_FIELDS})
 
     # ------------------------------------------------------------------ paper
     @classmethod

@@ -7,6 +7,34 @@ parameter as the caller spells it (``block_length``, ``t``, ``rows[1]`` for the
 entry of storey 2, ...). ``micro`` may not import this module (``macro`` and
 ``micro`` stay independent); it spells the same templates out, and a parity test
 (``tests/comparison/test_wall_vocabulary.py``) holds the two together.
+
+Physical bounds (:func:`wall_bounds`, and :func:`macro.paper.paper_walls` for
+the paper's parameters) keep every wall inside the range where both models are
+exact enough in double precision, so that no input reaches a solver that it
+cannot take:
+
+* every dimensional number (lengths, unit weight) lies in
+  (:data:`MIN_MAGNITUDE`, :data:`MAX_MAGNITUDE`]: any consistent system of
+  units (mm to km, N to MN) stays far inside, and the products of up to five
+  such numbers that a moment needs stay within 1e±150, far from the limits of
+  a double (1e±308), so nothing overflows or underflows to zero;
+* lengths in block heights are at most :data:`MAX_RATIO` (and a thickness or a
+  block length at least ``1/MAX_RATIO``): the macro search runs over crack
+  slopes up to ``v/b``, which a double resolves to ``(v/b) 2e-16`` relative
+  (2e-10 at the bound; at ``l/b = 1e16`` the crack angle is 90° to the last
+  bit and Eq. (10) turns to NaN or negative values), and the micro LP's
+  coefficients (lever arms in block heights) stay within the range its solvers
+  scale;
+* a wall is at least one block long (``length >= block_length``): the paper's
+  parts A-D assume a half-block column over the hinge and rows beyond it (for
+  ``L < v`` the weight of part B comes out negative), and running bond needs a
+  whole block in every course;
+* a floor load is at most :data:`MAX_RATIO` times the weight of one row of its
+  storey per unit length;
+* the friction coefficient lies in (:data:`MIN_FRICTION`, :data:`MAX_FRICTION`]:
+  dry joints have 0.3-1; below 1e-3 the friction terms of the LP fall to the
+  solvers' coefficient tolerances relative to the lever arms, and above 10
+  they dwarf the weights they are compared with.
 """
 
 from __future__ import annotations
@@ -34,6 +62,30 @@ NO_STOREY = "{name}: a wall needs at least one storey"
 UNEQUAL_STOREYS = "rows: {rows!r} rows cannot be split equally over {storeys!r} storeys"
 #: One of a few named choices.
 CHOICE = "{name} must be one of {choices}, got {value!r}"
+#: A number above a physical bound (:data:`MAX_RATIO`); a reason follows after a colon.
+AT_MOST = "{name} must be at most {hi:g}, got {value!r}"
+#: A number below a physical bound (a wall at least one block long); a reason follows after a colon.
+AT_LEAST = "{name} must be at least {lo:g}, got {value!r}"
+#: A wall whose search or model would not fit in the memory available.
+TOO_LARGE = "{name}: {what} needs an estimated {need:.3g} GB of memory, but only {have:.3g} GB are available"
+
+#: Dimensional numbers (lengths, unit weight) lie in (MIN_MAGNITUDE, MAX_MAGNITUDE] (module docstring).
+MIN_MAGNITUDE = 1e-30
+MAX_MAGNITUDE = 1e30
+#: Largest length in block heights, and largest floor load in row weights (module docstring).
+MAX_RATIO = 1e6
+#: The friction coefficient lies in (MIN_FRICTION, MAX_FRICTION] (module docstring).
+MIN_FRICTION = 1e-3
+MAX_FRICTION = 10.0
+#: Relative slack of the bound ``length >= block_length`` (``o/t`` against ``1/m`` in floating point).
+LENGTH_SLACK = 1e-12
+#: Work estimated below this many bytes is not checked against the memory available (saves reading it).
+ALWAYS_FITS = 1 << 26
+
+
+class TooLarge(ValueError):
+    """A wall whose estimated memory exceeds what is available (bad input, message :data:`TOO_LARGE`)."""
+
 
 T = TypeVar("T")
 
@@ -83,17 +135,41 @@ def positive_int(name: str, value: object) -> int:
     return int(x)
 
 
-def in_range(name: str, value: object, lo: float, hi: float) -> float:
-    """``value`` as a float in ``(lo, hi]``; below ``lo`` it must first be positive when ``lo == 0``.
+def in_range(name: str, value: object, lo: float, hi: float, why: str = "") -> float:
+    """``value`` as a float in ``(lo, hi]``; when ``lo >= 0`` it must first be positive.
+
+    Args:
+        name: the parameter.
+        value: its value.
+        lo, hi: the bounds.
+        why: the reason for the bounds, appended to the message after a colon.
 
     Raises:
         ValueError: :data:`POSITIVE` for a non-number or a value <= 0 when
-            ``lo == 0``, else :data:`IN_RANGE`.
+            ``lo >= 0``, else :data:`IN_RANGE`.
     """
-    x = positive(name, value) if lo == 0.0 else _real(value)
+    x = positive(name, value) if lo >= 0.0 else _real(value)
     if x is None or not math.isfinite(x) or not lo < x <= hi:
-        raise ValueError(IN_RANGE.format(name=name, lo=lo, hi=hi, value=value))
+        raise ValueError(IN_RANGE.format(name=name, lo=lo, hi=hi, value=value) + (f": {why}" if why else ""))
     return x
+
+
+def magnitude(name: str, value: object) -> float:
+    """``value`` as a positive dimensional number in (:data:`MIN_MAGNITUDE`, :data:`MAX_MAGNITUDE`].
+
+    Raises:
+        ValueError: :data:`POSITIVE` or :data:`IN_RANGE`, naming ``name``.
+    """
+    return in_range(name, value, MIN_MAGNITUDE, MAX_MAGNITUDE, "dimensional values are limited to this range")
+
+
+def friction(name: str, value: object) -> float:
+    """``value`` as a friction coefficient in (:data:`MIN_FRICTION`, :data:`MAX_FRICTION`].
+
+    Raises:
+        ValueError: :data:`POSITIVE` or :data:`IN_RANGE`, naming ``name``.
+    """
+    return in_range(name, value, MIN_FRICTION, MAX_FRICTION, "dry-joint friction coefficients lie near 0.3-1")
 
 
 def choice(name: str, value: T, choices: Sequence[T]) -> T:
@@ -139,3 +215,80 @@ def rows_per_storey(rows: int, storeys: int) -> int:
     if rows % storeys:
         raise ValueError(UNEQUAL_STOREYS.format(rows=rows, storeys=storeys))
     return rows // storeys
+
+
+def _within(name: str, x: float, lo: float, hi: float) -> None:
+    """A length already checked as a positive number, within ``(lo, hi]`` block heights (:data:`IN_RANGE`)."""
+    if not lo < x <= hi:
+        raise ValueError(IN_RANGE.format(name=name, lo=lo, hi=hi, value=x) + f": at most {MAX_RATIO:g} block heights")
+
+
+#: The keyword arguments of :func:`wall_bounds` (attributes of every wall type).
+WALL_FIELDS = ("length", "block_length", "block_height", "rows", "thickness", "overload", "unit_weight")
+
+
+def wall_bounds(
+    *,
+    length: float,
+    block_length: float,
+    block_height: float,
+    rows: Sequence[int],
+    thickness: Sequence[float],
+    overload: Sequence[float],
+    unit_weight: float,
+) -> None:
+    """The physical bounds of a dimensional wall whose every entry is already checked (module docstring).
+
+    Raises:
+        ValueError: naming the first parameter out of bounds, with :data:`IN_RANGE`,
+            :data:`AT_MOST` or :data:`AT_LEAST` and the reason after a colon.
+    """
+    b = block_height
+    _within("block_length", block_length, b / MAX_RATIO, b * MAX_RATIO)
+    if length < block_length * (1.0 - LENGTH_SLACK):
+        raise ValueError(
+            AT_LEAST.format(name="length", lo=block_length, value=length)
+            + ": a running-bond wall is at least one block long"
+        )
+    if length > b * MAX_RATIO:
+        raise ValueError(
+            AT_MOST.format(name="length", hi=b * MAX_RATIO, value=length) + f": at most {MAX_RATIO:g} block heights"
+        )
+    if sum(rows) > MAX_RATIO:
+        raise ValueError(AT_MOST.format(name="rows", hi=MAX_RATIO, value=sum(rows)) + ": rows in all")
+    for i, (t, q) in enumerate(zip(thickness, overload, strict=True)):
+        _within(f"thickness[{i}]", t, b / MAX_RATIO, b * MAX_RATIO)
+        row_weight = unit_weight * b * t
+        if q > MAX_RATIO * row_weight:
+            raise ValueError(
+                AT_MOST.format(name=f"overload[{i}]", hi=MAX_RATIO * row_weight, value=q)
+                + f": at most {MAX_RATIO:g} times the weight of one row per unit length"
+            )
+
+
+def available_memory_bytes() -> int | None:
+    """Memory the process may still use: ``MemAvailable`` of ``/proc/meminfo`` (Linux), else ``None``.
+
+    ``micro.geometry`` has its own copy (``macro`` and ``micro`` share no code).
+    """
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def fits_in_memory(name: str, what: str, need: int, budget: int | None = None) -> None:
+    """Refuse work whose estimated memory ``need`` (bytes) exceeds ``budget`` (default: what is available).
+
+    Raises:
+        TooLarge: :data:`TOO_LARGE`, naming ``name``.
+    """
+    if need <= ALWAYS_FITS and budget is None:
+        return
+    have = available_memory_bytes() if budget is None else budget
+    if have is not None and need > have:
+        raise TooLarge(TOO_LARGE.format(name=name, what=what, need=need / 1e9, have=have / 1e9))

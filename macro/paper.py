@@ -70,7 +70,25 @@ class PaperWalls:
 
 
 def _m(name: str, value: object) -> float:
-    return checks.in_range(name, value, 0.0, 1.0)
+    x = checks.in_range(name, value, 0.0, 1.0)  # the paper's range first
+    return checks.in_range(
+        name, x, 1.0 / checks.MAX_RATIO, 1.0, f"a block at most {checks.MAX_RATIO:g} times as long as high"
+    )
+
+
+def _rows(name: str, value: object) -> int:
+    o = checks.positive_int(name, value)
+    if o > checks.MAX_RATIO:
+        raise ValueError(checks.AT_MOST.format(name=name, hi=checks.MAX_RATIO, value=value) + ": rows in all")
+    return o
+
+
+def _first_bad(bad: NDArray[np.bool_], message: Callable[[int], str], entry: bool = True) -> None:
+    """Raise ``message(i)`` for the first ``i`` where ``bad`` holds, followed by ``(entry i)`` when ``entry``."""
+    index = np.flatnonzero(bad)
+    if index.size:
+        i = int(index[0])
+        raise ValueError(f"{message(i)} (entry {i})" if entry else message(i))
 
 
 def _checked(
@@ -106,6 +124,47 @@ def _positive(a: FloatArray) -> NDArray[np.bool_]:
     return np.isfinite(a) & (a > 0)
 
 
+def _paper_bounds(
+    t: FloatArray,
+    m: FloatArray,
+    o: FloatArray,
+    p: FloatArray,
+    p_rows: FloatArray,
+    shown: Callable[[str, int], object],
+    *,
+    entry: bool,
+) -> None:
+    """The physical bounds of :mod:`macro.checks` in the paper's terms (entries broadcast and flat).
+
+    A wall at least one block long and at most ``MAX_RATIO`` block heights,
+    ``o/MAX_RATIO < t <= o m``; a floor load of at most ``MAX_RATIO`` row
+    weights, ``p p_rows <= MAX_RATIO`` (``p_rows``: the rows of the height
+    ``p`` refers to). ``shown(name, i)`` is the value to quote; ``entry``:
+    messages end with ``(entry i)``.
+    """
+    R = checks.MAX_RATIO
+    lo = o / R
+    bad_t = (t > o * m * (1.0 + checks.LENGTH_SLACK)) | (t <= lo)
+    _first_bad(
+        bad_t,
+        lambda i: (
+            checks.IN_RANGE.format(name="t", lo=lo[i], hi=o[i] * m[i], value=shown("t", i))
+            + f": a wall at least one block long (o/t >= 1/m) and at most {R:g} block heights (o/t <= {R:g})"
+        ),
+        entry,
+    )
+    with np.errstate(over="ignore"):  # p near the double range: an infinite product is over the bound too
+        too_heavy = p * p_rows > R
+    _first_bad(
+        too_heavy,
+        lambda i: (
+            checks.AT_MOST.format(name="p", hi=R / p_rows[i], value=shown("p", i))
+            + f": a floor load of at most {R:g} times the weight of one row"
+        ),
+        entry,
+    )
+
+
 def paper_walls(
     t: ArrayLike,
     m: ArrayLike,
@@ -132,20 +191,24 @@ def paper_walls(
     """
     n = checks.positive_int("storeys", storeys)
     t_ = _checked("t", t, checks.positive, _positive)
-    m_ = _checked("m", m, _m, lambda a: _positive(a) & (a <= 1.0))
-    o = _checked("rows", rows, checks.positive_int, lambda a: _positive(a) & (a == np.round(a)))
-    split = np.flatnonzero(np.mod(o, n) != 0)
-    if split.size:
-        i = int(split[0])
-        message = checks.UNEQUAL_STOREYS.format(rows=int(o[i]), storeys=n)
-        raise ValueError(message if np.ndim(rows) == 0 else f"{message} (entry {i})")
-    f_ = _checked("f", f, checks.positive, _positive)
+    m_ = _checked("m", m, _m, lambda a: (a > 1.0 / checks.MAX_RATIO) & (a <= 1.0))
+    o = _checked("rows", rows, _rows, lambda a: _positive(a) & (a == np.round(a)) & (a <= checks.MAX_RATIO))
+    _first_bad(np.mod(o, n) != 0, lambda i: checks.UNEQUAL_STOREYS.format(rows=int(o[i]), storeys=n), np.ndim(rows) > 0)
+    f_ = _checked("f", f, checks.friction, lambda a: (a > checks.MIN_FRICTION) & (a <= checks.MAX_FRICTION))
     p_ = _checked("p", p, checks.non_negative, lambda a: np.isfinite(a) & (a >= 0))
     checks.choice("p_height", p_height, P_HEIGHTS)
     given = ((t_, t), (m_, m), (o, rows), (f_, f), (p_, p))
     t_, m_, o, f_, p_ = np.broadcast_arrays(*(x.reshape(np.shape(v)) for x, v in given))
     shape = t_.shape
     t_, m_, o, f_, p_ = (np.ascontiguousarray(x).ravel() for x in (t_, m_, o, f_, p_))
+    scalar = not shape
+    flat = {"t": t_, "p": p_}
+    inputs = {"t": t, "p": p}
+    _paper_bounds(
+        t_, m_, o, p_, o if p_height == "wall" else o / n,
+        lambda name, i: inputs[name] if scalar else float(flat[name][i]),
+        entry=not scalar,
+    )  # fmt: skip
     per = o / n
     block_length = BLOCK_HEIGHT / m_
     return PaperWalls(

@@ -20,22 +20,24 @@ class MacroRecord:
     """A :class:`macro.MacroResult` without its wall and its per-storey terms (flat, frozen, JSON-ready).
 
     Attributes:
-        load_factor: ``min(rocking_load_factor, f)``.
+        load_factor: the least of ``rocking_load_factor``, ``f`` and ``overturning_load_factor``.
         rocking_load_factor: minimum of Eq. (10).
         sliding_load_factor: ``lambda_s`` of Eq. (12) at the optimum crack.
+        overturning_load_factor: rigid overturning above a storey's base (:mod:`macro.bounds`).
         tan_alpha_c: crack slope at the optimum; ``alpha_c_deg`` the angle.
         tan_alpha_c_star: slope of the stepped crack (Eq. 9); ``alpha_c_star_deg`` the angle.
         alpha_b_deg: ``atan(v/b)``; ``alpha_ratio = alpha_c/alpha_b``.
         hinge_storey: storey whose base holds the hinge (1 = top).
         hinge_load_factors: the minimum of Eq. (10) for the hinge at storeys 1, 2, ...
-        mechanism: ``"rocking-sliding"``, ``"rocking"`` or ``"sliding"``.
-        status: ``"optimal"``.
+        mechanism: one of :data:`macro.bounds.MECHANISMS`.
+        status: ``"optimal"`` or ``"numerical_error"`` (``load_factor`` NaN).
         solve_seconds: wall-clock time of the solve.
     """
 
     load_factor: float
     rocking_load_factor: float
     sliding_load_factor: float
+    overturning_load_factor: float
     tan_alpha_c: float
     alpha_c_deg: float
     tan_alpha_c_star: float
@@ -47,6 +49,10 @@ class MacroRecord:
     mechanism: str
     status: str
     solve_seconds: float
+
+    def __post_init__(self) -> None:
+        if self.status == "optimal" and not (math.isfinite(self.load_factor) and self.load_factor > 0.0):
+            raise ValueError(f"an optimal macro record needs a finite positive load factor, got {self.load_factor!r}")
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready dictionary (non-finite numbers as ``None``)."""

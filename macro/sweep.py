@@ -14,22 +14,28 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from macro import checks
+from macro.bounds import MECHANISMS, governing, overturning_load_factor
 from macro.paper import BLOCK_HEIGHT, paper_walls
 from macro.search import DEFAULT_SEARCH, SearchSettings, minimise_walls
+from macro.solve import search_bytes
 
-MECHANISMS = ("rocking-sliding", "rocking", "sliding")
+__all__ = ["MECHANISMS", "SweepResult", "sweep"]
 
 
 @dataclass(frozen=True)
 class SweepResult:
     """Results of :func:`sweep`, one entry per wall (broadcast shape).
 
-    ``mechanism`` holds indices into :data:`MECHANISMS`.
+    ``mechanism`` holds indices into :data:`MECHANISMS`; ``load_factor`` is
+    the least of Eq. (10), ``f`` and the rigid overturning bound
+    (:mod:`macro.bounds`), NaN where it is not a finite positive number.
     """
 
     load_factor: NDArray[np.float64]
     rocking_load_factor: NDArray[np.float64]
     sliding_load_factor: NDArray[np.float64]
+    overturning_load_factor: NDArray[np.float64]
     tan_alpha_c: NDArray[np.float64]
     alpha_c_deg: NDArray[np.float64]
     alpha_ratio: NDArray[np.float64]
@@ -64,8 +70,9 @@ def sweep(
     """
     walls = paper_walls(t, m, rows, f, p, storeys, p_height)
     shape, N = walls.shape, walls.storeys
-
     W = walls.size
+    batch = min(W, chunk)
+    checks.fits_in_memory("storeys", f"a batch of {batch} walls of {N} storeys", search_bytes(N, batch))
     out = {k: np.empty(W) for k in ("lam", "lam_s", "tau", "hinge")}
     for s in range(0, W, chunk):
         sl = slice(s, min(s + chunk, W))
@@ -85,12 +92,18 @@ def sweep(
 
     lam, tau = out["lam"], out["tau"]
     ratio = np.arctan(tau) / np.arctan(walls.overlap / BLOCK_HEIGHT)
-    mech = np.where(walls.friction < lam, 2, np.where(ratio >= 1.0 - 1e-9, 1, 0))
+    per_storey = np.repeat(walls.rows_per_storey[:, None], N, axis=1)
+    ones = np.ones(W)
+    lam_o = overturning_load_factor(
+        walls.length, ones, ones, per_storey, np.ones((W, N)), np.repeat(walls.overload[:, None], N, axis=1)
+    )
+    lam_g, mech = governing(lam, walls.friction, lam_o, ratio)
     rs = lambda a: a.reshape(shape)  # noqa: E731
     return SweepResult(
-        load_factor=rs(np.minimum(lam, walls.friction)),
+        load_factor=rs(np.where(np.isfinite(lam_g) & (lam_g > 0), lam_g, np.nan)),
         rocking_load_factor=rs(lam),
         sliding_load_factor=rs(out["lam_s"]),
+        overturning_load_factor=rs(lam_o),
         tan_alpha_c=rs(tau),
         alpha_c_deg=rs(np.degrees(np.arctan(tau))),
         alpha_ratio=rs(ratio),

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import time
 
-from micro.backends.base import Outcome, Status, make_backend
+from micro.backends.base import Outcome, Status, check_time_limit, make_backend
 from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.mechanism import mechanism_from_duals
@@ -48,9 +48,11 @@ def solve_associative(
         ``solver_error``) with a NaN load factor, never as a number.
 
     Raises:
-        ValueError: an unknown solver or directions value.
+        ValueError: an unknown solver or directions value, or a time limit
+            that is not a positive number of seconds (checked before any work).
     """
     check_directions(directions)
+    check_time_limit(time_limit)
     t0 = time.perf_counter()
     lp = assemble(wall)
     backend = make_backend(lp, solver, time_limit=time_limit)

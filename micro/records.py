@@ -28,9 +28,24 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Self
 
-__all__ = ["AssociativeRecord", "MicroRecord", "NonAssociativeRecord"]
+__all__ = ["SUCCESS_STATUSES", "AssociativeRecord", "MicroRecord", "NonAssociativeRecord", "check_success"]
 
 Band = tuple[float, float]
+
+#: The statuses of a micro analysis that report a load factor: the associative
+#: LP's and the iterated LP's success. Every other status comes with NaN.
+SUCCESS_STATUSES = ("optimal", "converged")
+
+
+def check_success(owner: str, status: str, load_factor: float) -> None:
+    """A success status must come with a finite load factor ``>= 0`` (the invariant of every micro result).
+
+    Raises:
+        ValueError: ``status`` is in :data:`SUCCESS_STATUSES` and ``load_factor``
+            is NaN, infinite or negative (a bug of the analysis, never an answer).
+    """
+    if status in SUCCESS_STATUSES and not (math.isfinite(load_factor) and load_factor >= 0.0):
+        raise ValueError(f"{owner}: status {status!r} needs a finite load factor >= 0, got {load_factor!r}")
 
 
 def _out(value: Any) -> Any:
@@ -103,6 +118,9 @@ class MicroRecord:
     opening_contacts: int
     sliding_contacts: int
     message: str
+
+    def __post_init__(self) -> None:
+        check_success(type(self).__name__, self.status, self.load_factor)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (NaN -> ``None``, tuples -> lists)."""

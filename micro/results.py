@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Status
 from micro.mechanism import CONTACT_STATE_NAMES, Mechanism
-from micro.records import AssociativeRecord
+from micro.records import AssociativeRecord, check_success
 
 if TYPE_CHECKING:
     from micro.nonassociative.results import SequenceDiagnostics
@@ -113,6 +113,9 @@ class DirectionResult:
     info: Mapping[str, Any] = field(default_factory=dict, repr=False)
     sequence: SequenceDiagnostics | None = field(default=None, repr=False)
 
+    def __post_init__(self) -> None:
+        check_success(f"DirectionResult {self.direction}", self.status, self.load_factor)
+
     @property
     def converged(self) -> bool:
         """True when the iterated LP converged."""
@@ -172,6 +175,9 @@ class LimitResult:
     mirror_symmetric: bool
     directions: tuple[DirectionResult, ...] = field(repr=False)
     message: str = ""
+
+    def __post_init__(self) -> None:
+        check_success("LimitResult", self.status, self.load_factor)
 
     @property
     def ok(self) -> bool:

@@ -2,17 +2,25 @@
 
 Only input validation maps to exit code 2: the parser's own errors and the
 :class:`~comparison.cli.options.UsageError` the option helpers raise. Any other
-exception is a bug and ends with its traceback.
+exception is a bug and ends with its traceback. Bare ``xcheck`` prints the
+usage (exit 2); ``xcheck --version`` the version. A reader that closes the
+output early (``xcheck macro --json | head``) ends the run quietly with
+:data:`~comparison.cli.options.EXIT_BROKEN_PIPE` (141); Ctrl-C with 130. Warnings (e.g. an unreadable cache
+entry) are one line each, ``xcheck: warning: ...``.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
-from collections.abc import Sequence
+import warnings
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from importlib import metadata
 
 from comparison.cli import macro, micro, references, report, stability, sweep
-from comparison.cli.options import EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
+from comparison.cli.options import EXIT_BROKEN_PIPE, EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
 
 
 class Parser(argparse.ArgumentParser):
@@ -20,6 +28,14 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:  # type: ignore[override]
         raise UsageError(message)
+
+
+def version() -> str:
+    """The installed version of the suite."""
+    try:
+        return metadata.version("xcheck-masonry")
+    except metadata.PackageNotFoundError:  # pragma: no cover - running from a source tree
+        return "unknown"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -30,6 +46,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=EXIT_CODES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    parser.add_argument("--version", action="version", version=f"xcheck {version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for module in (macro, micro, report, stability, sweep, references):
         module.register(sub)
@@ -39,15 +56,48 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``xcheck`` console script."""
     parser = build_parser()
-    try:
-        args = parser.parse_args(argv)
-        return int(args.handler(args) or 0)
-    except UsageError as exc:
-        print(f"xcheck: error: {exc}", file=sys.stderr)
+    args_given = sys.argv[1:] if argv is None else list(argv)
+    if not args_given:
+        parser.print_help(sys.stderr)
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        print("xcheck: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+    with _one_line_warnings():
+        try:
+            args = parser.parse_args(args_given)
+            code = int(args.handler(args) or 0)
+            sys.stdout.flush()  # a closed pipe shows here, not at exit
+            return code
+        except UsageError as exc:
+            print(f"xcheck: error: {exc}", file=sys.stderr)
+            return EXIT_USAGE
+        except SystemExit as exc:  # --help, --version
+            return exc.code if isinstance(exc.code, int) else EXIT_USAGE
+        except BrokenPipeError:
+            _drop_stdout()
+            return EXIT_BROKEN_PIPE
+        except KeyboardInterrupt:
+            print("xcheck: interrupted", file=sys.stderr)
+            return EXIT_INTERRUPTED
+
+
+def _drop_stdout() -> None:
+    """Point stdout at /dev/null, so that the interpreter's last flush finds no closed pipe."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # no real file descriptor (e.g. captured in tests)
+        pass
+
+
+@contextmanager
+def _one_line_warnings() -> Iterator[None]:
+    """Show each warning as one line ``xcheck: warning: ...`` while the command runs."""
+
+    def show(message: Warning | str, category: type[Warning], *args: object, **kwargs: object) -> None:
+        print(f"xcheck: warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = show
+        yield
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -6,7 +6,8 @@ import argparse
 import json
 
 import macro
-from comparison.cli.options import QUIET, VERBOSE, add_command, add_wall_options, wall_from_args
+from comparison.cli.options import QUIET, VERBOSE, UsageError, add_command, add_wall_options, wall_from_args
+from macro.checks import TooLarge
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -25,7 +26,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Solve and print."""
     spec = wall_from_args(args)
-    result = macro.solve(spec.to_macro())
+    try:
+        result = macro.solve(spec.to_macro())
+    except TooLarge as exc:
+        raise UsageError(str(exc)) from None
     if args.json:
         d = result.to_dict()
         d["paper_parameters"] = spec.paper_parameters()
@@ -50,6 +54,7 @@ def format_result(r: macro.MacroResult) -> str:
         f"  load factor         lambda   = {r.load_factor:.4f}  ({r.mechanism}, status {r.status})",
         f"  Eq. (10) minimum    lambda_r = {r.rocking_load_factor:.4f}",
         f"  Eq. (12) at optimum lambda_s = {r.sliding_load_factor:.4f}",
+        f"  rigid bounds        sliding f = {w.friction:.4f}, overturning = {r.overturning_load_factor:.4f}",
         f"  crack angle alpha_c = {r.alpha_c_deg:.2f} deg (tan {r.tan_alpha_c:.4f}), "
         f"alpha_b = {r.alpha_b_deg:.2f} deg, alpha_c/alpha_b = {r.alpha_ratio:.3f}",
         f"  hinge at the base of storey {r.hinge_storey} (1 = top); "

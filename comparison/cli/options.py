@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 from fractions import Fraction
 from pathlib import Path
 
@@ -23,6 +24,8 @@ EXIT_FAILED = 1
 EXIT_USAGE = 2
 #: Interrupted by Ctrl-C (128 + SIGINT, the shell's convention).
 EXIT_INTERRUPTED = 130
+#: The reader of the output went away (``xcheck macro --json | head``): 128 + SIGPIPE, as a shell reports it.
+EXIT_BROKEN_PIPE = 141
 
 # Values of ``args.verbosity`` (``-q``/``--quiet``, default, ``-v``/``--verbose``), defined with the
 # progress display that long-running subcommands pass them down to: QUIET, NORMAL, VERBOSE.
@@ -35,6 +38,7 @@ exit codes:
        (the reason is printed; lambda is never printed as a number)
   2    bad input: one line 'xcheck: error: ...' naming the parameter (file and line for scenes)
   130  interrupted (Ctrl-C)
+  141  the reader of the output went away (a closed pipe); nothing more is printed
 """
 
 
@@ -65,9 +69,13 @@ def parse_fraction(name: str, text: str | float) -> float:
     if isinstance(text, (int, float)) and not isinstance(text, bool):
         return float(text)
     try:
-        return float(Fraction(str(text).strip()))
+        fraction = Fraction(str(text).strip())
     except (ValueError, ZeroDivisionError):
         raise UsageError(f"{name} must be a number or a fraction such as 1/3, got {text!r}") from None
+    try:
+        return float(fraction)
+    except OverflowError:  # beyond the doubles (1e400): infinite, for the wall checks to refuse
+        return math.inf if fraction > 0 else -math.inf
 
 
 def int_option(name: str, text: str, minimum: int = 1) -> int:
@@ -114,6 +122,10 @@ def in_range(option: str, text: str | None, rule: str, upper: float) -> float | 
     return value
 
 
+#: The options that describe a wall by the paper's parameters (``--scene`` excludes them all).
+WALL_OPTIONS = ("storeys", "rows", "t", "m", "f", "p")
+
+
 def add_verbosity_options(parser: argparse.ArgumentParser) -> None:
     """``-q``/``--quiet`` and ``-v``/``--verbose``, stored as ``args.verbosity`` (:data:`QUIET`,
     :data:`NORMAL` by default, :data:`VERBOSE`)."""
@@ -141,13 +153,13 @@ def add_verbosity_options(parser: argparse.ArgumentParser) -> None:
 def add_wall_options(parser: argparse.ArgumentParser) -> None:
     """Options that describe a wall, shared by every model subcommand."""
     g = parser.add_argument_group("wall (the paper's Table 4 parameters, or a scene file)")
-    g.add_argument("--storeys", type=str, default="1", metavar="N", help="number of storeys (default 1)")
+    g.add_argument("--storeys", type=str, default=None, metavar="N", help="number of storeys (default 1)")
     g.add_argument("--rows", type=str, metavar="O", help="rows in all, split equally over the storeys")
     g.add_argument("--t", type=str, metavar="T", help="wall shape ratio H/L")
     g.add_argument("--m", type=str, metavar="M", help="unit shape ratio b/l in (0, 1]; fractions such as 1/3 accepted")
     g.add_argument("--f", type=str, metavar="F", help="friction coefficient")
     g.add_argument(
-        "--p", type=str, default="0", metavar="P", help="overloading ratio q/(gamma H b) on every floor (default 0)"
+        "--p", type=str, default=None, metavar="P", help="overloading ratio q/(gamma H b) on every floor (default 0)"
     )
     g.add_argument("--scene", type=str, metavar="FILE.toml", help="a dimensional wall given storey by storey")
 
@@ -161,7 +173,7 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
     if args.scene:
         from comparison.scene import load_scene
 
-        clash = [f"--{k}" for k in ("rows", "t", "m", "f") if getattr(args, k) is not None]
+        clash = [f"--{k}" for k in WALL_OPTIONS if getattr(args, k) is not None]
         if clash:
             raise UsageError(f"--scene describes the whole wall; drop {', '.join(clash)}")
         try:
@@ -173,8 +185,8 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
         raise UsageError(f"missing {', '.join(missing)} (or give --scene FILE.toml)")
     t, m = parse_fraction("t", args.t), parse_fraction("m", args.m)
     rows = int_option("rows", args.rows)
-    f, p = parse_fraction("f", args.f), parse_fraction("p", args.p)
-    storeys = int_option("storeys", args.storeys)
+    f, p = parse_fraction("f", args.f), parse_fraction("p", "0" if args.p is None else args.p)
+    storeys = int_option("storeys", "1" if args.storeys is None else args.storeys)
     try:
         return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=p, storeys=storeys)
     except ValueError as exc:
@@ -196,15 +208,41 @@ def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
     """The cache directory the options name (``None`` for ``--no-cache``).
 
     Raises:
-        UsageError: ``--cache`` together with ``--no-cache``.
+        UsageError: ``--cache`` together with ``--no-cache``, or a cache
+            directory that cannot be written (a file, no permission).
     """
-    from comparison.runner.cache import default_cache_dir
-
     if args.no_cache:
         if args.cache is not None:
             raise UsageError("--cache and --no-cache exclude each other")
         return None
-    return Path(args.cache) if args.cache is not None else default_cache_dir()
+    return cache_directory(args.cache)
+
+
+def cache_directory(cache: str | None) -> Path:
+    """The cache directory ``--cache`` names, else the default one, checked before any work.
+
+    Raises:
+        UsageError: a cache directory that cannot be written (a file, no permission).
+    """
+    from comparison.runner.cache import default_cache_dir
+
+    if cache is not None:
+        return output_directory("--cache", cache)
+    return output_directory("the cache directory ($XCHECK_CACHE, else the default)", default_cache_dir())
+
+
+def output_directory(option: str, path: str | os.PathLike[str]) -> Path:
+    """A directory the command writes into, checked before any work (see :func:`comparison.outputs.writable_directory`).
+
+    Raises:
+        UsageError: naming ``option``.
+    """
+    from comparison.outputs import writable_directory
+
+    try:
+        return writable_directory(option, path)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def add_executor_options(parser: argparse.ArgumentParser, default_workers: str | None = None) -> None:

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from comparison.cli.options import (
     add_cache_options,
     add_command,
     add_executor_options,
     cache_dir_from_args,
+    output_directory,
     workers_from_args,
 )
 
@@ -37,8 +37,9 @@ def run(args: argparse.Namespace) -> int:
     """
     from comparison.report import build_report
 
+    out = output_directory("--out", args.out)
     path = build_report(
-        Path(args.out),
+        out,
         quick=args.quick,
         cache_dir=cache_dir_from_args(args),
         verbosity=args.verbosity,

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from comparison.cli.options import UsageError, add_command, int_option
+from comparison.cli.options import UsageError, add_command, int_option, output_directory
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -44,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
     from comparison.stability import main_study, table7_variants
 
     processes = int_option("--processes", args.processes)
+    output_directory("--out", args.out)
     try:
         if args.table7:
             print(f"md: {table7_variants(args.out)}")

@@ -9,14 +9,15 @@ Example::
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from comparison.cli.options import (
     UsageError,
     add_command,
     add_executor_options,
+    cache_directory,
     in_range,
+    output_directory,
     workers_from_args,
 )
 
@@ -63,7 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck sweep``."""
     from comparison.progress import Progress
-    from comparison.runner import ResultCache, default_cache_dir
+    from comparison.runner import ResultCache
     from comparison.sweep import GridError, load_grid, run_sweep
 
     try:
@@ -74,14 +75,11 @@ def run(args: argparse.Namespace) -> int:
     if args.scheduler is not None and workers is not None:
         raise UsageError("--workers and --scheduler exclude each other (the cluster has its own workers)")
     memory = in_range("--worker-memory", args.worker_memory, "a positive number of gigabytes", float("inf"))
-    try:  # before an hour of computing, not after
-        Path(args.out).mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UsageError(f"--out: cannot write to {args.out!r} ({exc.strerror or exc})") from None
-    cache = ResultCache(Path(args.cache) if args.cache is not None else default_cache_dir())
+    out = output_directory("--out", args.out)  # before an hour of computing, not after
+    cache = ResultCache(cache_directory(args.cache))
     executor = _executor(workers, args.scheduler, None if memory is None else int(memory * GB))
     with executor, Progress(args.verbosity) as progress:
-        done = run_sweep(grid, Path(args.out), cache=cache, executor=executor, progress=progress)
+        done = run_sweep(grid, out, cache=cache, executor=executor, progress=progress)
     print(f"table: {done.table}")
     print(f"meta: {done.meta}")
     return 1 if done.counts["failed"] else 0

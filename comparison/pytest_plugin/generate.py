@@ -163,7 +163,7 @@ def generate(
             progress.say(f"plan: {len(runs)} micro computations: {cached} cached, {len(todo)} to compute")
             progress.start(len(todo), "micro")
             with LocalExecutor(os.cpu_count() or 1) as executor:
-                prefetch(runner.cache, todo, executor, progress)
+                runner.keep(prefetch(runner.cache, todo, executor, progress).unstored)
     cells: list[Reference] = []
     for c in CASES:
         cells += published_cells(c)

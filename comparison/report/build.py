@@ -11,24 +11,24 @@ number shown) and the figures.
 
 from __future__ import annotations
 
-import csv
 import json
 import os
-import platform
 import time
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from comparison.outputs import writable_directory
 from comparison.progress import NORMAL, Progress
 from comparison.report import errormap, figures, lowest
 from comparison.report.findings import findings
 from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
-from comparison.report.scaling import scaling_figure, scaling_table
-from comparison.report.tables import Table, all_tables, plain
+from comparison.report.scaling import scaling_figure
+from comparison.report.tables import all_tables
 from comparison.report.text import document
+from comparison.report.timings import write_timings
 from comparison.runner import MACRO, Prefetched, Runner, prefetch
 from comparison.runner.executor import LocalExecutor
 
@@ -54,9 +54,14 @@ def build_report(
 
     Returns:
         The path of ``REPORT.md``.
+
+    Raises:
+        ValueError: ``out_dir`` or ``cache_dir`` cannot be written (checked before any work).
     """
     start = time.perf_counter()
-    out_dir.mkdir(parents=True, exist_ok=True)
+    writable_directory("out_dir", out_dir)
+    if cache_dir is not None:
+        writable_directory("cache_dir", cache_dir)
     plan = build_plan(quick)
     runs = [it for it in plan.items() if not it.skip]
     processes = workers or os.cpu_count() or 1
@@ -73,22 +78,21 @@ def build_report(
         if runner.cache is not None and pending:
             with LocalExecutor(processes) as executor:
                 prefetched = prefetch(runner.cache, [(it.spec, it.method) for it in pending], executor, progress)
+            runner.keep(prefetched.unstored)
         results = compute(plan, runner)
-    meta = {
-        "quick": quick,
-        "methods": [m.label for m in [MACRO, *plan.methods]],
-        "python": platform.python_version(),
-        "machine": platform.machine(),
-        "cpus": os.cpu_count(),
+    meta = {"quick": quick, "methods": [m.label for m in [MACRO, *plan.methods]]}
+    run = {
         "computed": prefetched.computed + runner.computed,
         "cached": len(runs) - len(pending) if cache_dir is not None else 0,
     }
-    return _write(results, out_dir, meta, start)
+    path = _write(results, out_dir, meta)
+    write_timings(results, out_dir, {**run, "seconds": time.perf_counter() - start})
+    return path
 
 
-def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Path:
-    """Render the tables, figures and text of ``res`` into ``out``."""
-    tables = {**all_tables(res), "scaling": scaling_table(res)}
+def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
+    """Render the tables, figures and text of ``res`` into ``out`` (run times: :mod:`~comparison.report.timings`)."""
+    tables = all_tables(res)
     hist = figures.histories_figure(res, out / "histories.png")
     scaling = scaling_figure(res, out / "scaling.png")
     figure_list = [
@@ -99,9 +103,8 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Pa
         *mechanism_figures(res, out),
     ]
     for tb in tables.values():
-        _write_csv(tb, out / f"{tb.name}.csv")
+        tb.write_csv(out / f"{tb.name}.csv")
     error_map, error_numbers = errormap.write(out)
-    meta = {**meta, "seconds": time.perf_counter() - start}
     tables_json = {k: v.records() for k, v in tables.items()}
     (out / "report.json").write_text(
         json.dumps({"meta": meta, "tables": tables_json, "errormap": error_numbers}, indent=1, default=str)
@@ -110,10 +113,3 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], start: float) -> Pa
     text = document(res, tables, findings(res), figure_list, meta)
     path.write_text(text + "\n" + error_map + "\n" + lowest.section())
     return path
-
-
-def _write_csv(table: Table, path: Path) -> None:
-    with path.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(table.header)
-        w.writerows([[plain(c) for c in r] for r in table.rows])

@@ -108,13 +108,18 @@ class Plan:
         """The base wall with ``rows`` rows."""
         return WallSpec.from_paper(**{**self.base, "rows": rows}, name=name or f"{rows} rows")  # type: ignore[arg-type]
 
+    def slender_spec(self) -> WallSpec:
+        """The base wall shortened to one block (``t = o m``), where Eq. (10) meets the rigid overturning bound."""
+        one_block = self.base["rows"] * self.base["m"]
+        return WallSpec.from_paper(**{**self.base, "t": one_block}, name="one block long")  # type: ignore[arg-type]
+
     def macro_specs(self) -> list[WallSpec]:
         """The walls the macro model runs on: every case, Table 9 with ``m = 1/2``, Table 5 with the other
-        reading of ``p``, the sweeps, the speed base."""
+        reading of ``p``, the sweeps, the speed base, the slender base wall."""
         specs = [c.spec() for c in CASES] + [table9_alternative(c) for c in cases_in_table("9")]
         specs += [c.spec("storey") for c in cases_in_table("5") if c.p > 0]  # the other reading of p
         specs += [self.sweep_spec(p, v) for p, values in self.sweeps.items() for v in values]
-        return [*specs, self.speed_spec(int(self.base["rows"]), "macro")]
+        return [*specs, self.speed_spec(int(self.base["rows"]), "macro"), self.slender_spec()]
 
     def items(self) -> list[PlanItem]:
         """Every (wall, method) pair the micro tables and figures read, each once."""

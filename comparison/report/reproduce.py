@@ -1,4 +1,7 @@
-"""The report's "How to reproduce" section: the commands, the package and solver versions, the machine."""
+"""The report's "How to reproduce" section: the commands and the package and solver versions.
+
+The machine is named in ``timings.md`` (:mod:`comparison.report.timings`), apart from the results.
+"""
 
 from __future__ import annotations
 
@@ -44,6 +47,7 @@ python3 -m venv .venv && .venv/bin/pip install -e .
 ```
 
 `--no-cache` recomputes everything (see the README for the cache). Versions of this run: {versions}.
-Machine: {machine()}. Every number in the tables is independent of the machine but for the
-timings: the iterated LP decides on iteration and LP counts, never on seconds.
+The machine and the run times are in [timings.md](timings.md). Every number in the tables is
+independent of the machine but for the timings: the iterated LP decides on iteration and LP counts,
+never on seconds.
 """

@@ -101,7 +101,7 @@ def scaling_table(res: Results) -> Table:
               *(math.nan if f is None else float(f.seconds(b)) for b in QUOTED_BLOCKS),
               math.nan if largest is None else largest.seconds)
     t.note = ("Least squares in log-log over the records with an answer (`optimal`, `converged`); seconds: build "
-              "and solve as first run on the machine below; figure: `scaling.png`.")
+              "and solve as first run on the machine above; figure: `scaling.png`.")
     return t
 
 
@@ -135,5 +135,6 @@ def scaling_figure(res: Results, path: Path) -> Figure | None:
         path.name,
         "Run time against blocks of every micro record of this report (the paper's walls, the bond variants, "
         "the sweeps, the speed-accuracy walls), log-log; filled markers reached an answer and enter the fit "
-        "(dashed, exponent k), open ones did not. Times as run on the machine below; data: `scaling.csv`.",
+        "(dashed, exponent k), open ones did not. Times as run on the machine named in `timings.md`; "
+        "data: `scaling.csv`.",
     )

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import csv
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import Any
 
 from comparison.cases import SET4_HINGE_LOAD_FACTORS, PaperCase, cases_in_table
@@ -44,6 +46,13 @@ class Table:
         if self.note:
             out += ["", self.note]
         return "\n".join(out)
+
+    def write_csv(self, path: Path) -> None:
+        """The header and the rows as CSV (non-finite numbers empty)."""
+        with path.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(self.header)
+            w.writerows([[plain(c) for c in r] for r in self.rows])
 
     def records(self) -> list[dict[str, Any]]:
         """One dictionary per row, keyed by the header (non-finite numbers as ``None``)."""
@@ -239,8 +248,7 @@ def table9(res: Results) -> Table:
 def all_cases(res: Results) -> Table:
     """Every case the micro model runs on: macro against micro."""
     hdr = ["Case", "storeys", "t", "m", "o", "p", "f", "macro λ", "macro mechanism"]
-    for m in res.plan.methods:
-        hdr += [f"{m.kind} λ", f"{m.kind} s"]
+    hdr += [f"{m.kind} λ" for m in res.plan.methods]
     hdr += ["Δ % macro vs micro (non-assoc., else assoc.)", "blocks"]
     t = Table("all_cases", "All cases: macro against micro (micro values the paper does not have)", hdr)
     for c in res.plan.cases:
@@ -260,7 +268,7 @@ def all_cases(res: Results) -> Table:
         for m in res.plan.methods:
             rec = res.record(c.spec(), m)
             micro = rec.micro
-            row += [lam_cell(rec), None if micro is None else micro.build_seconds + micro.solve_seconds]
+            row.append(lam_cell(rec))
             blocks = blocks if micro is None else micro.blocks
         row += [pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
         t.add(*row)
@@ -393,12 +401,12 @@ def speed_accuracy(res: Results) -> Table:
         "speed_accuracy",
         f"Speed against accuracy (reference: {ref.method.kind}, {res.plan.resolutions[-1]} rows, "
         f"λ = {ref.load_factor:.4f})",
-        ["method", "rows", "blocks", "seconds", "λ", "rel. error of λ"],
+        ["method", "rows", "blocks", "λ", "rel. error of λ"],
         keys=2,
     )
     for r in speed_rows(res):
-        t.add(r.label, r.rows, r.blocks, r.seconds, r.load_factor, r.error)
-    t.note = "Seconds: build and solve as run (first computation, not a cache read); figure: `speed_accuracy.png`."
+        t.add(r.label, r.rows, r.blocks, r.load_factor, r.error)
+    t.note = "Run times: `timings.md` (they change from run to run); figure: `speed_accuracy.png`."
     return t
 
 

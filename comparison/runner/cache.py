@@ -1,4 +1,4 @@
-"""The on-disk result cache.
+"""The on-disk result cache: crash-safe and safe for concurrent runs.
 
 A record is stored as JSON (:meth:`Record.to_dict`) under a key made of the
 wall, the method and its options, the cache format, and the *code version* of
@@ -7,7 +7,26 @@ so that a re-run computes only what changed: editing ``micro`` recomputes the
 micro results and keeps the macro ones. A micro mechanism (block velocities)
 is stored beside its record, for the figures.
 
-Where the cache lives: ``--cache DIR`` on the command line, else the
+How an entry is written, so that a crash or a second run never leaves a
+misleading one:
+
+* every file is written to a unique temporary file in the same directory,
+  flushed to disk and renamed over its final name (``os.replace`` is atomic),
+  so a reader sees the whole old file or the whole new one, never a part;
+* the mechanism's arrays are written first, under a name that holds the hash
+  of their bytes (``<key>.<hash>.npz``, never overwritten by other bytes), and
+  the record last, naming that file and its hash: a record on disk implies its
+  arrays, and two runs storing the same entry at once each leave a consistent
+  pair (the last rename of the record wins);
+* a record that cannot be read (truncated, not JSON, of another form) or whose
+  arrays are missing or do not match their hash is reported with its path as a
+  :class:`CacheWarning` and treated as missing: it is recomputed and replaced;
+* a result stopped by a wall-clock limit (status ``time_limit``, or the
+  iterated LP's ``time_budget``) is not stored: another run, on another
+  machine, would have gone further, so it is recomputed next time.
+
+A run killed mid-write leaves at most a ``.*.tmp`` file, which no reader
+opens. Where the cache lives: ``--cache DIR`` on the command line, else the
 environment variable ``XCHECK_CACHE``, else ``$XDG_CACHE_HOME/xcheck``
 (``~/.cache/xcheck`` when ``XDG_CACHE_HOME`` is not set); see
 :func:`default_cache_dir`. The Python API takes the directory explicitly.
@@ -15,9 +34,13 @@ environment variable ``XCHECK_CACHE``, else ``$XDG_CACHE_HOME/xcheck``
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
+import io
 import json
 import os
+import tempfile
+import warnings
 from dataclasses import asdict
 from functools import cache
 from pathlib import Path
@@ -30,10 +53,18 @@ from comparison.runner.records import Mechanism, Record
 from comparison.wall import WallSpec
 
 #: Part of every key: bump it when the stored form of a record changes, so that
-#: entries of an older form are never misread (2: typed records).
-CACHE_FORMAT = 2
+#: entries of an older form are never misread (2: typed records; 3: the record
+#: names its mechanism file and that file's hash).
+CACHE_FORMAT = 3
+
+#: Statuses and stop reasons of a result cut short by a wall-clock limit: not stored.
+WALL_CLOCK_STOPS = frozenset({"time_limit", "time_budget"})
 
 _ROOT = Path(__file__).resolve().parents[2]
+
+
+class CacheWarning(UserWarning):
+    """A cache entry that cannot be read; it is recomputed and replaced."""
 
 
 def default_cache_dir() -> Path:
@@ -62,6 +93,35 @@ def _wall_key(spec: WallSpec) -> dict[str, Any]:
     return d
 
 
+def write_atomic(path: Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` through a unique temporary file, flushed and renamed.
+
+    A reader sees the old file or the new one, never a part of either; two
+    writers each rename a whole file of their own.
+    """
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+def stopped_by_wall_clock(record: Record) -> bool:
+    """True when ``record``'s result was cut short by a wall-clock limit (see :data:`WALL_CLOCK_STOPS`)."""
+    nonassoc = record.nonassoc
+    return record.status in WALL_CLOCK_STOPS or (nonassoc is not None and nonassoc.stop_reason in WALL_CLOCK_STOPS)
+
+
+class _Corrupt(Exception):
+    """An entry on disk that cannot be read (the message says why)."""
+
+
 class ResultCache:
     """Records (and micro mechanisms) on disk, one JSON file per (wall, method).
 
@@ -84,29 +144,88 @@ class ResultCache:
         return self.directory / method.kind / f"{digest}.json"
 
     def __contains__(self, item: tuple[WallSpec, Method]) -> bool:
-        return self.path(*item).exists()
+        """True when a readable entry (record and arrays) is stored."""
+        return self.entry(*item) is not None
+
+    def entry(self, spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None] | None:
+        """The stored record and its mechanism, or ``None`` (missing, or unreadable: then warned).
+
+        Warns:
+            CacheWarning: the entry exists but cannot be read; the message gives its path and why.
+        """
+        path = self.path(spec, method)
+        try:
+            return self._read(path)
+        except FileNotFoundError:
+            return None
+        except _Corrupt as exc:
+            warnings.warn(f"cache entry {path} is unreadable ({exc}); recomputing it", CacheWarning, stacklevel=2)
+            return None
 
     def load(self, spec: WallSpec, method: Method) -> Record | None:
-        """The stored record, or ``None``."""
-        path = self.path(spec, method)
-        if not path.exists():
-            return None
-        return Record.from_dict(json.loads(path.read_text()), cached=True)
-
-    def store(self, spec: WallSpec, record: Record, mechanism: Mechanism | None) -> None:
-        """Store ``record`` (and its mechanism) as the entry of ``spec``."""
-        path = self.path(spec, record.method)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(record.to_dict(), indent=1))
-        if mechanism is not None:
-            np.savez_compressed(
-                path.with_suffix(".npz"), velocities=mechanism.velocities, direction=np.array(mechanism.direction)
-            )
+        """The stored record, or ``None`` (see :meth:`entry`)."""
+        found = self.entry(spec, method)
+        return None if found is None else found[0]
 
     def mechanism(self, spec: WallSpec, method: Method) -> Mechanism | None:
-        """The stored mechanism of a micro record, or ``None``."""
-        npz = self.path(spec, method).with_suffix(".npz")
-        if not npz.exists():
-            return None
-        with np.load(npz) as data:
-            return Mechanism(data["velocities"], str(data["direction"]))
+        """The stored mechanism of a micro record, or ``None`` (see :meth:`entry`)."""
+        found = self.entry(spec, method)
+        return None if found is None else found[1]
+
+    def store(self, spec: WallSpec, record: Record, mechanism: Mechanism | None) -> bool:
+        """Store ``record`` (and its mechanism) as the entry of ``spec``, arrays first, record last.
+
+        Returns:
+            False when the record was not stored: its result was cut short by a
+            wall-clock limit (:func:`stopped_by_wall_clock`).
+        """
+        if stopped_by_wall_clock(record):
+            return False
+        path = self.path(spec, record.method)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        stored: dict[str, Any] = {"format": CACHE_FORMAT, "record": record.to_dict(), "mechanism": None}
+        if mechanism is not None:
+            buf = io.BytesIO()
+            np.savez_compressed(buf, velocities=mechanism.velocities, direction=np.array(mechanism.direction))
+            data = buf.getvalue()
+            sha = hashlib.sha256(data).hexdigest()
+            npz = path.with_name(f"{path.stem}.{sha[:16]}.npz")
+            write_atomic(npz, data)
+            stored["mechanism"] = {"file": npz.name, "sha256": sha}
+        write_atomic(path, json.dumps(stored, indent=1).encode())
+        return True
+
+    def _read(self, path: Path) -> tuple[Record, Mechanism | None]:
+        """Read and check one entry.
+
+        Raises:
+            FileNotFoundError: no record.
+            _Corrupt: a record or arrays that cannot be read.
+        """
+        raw = path.read_bytes()
+        try:
+            stored = json.loads(raw)
+            if stored.get("format") != CACHE_FORMAT:
+                raise _Corrupt(f"format {stored.get('format')!r}, expected {CACHE_FORMAT}")
+            record = Record.from_dict(stored["record"], cached=True)
+            ref = stored["mechanism"]
+        except _Corrupt:
+            raise
+        except (ValueError, KeyError, TypeError, AttributeError) as exc:  # JSONDecodeError is a ValueError
+            raise _Corrupt(f"{type(exc).__name__}: {exc}" if raw else "empty file") from None
+        if ref is None:
+            return record, None
+        return record, self._arrays(path, ref)
+
+    @staticmethod
+    def _arrays(path: Path, ref: Any) -> Mechanism:
+        """The mechanism file a record names, checked against its hash."""
+        try:
+            npz = path.with_name(ref["file"])
+            data = npz.read_bytes()
+        except (OSError, KeyError, TypeError) as exc:
+            raise _Corrupt(f"its mechanism file cannot be read: {exc}") from None
+        if hashlib.sha256(data).hexdigest() != ref.get("sha256"):
+            raise _Corrupt(f"its mechanism file {npz.name} does not match the hash the record names")
+        with np.load(io.BytesIO(data)) as arrays:
+            return Mechanism(np.array(arrays["velocities"]), str(arrays["direction"]))

@@ -15,10 +15,13 @@ from comparison.progress import Progress
 from comparison.runner.cache import ResultCache
 from comparison.runner.executor import Executor, Outcome, Task
 from comparison.runner.methods import Method
+from comparison.runner.records import Mechanism, Record
 from comparison.runner.runner import compute, summary_line
 from comparison.wall import WallSpec
 
 Item = tuple[WallSpec, Method]
+#: A computed record and its micro mechanism.
+Entry = tuple[Record, Mechanism | None]
 
 
 def approximate_blocks(spec: WallSpec) -> int:
@@ -40,12 +43,16 @@ class Prefetched:
     """What :func:`prefetch` did.
 
     Attributes:
-        computed: records computed and stored.
+        computed: records computed (stored, or kept in ``unstored``).
         failures: the outcome of every item that gave no record (failed, lost or refused).
+        unstored: the entries computed but not stored, their result being cut short by a wall-clock
+            limit (:func:`~comparison.runner.cache.stopped_by_wall_clock`): this run uses them, a later
+            one computes them again.
     """
 
     computed: int = 0
     failures: dict[Item, Outcome] = field(default_factory=dict)
+    unstored: dict[Item, Entry] = field(default_factory=dict)
 
 
 def prefetch(
@@ -57,11 +64,13 @@ def prefetch(
     """
     computed = 0
     failures: dict[Item, Outcome] = {}
+    unstored: dict[Item, Entry] = {}
     for outcome in executor.run([compute_task(spec, method) for spec, method in items]):
         key: Item = outcome.task.key  # type: ignore[assignment]
         if outcome.ok:
             record, mechanism = outcome.value
-            cache.store(key[0], record, mechanism)
+            if not cache.store(key[0], record, mechanism):
+                unstored[key] = (record, mechanism)
             computed += 1
             line = summary_line(record)
         else:
@@ -69,4 +78,4 @@ def prefetch(
             line = f"{outcome.task.label}: {outcome.kind}: {outcome.error}"
         if progress is not None:
             progress.advance(line)
-    return Prefetched(computed, failures)
+    return Prefetched(computed, failures, unstored)

@@ -10,7 +10,7 @@ figures.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -100,14 +100,18 @@ class Runner:
         """The mechanism of the micro record of ``method`` on ``spec``, if it has one."""
         return self._entry(spec, method)[1]
 
+    def keep(self, entries: Mapping[tuple[WallSpec, Method], tuple[Record, Mechanism | None]]) -> None:
+        """Hold ``entries`` (computed elsewhere, not in the cache) for this runner's lifetime."""
+        self._memory.update(entries)
+
     def _entry(self, spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         key = (spec, method)
         if key in self._memory:
             return self._memory[key]
-        stored = None if self.cache is None else self.cache.load(spec, method)
-        if stored is not None and self.cache is not None:
+        stored = None if self.cache is None else self.cache.entry(spec, method)
+        if stored is not None:
             self.hits += 1
-            entry = (stored, self.cache.mechanism(spec, method))
+            entry = stored
         else:
             entry = compute(spec, method)
             self.computed += 1

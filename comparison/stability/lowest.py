@@ -17,12 +17,12 @@ import math
 import os
 import time
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from comparison.cases import cases_in_table
+from comparison.runner.executor import LocalExecutor, Task
 from comparison.stability.study import GRID, WallCase, grid_walls
 
 #: The tiny walls: the MIP proves the global minimum on walls of a few blocks
@@ -194,8 +194,7 @@ def run_case(case: LowestCase) -> LowestRun:
         r = micro.solve_nonassociative(wall, global_=case.nodes > 0, global_node_limit=case.nodes or None,
                                        global_time_limit=None, global_bounds=GLOBAL_BOUNDS)
     except Exception as exc:  # noqa: BLE001 - recorded as the run's status
-        return LowestRun(case, wall.n_blocks, f"error: {type(exc).__name__}: {exc}", nan, (nan, nan), nan, 0, "",
-                         nan, nan, nan, 0, nan, nan, nan, 0, 0)
+        return _failed(case, wall.n_blocks, f"error: {type(exc).__name__}: {exc}")
     rec, g = r.to_record(), r.global_search
     band = r.mechanism_band if r.converged and r.mechanism_band is not None else (nan, nan)
     return LowestRun(
@@ -206,16 +205,27 @@ def run_case(case: LowestCase) -> LowestRun:
     )
 
 
+def _failed(case: LowestCase, blocks: int, status: str) -> LowestRun:
+    """The run of a case that gave no result (``status`` says why)."""
+    nan = math.nan
+    return LowestRun(case, blocks, status, nan, (nan, nan), nan, 0, "", nan, nan, nan, 0, nan, nan, nan, 0, 0)
+
+
 def run_cases(cases: Sequence[LowestCase], processes: int = 2) -> list[LowestRun]:
-    """Every case (``processes`` worker processes, largest searches first)."""
-    order = sorted(range(len(cases)), key=lambda i: -cases[i].nodes)
+    """Every case, largest searches first: in this process (``processes <= 1``) or on a
+    :class:`~comparison.runner.executor.LocalExecutor` (Ctrl-C and a dead parent end its workers)."""
     if processes <= 1:
-        done = [run_case(cases[i]) for i in order]
-    else:
-        with ProcessPoolExecutor(max_workers=processes) as ex:
-            done = list(ex.map(run_case, [cases[i] for i in order], chunksize=1))
-    by_index = dict(zip(order, done, strict=True))
-    return [by_index[i] for i in range(len(cases))]
+        order = sorted(range(len(cases)), key=lambda i: -cases[i].nodes)
+        by_index = {i: run_case(cases[i]) for i in order}
+        return [by_index[i] for i in range(len(cases))]
+    tasks = [Task(i, run_case, (c,), c.nodes, 0, c.name) for i, c in enumerate(cases)]
+    done: dict[int, LowestRun] = {}
+    with LocalExecutor(processes) as executor:
+        for outcome in executor.run(tasks):
+            i = outcome.task.key
+            assert isinstance(i, int)
+            done[i] = outcome.value if outcome.ok else _failed(cases[i], 0, f"{outcome.kind}: {outcome.error}")
+    return [done[i] for i in range(len(cases))]
 
 
 def main_lowest(out: str | os.PathLike[str] = "reports", *, processes: int = 2, quick: bool = False) -> dict[str, Path]:

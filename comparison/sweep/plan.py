@@ -9,14 +9,18 @@ were computed in.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+
+import numpy as np
 
 from comparison.runner import Method, approximate_blocks
 from comparison.sweep.grid import Grid, GridMethod
 from comparison.wall import WallSpec
 from macro.checks import UNEQUAL_STOREYS
 
-#: Why a cell is not computed: its rows do not split over its storeys, or its wall is over a block limit.
+#: Why a cell is not computed: its parameters make no wall (rows that do not split over its storeys, a wall
+#: outside the physical bounds), or its wall is over a block limit.
 NOT_APPLICABLE, NOT_RUN = "not_applicable", "not_run"
 
 
@@ -107,8 +111,11 @@ def cells(grid: Grid) -> list[Cell]:
     out: list[Cell] = []
     bonds = list(itertools.product(grid.bond["first_course"], grid.bond["head_joints"]))
     micro = any(gm.method.kind != "macro" for gm in grid.methods)
-    for point in wall_points(grid):
+    points = wall_points(grid)
+    no_wall = unbuildable(points)
+    for k, point in enumerate(points):
         why = "" if point.rows % point.storeys == 0 else UNEQUAL_STOREYS.format(rows=point.rows, storeys=point.storeys)
+        why = why or no_wall.get(k, "")
         spec = micro_spec(point.spec()) if micro and not why else None
         for gm in grid.methods:
             if gm.method.kind == "macro":
@@ -117,6 +124,30 @@ def cells(grid: Grid) -> list[Cell]:
             for fc, hj in bonds:
                 method = replace(gm.method, first_course=fc, head_joints=hj)
                 out.append(_micro_cell(len(out), point, method, spec, why, _limit(grid, gm)))
+    return out
+
+
+def unbuildable(points: Sequence[WallPoint]) -> dict[int, str]:
+    """Why the points whose parameters make no wall make none (e.g. a wall shorter than one block), by index.
+
+    The physical bounds of :mod:`macro.checks`, checked in one vectorised call per number of storeys; only
+    a group with a bad point is checked point by point (to quote each one's message). Points whose rows
+    do not split over their storeys are left to the caller.
+    """
+    from macro.paper import paper_walls
+
+    out: dict[int, str] = {}
+    for n in sorted({p.storeys for p in points}):
+        group = [i for i, p in enumerate(points) if p.storeys == n and p.rows % n == 0]
+        t, m, rows, f, p = (np.array([getattr(points[i], k) for i in group]) for k in ("t", "m", "rows", "f", "p"))
+        try:
+            paper_walls(t, m, rows, f, p, storeys=n)
+        except ValueError:
+            for i in group:
+                try:
+                    points[i].spec()
+                except ValueError as exc:
+                    out[i] = str(exc)
     return out
 
 

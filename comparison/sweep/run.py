@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 
 from comparison.progress import Progress
-from comparison.runner import Record, ResultCache, code_version, prefetch
-from comparison.runner.executor import Executor, Outcome
+from comparison.runner import Prefetched, Record, ResultCache, code_version, prefetch
+from comparison.runner.executor import Executor
 from comparison.runner.methods import PACKAGES
 from comparison.sweep.grid import Grid
 from comparison.sweep.plan import Cell, cells
@@ -72,7 +72,7 @@ def run_sweep(grid: Grid, out_dir: Path, *, cache: ResultCache, executor: Execut
     done = prefetch(cache, pending, executor, progress)
     micro_seconds = time.perf_counter() - t0
     progress.close()
-    rows.update({c.index: _micro_row(c, cache, done.failures, c.index in cached) for c in plan if c.micro})
+    rows.update({c.index: _micro_row(c, cache, done, c.index in cached) for c in plan if c.micro})
     counts = {
         "cells": len(plan),
         "macro": sum(1 for c in plan if not c.micro and not c.skip),
@@ -162,17 +162,18 @@ def _macro_side(plan: Sequence[Cell], rows: dict[int, dict[str, Any]]) -> float:
     return len(todo) / seconds if seconds > 0 else math.nan
 
 
-def _micro_row(cell: Cell, cache: ResultCache, failures: dict[Any, Outcome], cached: bool) -> dict[str, Any]:
-    """The row of a micro cell: skipped, failed, or its record (from the cache)."""
+def _micro_row(cell: Cell, cache: ResultCache, done: Prefetched, cached: bool) -> dict[str, Any]:
+    """The row of a micro cell: skipped, failed, or its record (from the cache, or computed and not stored)."""
     if cell.skip:
         return _skipped(cell)
-    outcome = failures.get((cell.spec, cell.method))
+    assert cell.spec is not None
+    outcome = done.failures.get((cell.spec, cell.method))
     if outcome is not None:
         status = FAILURE_STATUS[outcome.kind]
         return {**_skipped(cell), "status": status, "seconds": outcome.seconds, "message": outcome.error}
-    assert cell.spec is not None
-    record = cache.load(cell.spec, cell.method)
-    if record is None:  # pragma: no cover - stored by prefetch a moment ago
+    unstored = done.unstored.get((cell.spec, cell.method))
+    record = unstored[0] if unstored is not None else cache.load(cell.spec, cell.method)
+    if record is None:  # pragma: no cover - stored (or kept) by prefetch a moment ago
         raise RuntimeError(f"cell {cell.index} ({cell.point.label}, {cell.method.label}) missing from the cache")
     return {**_inputs(cell), **_record_fields(record), "cached": cached}
 

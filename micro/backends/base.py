@@ -158,12 +158,28 @@ ALL_SOLVERS = (
 )
 
 
+def check_time_limit(time_limit: float | None) -> float | None:
+    """``None`` (no limit) or a positive finite number of seconds.
+
+    Raises:
+        ValueError: ``"time_limit must be a positive number of seconds, got ..."``.
+    """
+    if time_limit is None:
+        return None
+    ok = isinstance(time_limit, (int, float)) and not isinstance(time_limit, bool)
+    if not ok or not math.isfinite(time_limit) or time_limit <= 0:
+        raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit!r}")
+    return float(time_limit)
+
+
 def make_backend(lp: LimitLP, solver: str = "highs", *, time_limit: float | None = None) -> Backend:
     """Make the back end called ``solver`` for ``lp``.
 
     Raises:
-        ValueError: an unknown solver name (the message lists the valid ones).
+        ValueError: an unknown solver name (the message lists the valid ones),
+            or a time limit that is not a positive number of seconds.
     """
+    time_limit = check_time_limit(time_limit)
     from micro.backends.clarabel import ClarabelBackend
     from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
     from micro.backends.cvxpy_ import CvxpyBackend

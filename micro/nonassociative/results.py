@@ -9,7 +9,7 @@ from typing import Any
 from micro.nonassociative.global_mip import GlobalResult, global_fields, global_summary
 from micro.nonassociative.lowest import LowestDirection, lowest_fields, lowest_summary
 from micro.nonassociative.options import NonAssociativeOptions
-from micro.records import NonAssociativeRecord
+from micro.records import NonAssociativeRecord, check_success
 from micro.results import DirectionResult, record_fields
 
 #: Values of ``status``. ``max_iterations``: the cap on LPs or the work budget
@@ -179,6 +179,9 @@ class NonAssociativeResult:
     message: str = ""
     lowest: tuple[LowestDirection, ...] = field(default=(), repr=False)
     global_search: GlobalResult | None = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        check_success("NonAssociativeResult", self.status, self.load_factor)
 
     @property
     def converged(self) -> bool:

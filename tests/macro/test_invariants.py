@@ -13,8 +13,9 @@ from hypothesis import strategies as st
 import macro
 from comparison.wall import WallSpec
 
-walls = st.builds(
-    lambda t, m, per, n, f, p: WallSpec.from_paper(t=t, m=m, rows=per * n, f=f, p=p, storeys=n).to_macro(),
+walls = st.builds(  # t at most o m: a wall at least one block long (macro.checks.wall_bounds)
+    lambda t, m, per, n, f, p: WallSpec.from_paper(t=min(t, per * n * m), m=m, rows=per * n, f=f, p=p, storeys=n)
+    .to_macro(),
     t=st.floats(0.3, 4.0),
     m=st.sampled_from([0.25, 1 / 3, 0.5, 2 / 3, 1.0]),
     per=st.integers(1, 40),
@@ -114,6 +115,7 @@ def test_sweep_matches_solve() -> None:
     f, p = rng.uniform(0.3, 0.9, 40), rng.uniform(0, 8, 40)
     for n in (1, 3):
         rows = n * rng.choice([4, 12, 20], 40)
+        t = np.minimum(t, rows * m)  # a wall at least one block long
         s = macro.sweep(t, m, rows, f, p, storeys=n)
         for i in range(40):
             spec = WallSpec.from_paper(t=t[i], m=m[i], rows=int(rows[i]), f=f[i], p=p[i], storeys=n)
@@ -180,9 +182,10 @@ def test_fused_eq10_matches_term_by_term() -> None:
     rng = np.random.default_rng(3)
     for _ in range(60):
         n = int(rng.integers(1, 5))
+        m, rows = rng.choice([0.25, 1 / 3, 0.5, 1.0]), n * int(rng.integers(1, 30))
         w = WallSpec.from_paper(
-            t=rng.uniform(0.3, 4), m=rng.choice([0.25, 1 / 3, 0.5, 1.0]), rows=n * int(rng.integers(1, 30)),
-            f=rng.uniform(0.2, 1.0), p=rng.uniform(0, 8), storeys=n,
+            t=min(rng.uniform(0.3, 4), rows * m), m=m, rows=rows, f=rng.uniform(0.2, 1.0), p=rng.uniform(0, 8),
+            storeys=n,
         ).to_macro()  # fmt: skip
         pb = _problems(w)
         tau = np.tan(rng.uniform(0.0, 1.2, (pb.size, 40)))

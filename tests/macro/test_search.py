@@ -57,6 +57,7 @@ def test_sweep_against_brute_force(storeys: int) -> None:
     )
     rows = storeys * rng.integers(1, 25, n)
     p[::3] = 0.0
+    t = np.minimum(t, rows * m)  # a wall at least one block long (macro.checks.wall_bounds)
     s = macro.sweep(t, m, rows, f, p, storeys=storeys)
     for i in range(n):
         wall = WallSpec.from_paper(t=t[i], m=m[i], rows=int(rows[i]), f=f[i], p=p[i], storeys=storeys).to_macro()
@@ -91,8 +92,8 @@ def test_minimum_behind_a_local_maximum() -> None:
 
 def test_one_row_mechanism() -> None:
     """One row in the mechanism: Eq. (11) is the point tan(alpha_c) = v/b."""
-    s = macro.sweep(2.0, 0.5, 3, 0.6, 0.0, storeys=3)
-    r = macro.solve(WallSpec.from_paper(t=2.0, m=0.5, rows=3, f=0.6, storeys=3).to_macro())
+    s = macro.sweep(1.5, 0.5, 3, 0.6, 0.0, storeys=3)  # one block long: t = o m
+    r = macro.solve(WallSpec.from_paper(t=1.5, m=0.5, rows=3, f=0.6, storeys=3).to_macro())
     assert r.hinges[0].tan_alpha_c == pytest.approx(1.0, rel=1e-15)
     assert s.rocking_load_factor == pytest.approx(r.rocking_load_factor, rel=1e-12)
 

@@ -123,7 +123,7 @@ def test_bad_inputs(kw: dict[str, object], word: str) -> None:
 
 def test_memory_guard_quotes_estimate() -> None:
     with pytest.raises(ValueError, match=r"too large.*bytes.*available"):
-        tiny(length=3e6, rows=(1000,))  # 2e9 blocks
+        tiny(length=9e5, rows=(1000,))  # 3e8 blocks (lengths are bounded by 1e6 block heights)
     with pytest.raises(ValueError, match="too large"):
         tiny(max_bytes=1000)
     assert available_memory_bytes() is None or available_memory_bytes() > 0

@@ -64,6 +64,6 @@ def test_bad_input_one_line_exit_2(extra: list[str], word: str, capsys: pytest.C
 
 
 def test_bad_wall_one_line(capsys: pytest.CaptureFixture[str]) -> None:
-    rc = cli.main(["micro", "--t", "30", "--m", "1", "--rows", "12", "--f", "0.75"])  # L = 0.4 < l/2 = 0.5
+    rc = cli.main(["micro", "--t", "30", "--m", "1", "--rows", "12", "--f", "0.75"])  # L = 0.4 < l = 1
     err = capsys.readouterr().err
-    assert rc == 2 and "length" in err and err.count("\n") == 1
+    assert rc == 2 and "t must be in" in err and "one block long" in err and err.count("\n") == 1

@@ -88,9 +88,10 @@ def _cached(cache: Path) -> int:
     [
         ["report", "--quick", "--workers", "2"],
         ["stability", "--quick", "--processes", "2"],
+        ["stability", "--lowest", "--quick", "--processes", "2"],
         ["sweep", "GRID", "--workers", "2"],
     ],
-    ids=["report", "stability", "sweep"],
+    ids=["report", "stability", "stability-lowest", "sweep"],
 )
 def test_ctrl_c_stops_the_run_with_exit_130_and_ends_its_workers(tmp_path: Path, command: list[str]) -> None:
     grid = tmp_path / "signals.toml"

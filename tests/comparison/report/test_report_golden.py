@@ -17,8 +17,6 @@ from typing import Any
 
 import pytest
 
-from comparison.report import build_report
-
 GOLDEN = Path(__file__).with_name("golden_quick.json")
 
 
@@ -62,10 +60,8 @@ def _cells(report: dict[str, Any]) -> dict[str, float | str]:
 
 
 @pytest.fixture(scope="module")
-def quick_report(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
-    out = tmp_path_factory.mktemp("report")
-    build_report(out, quick=True, cache_dir=None)
-    return json.loads((out / "report.json").read_text())
+def quick_report(quick_report_dir: Path) -> dict[str, Any]:
+    return json.loads((quick_report_dir / "report.json").read_text())
 
 
 def test_quick_report_matches_golden_cells(quick_report: dict[str, Any]) -> None:

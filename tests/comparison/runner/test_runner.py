@@ -41,10 +41,11 @@ def test_code_version_tracks_the_package_sources() -> None:
 
 
 def test_not_buildable_micro_wall_is_reported_not_raised(tmp_path: Path) -> None:
-    spec = WallSpec.from_paper(t=30, m=1, rows=12, f=0.6)  # L = 0.4 is shorter than half a block (0.5)
+    # 600,000 rows of 200,000 blocks: beyond any memory (a wall shorter than a block is refused by WallSpec)
+    spec = WallSpec.from_paper(t=1, m=1 / 3, rows=600_000, f=0.6)
     rec = Runner(tmp_path).run(spec, MICRO_ASSOC)
     assert rec.status == "not_applicable" and math.isnan(rec.load_factor)
-    assert "half a block" in rec.message and rec.result is None
+    assert "too large" in rec.message and rec.result is None
 
 
 def test_cached_records_are_typed_and_equal_to_the_computed_ones(tmp_path: Path) -> None:
@@ -65,7 +66,7 @@ def test_cache_entries_are_json_of_the_typed_record(tmp_path: Path) -> None:
     spec = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75)
     rec = Runner(tmp_path).run(spec, MICRO_ASSOC)
     path = ResultCache(tmp_path).path(spec, MICRO_ASSOC)
-    stored = json.loads(path.read_text())
+    stored = json.loads(path.read_text())["record"]
     assert Record.from_dict(stored).result == rec.result
     assert stored["result"]["blocks"] == 54 and stored["method"]["kind"] == "micro-assoc"
 

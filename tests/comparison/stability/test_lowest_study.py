@@ -6,6 +6,8 @@ import csv
 import math
 from pathlib import Path
 
+import pytest
+
 from comparison.report import lowest as report_lowest
 from comparison.stability import WallCase
 from comparison.stability.lowest import GLOBAL_MATCH, LowestCase, LowestRun, run_cases, study_cases
@@ -44,3 +46,17 @@ def test_small_study(tmp_path: Path) -> None:
     section = report_lowest.section(paths["csv"])
     assert "| Set X | 0.50 |" in section and "t0.5" not in section
     assert "missing" in report_lowest.section(tmp_path / "none.csv")
+
+
+@pytest.mark.processes
+def test_worker_processes_give_the_runs_of_one_process() -> None:
+    """The study's worker processes are the suite's LocalExecutor (Ctrl-C and orphans: test_signals.py)."""
+    cases = [
+        LowestCase("tiny", WallCase(0.5, 1 / 3, 2, 0.6, 1), nodes=5_000),
+        LowestCase("table7", WallCase(1.0, 1.0, 6, 0.75, 1), published=0.5, label="Set X"),
+    ]
+
+    def values(runs: list[LowestRun]) -> list[tuple[object, ...]]:
+        return [(r.case.name, r.status, r.iterated, r.lowest, r.global_status) for r in runs]
+
+    assert values(run_cases(cases, processes=2)) == values(run_cases(cases, processes=1))

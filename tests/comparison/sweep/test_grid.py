@@ -53,6 +53,17 @@ def test_a_grid_expands_to_its_cells() -> None:
     assert any(c.skip == "not_run" and c.method.kind == "micro-nonassoc" and c.blocks <= 100 for c in cs)
 
 
+def test_points_that_make_no_wall_are_skipped_with_the_reason() -> None:
+    """t = 3 with m = 1/3 and 6 rows is a wall shorter than one block (o m = 2 < t): outside the physical
+    bounds, so every method's cell of it is not_applicable with the wall check's message; the rest run."""
+    text = GOOD.replace("t = [1.0, 2.0]", "t = [1.0, 3.0]").replace("{ from = 12, to = 24, step = 6 }", "6")
+    g = parse_grid(text.replace("storeys = [1, 4]", "storeys = [1, 2]"))
+    cs = cells(g)
+    short = [c for c in cs if c.point.t == 3.0 and c.point.m < 1]
+    assert short and all(c.skip == "not_applicable" and "one block long" in c.message for c in short)
+    assert all(not c.skip for c in cs if not (c.point.t == 3.0 and c.point.m < 1) and c.method.kind == "macro")
+
+
 def test_the_example_grids_parse() -> None:
     for path in sorted((ROOT / "examples" / "sweeps").glob("*.toml")):
         assert cells(load_grid(path)), path

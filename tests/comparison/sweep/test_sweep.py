@@ -78,10 +78,10 @@ def test_a_second_run_reads_everything_from_the_cache(tiny_local) -> None:
 def test_sweeps_that_share_walls_compute_them_once(tiny_local, tmp_path: Path) -> None:
     tmp, rows, _ = tiny_local
     grid = tmp_path / "share.toml"
-    grid.write_text(TINY.read_text().replace("t = [1.0, 2.0]", "t = [2.0, 3.0]"))
+    grid.write_text(TINY.read_text().replace("t = [1.0, 2.0]", "t = [2.0, 1.5]"))
     code, other, meta = _sweep(tmp_path, grid, tmp / "cache", "--workers", "1")
     assert code == 0
-    assert meta["counts"]["cached"] == 4 and meta["counts"]["computed"] == 4  # t = 2 shared, t = 3 new
+    assert meta["counts"]["cached"] == 4 and meta["counts"]["computed"] == 4  # t = 2 shared, t = 1.5 new
     def shared(table: list[dict[str, str]]) -> list[dict[str, str]]:
         return [{k: v for k, v in r.items() if k != "cell"} for r in _results(table) if r["t"] == "2.0"]
 

@@ -1,0 +1,34 @@
+"""Directories the suite writes into, checked before any work starts.
+
+A report or a study that runs for minutes and then cannot write its files has
+wasted the run; :func:`writable_directory` refuses such a directory up front,
+with one line naming the parameter.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+
+def writable_directory(name: str, path: str | os.PathLike[str]) -> Path:
+    """``path`` as a directory this process can write into, created (with its parents) if missing.
+
+    Args:
+        name: the parameter, as the caller spells it (``--out``, ``cache_dir``).
+        path: the directory.
+
+    Raises:
+        ValueError: ``"{name}: cannot write to {path!r} (reason)"``: the path
+            is a file, or cannot be created or written.
+    """
+    directory = Path(path)
+    if directory.exists() and not directory.is_dir():
+        raise ValueError(f"{name}: cannot write to {str(directory)!r} (it is a file, not a directory)")
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ValueError(f"{name}: cannot write to {str(directory)!r} ({exc.strerror or exc})") from None
+    if not os.access(directory, os.W_OK | os.X_OK):
+        raise ValueError(f"{name}: cannot write to {str(directory)!r} (permission denied)")
+    return directory

@@ -1,0 +1,88 @@
+"""The report's run times, kept apart from its results.
+
+Everything in ``REPORT.md``, ``report.json`` and the table CSVs is a function
+of the code and the inputs; run times, the machine and what came from the
+cache are not. They go to ``timings.md``, ``timings.csv`` and ``timings.json``
+(with the speed-accuracy figure, whose axis is seconds), so that regenerating
+the report on another machine changes nothing else.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from comparison.report.reproduce import machine
+from comparison.report.results import MACRO_TIMING_REPEATS, Results
+from comparison.report.scaling import scaling_table
+from comparison.report.tables import Table
+
+#: The files of a report that hold run times (everything else reproduces exactly).
+TIMING_FILES = (
+    "timings.md",
+    "timings.csv",
+    "timings.json",
+    "speed_accuracy.png",
+    "scaling.csv",
+    "scaling.png",
+)
+
+
+def timings_table(res: Results) -> Table:
+    """Seconds of every computation of the report: the macro solve and each (wall, method) run."""
+    t = Table(
+        "timings",
+        "Run times (as computed; a record read from the cache keeps the time of its computation)",
+        ["wall", "method", "blocks", "build + solve s", "total s", "read from the cache"],
+        keys=2,
+    )
+    t.add(
+        "speed-accuracy base wall",
+        f"macro (mean of {MACRO_TIMING_REPEATS} solves)",
+        None,
+        None,
+        res.macro_seconds,
+        "no",
+    )
+    for (_, method), rec in res.records.items():
+        if rec.skipped:
+            continue
+        micro = rec.micro
+        build_solve = None if micro is None else micro.build_seconds + micro.solve_seconds
+        t.add(rec.wall, method.label, None if micro is None else micro.blocks, build_solve, rec.seconds,
+              "yes" if rec.cached else "no")  # fmt: skip
+    return t
+
+
+def write_timings(res: Results, out: Path, run: Mapping[str, Any]) -> Path:
+    """Write ``timings.md``, ``timings.csv`` and ``timings.json``.
+
+    Args:
+        res: the results.
+        out: the report's directory.
+        run: this run's facts (``seconds``, ``computed``, ``cached``); the machine is added here.
+
+    Returns:
+        The path of ``timings.md``.
+    """
+    run = {"python": platform.python_version(), "machine": machine(), **run}
+    table = timings_table(res)
+    scaling = scaling_table(res)
+    table.write_csv(out / "timings.csv")
+    scaling.write_csv(out / "scaling.csv")
+    (out / "timings.json").write_text(
+        json.dumps({"run": dict(run), "timings": table.records(), "scaling": scaling.records()}, indent=1)
+    )
+    path = out / "timings.md"
+    path.write_text(
+        f"# Run times of the report\n\nPython {run['python']} on {run['machine']}. "
+        f"This run: {run['seconds']:.1f} s, {run['computed']} computations, {run['cached']} read from the result "
+        "cache (keyed by the wall, the method and the source of the packages it runs). Seconds change from run "
+        "to run and machine to machine; nothing else in the report does. Figures: `speed_accuracy.png`, "
+        "`scaling.png`.\n\n"
+        f"{table.markdown()}\n\n{scaling.markdown()}\n"
+    )
+    return path

@@ -1,0 +1,169 @@
+"""The command line under misuse: one line naming the parameter and exit 2, never a traceback.
+
+Usage and version, a reader that goes away (``| head``), output and cache
+directories that cannot be written, conflicting flags, scene files that are
+not UTF-8 text, and extreme but finite numbers that once reached a solver.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from comparison.cli import main
+from comparison.cli.app import EXIT_BROKEN_PIPE
+
+ROOT = Path(__file__).resolve().parents[3]
+EXAMPLE = ROOT / "examples" / "three-storey.toml"
+WALL = ["--rows", "12", "--t", "1", "--m", "1/3", "--f", "0.75"]
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def one_line_error(code: int, err: str, *words: str) -> None:
+    assert code == 2, err
+    assert err.startswith("xcheck: error: ") and err.count("\n") == 1, err
+    for word in words:
+        assert word in err, (word, err)
+
+
+def test_bare_xcheck_prints_usage(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = run(capsys)
+    assert code == 2 and out == ""
+    assert err.startswith("usage: xcheck") and "macro" in err and "report" in err
+
+
+def test_version(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "--version")
+    assert code == 0 and out.startswith("xcheck ") and out.strip().split()[1][0].isdigit()
+
+
+def test_a_closed_pipe_ends_quietly() -> None:
+    """``xcheck macro --json | head``: the reader closes before the output is written."""
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-c",
+            "import sys; from comparison.cli import main; sys.exit(main())",
+            "macro",
+            *WALL,
+            "--json",
+        ],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    assert proc.stdout is not None and proc.stderr is not None
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=60) == EXIT_BROKEN_PIPE
+    assert err == ""
+
+
+@pytest.mark.parametrize("where", ["a file", "under a file", "in /proc"])
+@pytest.mark.parametrize("option", ["--out", "--cache"])
+def test_an_unwritable_directory_is_refused_before_any_work(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], option: str, where: str
+) -> None:
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    bad = {"a file": afile, "under a file": afile / "sub", "in /proc": Path("/proc/xcheck-test")}[where]
+    dirs = {"--out": str(tmp_path / "out"), "--cache": str(tmp_path / "cache")} | {option: str(bad)}
+    code, _, err = run(capsys, "report", "--quick", "--out", dirs["--out"], "--cache", dirs["--cache"])
+    one_line_error(code, err, option, "cannot write")
+    assert not (tmp_path / "out" / "REPORT.md").exists()
+
+
+def test_stability_out_is_checked_first(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    code, _, err = run(capsys, "stability", "--quick", "--out", str(afile))
+    one_line_error(code, err, "--out", "cannot write")
+
+
+@pytest.mark.parametrize("extra", [["--p", "1"], ["--storeys", "3"], ["--rows", "12"], ["--f", "0.6"]])
+def test_scene_excludes_the_paper_parameters(capsys: pytest.CaptureFixture[str], extra: list[str]) -> None:
+    code, _, err = run(capsys, "macro", "--scene", str(EXAMPLE), *extra)
+    one_line_error(code, err, "--scene", extra[0])
+
+
+@pytest.mark.parametrize(
+    ("content", "words"),
+    [
+        (EXAMPLE.read_text().encode("utf-16"), ["UTF-16"]),
+        (b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\xff\xfe", ["not UTF-8", "line 1"]),
+        (b"[wall]\nlength = 6\n\xff\xfe", ["not UTF-8", "line 3"]),
+        (b"\x00" * 64, ["malformed TOML"]),
+        (b"storey = [1, 2]\n[wall]\nlength = 6\nfriction = 0.6\n[block]\nlength = 0.3\nheight = 0.1\n", ["storey"]),
+    ],
+    ids=["utf-16", "png", "latin byte", "nul bytes", "storey not a table"],
+)
+def test_a_scene_that_is_not_a_toml_text_names_the_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], content: bytes, words: list[str]
+) -> None:
+    scene = tmp_path / "wall.toml"
+    scene.write_bytes(content)
+    code, _, err = run(capsys, "macro", "--scene", str(scene))
+    one_line_error(code, err, str(scene), *words)
+
+
+def test_a_scene_with_a_byte_order_mark_is_read(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    scene = tmp_path / "bom.toml"
+    scene.write_bytes(EXAMPLE.read_text().encode("utf-8-sig"))
+    code, _, _ = run(capsys, "macro", "--scene", str(scene))
+    assert code == 0
+
+
+@pytest.mark.parametrize(
+    ("command", "argv", "words"),
+    [
+        ("macro", ["--rows", "12", "--t", "1e300", "--m", "1/3", "--f", "0.6"], ["t must be in", "one block long"]),
+        ("macro", ["--rows", "12", "--t", "100", "--m", "1/3", "--f", "0.6"], ["t must be in", "one block long"]),
+        ("macro", ["--rows", "12", "--t", "1", "--m", "1e-300", "--f", "0.6"], ["m must be in"]),
+        ("macro", ["--rows", "12", "--t", "1", "--m", "1/3", "--f", "1e300"], ["f must be in"]),
+        ("macro", ["--rows", "2000000", "--t", "1", "--m", "1/3", "--f", "0.6"], ["rows must be at most"]),
+        ("micro", [*WALL, "--p", "1e300"], ["p must be at most"]),
+        ("micro", ["--rows", "12", "--t", "1e-300", "--m", "1/3", "--f", "0.6"], ["t must be in"]),
+    ],
+)
+def test_extreme_numbers_are_refused(
+    capsys: pytest.CaptureFixture[str], command: str, argv: list[str], words: list[str]
+) -> None:
+    code, _, err = run(capsys, command, *argv)
+    one_line_error(code, err, *words)
+
+
+@pytest.mark.parametrize(
+    ("replace", "words"),
+    [
+        (("length = 6.0", "length = 1e300"), ["line 7", "wall.length must be in"]),
+        (("length = 6.0", "length = 0.2"), ["wall.length must be at least", "one block long"]),
+        (("height = 0.10", "height = 1e-300"), ["block.height must be in"]),
+        (("overload = 0.0", "overload = 1e30"), ["overload must be at most"]),
+    ],
+)
+def test_extreme_scene_values_name_the_key_and_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], replace: tuple[str, str], words: list[str]
+) -> None:
+    text = EXAMPLE.read_text()
+    assert replace[0] in text
+    scene = tmp_path / "wall.toml"
+    scene.write_text(text.replace(replace[0], replace[1], 1))
+    code, _, err = run(capsys, "macro", "--scene", str(scene))
+    one_line_error(code, err, str(scene), *words)
+
+
+def test_a_scene_too_large_for_the_macro_search(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """45,000 one-row storeys (405 GB estimated): refused from the memory estimate before anything is allocated."""
+    storeys = "".join("[[storey]]\nrows = 1\n" for _ in range(45_000))
+    scene = tmp_path / "tall.toml"
+    scene.write_text(f"[wall]\nlength = 6\nfriction = 0.6\n[block]\nlength = 0.3\nheight = 0.1\n{storeys}")
+    code, _, err = run(capsys, "macro", "--scene", str(scene))
+    one_line_error(code, err, "storeys", "GB")

@@ -1,0 +1,221 @@
+"""Crash safety of the result cache, with real processes.
+
+* a process SIGKILLed at every step of a store leaves no entry or a whole one
+  (a record always with its mechanism);
+* truncated, empty or foreign files are warned about with their path and
+  recomputed, never raised;
+* two processes storing and reading the same entries at once never see a part
+  of a file;
+* a result stopped by a wall-clock limit is not stored as a final answer (its
+  run uses it; the next one computes it again).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import re
+import signal
+import subprocess
+import sys
+import textwrap
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from comparison.runner import MICRO_ASSOC, ResultCache, Runner, prefetch
+from comparison.runner.executor import Outcome, Task
+from comparison.wall import WallSpec
+
+SPEC = WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75, name="six rows")
+ROOT = Path(__file__).resolve().parents[3]
+
+#: A subprocess that computes the entry of SPEC and stores it, with a hook
+#: that SIGKILLs it at one step of the store (the hook's name and the call count).
+KILL_SCRIPT = """
+import os, signal, sys
+import numpy as np
+from comparison.runner import MICRO_ASSOC, ResultCache, Runner, cache as cache_module
+from comparison.wall import WallSpec
+
+spec = WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75, name="six rows")
+runner = Runner(None)
+record, mechanism = runner.run(spec, MICRO_ASSOC), runner.mechanism(spec, MICRO_ASSOC)
+hook, at = sys.argv[2], int(sys.argv[3])
+calls = [0]
+
+def killer(original):
+    def wrapped(*args, **kwargs):
+        calls[0] += 1
+        if calls[0] == at:
+            os.kill(os.getpid(), signal.SIGKILL)
+        return original(*args, **kwargs)
+    return wrapped
+
+if hook == "savez":
+    np.savez_compressed = killer(np.savez_compressed)
+else:
+    setattr(os, hook, killer(getattr(os, hook)))
+ResultCache(sys.argv[1]).store(spec, record, mechanism)
+"""
+
+#: Two of these run at once: each stores the entries of three walls over and
+#: over and reads them back; any exception or incomplete entry exits 1.
+WRITER_SCRIPT = """
+import sys, warnings
+warnings.simplefilter("error")
+from comparison.runner import MICRO_ASSOC, ResultCache, Runner, prefetch
+from comparison.runner.executor import Outcome, Task
+from comparison.wall import WallSpec
+
+specs = [WallSpec.from_paper(t=1, m=1 / 3, rows=r, f=0.75) for r in (3, 6, 9)]
+runner = Runner(None)
+entries = [(s, runner.run(s, MICRO_ASSOC), runner.mechanism(s, MICRO_ASSOC)) for s in specs]
+cache = ResultCache(sys.argv[1])
+for i in range(int(sys.argv[2])):
+    for spec, record, mechanism in entries:
+        cache.store(spec, record, mechanism)
+        got = cache.load(spec, MICRO_ASSOC)
+        mech = cache.mechanism(spec, MICRO_ASSOC)
+        if got is None or got.load_factor != record.load_factor or mech is None:
+            sys.exit(f"iteration {i}: incomplete entry {got!r} {mech!r}")
+"""
+
+
+def _python(script: str, *args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(script), *args], cwd=ROOT, capture_output=True, text=True, timeout=120
+    )
+
+
+def _entry_is_whole_or_absent(directory: Path) -> None:
+    cache = ResultCache(directory)
+    record = cache.load(SPEC, MICRO_ASSOC)
+    if record is not None:  # a record implies its mechanism
+        mechanism = cache.mechanism(SPEC, MICRO_ASSOC)
+        assert mechanism is not None and mechanism.velocities.shape == (15, 3)
+
+
+@pytest.mark.parametrize(
+    ("hook", "at"),
+    [("savez", 1), ("fsync", 1), ("replace", 1), ("fsync", 2), ("replace", 2)],
+    ids=["compressing the arrays", "writing the arrays", "renaming the arrays", "writing the record", "renaming it"],
+)
+def test_a_store_killed_at_any_step_leaves_no_entry_or_a_whole_one(tmp_path: Path, hook: str, at: int) -> None:
+    done = _python(KILL_SCRIPT, str(tmp_path), hook, str(at))
+    assert done.returncode in (0, -signal.SIGKILL), done.stderr
+    _entry_is_whole_or_absent(tmp_path)
+    # the next run computes what is missing and stores a whole entry
+    with_warnings = Runner(tmp_path)
+    assert with_warnings.run(SPEC, MICRO_ASSOC).load_factor == pytest.approx(0.75, abs=1e-6)
+    assert ResultCache(tmp_path).mechanism(SPEC, MICRO_ASSOC) is not None
+
+
+@pytest.fixture()
+def stored(tmp_path: Path) -> Path:
+    """A cache holding the entry of SPEC; returns the record's path."""
+    Runner(tmp_path).run(SPEC, MICRO_ASSOC)
+    path = ResultCache(tmp_path).path(SPEC, MICRO_ASSOC)
+    assert path.exists()
+    return path
+
+
+def _npz(record_path: Path) -> Path:
+    (npz,) = record_path.parent.glob("*.npz")
+    return npz
+
+
+@pytest.mark.parametrize(
+    "damage",
+    ["truncated record", "empty record", "record not JSON", "record of another form", "truncated arrays", "no arrays"],
+)
+def test_a_damaged_entry_is_warned_with_its_path_and_recomputed(stored: Path, damage: str) -> None:
+    data = stored.read_bytes()
+    if damage == "truncated record":
+        stored.write_bytes(data[: len(data) // 2])
+    elif damage == "empty record":
+        stored.write_bytes(b"")
+    elif damage == "record not JSON":
+        stored.write_bytes(b"\x00\xff binary")
+    elif damage == "record of another form":
+        stored.write_text(json.dumps({"wall": "x"}))
+    elif damage == "truncated arrays":
+        npz = _npz(stored)
+        npz.write_bytes(npz.read_bytes()[:100])
+    else:
+        _npz(stored).unlink()
+    runner = Runner(stored.parent.parent)
+    with pytest.warns(UserWarning, match=re.escape(str(stored))):
+        rec = runner.run(SPEC, MICRO_ASSOC)
+    assert rec.load_factor == pytest.approx(0.75, abs=1e-6) and not rec.cached
+    assert runner.computed == 1 and runner.mechanism(SPEC, MICRO_ASSOC) is not None
+    # replaced by a whole entry: read back without a warning
+    again = Runner(stored.parent.parent)
+    assert again.run(SPEC, MICRO_ASSOC).cached and again.mechanism(SPEC, MICRO_ASSOC) is not None
+
+
+def test_two_processes_storing_and_reading_one_cache(tmp_path: Path) -> None:
+    procs = [
+        subprocess.Popen(
+            [sys.executable, "-c", textwrap.dedent(WRITER_SCRIPT), str(tmp_path), "150"],
+            cwd=ROOT,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for _ in range(2)
+    ]
+    outputs = [p.communicate(timeout=300) for p in procs]
+    for p, (_, err) in zip(procs, outputs, strict=True):
+        assert p.returncode == 0, err[-2000:]
+    assert not list(tmp_path.rglob("*.tmp"))
+
+
+def test_a_result_stopped_by_the_clock_is_not_stored(tmp_path: Path) -> None:
+    runner = Runner(None)
+    record = runner.run(SPEC, MICRO_ASSOC)
+    assert record.micro is not None
+    stopped = dataclasses.replace(record, result=dataclasses.replace(record.micro, status="time_limit"))
+    cache = ResultCache(tmp_path)
+    cache.store(SPEC, stopped, runner.mechanism(SPEC, MICRO_ASSOC))
+    assert cache.load(SPEC, MICRO_ASSOC) is None
+    cache.store(SPEC, record, runner.mechanism(SPEC, MICRO_ASSOC))
+    loaded = cache.load(SPEC, MICRO_ASSOC)
+    assert loaded is not None and loaded.result == record.result
+
+
+def test_a_stored_mechanism_reads_back_equal(tmp_path: Path) -> None:
+    runner = Runner(tmp_path)
+    runner.run(SPEC, MICRO_ASSOC)
+    mine = runner.mechanism(SPEC, MICRO_ASSOC)
+    back = ResultCache(tmp_path).mechanism(SPEC, MICRO_ASSOC)
+    assert mine is not None and back is not None and back.direction == mine.direction
+    np.testing.assert_array_equal(back.velocities, mine.velocities)
+
+
+class _StoppedByTheClock:
+    """An executor whose every task 'ran out of time': it returns ``stopped`` for each."""
+
+    workers, memory_per_worker, where = 1, None, "test"
+
+    def __init__(self, stopped: object) -> None:
+        self.stopped = stopped
+
+    def run(self, tasks: Sequence[Task]) -> Iterator[Outcome]:
+        for task in tasks:
+            yield Outcome(task, "done", self.stopped)
+
+
+def test_a_result_stopped_by_the_clock_is_used_by_its_run_but_not_stored(tmp_path: Path) -> None:
+    record = Runner(None).run(SPEC, MICRO_ASSOC)
+    assert record.micro is not None
+    stopped = dataclasses.replace(record, result=dataclasses.replace(record.micro, status="time_limit"))
+    runner = Runner(tmp_path)
+    assert runner.cache is not None
+    done = prefetch(runner.cache, [(SPEC, MICRO_ASSOC)], _StoppedByTheClock((stopped, None)))  # type: ignore[arg-type]
+    assert done.computed == 1 and list(done.unstored) == [(SPEC, MICRO_ASSOC)]
+    assert (SPEC, MICRO_ASSOC) not in runner.cache
+    runner.keep(done.unstored)
+    assert runner.run(SPEC, MICRO_ASSOC) is stopped and runner.computed == 0  # not computed a second time
