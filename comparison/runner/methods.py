@@ -16,6 +16,14 @@ PACKAGES: dict[str, tuple[str, ...]] = {"macro": ("macro",), "micro-assoc": ("mi
 #: former 180 s budget turned Set 9 into ``max_iterations`` on a slower one).
 NONASSOC_MAX_LPS = 100
 
+#: The runner descends to the lowest certified state
+#: (:mod:`micro.nonassociative.lowest`) on walls of at most this many blocks.
+#: The descent cost 1.3 times the iterated LP (median) on the small walls of
+#: ``xcheck stability --lowest`` but 676 s (46 LPs, 135 times the iterated LP's
+#: 5 s) on a 990-block wall of the sensitivity study, which would take the
+#: report far beyond its 20 minutes; Table 7's walls (54-150 blocks) keep it.
+NONASSOC_LOWEST_MAX_BLOCKS = 300
+
 
 @dataclass(frozen=True)
 class Method:
@@ -27,6 +35,8 @@ class Method:
         scheme: non-associative scheme (``"a"`` or ``"b"``).
         first_course: micro bond phase, ``"full"`` or ``"half"``.
         head_joints: ``"frictional"`` or ``"frictionless"``.
+        lowest_max_blocks: non-associative: the descent to the lowest certified
+            state runs on walls of at most this many blocks.
     """
 
     kind: Kind
@@ -34,6 +44,7 @@ class Method:
     scheme: Literal["a", "b"] = "a"
     first_course: str = "full"
     head_joints: str = "frictional"
+    lowest_max_blocks: int = NONASSOC_LOWEST_MAX_BLOCKS
 
     @property
     def label(self) -> str:
@@ -54,6 +65,7 @@ class Method:
         d = asdict(self)
         if self.kind == "micro-assoc":
             d.pop("scheme")
+            d.pop("lowest_max_blocks")
         return d
 
 

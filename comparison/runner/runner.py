@@ -50,7 +50,12 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         if res.velocities is not None and res.direction:
             mechanism = Mechanism(np.asarray(res.velocities), res.direction)
     else:
-        nres = micro.solve_nonassociative(wall, scheme=method.scheme, max_iterations=NONASSOC_MAX_LPS)
+        nres = micro.solve_nonassociative(
+            wall,
+            scheme=method.scheme,
+            max_iterations=NONASSOC_MAX_LPS,
+            lowest=wall.n_blocks <= method.lowest_max_blocks,
+        )
         record = nres.to_record()
         gov = next((d for d in nres.directions if d.direction == nres.direction), None)
         if gov is not None and gov.mechanism is not None:
