@@ -14,7 +14,14 @@
 """
 
 from comparison.runner.cache import ResultCache, code_version, default_cache_dir
-from comparison.runner.methods import MACRO, MICRO_ASSOC, MICRO_NONASSOC, NONASSOC_MAX_LPS, Method
+from comparison.runner.methods import (
+    MACRO,
+    MICRO_ASSOC,
+    MICRO_NONASSOC,
+    NONASSOC_LOWEST_MAX_BLOCKS,
+    NONASSOC_MAX_LPS,
+    Method,
+)
 from comparison.runner.pool import Prefetched, approximate_blocks, prefetch
 from comparison.runner.records import Mechanism, Record
 from comparison.runner.runner import Runner, compute
@@ -23,6 +30,7 @@ __all__ = [
     "MACRO",
     "MICRO_ASSOC",
     "MICRO_NONASSOC",
+    "NONASSOC_LOWEST_MAX_BLOCKS",
     "NONASSOC_MAX_LPS",
     "Mechanism",
     "Method",
