@@ -235,6 +235,7 @@ def _run_one(args: tuple[WallCase, tuple[Setting, ...], int]) -> list[StudyRun]:
                 max_iterations=max_iterations,
                 max_simplex_iterations=MAX_SIMPLEX_ITERATIONS,
                 certify=s.certify,
+                lowest=False,  # the iterated LP's own convergence; the descent: `xcheck stability --lowest`
             )
             record, err = r.to_record(), ""
         except Exception as exc:  # noqa: BLE001 - recorded as a failure of the setting
