@@ -21,7 +21,7 @@ resistances ``F_gi`` (self-weight of the half-block columns, Eq. 5) and
 ``F_qi`` (loads above the crossed rows, Eq. 6) act at 1/3 and 1/2 of the
 crossed height and enter Eq. (10) reduced by ``1 - alpha_c/alpha_b`` (Eq. 8).
 
-Readings of the OCR text (see ``../shared/methods.md``): in ``W_Ai`` the
+Readings of the OCR text of the paper: in ``W_Ai`` the
 printed ``h`` is the block height ``b``; ``n_ai`` and ``n_ci`` are the same
 quantity; Eq. (10) uses the reduced resultant ``F_W`` of Eq. (8); ``n`` in
 Eqs. (9) and (11) counts the rows of the storeys in the mechanism; ``n_ci``

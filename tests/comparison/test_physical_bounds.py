@@ -17,7 +17,7 @@ import macro
 import micro
 from comparison.wall import StoreySpec, WallSpec
 from macro import checks
-from micro import geometry
+from micro import wall_checks as geometry
 
 DIMENSIONAL = {"length": 12.0, "block_length": 3.0, "block_height": 1.0, "unit_weight": 1.0, "friction": 0.6}
 STOREYS = {"rows": (6, 6), "thickness": (1.0, 1.0), "overload": (0.0, 0.0)}
