@@ -128,17 +128,44 @@ def verify_collapse_state(lp: LimitLP, result: DirectionResult) -> dict[str, flo
     """
     if result.normal is None or result.shear is None or result.mechanism is None:
         raise ValueError(f"direction {result.direction} has no final state ({result.status})")
-    d = direction_sign(result.direction)
     lam = result.sequence.last_load_factor if result.sequence is not None else result.load_factor
-    n = result.normal / lp.force_scale
-    s = result.shear / lp.force_scale
     mech = result.mechanism
-    dn, ds = mech.opening_rate, mech.slip_rate
+    res = state_residuals(lp, direction_sign(result.direction), result.normal / lp.force_scale,
+                          result.shear / lp.force_scale, lam, mech.opening_rate, mech.slip_rate,
+                          mech.live_work, mech.dead_work, STATE_TOL)
+    res.pop("live_work")
+    return res
+
+
+def state_residuals(lp: LimitLP, direction: int, n: FloatArray, s: FloatArray, lam: float, dn: FloatArray,
+                    ds: FloatArray, live_work: float, dead_work: float, slip_tol: float) -> dict[str, float]:
+    """Residuals of a state ``(n, s, lambda)`` with the relative velocities
+    ``(dn, ds)`` of its mechanism against the non-associative collapse
+    conditions (scaled units; the one computation behind
+    :func:`verify_collapse_state` and
+    :func:`micro.nonassociative.global_pattern.collapse_residuals`).
+
+    Args:
+        lp: the LP of the wall.
+        direction: ``+1`` or ``-1``.
+        n, s: point forces.
+        lam: the load factor.
+        dn, ds: opening and slip rates at the points.
+        live_work, dead_work: the mechanism's work of the live load (per
+            unit ``lambda``, in ``direction``) and of the dead load.
+        slip_tol: a point slips when ``|ds|`` exceeds this fraction of the
+            largest rate.
+
+    Returns:
+        The residuals of :func:`verify_collapse_state`, ``energy`` divided by
+        ``live_work`` (normalised to unit live work; ``inf`` unless
+        ``live_work > 0``), and ``live_work`` itself / the largest rate.
+    """
     rate = max(float(np.max(np.abs(dn), initial=0.0)), float(np.max(np.abs(ds), initial=0.0)), 1e-300)
     nsc = max(float(np.max(n, initial=0.0)), 1e-300)
-    slip = np.abs(ds) > STATE_TOL * rate
-    eq = lp.Bn @ n + lp.Bs @ s + (lam * d) * lp.live - lp.rhs
-    dissipation = -float(ds @ s)
+    slip = np.abs(ds) > slip_tol * rate
+    eq = lp.Bn @ n + lp.Bs @ s + (lam * direction) * lp.live - lp.rhs
+    balance = lam * live_work + dead_work + float(ds @ s)  # work of the loads minus the dissipation
     return {
         "equilibrium": float(np.max(np.abs(eq), initial=0.0)),
         "coulomb": max(float(np.max(np.abs(s) - lp.mu * n, initial=0.0)), 0.0) / nsc,
@@ -146,6 +173,7 @@ def verify_collapse_state(lp: LimitLP, result: DirectionResult) -> dict[str, flo
         "dilatancy": float(np.max(np.abs(n * dn), initial=0.0)) / (nsc * rate),
         "slip_off_yield": float(np.max(np.abs(np.abs(s[slip]) - lp.mu[slip] * n[slip]), initial=0.0)) / nsc,
         "friction_direction": max(float(np.max(s[slip] * ds[slip], initial=0.0)), 0.0) / (nsc * rate),
-        "energy": abs(lam * mech.live_work + mech.dead_work - dissipation) / max(abs(lam), TINY),
+        "energy": abs(balance) / live_work / max(abs(lam), TINY) if live_work > 0 else math.inf,
         "slipping_points": float(slip.sum()),
+        "live_work": live_work / rate,
     }

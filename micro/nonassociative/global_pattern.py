@@ -27,7 +27,6 @@ conditions from the forces and the mechanism alone, as
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -36,6 +35,7 @@ from numpy.typing import NDArray
 
 from micro.backends import highs_mip as gh
 from micro.lp import LimitLP
+from micro.nonassociative.checks import state_residuals
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -152,27 +152,13 @@ def collapse_residuals(lp: LimitLP, direction: int, n: FloatArray, s: FloatArray
         (``nmax rate``), positive when friction would drive the slip),
         ``energy`` (``|lambda W_L + W_D - dissipation|`` / ``max(|lambda|, 1)``
         with the live work ``W_L`` normalised to 1; relative to ``lambda``), ``live_work`` (``W_L``
-        before normalisation, / ``rate``: must be positive).
+        before normalisation, / ``rate``: must be positive). One computation with
+        :func:`micro.nonassociative.checks.state_residuals`.
     """
-    dn = lp.Bn.T @ v
-    ds = lp.Bs.T @ v
-    rate = max(float(np.max(np.abs(dn), initial=0.0)), float(np.max(np.abs(ds), initial=0.0)), 1e-300)
-    live = float(direction) * float(lp.live @ v)
-    nsc = max(float(np.max(n, initial=0.0)), 1e-300)
-    slip = np.abs(ds) > CHECK_TOL * rate
-    eq = lp.Bn @ n + lp.Bs @ s + (lam * direction) * lp.live - lp.rhs
-    scale = live if live > 0 else math.inf
-    dissipation = -float(ds @ s) / scale
-    return {
-        "equilibrium": float(np.max(np.abs(eq), initial=0.0)),
-        "coulomb": max(float(np.max(np.abs(s) - lp.mu * n, initial=0.0)), 0.0) / nsc,
-        "interpenetration": max(-float(np.min(dn, initial=0.0)), 0.0) / rate,
-        "dilatancy": float(np.max(np.abs(n * dn), initial=0.0)) / (nsc * rate),
-        "slip_off_yield": float(np.max(np.abs(np.abs(s[slip]) - lp.mu[slip] * n[slip]), initial=0.0)) / nsc,
-        "friction_direction": max(float(np.max(s[slip] * ds[slip], initial=0.0)), 0.0) / (nsc * rate),
-        "energy": abs(lam + float(lp.dead @ v) / scale - dissipation) / max(abs(lam), 1e-6) if live > 0 else math.inf,
-        "live_work": live / rate,
-    }
+    res = state_residuals(lp, direction, n, s, lam, lp.Bn.T @ v, lp.Bs.T @ v, float(direction) * float(lp.live @ v),
+                          float(lp.dead @ v), CHECK_TOL)
+    res.pop("slipping_points")
+    return res
 
 
 def is_collapse_state(residuals: dict[str, float], tol: float = CHECK_TOL) -> bool:

@@ -50,3 +50,30 @@ def test_not_converged_state_violates_yield() -> None:
     assert r.status == CYCLING
     v = verify_collapse_state(micro.assemble(w), r.governing)
     assert v["slip_off_yield"] > 1e-3 or v["coulomb"] > 1e-3
+
+
+def test_pattern_check_and_state_check_agree() -> None:
+    """The global search's check (from raw velocities) and the iterated LP's
+    check (from the stored mechanism) are one computation: on a converged
+    state they give the same residuals, and a perturbed state fails both."""
+    import numpy as np
+
+    from micro.nonassociative import verify_collapse_state
+    from micro.nonassociative.global_pattern import collapse_residuals
+
+    w = wall(1.0, 1 / 3)
+    r = solve_nonassociative(w)
+    assert r.converged, r.message
+    lp = micro.assemble(w)
+    d = r.directions[0]
+    assert d.normal is not None and d.shear is not None and d.mechanism is not None
+    sign = 1 if d.direction == "+x" else -1
+    n, s = d.normal / lp.force_scale, d.shear / lp.force_scale
+    v = d.mechanism.velocities.ravel()
+    lam = r.last_load_factor
+    a, b = verify_collapse_state(lp, d), collapse_residuals(lp, sign, n, s, lam, v)
+    for key in ("equilibrium", "coulomb", "interpenetration", "dilatancy", "friction_direction"):
+        assert a[key] == pytest.approx(b[key], rel=1e-9, abs=1e-15), key
+    assert a["energy"] <= 1e-6 and b["energy"] <= 1e-6 and b["live_work"] > 0
+    bad = collapse_residuals(lp, sign, n, s * 1.01 + 1e-3 * np.sign(s), lam, v)
+    assert bad["equilibrium"] > 1e-4 and bad["coulomb"] > 1e-4
