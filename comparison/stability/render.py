@@ -9,7 +9,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from comparison.stability.study import GRID, MAX_SIMPLEX_ITERATIONS, StudyRun
+from comparison.stability.study import GRID, MAX_SIMPLEX_ITERATIONS, STALL_SECONDS, StudyRun
 
 
 def _val(v: float) -> str:
@@ -32,9 +32,8 @@ def summarise(runs: Sequence[StudyRun]) -> dict[str, Any]:
 def _setting_summary(rs: Sequence[StudyRun]) -> dict[str, Any]:
     """Counts, LPs, times, residuals and bands of one setting's runs."""
     conv = [r for r in rs if r.converged]
-    counts = {
-        k: sum(1 for r in rs if r.status == k) for k in ("converged", "cycling", "max_iterations", "solver_failure")
-    }
+    statuses = ("converged", "cycling", "max_iterations", "time_limit", "solver_failure")
+    counts = {k: sum(1 for r in rs if r.status == k) for k in statuses}
     it = [r.total_iterations for r in conv]
     above = [r for r in rs if math.isfinite(r.last_load_factor) and r.last_load_factor > r.lambda_assoc * (1 + 1e-7)]
     return {
@@ -130,7 +129,8 @@ def _intro(s: dict[str, Any], n_runs: int, seconds: float, processes: int) -> li
         + " (p = 0; a length that is not a whole number of half blocks ends every course with a cut block). "
         "Setting = scheme/relaxation beta; scheme (a) `|s| <= mu nbar`, scheme (b) line of slope "
         "-alpha through (nbar, mu nbar), alpha halved 0.3 -> 1e-3; start: interior-point associative solution; "
-        f"cap 100 LPs and {MAX_SIMPLEX_ITERATIONS:,} simplex iterations per direction. "
+        f"cap 100 LPs and {MAX_SIMPLEX_ITERATIONS:,} simplex iterations per direction, and {STALL_SECONDS:g} s "
+        "per LP against a stalled HiGHS run (status `time_limit`; every other LP takes well under a second). "
         "A wall counts as converged only if every direction solved converged. "
         "`plain`: the iterated LP alone, converged only when an LP's own forces satisfy Coulomb. Otherwise, "
         "once lambda has settled (spread <= 1e-3 over 3 iterates), the current LP's mechanism is tested for an "
@@ -146,18 +146,18 @@ def _per_setting(s: dict[str, Any]) -> list[str]:
     lines = [
         "## Per setting",
         "",
-        "| setting | runs | converged | cycling | max_iterations | solver_failure | rate "
+        "| setting | runs | converged | cycling | max_iterations | time_limit | solver_failure | rate "
         "| LPs median (max) of converged "
         "| seconds median (max) | lambda/lambda_assoc median | max warm/cold diff | max Coulomb residual (converged) "
         "| max dilatancy residual (converged) | of which certified | cycling band (max-min)/min median (max) "
         "| mechanism band (max-min)/lambda median (max) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name in s["settings"]:
         p = per[name]
         c = p["counts"]
         lines.append(
-            f"| {name} | {p['n']} | {c['converged']} | {c['cycling']} | {c['max_iterations']} | "
+            f"| {name} | {p['n']} | {c['converged']} | {c['cycling']} | {c['max_iterations']} | {c['time_limit']} | "
             f"{c['solver_failure']} | {p['rate'] * 100:.0f} % | {_fmt(p['it_median'], '.0f')} "
             f"({_fmt(p['it_max'], '.0f')}) | {_fmt(p['sec_median'], '.2f')} ({_fmt(p['sec_max'], '.2f')}) | "
             f"{_fmt(p['ratio_median'], '.4f')} | {_fmt(p['warm_cold_max'], '.1e')} | "
@@ -222,6 +222,7 @@ def _chart(runs: Sequence[StudyRun], s: dict[str, Any], path: Path) -> None:
         "converged": "tab:green",
         "cycling": "tab:orange",
         "max_iterations": "tab:red",
+        "time_limit": "tab:purple",
         "solver_failure": "black",
     }
     for status, col in colours.items():

@@ -219,11 +219,12 @@ class Sequence:
         (HiGHS "Unknown" on near-degenerate rows)."""
         out, algo = failed, ""
         if k > 1 and self.o.scheme == "b":
-            out, algo = model.fallback_a_step(n_prev), "fallback-a"
+            out, algo = model.fallback_a_step(n_prev, self.o.time_limit, self.warm_limit), "fallback-a"
             self.fallbacks += 1
         elif k > 1 and failed.status is Status.INFEASIBLE and self.o.beta < 1.0:
             model.set_capacity(n_prev, alpha, alpha, self.c0)
-            out, algo = model.model.run(), "simplex-warm-unrelaxed"
+            out, algo = model.warm(self.o.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
+            model.model.limit_next_run(self.o.time_limit)
         if not out.ok:
             out, algo = restart(model.model), "ipm-restart"
         # the failed run's work counts (the work budget, the history)
