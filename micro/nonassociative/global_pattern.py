@@ -150,8 +150,8 @@ def collapse_residuals(lp: LimitLP, direction: int, n: FloatArray, s: FloatArray
         ``slip_off_yield`` (``max ||s| - mu n|`` at slipping points /
         ``nmax``), ``friction_direction`` (``max(s * slip rate)`` /
         (``nmax rate``), positive when friction would drive the slip),
-        ``energy`` (``|lambda W_L + W_D - dissipation|`` / ``max(|lambda|, 1)``
-        with the live work ``W_L`` normalised to 1; relative to ``lambda``), ``live_work`` (``W_L``
+        ``energy`` (``|lambda W_L + W_D - dissipation|`` with the live work
+        ``W_L`` normalised to 1, relative to ``lambda``), ``live_work`` (``W_L``
         before normalisation, / ``rate``: must be positive). One computation with
         :func:`micro.nonassociative.checks.state_residuals`.
     """

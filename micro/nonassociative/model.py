@@ -101,8 +101,8 @@ class IterationModel:
         basis: friction rows switched off (infinite bounds), ``|s| <= mu nbar``
         as ``s`` bounds; restored by the next :meth:`set_capacity`. Bound
         changes only. The run is limited like a warm run (``seconds``: the
-        user's limit, ``None``: none; ``simplex_iterations``): unlimited, one
-        ran for over 20 minutes on the 1,230-block wall."""
+        user's limit, ``None``: none; ``simplex_iterations``), or it could
+        take as long as a cold dual simplex (minutes on 1,230 blocks)."""
         P, mu, m = self.P, self.lp.mu, self.model
         if self.good_basis is not None:
             m.set_basis(self.good_basis)  # the failed run's basis may be garbage
