@@ -41,7 +41,7 @@ From a clone of the repository:
 ```sh
 python3 -m venv .venv && .venv/bin/pip install -e .
 .venv/bin/xcheck report{quick} --out reports          # this report (cached results are reused)
-.venv/bin/xcheck stability --out reports          # stability.md: the iterated LP over 104 walls
+.venv/bin/xcheck stability --out reports          # stability.md: the iterated LP over 120 walls
 .venv/bin/xcheck stability --table7 --out reports # table7_nonassoc.md: Table 7 per bond variant
 .venv/bin/xcheck references                       # the pytest plugin's reference values
 ```
