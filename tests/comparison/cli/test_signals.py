@@ -45,12 +45,21 @@ kind = "micro-nonassoc"
 LIGHT = GRID.replace("rows = [12, 18]", "rows = [6, 12]")
 
 
+def _default_sigint() -> None:
+    """Give the child the default Ctrl-C, as a terminal does: a job started in
+    the background by a shell without job control (``cmd &`` in a script, as
+    some CI runners do) inherits SIGINT ignored, and Python then installs no
+    KeyboardInterrupt handler (measured: these tests failed with exit 0 so)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _xcheck(*args: str) -> subprocess.Popen[bytes]:
     return subprocess.Popen(
         [sys.executable, "-m", "comparison.cli", *args],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         start_new_session=True,
+        preexec_fn=_default_sigint,
     )
 
 
