@@ -11,6 +11,15 @@ from typing import Any
 
 from comparison.stability.study import GRID, MAX_SIMPLEX_ITERATIONS, STALL_SECONDS, StudyRun
 
+#: The statuses a run of the study can end with (counted per setting), and their colours in the chart.
+STATUS_COLOURS = {
+    "converged": "tab:green",
+    "cycling": "tab:orange",
+    "max_iterations": "tab:red",
+    "time_limit": "tab:purple",
+    "solver_failure": "black",
+}
+
 
 def _val(v: float) -> str:
     return {1 / 3: "1/3", 1 / 2: "1/2"}.get(v, f"{v:g}")
@@ -32,8 +41,7 @@ def summarise(runs: Sequence[StudyRun]) -> dict[str, Any]:
 def _setting_summary(rs: Sequence[StudyRun]) -> dict[str, Any]:
     """Counts, LPs, times, residuals and bands of one setting's runs."""
     conv = [r for r in rs if r.converged]
-    statuses = ("converged", "cycling", "max_iterations", "time_limit", "solver_failure")
-    counts = {k: sum(1 for r in rs if r.status == k) for k in statuses}
+    counts = {k: sum(1 for r in rs if r.status == k) for k in STATUS_COLOURS}
     it = [r.total_iterations for r in conv]
     above = [r for r in rs if math.isfinite(r.last_load_factor) and r.last_load_factor > r.lambda_assoc * (1 + 1e-7)]
     return {
@@ -218,14 +226,7 @@ def _chart(runs: Sequence[StudyRun], s: dict[str, Any], path: Path) -> None:
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
     ax = axes[0]
     bottoms = [0.0] * len(settings)
-    colours = {
-        "converged": "tab:green",
-        "cycling": "tab:orange",
-        "max_iterations": "tab:red",
-        "time_limit": "tab:purple",
-        "solver_failure": "black",
-    }
-    for status, col in colours.items():
+    for status, col in STATUS_COLOURS.items():
         vals = [per[x]["counts"][status] for x in settings]
         ax.bar(settings, vals, bottom=bottoms, color=col, label=status)
         bottoms = [b + v for b, v in zip(bottoms, vals, strict=True)]

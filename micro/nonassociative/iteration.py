@@ -198,9 +198,9 @@ class Sequence:
         if cold:
             model.model.limit_next_run(user)
             out, algo = restart(model.model), COLD
+            model.model.limit_next_run(user)  # re-armed for a recovery run after it
         else:
             out, algo = model.warm(user, self.warm_limit), "simplex-warm"
-        model.model.limit_next_run(user)
         if out.ok or out.status is Status.TIME_LIMIT:
             return out, algo
         if algo == "simplex-warm" and out.status is Status.ITERATION_LIMIT:
@@ -224,7 +224,6 @@ class Sequence:
         elif k > 1 and failed.status is Status.INFEASIBLE and self.o.beta < 1.0:
             model.set_capacity(n_prev, alpha, alpha, self.c0)
             out, algo = model.warm(self.o.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
-            model.model.limit_next_run(self.o.time_limit)
         if not out.ok:
             out, algo = restart(model.model), "ipm-restart"
         # the failed run's work counts (the work budget, the history)

@@ -95,23 +95,19 @@ class IterationModel:
         rhs = c0 + (1.0 + alpha) * mu * nbar
         m.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.repeat(rhs, 2))
 
-    def fallback_a_step(self, nbar: FloatArray, seconds: float | None = None,
-                        simplex_iterations: int | None = None) -> Outcome:
+    def fallback_a_step(self, nbar: FloatArray, seconds: float | None, simplex_iterations: int) -> Outcome:
         """One LP of scheme (a) inside the scheme (b) model from the last good
         basis: friction rows switched off (infinite bounds), ``|s| <= mu nbar``
         as ``s`` bounds; restored by the next :meth:`set_capacity`. Bound
-        changes only. The run is limited like a warm run (``seconds``: the
-        user's limit, ``None``: none; ``simplex_iterations``), or it could
-        take as long as a cold dual simplex (minutes on 1,230 blocks)."""
+        changes only. The run is a :meth:`warm` run with its limits, or it
+        could take as long as a cold dual simplex (minutes on 1,230 blocks)."""
         P, mu, m = self.P, self.lp.mu, self.model
         if self.good_basis is not None:
             m.set_basis(self.good_basis)  # the failed run's basis may be garbage
         nbar = np.maximum(nbar, 0.0)
         m.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.full(2 * P, np.inf))
         m.set_col_bounds(self.s_cols, -mu * nbar, mu * nbar)
-        m.limit_next_run(seconds, simplex_iterations=simplex_iterations)
-        out = m.run()
-        m.limit_next_run(seconds)
+        out = self.warm(seconds, simplex_iterations)
         self.in_fallback = True  # the model now holds a scheme (a) LP (for the cold check)
         return out
 
@@ -123,9 +119,12 @@ class IterationModel:
     # --------------------------------------------------------------- runs
     def warm(self, seconds: float | None, simplex_iterations: int) -> Outcome:
         """Dual simplex from the current basis, limited to ``simplex_iterations``
-        (and to the user's ``seconds``, ``None``: none)."""
+        (and to the user's ``seconds``, ``None``: none); the later runs keep
+        only the user's limit (re-armed from the run time so far)."""
         self.model.limit_next_run(seconds, simplex_iterations=simplex_iterations)
-        return self.model.run()
+        out = self.model.run()
+        self.model.limit_next_run(seconds)
+        return out
 
 
 def restart(model: PersistentHighsModel) -> Outcome:

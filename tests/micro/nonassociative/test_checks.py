@@ -60,6 +60,7 @@ def test_pattern_check_and_state_check_agree() -> None:
 
     from micro.nonassociative import verify_collapse_state
     from micro.nonassociative.global_pattern import collapse_residuals
+    from micro.results import direction_sign
 
     w = wall(1.0, 1 / 3)
     r = solve_nonassociative(w)
@@ -67,7 +68,7 @@ def test_pattern_check_and_state_check_agree() -> None:
     lp = micro.assemble(w)
     d = r.directions[0]
     assert d.normal is not None and d.shear is not None and d.mechanism is not None
-    sign = 1 if d.direction == "+x" else -1
+    sign = direction_sign(d.direction)
     n, s = d.normal / lp.force_scale, d.shear / lp.force_scale
     v = d.mechanism.velocities.ravel()
     lam = r.last_load_factor
