@@ -83,7 +83,9 @@ class Plan:
         cases: the paper's cases the micro model runs on.
         base: the paper parameters of the base wall of the sweeps and of the speed study.
         sweeps: the values of each parameter in the sensitivity sweeps.
-        resolutions: the rows of the speed-accuracy walls (the last one is the reference).
+        resolutions: the rows of the speed-accuracy walls, ascending; the reference is the finest
+            one the non-associative LP runs on (:attr:`reference_rows`), the finer ones (up to 7,575
+            blocks) run the associative back ends only.
         solvers: the associative back ends of the speed-accuracy study.
     """
 
@@ -99,6 +101,11 @@ class Plan:
     def reference(self) -> Method:
         """The best micro reference: the non-associative LP."""
         return self.methods[-1]
+
+    @property
+    def reference_rows(self) -> int:
+        """The rows of the speed-accuracy reference: the finest resolution the reference method runs on."""
+        return max(r for r in self.resolutions if not _skip(self.speed_spec(r), self.reference))
 
     def sweep_spec(self, param: str, value: float) -> WallSpec:
         """The base wall with ``param`` set to ``value``."""
@@ -158,6 +165,6 @@ def build_plan(quick: bool = False) -> Plan:
         cases=tuple(c for c in CASES if not quick or c.rows <= 12),
         base=BASE_QUICK if quick else BASE_FULL,
         sweeps=SWEEPS_QUICK if quick else SWEEPS_FULL,
-        resolutions=(3, 6, 9, 12) if quick else (12, 24, 36, 60),
+        resolutions=(3, 6, 9, 12) if quick else (12, 24, 36, 60, 102, 150),
         solvers=("highs", "clarabel", "cvxpy", "highs-simplex") if quick else ("highs", "clarabel", "cvxpy"),
     )

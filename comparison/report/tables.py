@@ -364,8 +364,9 @@ class SpeedRow:
 
 
 def speed_reference(res: Results) -> Record:
-    """The reference of the speed-accuracy study: the best micro record of the finest wall."""
-    return res.best_micro(res.plan.speed_spec(res.plan.resolutions[-1], "finest"))
+    """The reference of the speed-accuracy study: the best micro record of the finest wall the
+    non-associative LP runs on (:attr:`~comparison.report.plan.Plan.reference_rows`)."""
+    return res.best_micro(res.plan.speed_spec(res.plan.reference_rows, "finest"))
 
 
 def speed_rows(res: Results) -> list[SpeedRow]:
@@ -399,7 +400,7 @@ def speed_accuracy(res: Results) -> Table:
     ref = speed_reference(res)
     t = Table(
         "speed_accuracy",
-        f"Speed against accuracy (reference: {ref.method.kind}, {res.plan.resolutions[-1]} rows, "
+        f"Speed against accuracy (reference: {ref.method.kind}, {res.plan.reference_rows} rows, "
         f"λ = {ref.load_factor:.4f})",
         ["method", "rows", "blocks", "λ", "rel. error of λ"],
         keys=2,

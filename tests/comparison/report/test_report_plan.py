@@ -39,6 +39,18 @@ def test_full_plan_skips_the_iterated_lp_on_large_walls() -> None:
     assert plan.reference == MICRO_NONASSOC
 
 
+def test_speed_walls_reach_7575_blocks_against_the_finest_iterated_lp() -> None:
+    plan = build_plan(quick=False)
+    assert max(approximate_blocks(plan.speed_spec(r)) for r in plan.resolutions) >= 7575
+    # the reference is the finest wall the iterated LP runs on, not the finest wall
+    assert plan.reference_rows == 60 < plan.resolutions[-1]
+    runs = {(it.spec.name, it.method.kind, it.method.solver) for it in plan.items() if not it.skip}
+    for solver in plan.solvers:
+        assert ("150 rows", "micro-assoc", solver) in runs
+    assert not any(name == "150 rows" and kind == "micro-nonassoc" for name, kind, _ in runs)
+    assert build_plan(quick=True).reference_rows == 12
+
+
 def test_results_refuse_a_pair_outside_the_plan() -> None:
     from comparison.report.results import Results
 
