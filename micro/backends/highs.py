@@ -36,6 +36,43 @@ SIMPLEX_TOLERANCE = 1e-10
 ALGORITHMS = ("ipm", "simplex")
 #: HiGHS' default (no limit) of ``simplex_iteration_limit`` and ``ipm_iteration_limit``.
 _ITERATIONS_MAX = 2**31 - 1
+#: A guarded run (:meth:`PersistentHighsModel.guard_stalls`) is interrupted
+#: when HiGHS calls its simplex interrupt callback this often without the
+#: iteration count advancing. Measured on scheme (b)'s third LP of the
+#: 1,230-block wall, an infeasible LP whose infeasibility the warm dual
+#: simplex does not detect: the dual objective climbs through 0 near
+#: iteration 9,000 and on to 2e9, and from iteration ~23,970 ("possibly dual
+#: unbounded", "possibly singular basis") single iterations took 800-1,333
+#: calls and many seconds each (40 iterations in the next 510 s), against at
+#: most 7 calls per iteration in every normal run. HiGHS' own
+#: ``objective_bound`` does not stop it (its exact dual objective is -inf there).
+STALL_CALLS = 100
+
+
+class StallGuard:
+    """The simplex interrupt callback of a guarded model: counts the calls
+    per simplex iteration and interrupts the run at :data:`STALL_CALLS`.
+    Counts, not seconds: the same run stops at the same iteration on every
+    machine."""
+
+    def __init__(self, calls: int = STALL_CALLS) -> None:
+        self.calls = calls
+        self.iteration = -1
+        self.count = 0
+        self.fired = False
+
+    def reset(self) -> None:
+        """Before a run."""
+        self.iteration, self.count, self.fired = -1, 0, False
+
+    def __call__(self, kind: Any, message: str, data_out: Any, data_in: Any, user_data: Any) -> None:
+        it = int(data_out.simplex_iteration_count)
+        if it != self.iteration:
+            self.iteration, self.count = it, 0
+        self.count += 1
+        if self.count >= self.calls:
+            self.fired = True
+            data_in.user_interrupt = True
 
 
 def _highs_inf(a: FloatArray, inf: float) -> FloatArray:
@@ -111,6 +148,16 @@ class PersistentHighsModel:
         self._passed(h, h.passModel(m))
         self._highs = h
         self.algorithm = algorithm
+        self.stall_guard: StallGuard | None = None
+
+    def guard_stalls(self, calls: int = STALL_CALLS) -> None:
+        """Interrupt every later simplex run that stalls (:data:`STALL_CALLS`);
+        such a run ends ``solver_error`` with ``info["stalled"]``."""
+        guard = StallGuard(calls)
+        h = self._highs
+        h.setCallback(guard, None)
+        h.startCallback(self._hs.cb.HighsCallbackType.kCallbackSimplexInterrupt)
+        self.stall_guard = guard
 
     @classmethod
     def of(cls, lp: LimitLP, direction: int, *, algorithm: str = "ipm") -> PersistentHighsModel:
@@ -228,6 +275,7 @@ class PersistentHighsModel:
         h.setOptionValue("output_flag", False)
         clone._passed(h, h.passModel(self._highs.getLp()))
         clone._highs = h
+        clone.stall_guard = None
         clone.set_algorithm(algorithm)
         return clone
 
@@ -249,6 +297,8 @@ class PersistentHighsModel:
         if not presolve:
             h.setOptionValue("presolve", "off")
             h.clearSolver()
+        if self.stall_guard is not None:
+            self.stall_guard.reset()
         t0 = time.perf_counter()
         h.run()
         secs = time.perf_counter() - t0
@@ -267,7 +317,8 @@ class PersistentHighsModel:
             simplex_iterations=int(info.simplex_iteration_count), ipm_iterations=int(info.ipm_iteration_count),
             crossover_iterations=int(info.crossover_iteration_count), seconds=secs,
             info={"max_primal_infeasibility": float(info.max_primal_infeasibility),
-                  "max_dual_infeasibility": float(info.max_dual_infeasibility)},
+                  "max_dual_infeasibility": float(info.max_dual_infeasibility),
+                  "stalled": self.stall_guard is not None and self.stall_guard.fired},
         )
 
 

@@ -47,6 +47,7 @@ class IterationModel:
         lower = np.concatenate([np.zeros(2 * P), [-np.inf]])
         upper = np.concatenate([np.full(P, np.inf), np.zeros(P), [np.inf]])
         self.model = PersistentHighsModel(A, cost, lower, upper, lp.rhs.copy(), lp.rhs.copy(), algorithm="ipm")
+        self.model.guard_stalls()  # a stalled warm run fails (and is recovered) instead of hanging
         self.in_fallback = False
         self.good_basis: Any = None
         if scheme == "b":

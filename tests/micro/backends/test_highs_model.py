@@ -95,3 +95,39 @@ def test_time_limit_and_bad_algorithm() -> None:
     assert m.run().ok
     with pytest.raises(ValueError, match="algorithm"):
         m.set_algorithm("barrier")
+
+
+def test_stall_guard_counts_calls_per_iteration() -> None:
+    """The guard fires on calls without progress, never on iterations that advance."""
+    from types import SimpleNamespace
+
+    from micro.backends.highs import STALL_CALLS, StallGuard
+
+    guard = StallGuard()
+    flag = SimpleNamespace(user_interrupt=False)
+    for it in range(1000):  # up to 7 calls per iteration were seen in normal runs
+        for _ in range(7):
+            guard(0, "", SimpleNamespace(simplex_iteration_count=it), flag, None)
+    assert not flag.user_interrupt and not guard.fired
+    for _ in range(STALL_CALLS):
+        guard(0, "", SimpleNamespace(simplex_iteration_count=1000), flag, None)
+    assert flag.user_interrupt and guard.fired
+    guard.reset()
+    assert not guard.fired
+
+
+def test_a_guarded_run_that_stalls_fails_and_says_so() -> None:
+    """Through HiGHS' callback: a guard that fires at once interrupts the run
+    (``solver_error``, ``info["stalled"]``, no solution); the default guard lets
+    the same LP reach its optimum."""
+    lp = micro.assemble(table7_wall("set12"))
+    first = micro.make_backend(lp, "highs-simplex").solve(1)
+    assert first.n is not None
+    m = _force_model(lp, first.n)
+    m.guard_stalls(calls=1)
+    out = m.run()
+    assert out.status is Status.SOLVER_ERROR and out.x is None and out.info["stalled"]
+    m.guard_stalls()
+    out = m.run()
+    assert out.ok and out.x is not None and not out.info["stalled"]
+    assert out.x[-1] >= first.load_factor - 1e-9

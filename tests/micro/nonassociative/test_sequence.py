@@ -210,3 +210,26 @@ def test_slowed_clock_gives_the_same_path(monkeypatch: pytest.MonkeyPatch, schem
     assert path(slow) == path(ref)
     assert slow.load_factor == ref.load_factor or (math.isnan(slow.load_factor) and math.isnan(ref.load_factor))
     assert max(h.seconds for h in slow.history) > 50.0  # the clock did run slow
+
+
+def test_stalled_warm_runs_are_recovered_not_waited_for(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every run of the iteration model is guarded (``STALL_CALLS``). With a guard
+    that fires on every simplex run, each warm run of scheme (b) and its scheme (a)
+    fallback step are interrupted and the iterate is recovered by a cold interior
+    point: the sequence goes on (it used to hang in such a run), and reports no
+    load factor unless it converges."""
+    from micro_walls import table7_wall
+
+    from micro.backends.highs import PersistentHighsModel
+    from micro.nonassociative.model import IterationModel
+
+    wall = table7_wall("set12")
+    assert IterationModel(micro.assemble(wall), 1, "b", 0.3).model.stall_guard is not None
+    original = PersistentHighsModel.guard_stalls
+    monkeypatch.setattr(PersistentHighsModel, "guard_stalls", lambda self, calls=1: original(self, calls=1))
+    r = solve_nonassociative(wall, scheme="b", lowest=False, max_iterations=6)
+    seq = r.directions[0].sequence
+    assert seq is not None and len(seq.history) == 7
+    assert all(h.algorithm == "ipm-restart" and h.status == "optimal" for h in seq.history[2:])
+    assert seq.fallback_steps == 5
+    assert r.status == CONVERGED or math.isnan(r.load_factor)
