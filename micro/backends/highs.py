@@ -312,13 +312,17 @@ class PersistentHighsModel:
             sol = h.getSolution()
             x = np.asarray(sol.col_value, dtype=float)
             duals = DUAL_SIGN * np.asarray(sol.row_dual, dtype=float)
+        native, guard = h.modelStatusToString(ms), self.stall_guard
+        stalled = guard is not None and guard.fired
+        if guard is not None and guard.fired:
+            native = f"stalled at simplex iteration {guard.iteration}, interrupted ({native})"
         return Outcome(
-            status, h.modelStatusToString(ms), x=x, duals=duals,
+            status, native, x=x, duals=duals,
             simplex_iterations=int(info.simplex_iteration_count), ipm_iterations=int(info.ipm_iteration_count),
             crossover_iterations=int(info.crossover_iteration_count), seconds=secs,
             info={"max_primal_infeasibility": float(info.max_primal_infeasibility),
                   "max_dual_infeasibility": float(info.max_dual_infeasibility),
-                  "stalled": self.stall_guard is not None and self.stall_guard.fired},
+                  "stalled": stalled},
         )
 
 

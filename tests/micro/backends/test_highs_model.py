@@ -127,6 +127,7 @@ def test_a_guarded_run_that_stalls_fails_and_says_so() -> None:
     m.guard_stalls(calls=1)
     out = m.run()
     assert out.status is Status.SOLVER_ERROR and out.x is None and out.info["stalled"]
+    assert out.native_status.startswith("stalled at simplex iteration")
     m.guard_stalls()
     out = m.run()
     assert out.ok and out.x is not None and not out.info["stalled"]
