@@ -70,9 +70,10 @@ class StallGuard:
         if it != self.iteration:
             self.iteration, self.count = it, 0
         self.count += 1
-        if self.count >= self.calls:
-            self.fired = True
-            data_in.user_interrupt = True
+        self.fired = self.fired or self.count >= self.calls
+        # set every call: HiGHS keeps the flag, and a flag left set from an
+        # interrupted run interrupted every later run of the model at once
+        data_in.user_interrupt = self.fired
 
 
 def _highs_inf(a: FloatArray, inf: float) -> FloatArray:

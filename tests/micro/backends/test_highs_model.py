@@ -114,6 +114,9 @@ def test_stall_guard_counts_calls_per_iteration() -> None:
     assert flag.user_interrupt and guard.fired
     guard.reset()
     assert not guard.fired
+    # HiGHS keeps the flag between runs: the next run's first call must clear it
+    guard(0, "", SimpleNamespace(simplex_iteration_count=0), flag, None)
+    assert flag.user_interrupt is False
 
 
 def test_a_guarded_run_that_stalls_fails_and_says_so() -> None:
@@ -128,6 +131,12 @@ def test_a_guarded_run_that_stalls_fails_and_says_so() -> None:
     out = m.run()
     assert out.status is Status.SOLVER_ERROR and out.x is None and out.info["stalled"]
     assert out.native_status.startswith("stalled at simplex iteration")
+    # the same guard, raised: the interrupted run leaves nothing behind (HiGHS kept
+    # the interrupt flag, and every later run of the model stopped at once)
+    assert m.stall_guard is not None
+    m.stall_guard.calls = 10**9
+    out = m.run()
+    assert out.ok and out.x is not None and not out.info["stalled"]
     m.guard_stalls()
     out = m.run()
     assert out.ok and out.x is not None and not out.info["stalled"]
