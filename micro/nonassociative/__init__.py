@@ -54,7 +54,10 @@ A sequence stops as ``converged`` (exactly, or certified), ``cycling``
 (an LP failed warm and cold, or the final iterate re-solved cold disagrees
 with the warm one, HiGHS having open reports of wrong objectives after hot
 starts). The load factor of a sequence that did
-not converge is NaN; the last value and the band are reported beside it.
+not converge is NaN; the last value and the band are reported beside it. A
+warm run that stalls (HiGHS' dual simplex on an infeasible scheme (b) LP) is
+interrupted by :class:`micro.backends.highs.StallGuard` and recovered like
+any failed iterate.
 """
 
 from __future__ import annotations
