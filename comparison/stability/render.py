@@ -9,7 +9,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from comparison.stability.study import GRID, MAX_SIMPLEX_ITERATIONS, STALL_SECONDS, StudyRun
+from comparison.stability.study import GRID, MAX_SIMPLEX_ITERATIONS, StudyRun
 
 #: The statuses a run of the study can end with (counted per setting), and their colours in the chart.
 STATUS_COLOURS = {
@@ -137,8 +137,8 @@ def _intro(s: dict[str, Any], n_runs: int, seconds: float, processes: int) -> li
         + " (p = 0; a length that is not a whole number of half blocks ends every course with a cut block). "
         "Setting = scheme/relaxation beta; scheme (a) `|s| <= mu nbar`, scheme (b) line of slope "
         "-alpha through (nbar, mu nbar), alpha halved 0.3 -> 1e-3; start: interior-point associative solution; "
-        f"cap 100 LPs and {MAX_SIMPLEX_ITERATIONS:,} simplex iterations per direction, and {STALL_SECONDS:g} s "
-        "per LP against a stalled HiGHS run (status `time_limit`; every other LP takes well under a second). "
+        f"cap 100 LPs and {MAX_SIMPLEX_ITERATIONS:,} simplex iterations per direction; no clock (a stalled HiGHS "
+        "run is interrupted by a count, `micro.backends.highs.StallGuard`, and recovered like a failed LP). "
         "A wall counts as converged only if every direction solved converged. "
         "`plain`: the iterated LP alone, converged only when an LP's own forces satisfy Coulomb. Otherwise, "
         "once lambda has settled (spread <= 1e-3 over 3 iterates), the current LP's mechanism is tested for an "

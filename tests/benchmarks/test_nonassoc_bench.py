@@ -90,7 +90,8 @@ def test_bench_1230_assoc_cold(benchmark) -> None:  # type: ignore[no-untyped-de
 def test_bench_1230_nonassoc(benchmark, scheme: str) -> None:  # type: ignore[no-untyped-def]
     w = case("Ref").spec().to_micro()
     # scheme b: capped at 4 LPs (a former 60 s budget bought 3: its fallback steps are slow), and 60 s per LP:
-    # HiGHS' warm dual simplex stalled in its third LP (24,000 simplex iterations in 90 s, 40 in the next 510 s)
+    # HiGHS' warm dual simplex stalled in its third LP (24,000 simplex iterations in 90 s, 40 in the next 510 s);
+    # the stall guard now interrupts it at iteration 23,984 (34 s) and its scheme (a) step replaces it
     kw = dict(max_iterations=60) if scheme == "a" else dict(max_iterations=4, time_limit=60.0)
     r = benchmark.pedantic(micro.solve_nonassociative, args=(w,), kwargs=dict(scheme=scheme, lowest=False, **kw),
                            rounds=3, iterations=1)
