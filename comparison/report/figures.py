@@ -286,14 +286,15 @@ def _table5_points(base: Mapping[str, float]) -> dict[str, tuple[list[float], li
 
 def speed_figure(res: Results, path: Path) -> Figure:
     """The speed-accuracy chart of :func:`comparison.report.tables.speed_rows`."""
-    points = [SpeedPoint(f"{r.rows} rows", r.family, r.seconds, r.error, r.rows) for r in speed_rows(res)]
+    rows = speed_rows(res)
+    points = [SpeedPoint(f"{r.rows} rows", r.family, r.seconds, r.error, r.rows) for r in rows]
     ref = speed_reference(res)
     finest = res.plan.reference_rows
     speed_accuracy(points, f"{ref.method.kind}, {finest} rows", path)
     base = base_wall({**res.plan.base, "rows": finest})
-    blocks = {r.rows: r.blocks for r in speed_rows(res) if r.blocks is not None}
+    blocks = {r.rows: r.blocks for r in rows if r.blocks is not None}
     built = ", ".join(f"{r} ({blocks[r]:,} blocks)" if r in blocks else str(r) for r in res.plan.resolutions)
-    assoc_only = [rows for rows in res.plan.resolutions if rows > finest]
+    assoc_only = [r for r in res.plan.resolutions if r > finest]
     return Figure(
         path.name,
         f"Time against accuracy: every associative back end and the iterated LP on the base wall built with "

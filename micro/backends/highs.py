@@ -57,9 +57,7 @@ class StallGuard:
 
     def __init__(self, calls: int = STALL_CALLS) -> None:
         self.calls = calls
-        self.iteration = -1
-        self.count = 0
-        self.fired = False
+        self.reset()
 
     def reset(self) -> None:
         """Before a run."""
@@ -315,7 +313,7 @@ class PersistentHighsModel:
             duals = DUAL_SIGN * np.asarray(sol.row_dual, dtype=float)
         native, guard = h.modelStatusToString(ms), self.stall_guard
         stalled = guard is not None and guard.fired
-        if guard is not None and guard.fired:
+        if stalled and guard is not None:
             native = f"stalled at simplex iteration {guard.iteration}, interrupted ({native})"
         return Outcome(
             status, native, x=x, duals=duals,
