@@ -12,7 +12,7 @@ from importlib import metadata
 from typing import Any
 
 #: The distributions whose versions decide the numbers (the solvers among them).
-PACKAGES = ("xcheck-masonry", "numpy", "scipy", "highspy", "clarabel", "cvxpy", "matplotlib")
+PACKAGES = ("xcheck-masonry", "numpy", "scipy", "highspy", "clarabel", "cvxpy", "cvxopt", "matplotlib")
 
 
 def package_versions() -> dict[str, str]:

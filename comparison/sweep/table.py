@@ -58,7 +58,7 @@ COLUMNS = (
 #: Columns that depend on the run, not on the cell: when and where it was computed.
 RUN_COLUMNS = ("seconds", "cached")
 #: Packages whose versions the metadata records.
-PACKAGES = ("xcheck-masonry", "numpy", "scipy", "highspy", "clarabel", "cvxpy", "dask", "distributed", "tqdm")
+PACKAGES = ("xcheck-masonry", "numpy", "scipy", "highspy", "clarabel", "cvxpy", "cvxopt", "dask", "distributed", "tqdm")
 
 
 def _text(value: Any) -> str:

@@ -4,20 +4,20 @@
 ``highs``     :class:`HighsBackend` and the :class:`PersistentHighsModel` it (and the iterated LP) runs on;
 ``clarabel``  :class:`ClarabelBackend` (the static form, ``clarabel-static``) and its settings;
 ``clarabel_kinematic``  :class:`ClarabelKinematicBackend` (the kinematic form, ``clarabel``);
+``normal_ipm``  :class:`NormalIpmBackend` (``normal-ipm``), the suite's interior point on the normal
+              equations, over ``normal_matrix`` (:class:`NormalMatrix`, CHOLMOD);
 ``polish``    :func:`polish_equilibrium`, the kinematic form's forces corrected onto exact equilibrium;
 ``cvxpy_``    :class:`CvxpyBackend`, the readable reference formulation.
 """
 
 from micro.backends.base import ALL_SOLVERS, MAX_RESIDUAL, SOLVERS, Backend, Outcome, Status, make_backend, recheck
 from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT, ClarabelBackend
-from micro.backends.clarabel_kinematic import (
-    CLARABEL_KINEMATIC,
-    POLISH,
-    POLISH_MAX_LOAD_FACTOR_CHANGE,
-    ClarabelKinematicBackend,
-)
+from micro.backends.clarabel_kinematic import CLARABEL_KINEMATIC, POLISH, ClarabelKinematicBackend
 from micro.backends.cvxpy_ import CvxpyBackend
 from micro.backends.highs import HighsBackend, PersistentHighsModel
+from micro.backends.normal_ipm import NORMAL_IPM, NormalIpmBackend, NormalIpmSettings
+from micro.backends.normal_matrix import NormalMatrix
+from micro.backends.polish import POLISH_MAX_LOAD_FACTOR_CHANGE
 
 __all__ = [
     "ALL_SOLVERS",
@@ -25,6 +25,7 @@ __all__ = [
     "CLARABEL_RETRY",
     "CLARABEL_TIGHT",
     "MAX_RESIDUAL",
+    "NORMAL_IPM",
     "POLISH",
     "POLISH_MAX_LOAD_FACTOR_CHANGE",
     "SOLVERS",
@@ -33,6 +34,9 @@ __all__ = [
     "ClarabelKinematicBackend",
     "CvxpyBackend",
     "HighsBackend",
+    "NormalIpmBackend",
+    "NormalIpmSettings",
+    "NormalMatrix",
     "Outcome",
     "PersistentHighsModel",
     "Status",

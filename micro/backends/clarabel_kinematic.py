@@ -23,7 +23,7 @@ The duals meet equilibrium only to Clarabel's tolerance times the largest
 force: on heavily loaded walls (Set 17, p = 8: generators up to 1.7e5 block
 weights) that is beyond the re-check's absolute 1e-6. A solve whose forces
 fail the re-check is therefore polished onto exact equilibrium
-(:data:`POLISH`; :mod:`micro.backends.polish`: the smallest relative
+(:data:`POLISH`; :func:`micro.backends.polish.checked_outcome`: the smallest relative
 correction of the generators and the load factor through one sparse
 factorisation) and re-checked again; the polished load factor is a lower
 bound. ``info`` then keeps the load factor read from the duals
@@ -54,9 +54,9 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from micro.backends.base import FloatArray, Outcome, Status, recheck
+from micro.backends.base import Outcome, Status
 from micro.backends.clarabel import RETRY_ON, ClarabelBackend, clarabel_settings
-from micro.backends.polish import polish_equilibrium
+from micro.backends.polish import checked_outcome
 from micro.lp import LimitLP
 
 #: Clarabel settings of the kinematic back end (measurements in
@@ -103,12 +103,6 @@ CLARABEL_KINEMATIC_RETRY: dict[str, Any] = {
 #: (:func:`micro.backends.polish.polish_equilibrium`). It touches no solve
 #: that passes, so it cannot make one fail.
 POLISH = True
-#: Largest change of the load factor the polish may make, relative to
-#: ``max(|lambda|, 1)``; a larger one is not a rounding correction and the
-#: solve stays ``inaccurate`` (``info["polish_rejected"]``). Measured: 3.5e-9 at
-#: most, always down (Set 17; 581 small walls: 1.4e-9), 30 times below this
-#: and 300 times below the 1e-6 the references ask.
-POLISH_MAX_LOAD_FACTOR_CHANGE = 1e-7
 
 
 class ClarabelKinematicBackend:
@@ -203,32 +197,7 @@ class ClarabelKinematicBackend:
         extra["kinematic_load_factor"] = float(self.lp.rhs @ u)
         g, lam_column = z[1:], -float(z[0])
         raw = Outcome(status, native, duals=u, ipm_iterations=iters, seconds=secs, info=extra)
-        out = recheck(self.lp, direction, self._outcome(direction, g, lam_column, raw))
-        if out.ok or not self.polish:
-            return out
-        return self._polished(direction, g, lam_column, raw, out)
-
-    def _outcome(self, direction: int, g_active: FloatArray, lam_column: float, raw: Outcome) -> Outcome:
-        """``raw`` (optimal, no forces yet) with the static state ``(g, lambda column)``."""
-        g = np.zeros(2 * self.lp.n_points)
-        g[self.active] = g_active
-        n, s = self.lp.forces(g)
-        return dataclasses.replace(raw, load_factor=float(direction) * lam_column, n=n, s=s)
-
-    def _polished(self, direction: int, g_active: FloatArray, lam_column: float, raw: Outcome,
-                  failed: Outcome) -> Outcome:
-        """The forces of ``raw``, which failed the re-check (``failed``), polished
-        onto equilibrium (:data:`POLISH`) and re-checked; ``failed`` with the
-        polish's facts if the polish moved the load factor too far."""
-        p = polish_equilibrium(self.A_g, self.lp.live, self.lp.rhs, g_active, lam_column)
-        facts = {"unpolished_load_factor": float(direction) * lam_column,
-                 "unpolished_residual": failed.info["primal_residual"], "polish_steps": p.steps,
-                 "polish_seconds": p.seconds}
-        if abs(p.load_factor - lam_column) > POLISH_MAX_LOAD_FACTOR_CHANGE * max(abs(lam_column), 1.0):
-            facts["polish_rejected"] = f"the polish moved lambda from {lam_column!r} to {p.load_factor!r}"
-            return dataclasses.replace(failed, seconds=failed.seconds + p.seconds, info={**failed.info, **facts})
-        polished = dataclasses.replace(raw, seconds=raw.seconds + p.seconds, info={**raw.info, **facts})
-        return recheck(self.lp, direction, self._outcome(direction, p.g, p.load_factor, polished))
+        return checked_outcome(self.lp, self.A_g, self.active, direction, g, lam_column, raw, polish=self.polish)
 
     def _static(self, direction: int, native: str, iterations: int, seconds: float) -> Outcome:
         """The static form's answer (:class:`~micro.backends.clarabel.ClarabelBackend`,

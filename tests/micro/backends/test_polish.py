@@ -11,8 +11,7 @@ from micro_walls import table7_wall
 
 import micro
 from comparison.wall import WallSpec
-from micro.backends import MAX_RESIDUAL, ClarabelKinematicBackend, Status
-from micro.backends import clarabel_kinematic as kinematic
+from micro.backends import MAX_RESIDUAL, ClarabelKinematicBackend, Status, polish
 from micro.backends.polish import Polished, polish_equilibrium
 
 #: A polished residual within this many rounding units of the largest force
@@ -66,7 +65,7 @@ def test_polish_closes_the_residual_keeps_signs_and_lambda(name: str) -> None:
     full[backend.active] = p.g
     assert lp.primal_residual(*lp.forces(full), p.load_factor) <= floor  # the re-check's own arithmetic
     # a rounding correction of lambda, towards the lower bound the state now certifies
-    assert abs(p.load_factor - lam) <= kinematic.POLISH_MAX_LOAD_FACTOR_CHANGE * max(1.0, abs(lam))
+    assert abs(p.load_factor - lam) <= polish.POLISH_MAX_LOAD_FACTOR_CHANGE * max(1.0, abs(lam))
     assert p.load_factor <= kinematic_lam * (1.0 + 1e-12)
 
 
@@ -82,14 +81,14 @@ def test_the_loaded_wall_fails_without_the_polish_and_passes_with_it() -> None:
     assert out.info["unpolished_residual"] == bare.info["primal_residual"]
     assert out.info["unpolished_load_factor"] == bare.info["raw_load_factor"]
     assert out.info["polish_steps"] >= 1 and out.seconds >= out.info["polish_seconds"] > 0.0
-    assert abs(out.load_factor - out.info["unpolished_load_factor"]) <= kinematic.POLISH_MAX_LOAD_FACTOR_CHANGE
+    assert abs(out.load_factor - out.info["unpolished_load_factor"]) <= polish.POLISH_MAX_LOAD_FACTOR_CHANGE
     assert out.load_factor == pytest.approx(out.info["kinematic_load_factor"], rel=1e-8)
     r = micro.solve_associative(loaded_wall(), solver="clarabel")
     assert r.ok and r.load_factor == out.load_factor
 
 
 def test_the_polish_is_rejected_when_it_moves_lambda_too_far(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(kinematic, "POLISH_MAX_LOAD_FACTOR_CHANGE", 0.0)
+    monkeypatch.setattr(polish, "POLISH_MAX_LOAD_FACTOR_CHANGE", 0.0)
     out = ClarabelKinematicBackend(micro.assemble(loaded_wall())).solve(+1)
     assert out.status is Status.INACCURATE and np.isnan(out.load_factor)
     assert "the polish moved lambda" in out.info["polish_rejected"]

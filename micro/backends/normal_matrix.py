@@ -1,0 +1,151 @@
+"""The normal-equations matrix ``M = A D A^T`` of an interior point, and its sparse Cholesky factor.
+
+An interior point for the standard-form LP ``A x + f lambda = b, x >= 0``
+solves, at every iteration, a system with ``M(d) = A diag(d) A^T`` for a new
+positive diagonal ``d`` (:mod:`micro.backends.normal_ipm`). On a wall ``M``
+has one row per equilibrium equation (``3 n_blocks``): 3,690 on the
+1,230-block wall against the ~32,000 rows of the KKT system Clarabel
+factorises there, and its pattern is fixed. So everything that depends only
+on the pattern is done once here:
+
+* the pattern of ``tril(A A^T)`` and a sparse map ``W`` with
+  ``tril(M(d)).data = W d`` (each column of ``A`` adds the outer product of
+  its few non-zeros), so forming ``M`` is one sparse product;
+* CHOLMOD's symbolic analysis (fill-reducing ordering, supernodes), through
+  cvxopt's binding (the SuiteSparse library in cvxopt's wheels; no other
+  Python package ships CHOLMOD as a wheel). Per iteration only the numeric
+  factorisation runs.
+
+Measured on one core (factorisation of ``M`` only, supernodal against
+simplicial; SuperLU and QDLDL for comparison): 1,230 blocks 3.1 ms
+(simplicial 7.5 ms, SuperLU 13 ms, QDLDL 7-10 ms); 7,575 blocks 40 ms
+(simplicial 260 ms, SuperLU 164 ms, QDLDL 174-300 ms).
+
+Near the optimum ``d`` spans ~20 decades (``x_j / z_j`` of the generators
+that carry force against those that do not) and CHOLMOD's last pivots lose
+positivity to rounding. Every diagonal entry is therefore raised by
+:attr:`NormalMatrix.regularization` times itself (a relative shift: an
+absolute one is either lost on the large rows or swamps the small ones) and
+solves are refined against the unshifted ``M`` (:meth:`NormalMatrix.solve`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+
+import numpy as np
+import scipy.sparse as sp
+
+from micro.backends.base import FloatArray
+
+
+@contextlib.contextmanager
+def cholmod_options(**options: int) -> Iterator[None]:
+    """cvxopt's CHOLMOD options set to ``options`` within the block (they are module globals)."""
+    from cvxopt import cholmod
+
+    old = dict(cholmod.options)
+    cholmod.options.update(options)
+    try:
+        yield
+    finally:
+        cholmod.options.clear()
+        cholmod.options.update(old)
+
+
+class NotPositiveDefinite(ArithmeticError):
+    """CHOLMOD met a non-positive pivot (the regularisation was too small)."""
+
+
+class NormalMatrix:
+    """``M(d) = A diag(d) A^T`` with its pattern analysed once (module docstring).
+
+    Args:
+        A: ``(n, m)`` sparse matrix of full row rank.
+        regularization: the relative diagonal shift.
+        supernodal: CHOLMOD's supernodal factorisation (``False``: simplicial,
+            2-7 times slower on walls, kept for the tests).
+        refine_steps: refinement steps at most per solve.
+        refine_tol: a solve stops refining when its residual is below this
+            times the right-hand side (max norms).
+    """
+
+    def __init__(self, A: sp.spmatrix, *, regularization: float, supernodal: bool = True, refine_steps: int = 1,
+                 refine_tol: float = 1e-10) -> None:
+        from cvxopt import cholmod, matrix, spmatrix
+
+        self._cholmod, self._matrix = cholmod, matrix
+        A = sp.csc_matrix(A)
+        A.sum_duplicates()
+        A.sort_indices()
+        self.A, self.AT = A, A.T.tocsr()
+        n, m = A.shape
+        self.n = n
+        self.regularization = regularization
+        self.refine_steps = refine_steps
+        self.refine_tol = refine_tol
+        # every pair (p, q) of non-zeros of one column with row(p) >= row(q)
+        count = np.diff(A.indptr)
+        column = np.repeat(np.arange(m), count)
+        per_nz = count[column]
+        p = np.repeat(np.arange(A.nnz), per_nz)
+        offset = np.arange(p.size) - np.repeat(np.cumsum(per_nz) - per_nz, per_nz)
+        q = np.repeat(A.indptr[column], per_nz) + offset
+        ri, rj = A.indices[p], A.indices[q]
+        lower = ri >= rj
+        p, q, ri, rj = p[lower], q[lower], ri[lower], rj[lower]
+        # keys in CSC order of tril(M): column-major; the diagonal is always kept
+        keys = np.concatenate([rj.astype(np.int64) * n + ri, np.arange(n, dtype=np.int64) * (n + 1)])
+        unique, position = np.unique(keys, return_inverse=True)
+        self.diagonal = position[p.size :]
+        self.W = sp.csr_matrix((A.data[p] * A.data[q], (position[: p.size], column[p])), shape=(unique.size, m))
+        rows = matrix((unique % n).astype(np.int64).tolist(), tc="i")
+        cols = matrix((unique // n).astype(np.int64).tolist(), tc="i")
+        self._M = spmatrix(np.ones(unique.size).tolist(), rows, cols, (n, n))
+        with cholmod_options(supernodal=2 if supernodal else 0):
+            self._factor = cholmod.symbolic(self._M)
+        self.d: FloatArray = np.ones(m)
+        self.factorizations = 0
+        self.refinements = 0
+
+    @property
+    def nnz(self) -> int:
+        """Non-zeros of ``tril(M)``."""
+        return int(self.W.shape[0])
+
+    def factor(self, d: FloatArray) -> None:
+        """Factorise ``M(d)`` plus the relative diagonal shift.
+
+        Raises:
+            NotPositiveDefinite: CHOLMOD met a non-positive pivot.
+        """
+        self.d = d
+        values = self.W @ d
+        values[self.diagonal] *= 1.0 + self.regularization
+        self._M.V = self._matrix(values)
+        try:
+            self._cholmod.numeric(self._M, self._factor)
+        except ArithmeticError as err:
+            raise NotPositiveDefinite(str(err)) from None
+        self.factorizations += 1
+
+    def product(self, v: FloatArray) -> FloatArray:
+        """``M(d) v`` for the last ``d`` factorised, unshifted (the matrix of the refinement)."""
+        return self.A @ (self.d * (self.AT @ v))
+
+    def solve(self, rhs: FloatArray) -> FloatArray:
+        """``M(d)^{-1} rhs`` (one column or several), refined against the unshifted ``M(d)``."""
+        X = self._matrix(rhs)
+        self._cholmod.solve(self._factor, X)
+        v = np.array(X).reshape(rhs.shape)
+        scale = np.max(np.abs(rhs), axis=0)
+        for _ in range(self.refine_steps):
+            r = rhs - (self.product(v) if v.ndim == 1 else np.column_stack([self.product(c) for c in v.T]))
+            if np.all(np.max(np.abs(r), axis=0) <= self.refine_tol * scale):
+                break
+            X = self._matrix(r)
+            self._cholmod.solve(self._factor, X)
+            v = v + np.array(X).reshape(rhs.shape)
+            self.refinements += 1
+        return v
