@@ -2,7 +2,7 @@
 
 ``xcheck references`` (:mod:`comparison.cli.references`) runs :func:`generate`:
 the report's methods (:func:`comparison.report.plan.build_plan`: the macro
-model, the associative LP by Clarabel, the iterated LP) on every paper case the
+model, the associative LP by ``normal-ipm``, the iterated LP) on every paper case the
 report runs them on, through the result cache, so that after ``xcheck report``
 it only reads. Published values come from :mod:`comparison.cases`.
 
