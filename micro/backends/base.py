@@ -17,7 +17,8 @@ Modelled on cvxpy's solver layer: one module per back end, each a class with a
                    wall size (docs/micro-associative.md);
 ``normal-ipm``     the suite's own interior point on the normal equations
                    (:mod:`micro.backends.normal_ipm`, CHOLMOD through
-                   cvxopt), 2-5 times faster than ``clarabel`` on walls;
+                   cvxopt), 2.4-4.3 times faster than ``clarabel`` on walls
+                   of 1,230-7,575 blocks; the report's associative back end;
 ``clarabel-static`` Clarabel's direct API on the static form, with tightened
                    tolerances (:data:`micro.backends.clarabel.CLARABEL_TIGHT`);
 ``cvxpy``          the readable reference formulation in cvxpy expressions,

@@ -22,15 +22,16 @@ Each iteration is one numeric Cholesky factorisation of ``M``
 Why: Clarabel (the ``clarabel`` back end) factorises a quasi-definite KKT
 system with a row per generator as well (~32,000 rows on the 1,230-block
 wall against ``M``'s 3,690), by QDLDL, which has no supernodes. Measured on
-one core (docs/micro-associative.md): 1,230 blocks 0.30 s against 0.78 s,
-7,575 blocks ~4 s against ~14-22 s, with lambda within 3e-8 of the vertex
-references.
+one core (benchmark medians, docs/micro-associative.md): 1,230 blocks 0.257 s
+against 0.609 s, 7,575 blocks 5.49 s against 19.6 s, with lambda within 1.7e-8
+of the vertex references.
 
 The answer's forces are the primal iterate, checked and if need be polished
 exactly as the kinematic back end's (:func:`micro.backends.polish.checked_outcome`);
 the velocities ``u = -y``, divided so the live load does unit work, are the
 mechanism. A run that does not reach the tolerances (an infeasible or
-unbounded LP, a factorisation that fails twice, the iteration limit) is not
+unbounded LP, a factorisation that fails with its shift raised 10^4 times, the
+iteration limit) or whose forces fail the re-check even polished is not
 guessed at: the wall is solved again by the ``clarabel`` back end, whose
 statuses tell infeasible from unbounded, and ``info["fallback"]`` says why.
 """
@@ -348,7 +349,11 @@ class NormalIpmBackend:
         u = -res.y
         info["kinematic_load_factor"] = float(self.lp.rhs @ u)
         raw = Outcome(status, res.reason, duals=u, ipm_iterations=res.iterations, seconds=secs, info=info)
-        return checked_outcome(self.lp, self.A_g, self.active, direction, res.g, res.lam, raw, polish=self.polish)
+        out = checked_outcome(self.lp, self.A_g, self.active, direction, res.g, res.lam, raw, polish=self.polish)
+        if out.ok:
+            return out
+        return self._fallback(direction, f"its forces failed the re-check (residual "
+                              f"{out.info['primal_residual']:.1e})", t0)
 
     def _fallback(self, direction: int, why: str, t0: float) -> Outcome:
         """The ``clarabel`` back end's answer, this attempt's time added."""

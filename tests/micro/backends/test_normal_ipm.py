@@ -118,6 +118,17 @@ def test_a_run_that_stops_short_is_solved_by_clarabel_and_says_so(monkeypatch: p
     assert out.info["fallback"].startswith("normal-ipm: iteration limit after 3 iterations; solved by clarabel")
 
 
+def test_forces_that_fail_the_re_check_fall_back(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Stopped early (tolerances 1e-2) and neither projected nor polished, the forces
+    miss equilibrium: the answer is clarabel's, not a number that failed the check."""
+    loose = dataclasses.replace(nipm.NORMAL_IPM, gap_tol=1e-2, primal_tol=1e-2, dual_tol=1e-2, projections=0)
+    lp = micro.assemble(three_storey_wall())
+    out = nipm.NormalIpmBackend(lp, settings=loose, polish=False).solve(1)
+    assert out.ok and out.load_factor == make_backend(lp, "clarabel").solve(1).load_factor
+    assert out.info["fallback"].startswith("normal-ipm: its forces failed the re-check (residual ")
+    assert out.info["primal_residual"] <= 1e-6
+
+
 def test_a_failed_factorisation_falls_back(monkeypatch: pytest.MonkeyPatch) -> None:
     def broken(self: NormalMatrix, d: np.ndarray) -> None:
         raise NotPositiveDefinite("pivot 7")
