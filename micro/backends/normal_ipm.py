@@ -89,6 +89,21 @@ class NormalIpmSettings:
     projections: int = 2
     divergence: float = 1e12
 
+    def __post_init__(self) -> None:
+        for name in ("gap_tol", "primal_tol", "dual_tol", "refine_tol", "divergence"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                raise ValueError(f"{name} must be a positive number, got {v!r}")
+        r = self.regularization
+        if isinstance(r, bool) or not isinstance(r, (int, float)) or not math.isfinite(r) or r < 0:
+            raise ValueError(f"regularization must be a non-negative number, got {r!r}")
+        if not (isinstance(self.step_fraction, float) and 0.0 < self.step_fraction < 1.0):
+            raise ValueError(f"step_fraction must be in (0, 1), got {self.step_fraction!r}")
+        for name, least in (("refine_steps", 0), ("max_iter", 1), ("correctors", 0), ("projections", 0)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < least:
+                raise ValueError(f"{name} must be an integer >= {least}, got {v!r}")
+
 
 #: The settings of the ``normal-ipm`` back end (measurements in
 #: docs/micro-associative.md).
@@ -221,6 +236,7 @@ class NormalIpm:
         """
         st = self.settings
         A, AT, f, b, m = self.A, self.AT, self.f, self.b, self.m
+        factorizations, refinements = self.M.factorizations, self.M.refinements
         x, lam, y, z = self._start(direction)
         b_scale = 1.0 + float(np.max(np.abs(b)))
         gap = primal = dual = math.inf
@@ -274,8 +290,8 @@ class NormalIpm:
         if reason == "converged":
             x, lam, primal = self._project(x, lam, primal * b_scale)
             primal /= b_scale
-        return IpmResult(reason == "converged", reason, x, lam, y, it, self.M.factorizations, self.M.refinements,
-                         gap, primal, dual)
+        return IpmResult(reason == "converged", reason, x, lam, y, it, self.M.factorizations - factorizations,
+                         self.M.refinements - refinements, gap, primal, dual)
 
     def _project(self, x: FloatArray, lam: float, residual: float) -> tuple[FloatArray, float, float]:
         """The converged primal ``(x, lambda)`` moved onto equilibrium: up to

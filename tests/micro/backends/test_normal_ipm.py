@@ -72,6 +72,23 @@ def test_settings_are_pinned() -> None:
     assert measured == nipm.NORMAL_IPM
 
 
+@pytest.mark.parametrize(("field", "value"), [("gap_tol", 0.0), ("primal_tol", float("nan")), ("dual_tol", -1e-9),
+                                              ("regularization", -1.0), ("step_fraction", 1.0), ("max_iter", 0),
+                                              ("correctors", 1.5), ("projections", True)])
+def test_bad_settings_name_the_field(field: str, value: object) -> None:
+    with pytest.raises(ValueError, match=f"^{field} must be"):
+        dataclasses.replace(nipm.NORMAL_IPM, **{field: value})
+
+
+def test_counts_are_per_run() -> None:
+    """One model serves both directions; each run reports its own factorisations."""
+    lp = micro.assemble(three_storey_wall())
+    be = nipm.NormalIpmBackend(lp)
+    a, b = be.solve(1), be.solve(-1)
+    assert a.ok and b.ok
+    assert a.info["factorizations"] == a.ipm_iterations + 1 and b.info["factorizations"] == b.ipm_iterations + 1
+
+
 def test_the_factorisation_is_supernodal_and_leaves_cvxopt_options_alone() -> None:
     """CHOLMOD's supernodal factorisation is asked for explicitly (simplicial is
     2-7 times slower on walls); the global cvxopt options are restored."""
