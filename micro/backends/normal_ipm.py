@@ -48,7 +48,7 @@ from typing import Any
 import numpy as np
 
 from micro.backends.base import FloatArray, Outcome, Status
-from micro.backends.normal_matrix import NormalMatrix, NotPositiveDefinite
+from micro.backends.normal_matrix import NormalMatrix, NotPositiveDefinite, one_blas_thread
 from micro.backends.polish import checked_outcome
 from micro.lp import LimitLP
 
@@ -224,16 +224,22 @@ class NormalIpm:
 
     def run(self, direction: int, *, deadline: float = math.inf,
             trace: Callable[[int, float, float, float, float], None] | None = None) -> IpmResult:
-        """Solve for ``direction`` (``+1``: maximise ``lambda``; ``-1``: minimise it).
+        """Solve for ``direction`` with BLAS on one thread (:func:`~micro.backends.normal_matrix.one_blas_thread`).
 
         Args:
-            direction: ``+1`` or ``-1``.
+            direction: ``+1`` (maximise ``lambda``) or ``-1`` (minimise it).
             deadline: ``time.perf_counter()`` value at which to stop.
             trace: called every iteration with ``(iteration, lambda, gap, primal, dual)``.
 
         Raises:
             NotPositiveDefinite: a factorisation failed with the largest shift.
         """
+        with one_blas_thread():
+            return self._run(direction, deadline, trace)
+
+    def _run(self, direction: int, deadline: float,
+             trace: Callable[[int, float, float, float, float], None] | None) -> IpmResult:
+        """:meth:`run`'s body."""
         st = self.settings
         A, AT, f, b, m = self.A, self.AT, self.f, self.b, self.m
         factorizations, refinements = self.M.factorizations, self.M.refinements

@@ -27,12 +27,20 @@ positivity to rounding. Every diagonal entry is therefore raised by
 :attr:`NormalMatrix.regularization` times itself (a relative shift: an
 absolute one is either lost on the large rows or swamps the small ones) and
 solves are refined against the unshifted ``M`` (:meth:`NormalMatrix.solve`).
+
+CHOLMOD's supernodal kernels are BLAS calls, and a multithreaded BLAS sums in
+an order that depends on its thread count: the Table 9 wall came out at
+lambda 0.507255117568 (40 iterations) with one OpenBLAS thread and
+0.507255113477 (41) with two. :func:`one_blas_thread` (threadpoolctl) holds
+BLAS to one thread while the interior point runs, so the load factor does not
+depend on the machine's core count (the benchmarks measured one thread).
 """
 
 from __future__ import annotations
 
 import contextlib
 from collections.abc import Iterator
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -52,6 +60,24 @@ def cholmod_options(**options: int) -> Iterator[None]:
     finally:
         cholmod.options.clear()
         cholmod.options.update(old)
+
+
+_CONTROLLER: Any = None
+
+
+def one_blas_thread() -> contextlib.AbstractContextManager[Any]:
+    """A context in which every BLAS library loaded (cvxopt's OpenBLAS among them) runs on one thread.
+
+    The controller is made on first use, after cvxopt is imported (it finds
+    the libraries loaded when it is made).
+    """
+    global _CONTROLLER
+    if _CONTROLLER is None:
+        import cvxopt.cholmod  # noqa: F401 - load cvxopt's BLAS before the controller looks
+        from threadpoolctl import ThreadpoolController
+
+        _CONTROLLER = ThreadpoolController()
+    return _CONTROLLER.limit(limits=1, user_api="blas")
 
 
 class NotPositiveDefinite(ArithmeticError):

@@ -89,6 +89,22 @@ def test_counts_are_per_run() -> None:
     assert a.info["factorizations"] == a.ipm_iterations + 1 and b.info["factorizations"] == b.ipm_iterations + 1
 
 
+def test_lambda_does_not_depend_on_the_blas_thread_count() -> None:
+    """CHOLMOD's supernodal BLAS calls sum in a thread-dependent order; the back end
+    holds BLAS to one thread, so the answer is bit for bit the same whatever the
+    caller set (without it the 1,230-block wall differed in the last digit, the
+    7,575-block wall by 8e-9)."""
+    import cvxopt.cholmod  # noqa: F401 - cvxopt's BLAS loaded, so the limits reach it
+    from threadpoolctl import threadpool_limits
+
+    lp = micro.assemble(WallSpec.from_paper(**REFERENCE["w1230 full frictional"]["paper"]).to_micro())
+    answers = []
+    for threads in (1, 2):
+        with threadpool_limits(limits=threads, user_api="blas"):
+            answers.append(make_backend(lp, "normal-ipm").solve(1).load_factor)
+    assert answers[0] == answers[1]
+
+
 def test_the_factorisation_is_supernodal_and_leaves_cvxopt_options_alone() -> None:
     """CHOLMOD's supernodal factorisation is asked for explicitly (simplicial is
     2-7 times slower on walls); the global cvxopt options are restored."""
