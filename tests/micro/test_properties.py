@@ -27,12 +27,14 @@ def test_random_walls(n_half: int, rows: list[int], friction: float, overload: f
     )
     a = micro.solve_associative(wall, solver="highs", directions="both")
     b = micro.solve_associative(wall, solver="clarabel", directions="both")
-    assert a.ok and b.ok, (a.message, b.message)
+    c = micro.solve_associative(wall, solver="normal-ipm", directions="both")
+    assert a.ok and b.ok and c.ok, (a.message, b.message, c.message)
     # the base cannot carry more than mu times the total vertical load
     assert a.load_factor <= friction * (1 + 1e-7)
     for d in ("+x", "-x"):
-        ra, rb = a.by_direction(d), b.by_direction(d)
+        ra, rb, rc = a.by_direction(d), b.by_direction(d), c.by_direction(d)
         assert ra.load_factor == pytest.approx(rb.load_factor, rel=1e-6, abs=1e-9)
+        assert rc.load_factor == pytest.approx(rb.load_factor, rel=1e-6, abs=1e-9)
         assert abs(ra.mechanism.virtual_work_residual(ra.load_factor)) < 1e-6  # type: ignore[union-attr]
     if wall.mirror_symmetric:
         assert a.by_direction("+x").load_factor == pytest.approx(a.by_direction("-x").load_factor, rel=1e-6)
