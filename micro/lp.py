@@ -107,6 +107,11 @@ class LimitLP:
         """Index of the load-factor column."""
         return 2 * self.n_points
 
+    def active_generators(self) -> NDArray[np.intp]:
+        """Indices of the generator columns that may carry force (upper bound ``> 0``;
+        ``g-`` of a frictionless point is fixed at 0)."""
+        return np.flatnonzero(self.col_upper[: self.lam_col] > 0.0)
+
     def cost(self, direction: int) -> FloatArray:
         """Objective of the minimisation for live load direction ``+1``/``-1``."""
         c = np.zeros(self.n_cols)

@@ -141,7 +141,7 @@ class ClarabelKinematicBackend:
         self.name = "clarabel"
         self.time_limit = time_limit
         self.polish = polish
-        self.active = np.flatnonzero(lp.col_upper[: lp.lam_col] > 0.0)
+        self.active = lp.active_generators()
         self.work_scale = float(np.sum(np.abs(lp.live)))
         self.A_g = lp.A[:, self.active]
         self.A = sp.vstack([sp.csr_matrix(lp.live[None, :]), -self.A_g.T.tocsr()], format="csc")

@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 
 from micro.backends.base import FloatArray, Outcome, Status
+from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
 from micro.backends.normal_matrix import NormalMatrix, NotPositiveDefinite, one_blas_thread
 from micro.backends.polish import checked_outcome
 from micro.lp import LimitLP
@@ -115,14 +116,12 @@ class IpmResult:
     """Where the interior point stopped.
 
     Attributes:
-        converged: the tolerances were met.
         reason: why it stopped (``"converged"``, ``"iteration limit"``, ...).
         g: the generators; ``lam``: the load-factor column; ``y``: the row duals.
         iterations: iterations run; ``factorizations``, ``refinements``: of ``M``.
         gap, primal, dual: the last relative gap and residuals.
     """
 
-    converged: bool
     reason: str
     g: FloatArray
     lam: float
@@ -134,6 +133,11 @@ class IpmResult:
     primal: float
     dual: float
 
+    @property
+    def converged(self) -> bool:
+        """The tolerances were met."""
+        return self.reason == "converged"
+
 
 def _max_step(v: FloatArray, dv: FloatArray) -> float:
     """The largest ``a <= 1`` with ``v + a dv >= 0``."""
@@ -143,32 +147,24 @@ def _max_step(v: FloatArray, dv: FloatArray) -> float:
     return min(1.0, float(np.min(-v[neg] / dv[neg])))
 
 
-@dataclass
 class _Newton:
-    """The Newton systems of one iteration (``M`` factorised for ``d = x / z``)."""
+    """The Newton systems of one iteration (``M`` factorised for ``d = x / z``).
 
-    ipm: NormalIpm
-    x: FloatArray
-    z: FloatArray
-    rp: FloatArray
-    rd: FloatArray
-    rf: float
-    w: FloatArray | None = None
-    h0: FloatArray | None = None
+    Eliminating ``dx`` and ``dz`` leaves ``M dy + f dlambda = h`` with
+    ``h = r_p + A (d r_d) - A (r_c / z)`` and ``f . dy = r_f``.
+    """
+
+    def __init__(self, ipm: NormalIpm, x: FloatArray, z: FloatArray, rp: FloatArray, rd: FloatArray,
+                 rf: float) -> None:
+        self.ipm, self.x, self.z, self.rd, self.rf = ipm, x, z, rd, rf
+        self.h0 = rp + ipm.A @ (ipm.M.d * rd)
+        self.w: FloatArray | None = None
 
     def direction(self, rc: FloatArray) -> tuple[FloatArray, float, FloatArray, FloatArray]:
         """``(dx, dlambda, dy, dz)`` for the complementarity right-hand side ``rc``
         (the first call also solves for ``w = M^{-1} f``, in the same solve)."""
         ipm = self.ipm
-        if self.h0 is None:
-            self.h0 = self.rp + ipm.A @ (self.x / self.z * self.rd)
-        h = self.h0 - ipm.A @ (rc / self.z)
-        if self.w is None:
-            self.w, Mh = ipm.M.solve(np.column_stack([ipm.f, h])).T
-        else:
-            Mh = ipm.M.solve(h)
-        dl = (float(ipm.f @ Mh) - self.rf) / float(ipm.f @ self.w)
-        dy = Mh - dl * self.w
+        dy, dl, self.w = ipm.bordered(self.h0 - ipm.A @ (rc / self.z), self.rf, self.w)
         dz = self.rd - ipm.AT @ dy
         dx = (rc - self.x * dz) / self.z
         return dx, dl, dy, dz
@@ -205,6 +201,18 @@ class NormalIpm:
                     raise
             finally:
                 self.M.regularization = reg
+
+    def bordered(self, h: FloatArray, rf: float, w: FloatArray | None = None) -> tuple[FloatArray, float, FloatArray]:
+        """``(v, dlambda, w)`` with ``M v + f dlambda = h`` and ``f . v = rf``, through the
+        factorisation of ``M``: ``w = M^{-1} f`` (solved with ``h`` unless given),
+        ``dlambda = (f . M^{-1} h - rf) / (f . w)``, ``v = M^{-1} h - dlambda w``."""
+        f = self.f
+        if w is None:
+            w, Mh = self.M.solve(np.column_stack([f, h])).T
+        else:
+            Mh = self.M.solve(h)
+        dl = (float(f @ Mh) - rf) / float(f @ w)
+        return Mh - dl * w, dl, w
 
     def _start(self, direction: int) -> tuple[FloatArray, float, FloatArray, FloatArray]:
         """Mehrotra's starting point: the least-norm ``(x, lambda)`` and a dual
@@ -279,10 +287,10 @@ class NormalIpm:
             rc = sigma * mu - x * z - dxa * dza
             dx, dl, dy, dz = sys_.direction(rc)
             ap, ad = _max_step(x, dx), _max_step(z, dz)
-            for _ in range(st.correctors):  # Gondzio's centrality correctors
+            lo, hi = 0.1 * sigma * mu, 10.0 * sigma * mu  # the centrality box of Gondzio's correctors
+            for _ in range(st.correctors):
                 target_p, target_d = min(1.0, 1.5 * ap + 0.1), min(1.0, 1.5 * ad + 0.1)
                 v = (x + target_p * dx) * (z + target_d * dz)
-                lo, hi = 0.1 * sigma * mu, 10.0 * sigma * mu
                 t = np.clip(v, lo, hi) - v
                 t[t < -hi] = -hi
                 cx, cl, cy, cz = sys_.direction(rc + t)
@@ -296,7 +304,7 @@ class NormalIpm:
         if reason == "converged":
             x, lam, primal = self._project(x, lam, primal * b_scale)
             primal /= b_scale
-        return IpmResult(reason == "converged", reason, x, lam, y, it, self.M.factorizations - factorizations,
+        return IpmResult(reason, x, lam, y, it, self.M.factorizations - factorizations,
                          self.M.refinements - refinements, gap, primal, dual)
 
     def _project(self, x: FloatArray, lam: float, residual: float) -> tuple[FloatArray, float, float]:
@@ -307,16 +315,16 @@ class NormalIpm:
         take it), through that factorisation; a correction that does not lower
         the residual or turns a generator negative is not taken."""
         A, AT, f, b = self.A, self.AT, self.f, self.b
+        w = None
+        rp = b - A @ x - f * lam
         for _ in range(self.settings.projections):
-            rp = b - A @ x - f * lam
-            w, Mr = self.M.solve(np.column_stack([f, rp])).T
-            dl = float(f @ Mr) / float(f @ w)
-            dx = self.M.d * (AT @ (Mr - dl * w))
-            x_new, lam_new = x + dx, lam + dl
-            res = float(np.max(np.abs(b - A @ x_new - f * lam_new)))
+            v, dl, w = self.bordered(rp, 0.0, w)
+            x_new, lam_new = x + self.M.d * (AT @ v), lam + dl
+            rp_new = b - A @ x_new - f * lam_new
+            res = float(np.max(np.abs(rp_new)))
             if not res < residual or np.any(x_new < 0.0):
                 break
-            x, lam, residual = x_new, lam_new, res
+            x, lam, residual, rp = x_new, lam_new, res, rp_new
         return x, lam, residual
 
 
@@ -342,7 +350,7 @@ class NormalIpmBackend:
         self.settings = settings
         self.time_limit = time_limit
         self.polish = polish
-        self.active = np.flatnonzero(lp.col_upper[: lp.lam_col] > 0.0)
+        self.active = lp.active_generators()
         self.A_g = lp.A[:, self.active]
         self._ipm: NormalIpm | None = None
 
@@ -379,8 +387,6 @@ class NormalIpmBackend:
 
     def _fallback(self, direction: int, why: str, t0: float) -> Outcome:
         """The ``clarabel`` back end's answer, this attempt's time added."""
-        from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
-
         spent = time.perf_counter() - t0
         out = ClarabelKinematicBackend(self.lp, time_limit=self.time_limit, polish=self.polish).solve(direction)
         info = {**out.info, "fallback": f"normal-ipm: {why}; solved by clarabel"}

@@ -107,7 +107,6 @@ class NormalMatrix:
         A.sort_indices()
         self.A, self.AT = A, A.T.tocsr()
         n, m = A.shape
-        self.n = n
         self.regularization = regularization
         self.refine_steps = refine_steps
         self.refine_tol = refine_tol
@@ -157,8 +156,10 @@ class NormalMatrix:
         self.factorizations += 1
 
     def product(self, v: FloatArray) -> FloatArray:
-        """``M(d) v`` for the last ``d`` factorised, unshifted (the matrix of the refinement)."""
-        return self.A @ (self.d * (self.AT @ v))
+        """``M(d) v`` (one column or several) for the last ``d`` factorised, unshifted
+        (the matrix of the refinement)."""
+        d = self.d if v.ndim == 1 else self.d[:, None]
+        return self.A @ (d * (self.AT @ v))
 
     def solve(self, rhs: FloatArray) -> FloatArray:
         """``M(d)^{-1} rhs`` (one column or several), refined against the unshifted ``M(d)``."""
@@ -167,7 +168,7 @@ class NormalMatrix:
         v = np.array(X).reshape(rhs.shape)
         scale = np.max(np.abs(rhs), axis=0)
         for _ in range(self.refine_steps):
-            r = rhs - (self.product(v) if v.ndim == 1 else np.column_stack([self.product(c) for c in v.T]))
+            r = rhs - self.product(v)
             if np.all(np.max(np.abs(r), axis=0) <= self.refine_tol * scale):
                 break
             X = self._matrix(r)
