@@ -89,6 +89,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "b (line of slope -alpha through (nbar, mu nbar))",
     )
     na.add_argument(
+        "--selection",
+        default="vertex",
+        metavar="vertex|lazy",
+        help="which optimal forces each LP of scheme a takes: vertex (the simplex's, default) or lazy (the "
+        "ones closest to nbar; contracts where vertices cycle, e.g. Set 2)",
+    )
+    na.add_argument(
         "--relaxation",
         default=None,
         metavar="BETA",
@@ -202,9 +209,12 @@ def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, 
 def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWall, time_limit: float | None) -> int:
     """``--friction nonassociative``: the iterated LP (HiGHS only)."""
     import micro
-    from micro.nonassociative import SCHEMES
+    from micro.nonassociative import SCHEMES, SELECTIONS
 
     choice("--scheme", args.scheme, SCHEMES)
+    choice("--selection", args.selection, SELECTIONS)
+    if args.selection == "lazy" and args.scheme != "a":
+        raise UsageError("--selection lazy needs --scheme a")
     if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
     relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
@@ -216,6 +226,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     result = micro.solve_nonassociative(
         wall,
         scheme=args.scheme,
+        selection=args.selection,
         relaxation=relaxation,
         max_iterations=max_it,
         time_limit=time_limit,

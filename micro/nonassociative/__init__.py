@@ -72,7 +72,7 @@ from micro.nonassociative.convergence import detect_cycle
 from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
 from micro.nonassociative.iteration import Sequence
 from micro.nonassociative.lowest import LowestDirection, lowest_state
-from micro.nonassociative.options import DEFAULT_RELAXATION, SCHEMES, NonAssociativeOptions
+from micro.nonassociative.options import DEFAULT_RELAXATION, SCHEMES, SELECTIONS, NonAssociativeOptions
 from micro.nonassociative.results import (
     CONVERGED,
     CYCLING,
@@ -92,6 +92,7 @@ __all__ = [
     "DEFAULT_RELAXATION",
     "MAX_ITERATIONS",
     "SCHEMES",
+    "SELECTIONS",
     "SOLVER_FAILURE",
     "STATUSES",
     "TIME_LIMIT",

@@ -84,6 +84,7 @@ class Sequence:
         self.warm_pivots, self.cold_streak, self.pivots = 0, 0, 0
         self.streak_length = COLD_STREAK
         self.last_try = -(10**9)
+        self.model: IterationModel | None = None
 
     # ------------------------------------------------------------ iterate 0
     def _start(self) -> tuple[Outcome, str, FloatArray | None]:
@@ -130,7 +131,8 @@ class Sequence:
             return self._fail("associative_failed", "equilibrium needs a live load in the opposite direction",
                               t_start, lam_assoc)
         t_b = time.perf_counter()
-        model = IterationModel(self.lp, self.d, self.o.scheme, self.o.alpha0)
+        model = IterationModel(self.lp, self.d, self.o.scheme, self.o.alpha0, lazy=self.o.selection == "lazy")
+        self.model = model
         alpha = self.o.alpha0 if self.o.scheme == "b" else 0.0
         model.set_capacity(n0, alpha, self.o.alpha0, self.c0)
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
@@ -270,7 +272,8 @@ class Sequence:
         self.final = (v, n, s, lam)
         alpha_done = o.scheme == "a" or alpha <= o.alpha_min
         coul_tol = o.coulomb_tol + (self.c0 / nscale if o.scheme == "b" else 0.0)
-        exact = convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
+        # a lazy iterate's mechanism is perturbed by the selection's cost: only the certificate ends it
+        exact = None if o.selection == "lazy" else convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
         if exact is not None:
             return exact, None, None
         if (o.certify and alpha_done and algo != "fallback-a"
@@ -284,7 +287,18 @@ class Sequence:
 
     def _try_certificate(self, k: int, v: FloatArray, lam: float) -> bool:
         """Try the certificate on iterate ``k`` (``lambda`` has settled): is it
-        an exact collapse state with other forces than the LP's vertex?"""
+        an exact collapse state with other forces than the LP's vertex?
+
+        With the lazy selection the mechanism and ``lambda`` tried are those
+        of the plain LP at the same ``nbar`` (the selection's cost switched
+        off, a warm run from the iterate's basis); a certified sequence ends
+        with that LP in the model (for the cold check), otherwise the cost
+        is switched on again."""
+        if self.o.selection == "lazy":
+            plain = self._plain_run()
+            if plain is None:
+                return False
+            v, lam = plain
         cert = self.certificate.certify(v, lam, time_limit=self.o.user_limit)
         self.last_try = k
         rec = self.history[-1]
@@ -295,10 +309,25 @@ class Sequence:
             coulomb_residual=coul if math.isfinite(coul) else rec.coulomb_residual,
         )
         if cert.forces is None:
+            if self.model is not None:
+                self.model.set_lazy(True)
             return False
         self.final = (v, cert.forces[0], cert.forces[1], lam)
         self.mechanism_band = cert.band
         return True
+
+    def _plain_run(self) -> tuple[FloatArray, float] | None:
+        """The lazy selection's plain LP at the current ``nbar``: ``(v, lambda)``,
+        or ``None`` (the cost switched on again) when the run fails."""
+        model = self.model
+        assert model is not None
+        model.set_lazy(False)
+        out = model.warm(self.o.time_limit, self.warm_limit)
+        self.pivots += int(out.simplex_iterations)
+        if out.x is None or out.duals is None:
+            model.set_lazy(True)
+            return None
+        return out.duals[: self.lp.n_eq], model.load_factor(out.x)
 
     def _record(self, k: int, lam: float, dlam: float, dn: float, coul: float, alpha: float, out: Outcome,
                 algo: str) -> None:

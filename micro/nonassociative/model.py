@@ -1,9 +1,11 @@
 """The iteration model: the rebuilt yield conditions as changes of one persistent HiGHS model.
 
 Columns ``[n (P), s (P), lambda]`` over the equilibrium rows (plus, for
-scheme (b), ``2P`` friction rows). Without the associative generator columns
-each simplex iteration costs ~2/3 of what it did with them (1,230 blocks:
-0.21 ms against 0.32 ms). Every iterate changes bounds (scheme (a)), or row
+scheme (b), ``2P`` friction rows; for the lazy selection, ``2P`` columns
+``p, m >= 0`` and ``P`` rows ``n - p + m = nbar`` with the cost
+:data:`~micro.nonassociative.options.LAZY_WEIGHT` on ``p + m``). Without the
+associative generator columns each simplex iteration costs ~2/3 of what it
+did with them (1,230 blocks: 0.21 ms against 0.32 ms). Every iterate changes bounds (scheme (a)), or row
 bounds and coefficients (scheme (b)), only, so the dual simplex restarts
 from the previous basis.
 """
@@ -20,6 +22,7 @@ from numpy.typing import NDArray
 from micro.backends.base import Outcome, Status
 from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
+from micro.nonassociative.options import LAZY_WEIGHT
 
 FloatArray = NDArray[np.float64]
 
@@ -33,20 +36,34 @@ class IterationModel:
         scheme: ``"a"`` (``|s| <= mu nbar`` as bounds of ``s``) or ``"b"``
             (the two friction rows ``+-s + alpha mu n <= c0 + (1 + alpha) mu nbar``).
         alpha0: the first slope of scheme (b).
+        lazy: add the lazy selection's columns and rows (scheme (a) only):
+            among the LP's optimal fields it then picks the one closest to
+            ``nbar`` in the 1-norm (see :data:`~micro.nonassociative.options.LAZY_WEIGHT`).
     """
 
-    def __init__(self, lp: LimitLP, direction: int, scheme: str, alpha0: float) -> None:
+    def __init__(self, lp: LimitLP, direction: int, scheme: str, alpha0: float, *, lazy: bool = False) -> None:
         P = lp.n_points
-        self.lp, self.d, self.scheme, self.P = lp, direction, scheme, P
+        self.lp, self.d, self.scheme, self.P, self.lazy = lp, direction, scheme, P, lazy
         self.n_cols = np.arange(P)
         self.s_cols = np.arange(P, 2 * P)
         self.lam_col = 2 * P
+        self.pm_cols = np.arange(2 * P + 1, 4 * P + 1)  # p, m of the lazy selection
+        self.prox_rows = lp.n_eq + np.arange(P)  # n - p + m = nbar
         A = sp.hstack([lp.Bn, lp.Bs, sp.csc_matrix(lp.live.reshape(-1, 1))], format="csc")
         cost = np.zeros(2 * P + 1)
         cost[self.lam_col] = -float(direction)
         lower = np.concatenate([np.zeros(2 * P), [-np.inf]])
         upper = np.concatenate([np.full(P, np.inf), np.zeros(P), [np.inf]])
-        self.model = PersistentHighsModel(A, cost, lower, upper, lp.rhs.copy(), lp.rhs.copy(), algorithm="ipm")
+        row_lo, row_up = lp.rhs.copy(), lp.rhs.copy()
+        if lazy:
+            eye = sp.identity(P, format="csc")
+            A = sp.vstack([sp.hstack([A, sp.csc_matrix((lp.n_eq, 2 * P))]),
+                           sp.hstack([eye, sp.csc_matrix((P, P + 1)), -eye, eye])], format="csc")
+            cost = np.concatenate([cost, np.full(2 * P, LAZY_WEIGHT)])
+            lower = np.concatenate([lower, np.zeros(2 * P)])
+            upper = np.concatenate([upper, np.full(2 * P, np.inf)])
+            row_lo, row_up = np.concatenate([row_lo, np.zeros(P)]), np.concatenate([row_up, np.zeros(P)])
+        self.model = PersistentHighsModel(A, cost, lower, upper, row_lo, row_up, algorithm="ipm")
         self.model.guard_stalls()  # a stalled warm run fails (and is recovered) instead of hanging
         self.in_fallback = False
         self.good_basis: Any = None
@@ -87,6 +104,8 @@ class IterationModel:
         nbar = np.maximum(nbar, 0.0)
         if self.scheme == "a":
             m.set_col_bounds(self.s_cols, -mu * nbar, mu * nbar)
+            if self.lazy:
+                m.set_row_bounds(self.prox_rows, nbar, nbar)
             return
         if self.in_fallback:
             m.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
@@ -95,6 +114,13 @@ class IterationModel:
             m.change_coeffs(self.f_rows, np.repeat(self.n_cols, 2), np.repeat(alpha * mu, 2))
         rhs = c0 + (1.0 + alpha) * mu * nbar
         m.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.repeat(rhs, 2))
+
+    def set_lazy(self, on: bool) -> None:
+        """Switch the lazy selection's cost on ``|n - nbar|`` on or off (costs
+        only, the basis is kept). Off, the model is Gilbert's LP at ``nbar``
+        itself: ``p`` and ``m`` are free to absorb ``n - nbar``."""
+        if self.lazy:
+            self.model.set_costs(self.pm_cols, np.full(2 * self.P, LAZY_WEIGHT if on else 0.0))
 
     def fallback_a_step(self, nbar: FloatArray, seconds: float | None, simplex_iterations: int) -> Outcome:
         """One LP of scheme (a) inside the scheme (b) model from the last good

@@ -21,6 +21,17 @@ from micro.results import Directions, check_directions
 SCHEMES = ("a", "b")
 #: Default relaxation ``beta`` per scheme (``nbar = beta n_k + (1 - beta) n_(k-1)``).
 DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
+#: How an iterate picks its forces among the optimal fields of its LP.
+SELECTIONS = ("vertex", "lazy")
+#: The lazy selection's cost per unit of ``|n - nbar|`` (scaled units: block
+#: weights, against a cost of 1 on ``lambda``). Small enough that the LP's
+#: ``lambda`` moves by at most ``LAZY_WEIGHT`` times the 1-norm of the
+#: change (1e-3 at the first iterates of the 1,230-block Set 2, nothing at a
+#: fixed point), large enough for HiGHS' dual simplex to see (its dual
+#: feasibility tolerance is 1e-9). The mechanism of such an LP is perturbed by
+#: it (energy residuals ~1e-5 to 1e-3), so the certificate asks the plain LP
+#: at the same ``nbar`` (this cost switched off) for its mechanism.
+LAZY_WEIGHT = 1e-7
 
 # ------------------------------------------------------------ warm / cold policy
 # Every decision of the sequence is taken on deterministic work measures
@@ -98,6 +109,16 @@ class NonAssociativeOptions:
 
     Attributes:
         scheme: rebuilt yield condition, ``"a"`` or ``"b"`` (package docstring).
+        selection: which of an LP's optimal force fields an iterate takes
+            (scheme (a) only for ``"lazy"``): ``"vertex"`` (the simplex's
+            vertex, Gilbert et al.'s iteration) or ``"lazy"`` (the field
+            closest to ``nbar`` in the 1-norm, by the cost
+            :data:`LAZY_WEIGHT` on ``|n - nbar|``: the forces of the parts
+            that do not move stop jumping from one vertex to another: on
+            Set 2, which cycles with vertices, the sequence contracts and is
+            certified after 39 LPs; a lazy sequence ends converged only by
+            the certificate, with the mechanism of the plain LP at the last
+            ``nbar``). The two can end at different states.
         relaxation: ``beta`` in ``(0, 1]`` (``None``: :data:`DEFAULT_RELAXATION`;
             :attr:`beta` is the value used).
         alpha0, alpha_min, alpha_factor: slope schedule of scheme (b):
@@ -178,6 +199,7 @@ class NonAssociativeOptions:
     """
 
     scheme: Literal["a", "b"] = "a"
+    selection: Literal["vertex", "lazy"] = "vertex"
     relaxation: float | None = None
     alpha0: float = 0.3
     alpha_min: float = 1e-3
@@ -209,6 +231,10 @@ class NonAssociativeOptions:
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
             raise ValueError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
+        if self.selection not in SELECTIONS:
+            raise ValueError(f"selection must be one of {', '.join(SELECTIONS)}, got {self.selection!r}")
+        if self.selection == "lazy" and self.scheme != "a":
+            raise ValueError("selection 'lazy' needs scheme 'a' (its yield condition is a bound on s)")
         beta = self.relaxation
         if beta is not None and (isinstance(beta, bool) or not isinstance(beta, (int, float))
                                  or not (0.0 < float(beta) <= 1.0)):

@@ -44,12 +44,23 @@ def test_cli_cycling_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 @pytest.mark.parametrize("extra", [["--scheme", "c"], ["--relaxation", "0"], ["--max-iterations", "x"],
-                                   ["--solver", "clarabel"], ["--global", "--node-limit", "0"]])
+                                   ["--solver", "clarabel"], ["--global", "--node-limit", "0"],
+                                   ["--selection", "closest"], ["--selection", "lazy", "--scheme", "b"]])
 def test_cli_bad_options(extra: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "6", "--f", "0.75",
                  "--friction", "nonassociative", *extra])
     assert code == 2
     assert "xcheck: error:" in capsys.readouterr().err
+
+
+def test_cli_lazy_selection(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--selection lazy`` reaches the options and ends certified (Table 7, Set 12)."""
+    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
+                 "--selection", "lazy", "--no-lowest", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    assert out["options"]["selection"] == "lazy" and out["stop_reason"] == "certified"
+    assert 0.69 < out["load_factor"] <= out["associative_load_factor"]
 
 
 def test_cli_global_node_limit(capsys: pytest.CaptureFixture[str]) -> None:

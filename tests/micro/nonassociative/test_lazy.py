@@ -1,0 +1,89 @@
+"""The lazy selection: each iterate takes the optimal force field closest to ``nbar``."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import micro
+from comparison.wall import WallSpec
+from micro.nonassociative import NonAssociativeOptions, solve_nonassociative, verify_collapse_state
+from micro.nonassociative.model import IterationModel, restart
+from micro.nonassociative.options import LAZY_WEIGHT
+
+
+def wall(t: float, m: float, rows: int = 12, f: float = 0.75) -> micro.BlockWall:
+    return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=0, storeys=1).to_micro()
+
+
+@pytest.mark.parametrize("t, m", [(1.0, 1 / 3), (1.0, 1.0)])  # Table 7, Sets 12 and 14
+def test_lazy_sequences_end_in_exact_states(t: float, m: float) -> None:
+    """A lazy sequence ends certified, in a state that passes every collapse
+    condition, inside its mechanism band and below the associative load."""
+    w = wall(t, m)
+    r = solve_nonassociative(w, selection="lazy", lowest=False)
+    assert r.converged, r.message
+    lp = micro.assemble(w)
+    for d in r.directions:
+        assert d.sequence is not None and d.sequence.stop_reason == "certified"
+        v = verify_collapse_state(lp, d)
+        assert v["equilibrium"] <= 1e-9 and v["coulomb"] <= 1e-9 and v["interpenetration"] <= 1e-9
+        assert v["dilatancy"] <= 1e-9 and v["slip_off_yield"] <= 1e-9 and v["energy"] <= 1e-9
+        lo, hi = d.sequence.mechanism_band
+        assert lo - 1e-7 <= d.load_factor <= hi + 1e-7
+        assert d.load_factor <= d.sequence.associative_load_factor + 1e-9
+
+
+def test_vertex_selection_is_unchanged_by_default() -> None:
+    """The default is Gilbert et al.'s vertex iteration (Set 12's pinned value)."""
+    assert NonAssociativeOptions().selection == "vertex"
+    r = solve_nonassociative(wall(1.0, 1 / 3), lowest=False)
+    assert r.load_factor == pytest.approx(0.708622, abs=2e-6)
+
+
+def _models(w: micro.BlockWall) -> tuple[micro.LimitLP, IterationModel, IterationModel, np.ndarray]:
+    lp = micro.assemble(w)
+    vertex = IterationModel(lp, 1, "a", 0.3)
+    lazy = IterationModel(lp, 1, "a", 0.3, lazy=True)
+    # nbar: the forces of the first vertex iterate from the associative forces
+    a = micro.solve_associative(w, solver="clarabel", directions="+x")
+    assert a.normal is not None
+    n0 = np.maximum(a.normal / lp.force_scale, 0.0)
+    vertex.set_capacity(n0, 0.0, 0.0, 0.0)
+    out = restart(vertex.model)
+    nbar = np.maximum(vertex.forces(out.x)[0], 0.0) * 0.97 + 0.03 * n0
+    return lp, vertex, lazy, nbar
+
+
+def test_plain_lazy_model_is_gilberts_lp() -> None:
+    """With the selection's cost off, the lazy model is Gilbert's LP at the same ``nbar``."""
+    _, vertex, lazy, nbar = _models(wall(1.0, 1 / 2))
+    vertex.set_capacity(nbar, 0.0, 0.0, 0.0)
+    lazy.set_capacity(nbar, 0.0, 0.0, 0.0)
+    lazy.set_lazy(False)
+    a, b = restart(vertex.model), restart(lazy.model)
+    assert vertex.load_factor(a.x) == pytest.approx(lazy.load_factor(b.x), rel=1e-9)
+
+
+def test_lazy_lp_trades_lambda_for_closeness() -> None:
+    """The lazy LP's optimum: its ``-lambda + w |n - nbar|_1`` is no more than
+    the vertex's, it stays at least as close to ``nbar``, and its ``lambda``
+    falls short of Gilbert's LP by at most ``w`` times the vertex's distance."""
+    _, vertex, lazy, nbar = _models(wall(1.0, 1 / 2))
+    vertex.set_capacity(nbar, 0.0, 0.0, 0.0)
+    lazy.set_capacity(nbar, 0.0, 0.0, 0.0)
+    a, b = restart(vertex.model), restart(lazy.model)
+    lam_v, lam_l = vertex.load_factor(a.x), lazy.load_factor(b.x)
+    dist_v = float(np.abs(vertex.forces(a.x)[0] - nbar).sum())
+    dist_l = float(np.abs(lazy.forces(b.x)[0] - nbar).sum())
+    assert dist_l <= dist_v + 1e-7
+    assert -lam_l + LAZY_WEIGHT * dist_l <= -lam_v + LAZY_WEIGHT * dist_v + 1e-9
+    assert lam_v - LAZY_WEIGHT * dist_v - 1e-9 <= lam_l <= lam_v + 1e-9
+    assert dist_l < 0.5 * dist_v  # the point of it (measured: 113 against 305 block weights, the same lambda)
+
+
+def test_lazy_needs_scheme_a() -> None:
+    with pytest.raises(ValueError, match="selection 'lazy' needs scheme 'a'"):
+        NonAssociativeOptions(scheme="b", selection="lazy")
+    with pytest.raises(ValueError, match="selection must be one of vertex, lazy"):
+        NonAssociativeOptions(selection="closest")  # type: ignore[arg-type]
