@@ -5,9 +5,10 @@ scheme (b), ``2P`` friction rows; for the lazy selection, ``2P`` columns
 ``p, m >= 0`` and ``P`` rows ``n - p + m = nbar`` with the cost
 :data:`~micro.nonassociative.options.LAZY_WEIGHT` on ``p + m``). Without the
 associative generator columns each simplex iteration costs ~2/3 of what it
-did with them (1,230 blocks: 0.21 ms against 0.32 ms). Every iterate changes bounds (scheme (a)), or row
-bounds and coefficients (scheme (b)), only, so the dual simplex restarts
-from the previous basis.
+did with them (1,230 blocks: 0.21 ms against 0.32 ms). Every iterate changes
+bounds (scheme (a), and the lazy rows' bounds), or row bounds and
+coefficients (scheme (b)), only, so the dual simplex restarts from the
+previous basis.
 """
 
 from __future__ import annotations

@@ -7,6 +7,8 @@ Run with ``pytest -m benchmark --benchmark-enable tests/benchmarks/test_nonassoc
 * ``nonassoc-1230``: the Table 5 reference wall (3 storeys x 20 rows, t = 1,
   m = 1/3, f = 0.6, 1,230 blocks), target <= 10 s and <= 3 x one cold
   associative solve; also the same wall with f = 0.75 (harder: 29 LPs);
+* ``nonassoc-1230`` (``slow``): Set 2 (1,230 blocks, f = 0.8) with the lazy
+  selection (the vertex default cycles on it);
 * ``nonassoc-3630`` (``slow``): Set 10 (3,630 blocks), one round, capped at 30 LPs;
 * ``nonassoc-7575`` (``slow``): the Table 9 wall (Set 15: 5 storeys x 30 rows,
   f = 0.75, 7,575 blocks), target <= 120 s, one round capped at 6 LPs (set
@@ -40,7 +42,7 @@ from comparison.wall import WallSpec
 ASSOC = {"set12": 0.7120472, "w1230": 0.4695330, "w7575": 0.5072512}
 #: Converged non-associative load factors (default options: scheme (a),
 #: relaxation 0.6, certified) and their LPs.
-NONASSOC = {"set12": (0.7086216, 7), "w1230": (0.4680950, 9)}
+NONASSOC = {"set12": (0.7086216, 7), "w1230": (0.4680950, 9), "set2-lazy": (0.5483771, 34)}
 
 
 def _wall(rows: int, storeys: int, t: float = 1.0, m: float = 1 / 3, f: float = 0.75) -> micro.BlockWall:
@@ -111,6 +113,24 @@ def test_bench_1230_f075_nonassoc(benchmark) -> None:  # type: ignore[no-untyped
     _record(benchmark, r)
     assert r.status in ("converged", "cycling", "max_iterations")
     assert r.last_load_factor <= r.associative_load_factor * (1 + 1e-7)
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark(group="nonassoc-1230")
+def test_bench_set2_lazy(benchmark) -> None:  # type: ignore[no-untyped-def]
+    """Set 2 (1,230 blocks, f = 0.8), which cycles with vertices, with the lazy
+    selection: certified (measured: 34 LPs, 206-217 s on a loaded core), in a
+    state that passes the exact checks (measured: interpenetration 8.9e-8,
+    dilatancy 5.3e-8, energy 3.2e-7)."""
+    w = case("2").spec().to_micro()
+    r = benchmark.pedantic(micro.solve_nonassociative, args=(w,),
+                           kwargs=dict(selection="lazy", lowest=False), rounds=1, iterations=1)
+    _record(benchmark, r)
+    assert r.converged and r.stop_reason == "certified", r.message
+    assert r.load_factor == pytest.approx(NONASSOC["set2-lazy"][0], rel=1e-6)
+    v = micro.verify_collapse_state(micro.assemble(w), r.governing)
+    assert v["equilibrium"] <= 1e-9 and v["coulomb"] <= 1e-12 and v["interpenetration"] <= 1e-6
+    assert v["dilatancy"] <= 1e-6 and v["slip_off_yield"] <= 1e-12 and v["energy"] <= 1e-6
 
 
 def _large(benchmark, name: str, max_iterations: int) -> micro.NonAssociativeResult:  # type: ignore[no-untyped-def]
