@@ -119,7 +119,7 @@ def test_bench_1230_f075_nonassoc(benchmark) -> None:  # type: ignore[no-untyped
 @pytest.mark.benchmark(group="nonassoc-1230")
 def test_bench_set2_lazy(benchmark) -> None:  # type: ignore[no-untyped-def]
     """Set 2 (1,230 blocks, f = 0.8), which cycles with vertices, with the lazy
-    selection: certified (measured: 34 LPs, 206-217 s on a loaded core), in a
+    selection: certified (measured: 34 LPs, 206-218 s on one core), in a
     state that passes the exact checks (measured: interpenetration 8.9e-8,
     dilatancy 5.3e-8, energy 3.2e-7)."""
     w = case("2").spec().to_micro()

@@ -76,7 +76,7 @@ def test_lazy_lp_trades_lambda_for_closeness() -> None:
     lam_v, lam_l = vertex.load_factor(a.x), lazy.load_factor(b.x)
     dist_v = float(np.abs(vertex.forces(a.x)[0] - nbar).sum())
     dist_l = float(np.abs(lazy.forces(b.x)[0] - nbar).sum())
-    assert dist_l <= dist_v + 1e-7
+    assert dist_l <= dist_v + 1e-9 / LAZY_WEIGHT  # the two objectives agree to ~1e-9
     assert -lam_l + LAZY_WEIGHT * dist_l <= -lam_v + LAZY_WEIGHT * dist_v + 1e-9
     assert lam_v - LAZY_WEIGHT * dist_v - 1e-9 <= lam_l <= lam_v + 1e-9
     assert dist_l < 0.5 * dist_v  # the point of it (measured: 113 against 305 block weights, the same lambda)
