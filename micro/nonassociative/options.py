@@ -24,11 +24,11 @@ DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 #: How an iterate picks its forces among the optimal fields of its LP.
 SELECTIONS = ("vertex", "lazy")
 #: The lazy selection's cost per unit of ``|n - nbar|`` (scaled units: block
-#: weights, against a cost of 1 on ``lambda``). Small enough that the LP's
-#: ``lambda`` moves by at most ``LAZY_WEIGHT`` times the 1-norm of the
-#: change (6e-4 at the first iterate of the 1,230-block Set 2, whose change is
-#: 5,974 block weights; nothing at a fixed point), large enough for HiGHS'
-#: dual simplex to see (its dual feasibility tolerance here is 1e-10,
+#: weights, against a cost of 1 on ``lambda``). Small enough that the lazy
+#: LP's ``lambda`` lies below Gilbert's by at most ``LAZY_WEIGHT`` times the
+#: 1-norm distance of Gilbert's vertex from ``nbar`` (on Table 7's Set 13, 78
+#: blocks: the same ``lambda`` to 1e-16, at distances of 113 and 305 block
+#: weights), large enough for HiGHS' dual simplex to see (its dual feasibility tolerance here is 1e-10,
 #: ``micro.backends.highs.SIMPLEX_TOLERANCE``). The only value tried. The
 #: mechanism of such an LP is perturbed by it (energy residuals 6e-6 to
 #: 1.5e-3), so the certificate asks the plain LP at the same ``nbar`` (this
