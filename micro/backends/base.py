@@ -176,6 +176,26 @@ def check_time_limit(time_limit: float | None) -> float | None:
     return float(time_limit)
 
 
+def check_number(name: str, value: Any, lower: float = 0.0) -> None:
+    """A finite number above ``lower`` (booleans refused).
+
+    Raises:
+        ValueError: ``"<name> must be a positive finite number, got ..."``.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= lower:
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+
+
+def check_integer(name: str, value: Any, minimum: int) -> None:
+    """An integer of at least ``minimum`` (booleans refused).
+
+    Raises:
+        ValueError: ``"<name> must be an integer >= <minimum>, got ..."``.
+    """
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+
+
 def make_backend(lp: LimitLP, solver: str = "highs", *, time_limit: float | None = None) -> Backend:
     """Make the back end called ``solver`` for ``lp``.
 

@@ -47,7 +47,7 @@ from typing import Any
 
 import numpy as np
 
-from micro.backends.base import FloatArray, Outcome, Status
+from micro.backends.base import FloatArray, Outcome, Status, check_integer, check_number
 from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
 from micro.backends.normal_matrix import NormalMatrix, NotPositiveDefinite, one_blas_thread
 from micro.backends.polish import checked_outcome
@@ -92,18 +92,14 @@ class NormalIpmSettings:
 
     def __post_init__(self) -> None:
         for name in ("gap_tol", "primal_tol", "dual_tol", "refine_tol", "divergence"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ValueError(f"{name} must be a positive number, got {v!r}")
+            check_number(name, getattr(self, name))
         r = self.regularization
         if isinstance(r, bool) or not isinstance(r, (int, float)) or not math.isfinite(r) or r < 0:
             raise ValueError(f"regularization must be a non-negative number, got {r!r}")
         if not (isinstance(self.step_fraction, float) and 0.0 < self.step_fraction < 1.0):
             raise ValueError(f"step_fraction must be in (0, 1), got {self.step_fraction!r}")
         for name, least in (("refine_steps", 0), ("max_iter", 1), ("correctors", 0), ("projections", 0)):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, int) or v < least:
-                raise ValueError(f"{name} must be an integer >= {least}, got {v!r}")
+            check_integer(name, getattr(self, name), least)
 
 
 #: The settings of the ``normal-ipm`` back end (measurements in

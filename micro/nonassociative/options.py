@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass
 from typing import Any, Literal
 
+from micro.backends.base import check_integer, check_number
 from micro.backends.clarabel import CLARABEL_RETRY
 from micro.nonassociative.global_bounds import POLICIES as BIG_M_POLICIES
 from micro.results import Directions, check_directions
@@ -93,16 +94,6 @@ EQUILIBRIUM_RESIDUAL = 1e-6
 CONTACT_FORCE = 1e-9
 #: Floor of the scales that residuals are divided by.
 TINY = 1e-12
-
-
-def _positive_finite(name: str, v: Any, lo: float = 0.0) -> None:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= lo:
-        raise ValueError(f"{name} must be a positive finite number, got {v!r}")
-
-
-def _integer(name: str, v: Any, minimum: int) -> None:
-    if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {v!r}")
 
 
 @dataclass(frozen=True)
@@ -246,20 +237,20 @@ class NonAssociativeOptions:
             raise ValueError(f"relaxation must be a number in (0, 1], got {beta!r}")
         for name, lo in (("alpha0", 0.0), ("alpha_min", 0.0), ("cohesion", -1.0), ("lambda_tol", 0.0),
                          ("force_tol", 0.0), ("coulomb_tol", 0.0), ("cold_tol", 0.0)):
-            _positive_finite(name, getattr(self, name), lo)
+            check_number(name, getattr(self, name), lo)
         if self.cohesion < 0:
             raise ValueError(f"cohesion must be >= 0, got {self.cohesion!r}")
         if self.alpha_min > self.alpha0:
             raise ValueError(f"alpha_min ({self.alpha_min}) must not exceed alpha0 ({self.alpha0})")
         if not (0.0 < self.alpha_factor <= 1.0):
             raise ValueError(f"alpha_factor must be in (0, 1], got {self.alpha_factor!r}")
-        _integer("max_iterations", self.max_iterations, 2)
+        check_integer("max_iterations", self.max_iterations, 2)
         if self.max_simplex_iterations is not None:
-            _integer("max_simplex_iterations", self.max_simplex_iterations, 1)
-        _integer("window", self.window, 3)
-        _integer("settle_window", self.settle_window, 2)
+            check_integer("max_simplex_iterations", self.max_simplex_iterations, 1)
+        check_integer("window", self.window, 3)
+        check_integer("settle_window", self.settle_window, 2)
         if self.global_node_limit is not None:
-            _integer("global_node_limit", self.global_node_limit, 1)
+            check_integer("global_node_limit", self.global_node_limit, 1)
         self._check_rest()
         self._normalise()
 
