@@ -176,6 +176,11 @@ class NonAssociativeRecord(MicroRecord):
         cold_algorithm: the algorithm of the cold re-solve.
         fallback_steps: scheme (b) LPs replaced by a scheme (a) step, over
             the directions solved.
+        selection: how the governing sequence picked its forces
+            (``"vertex"`` or ``"lazy"``).
+        vertex_stop_reason, vertex_lambda_band: with ``"vertex+lazy"``, how
+            the vertex sequence ended before the lazy one ran (``""`` and
+            ``None`` when it did not run).
         lowest_load_factor: the lowest certified collapse state over the
             directions (:mod:`micro.nonassociative.lowest`; NaN when not
             computed or not found in every direction).
@@ -208,6 +213,9 @@ class NonAssociativeRecord(MicroRecord):
     history_load_factor: tuple[float, ...]
     cold_algorithm: str
     fallback_steps: int
+    selection: str = "vertex"
+    vertex_stop_reason: str = ""
+    vertex_lambda_band: Band | None = None
     lowest_load_factor: float = math.nan
     lowest_direction: str = ""
     lowest_band: Band | None = None

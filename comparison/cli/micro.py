@@ -91,9 +91,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     na.add_argument(
         "--selection",
         default="vertex",
-        metavar="vertex|lazy",
-        help="which optimal forces each LP of scheme a takes: vertex (the simplex's, default) or lazy (the "
-        "ones closest to nbar; contracts where vertices cycle, e.g. Set 2)",
+        metavar="vertex|lazy|vertex+lazy",
+        help="which optimal forces each LP of scheme a takes: vertex (the simplex's, default), lazy (the "
+        "ones closest to nbar; contracts where vertices cycle, e.g. Set 2) or vertex+lazy (vertex, then lazy "
+        "where it cycles or hits its cap: what xcheck report runs)",
     )
     na.add_argument(
         "--relaxation",
@@ -213,8 +214,8 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
 
     choice("--scheme", args.scheme, SCHEMES)
     choice("--selection", args.selection, SELECTIONS)
-    if args.selection == "lazy" and args.scheme != "a":
-        raise UsageError("--selection lazy needs --scheme a")
+    if args.selection != "vertex" and args.scheme != "a":
+        raise UsageError(f"--selection {args.selection} needs --scheme a")
     if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
     relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)

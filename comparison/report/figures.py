@@ -320,7 +320,8 @@ def histories_figure(res: Results, path: Path) -> Figure | None:
         band, kind = na.mechanism_band, "mechanism band"
         if band is None and na.lambda_band is not None and all(math.isfinite(v) for v in na.lambda_band):
             band, kind = na.lambda_band, "cycling band"
-        series.append(History(c.label, rec.status, na.history_load_factor, band, kind))
+        label = f"{c.label}, lazy" if na.selection == "lazy" else c.label
+        series.append(History(label, rec.status, na.history_load_factor, band, kind))
     if not series:
         return None
     method = res.plan.reference.label
@@ -330,5 +331,7 @@ def histories_figure(res: Results, path: Path) -> Figure | None:
         f"The {method} on each of the paper's walls it ran on: λ of every LP of the governing load direction "
         "(the associative LP first, square), with the band of exact collapse states of the final mechanism "
         "(green) or, for a sequence that did not converge, the range of its last λ values (red). The panel's "
-        "title gives the status (see the status legend) and the number of LPs; data: `histories.csv`.",
+        "title gives the status (see the status legend) and the number of LPs (of the last sequence: a wall marked "
+        "lazy shows the lazy sequence that ran after its vertex sequence ended without a state, see the table "
+        "`histories`); data: `histories.csv`.",
     )

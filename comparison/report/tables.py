@@ -12,7 +12,8 @@ from typing import Any
 from comparison.cases import SET4_HINGE_LOAD_FACTORS, PaperCase, cases_in_table
 from comparison.report.plan import bond_variants, table9_alternative
 from comparison.report.results import Results
-from comparison.runner import MICRO_ASSOC, Record
+from comparison.runner import MICRO_ASSOC, NONASSOC_RETRY_LPS, Record
+from micro.records import NonAssociativeRecord
 
 
 @dataclass
@@ -86,6 +87,13 @@ def lam_cell(rec: Record) -> Any:
     if rec.status == "cycling" and band is not None and all(math.isfinite(v) for v in band):
         return f"{band[0]:.4f}-{band[1]:.4f} (cycling)"
     return {"not_applicable": "n/a", "not_run": "not run"}.get(rec.status, rec.status)
+
+
+def selection_cell(na: NonAssociativeRecord) -> str:
+    """``"vertex"``, or ``"lazy after vertex (<how the vertex sequence stopped>)"``."""
+    if na.selection == "lazy" and na.vertex_stop_reason:
+        return f"lazy after vertex ({na.vertex_stop_reason})"
+    return na.selection
 
 
 def band_cell(band: tuple[float, float] | None) -> str | None:
@@ -414,14 +422,22 @@ def speed_accuracy(res: Results) -> Table:
 def histories(res: Results) -> Table:
     """Iterations and status of the iterated LP on every case."""
     t = Table(
-        "histories", "Iterated LP: iterations and status", ["case", "status", "iterations", "λ", "band min", "band max"]
+        "histories",
+        "Iterated LP: iterations and status",
+        ["case", "status", "selection", "iterations", "λ", "band min", "band max"],
     )
     for c in res.plan.cases:
         rec = res.record(c.spec(), res.plan.reference)
         na = rec.nonassoc
         band = (None, None) if na is None or na.lambda_band is None else na.lambda_band
-        t.add(c.label, rec.status, None if na is None else na.iterations, rec.load_factor, band[0], band[1])
-    t.note = "Figure: `histories.png`."
+        selection = None if na is None else selection_cell(na)
+        t.add(c.label, rec.status, selection, None if na is None else na.iterations, rec.load_factor, *band)
+    t.note = (
+        "selection: how the iterates picked their forces: `vertex` (the simplex's vertex, Gilbert et al.'s "
+        "iteration), or `lazy after vertex (...)`: the vertex sequence ended as said in brackets, and the lazy "
+        f"sequence (each LP's optimal forces closest to the last ones; at most {NONASSOC_RETRY_LPS} LPs) ran "
+        "after it; the iterations count both, the band is the last sequence's. Figure: `histories.png`."
+    )
     return t
 
 

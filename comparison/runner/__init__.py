@@ -20,6 +20,8 @@ from comparison.runner.methods import (
     MICRO_NONASSOC,
     NONASSOC_LOWEST_MAX_BLOCKS,
     NONASSOC_MAX_LPS,
+    NONASSOC_RETRY_LPS,
+    NONASSOC_SELECTION,
     Method,
 )
 from comparison.runner.pool import Prefetched, approximate_blocks, prefetch
@@ -32,6 +34,8 @@ __all__ = [
     "MICRO_NONASSOC",
     "NONASSOC_LOWEST_MAX_BLOCKS",
     "NONASSOC_MAX_LPS",
+    "NONASSOC_RETRY_LPS",
+    "NONASSOC_SELECTION",
     "Mechanism",
     "Method",
     "Prefetched",

@@ -24,6 +24,17 @@ NONASSOC_MAX_LPS = 100
 #: report far beyond its 20 minutes; Table 7's walls (54-150 blocks) keep it.
 NONASSOC_LOWEST_MAX_BLOCKS = 300
 
+#: How the runner's iterated LP picks its forces (:data:`micro.nonassociative.SELECTIONS`):
+#: the vertex sequence, and the lazy one on a direction where it cycles (Set 2
+#: of Table 5: cycling with vertices, certified by the lazy sequence after 34
+#: LPs). Walls where the vertex sequence converges keep its result.
+NONASSOC_SELECTION = "vertex+lazy"
+#: Cap on the LPs of that lazy sequence per direction: Set 2 is certified
+#: after 34; Set 9, on which it oscillates too, ran 52 LPs of ~12 s (cold
+#: interior point + crossover on 1,830 blocks) before the cycle test stopped
+#: it, which would take the report beyond its 20 minutes.
+NONASSOC_RETRY_LPS = 40
+
 
 @dataclass(frozen=True)
 class Method:
@@ -37,6 +48,8 @@ class Method:
         head_joints: ``"frictional"`` or ``"frictionless"``.
         lowest_max_blocks: non-associative: the descent to the lowest certified
             state runs on walls of at most this many blocks.
+        selection: non-associative: how the iterates pick their forces
+            (:data:`NONASSOC_SELECTION`).
     """
 
     kind: Kind
@@ -45,6 +58,7 @@ class Method:
     first_course: str = "full"
     head_joints: str = "frictional"
     lowest_max_blocks: int = NONASSOC_LOWEST_MAX_BLOCKS
+    selection: str = NONASSOC_SELECTION
 
     @property
     def label(self) -> str:
@@ -56,6 +70,8 @@ class Method:
             opts.append("half first")
         if self.head_joints != "frictional":
             opts.append("frictionless heads")
+        if self.kind == "micro-nonassoc" and self.selection != NONASSOC_SELECTION:
+            opts.append(f"{self.selection} selection")
         return f"{self.kind} ({', '.join(opts)})"
 
     def key(self) -> dict[str, str]:
@@ -66,6 +82,7 @@ class Method:
         if self.kind == "micro-assoc":
             d.pop("scheme")
             d.pop("lowest_max_blocks")
+            d.pop("selection")
         return d
 
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from comparison.failure import FailureMode, failure_mode
 from comparison.runner.cache import ResultCache
-from comparison.runner.methods import NONASSOC_MAX_LPS, Method
+from comparison.runner.methods import NONASSOC_MAX_LPS, NONASSOC_RETRY_LPS, Method
 from comparison.runner.records import Mechanism, Record
 from comparison.wall import WallSpec
 from micro.records import AssociativeRecord, NonAssociativeRecord
@@ -53,7 +53,9 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         nres = micro.solve_nonassociative(
             wall,
             scheme=method.scheme,
+            selection=method.selection,
             max_iterations=NONASSOC_MAX_LPS,
+            retry_iterations=NONASSOC_RETRY_LPS,
             lowest=wall.n_blocks <= method.lowest_max_blocks,
         )
         record = nres.to_record()

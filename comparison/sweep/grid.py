@@ -29,6 +29,7 @@ Format (see ``examples/sweeps/``)::
     [[method]]
     kind = "micro-nonassoc"
     scheme = "a"                       # "a" or "b" (default "a")
+    selection = "vertex+lazy"          # "vertex", "lazy" or "vertex+lazy" (default; scheme b: "vertex")
     max_blocks = 600                   # this method on walls of at most 600 blocks
 
 A range is ``{ from, to, step }`` or ``{ from, to, num }`` (``num`` values,
@@ -50,7 +51,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from comparison.runner.methods import MACRO, Method
+from comparison.runner.methods import MACRO, NONASSOC_SELECTION, Method
 from comparison.scene import _key_line, _table_line
 from macro import checks
 
@@ -69,7 +70,7 @@ BOND: dict[str, tuple[str, ...]] = {"first_course": ("full", "half"), "head_join
 METHOD_KEYS: dict[str, set[str]] = {
     "macro": {"kind"},
     "micro-assoc": {"kind", "solver", "max_blocks"},
-    "micro-nonassoc": {"kind", "scheme", "max_blocks"},
+    "micro-nonassoc": {"kind", "scheme", "selection", "max_blocks"},
 }
 #: Schemes of the iterated LP.
 SCHEMES = ("a", "b")
@@ -289,10 +290,15 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
     if kind == "macro":
         return GridMethod(MACRO)
     options: dict[str, Any] = {}
-    for key, choices, default in (("solver", micro.SOLVERS, "highs"), ("scheme", SCHEMES, "a")):
+    for key, choices, default in (("solver", micro.SOLVERS, "highs"), ("scheme", SCHEMES, "a"),
+                                  ("selection", micro.nonassociative.SELECTIONS, NONASSOC_SELECTION)):
         if key in METHOD_KEYS[kind]:
+            if key == "selection" and options["scheme"] == "b":
+                default = "vertex"  # the lazy selection is scheme (a)'s
             try:
                 options[key] = checks.choice(f"method.{key}", entry.get(key, default), choices)
             except ValueError as exc:
                 raise src.error(str(exc), "method", key, index) from None
+            if key == "selection" and options[key] != "vertex" and options["scheme"] == "b":
+                raise src.error(f"method.selection {options[key]!r} needs scheme 'a'", "method", key, index)
     return GridMethod(replace(Method(kind), **options), _max_blocks(entry, "method", index, src))

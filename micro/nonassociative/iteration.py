@@ -13,7 +13,9 @@ stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
 stop has status ``time_limit``. A failed run is
 recovered (:meth:`Sequence._recover`); each iterate is then tested for the
 stops of :mod:`micro.nonassociative.convergence`. The final iterate is
-checked (:mod:`micro.nonassociative.checks`).
+checked (:mod:`micro.nonassociative.checks`). :func:`solve_direction` runs
+one direction with the chosen selection, and for ``"vertex+lazy"`` the lazy
+sequence where the vertex one fails.
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ from micro.nonassociative.options import (
     COLD_SWITCH_PIVOTS,
     EQUILIBRIUM_RESIDUAL,
     MIN_WARM_LIMIT,
+    RETRY_STATUSES,
     TINY,
     WARM_LIMIT_PIVOTS,
     NonAssociativeOptions,
@@ -344,6 +347,7 @@ class Sequence:
         seq = SequenceDiagnostics(
             stop_reason=reason, last_load_factor=last[-1] if last else NAN, lambda_band=band, mechanism_band=None,
             associative_load_factor=lam_assoc, history=tuple(self.history), fallback_steps=self.fallbacks,
+            selection=self.o.selection,
         )
         return DirectionResult(direction=DIR_NAME[self.d], status=status, load_factor=NAN,
                                iterations=max(len(self.history) - 1, 0), seconds=time.perf_counter() - t_start,
@@ -379,7 +383,7 @@ class Sequence:
             cold_load_factor=cold.load_factor, warm_cold_rel_diff=cold.rel_diff, cold_algorithm=cold.algorithm,
             coulomb_residual=state.coulomb, dilatancy_residual=state.dilatancy,
             equilibrium_residual=state.equilibrium, sliding_points=state.sliding_points,
-            fallback_steps=self.fallbacks,
+            fallback_steps=self.fallbacks, selection=o.selection,
         )
         fs = lp.force_scale
         return DirectionResult(
@@ -399,3 +403,28 @@ class Sequence:
                    }.get(stop, f"time budget of {self.o.max_seconds} s spent after {len(self.history) - 1} LPs")
             return msg + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else "")
         return stop if status != CONVERGED else ""
+
+
+def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> DirectionResult:
+    """The iterated LP on one load direction with ``options.selection``.
+
+    ``"vertex+lazy"`` runs the vertex sequence, and where it ends with a
+    status of :data:`~micro.nonassociative.options.RETRY_STATUSES` the lazy
+    sequence from the associative start again (at most
+    ``options.retry_iterations`` LPs). The lazy result is returned with the
+    vertex sequence in ``sequence.vertex_attempt``, and the LPs and seconds of
+    both.
+    """
+    if options.selection != "vertex+lazy":
+        return Sequence(lp, direction, options).run()
+    first = Sequence(lp, direction, dataclasses.replace(options, selection="vertex")).run()
+    if first.status not in RETRY_STATUSES:
+        return first
+    cap = options.max_iterations if options.retry_iterations is None else options.retry_iterations
+    second = Sequence(lp, direction, dataclasses.replace(options, selection="lazy", max_iterations=cap)).run()
+    assert second.sequence is not None
+    message = second.message if second.converged else f"lazy: {second.message}; vertex: {first.message}"
+    return dataclasses.replace(
+        second, iterations=first.iterations + second.iterations, seconds=first.seconds + second.seconds,
+        message=message, sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence),
+    )

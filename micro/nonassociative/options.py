@@ -22,8 +22,12 @@ from micro.results import Directions, check_directions
 SCHEMES = ("a", "b")
 #: Default relaxation ``beta`` per scheme (``nbar = beta n_k + (1 - beta) n_(k-1)``).
 DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
-#: How an iterate picks its forces among the optimal fields of its LP.
-SELECTIONS = ("vertex", "lazy")
+#: How an iterate picks its forces among the optimal fields of its LP
+#: (``"vertex+lazy"``: the vertex sequence, and the lazy one where it fails).
+SELECTIONS = ("vertex", "lazy", "vertex+lazy")
+#: ``"vertex+lazy"`` runs the lazy sequence on a direction whose vertex
+#: sequence ended with one of these statuses.
+RETRY_STATUSES = ("cycling", "max_iterations")
 #: The lazy selection's cost per unit of ``|n - nbar|`` (scaled units: block
 #: weights, against a cost of 1 on ``lambda``). Small enough that the lazy
 #: LP's ``lambda`` lies below Gilbert's by at most ``LAZY_WEIGHT`` times the
@@ -115,6 +119,12 @@ class NonAssociativeOptions:
             higher: on the 120 walls of ``xcheck stability`` higher on 102
             of the 118 where both converge, by 3.7 % (median), 35 % at
             most; it cycles on 2, where the vertex default converges.
+            ``"vertex+lazy"``: the vertex sequence, and on a direction
+            where it ends ``cycling`` or ``max_iterations``
+            (:data:`RETRY_STATUSES`) the lazy one from the start again (the
+            direction's ``sequence.vertex_attempt`` keeps the first; what
+            ``xcheck report`` runs: Set 2 of Table 5 cycles with vertices
+            and is certified by the lazy sequence).
         relaxation: ``beta`` in ``(0, 1]`` (``None``: :data:`DEFAULT_RELAXATION`;
             :attr:`beta` is the value used).
         alpha0, alpha_min, alpha_factor: slope schedule of scheme (b):
@@ -123,6 +133,8 @@ class NonAssociativeOptions:
             of the associative solution (scale-free; default one millionth
             of the force level).
         max_iterations: cap on non-associative LPs per direction.
+        retry_iterations: ``"vertex+lazy"``: cap on the lazy sequence's LPs
+            (``None``: :attr:`max_iterations`).
         max_simplex_iterations: cap on the simplex iterations (warm runs,
             crossovers and clean-ups) of the non-associative LPs per
             direction (``None``: none): a deterministic work budget; when
@@ -195,13 +207,14 @@ class NonAssociativeOptions:
     """
 
     scheme: Literal["a", "b"] = "a"
-    selection: Literal["vertex", "lazy"] = "vertex"
+    selection: Literal["vertex", "lazy", "vertex+lazy"] = "vertex"
     relaxation: float | None = None
     alpha0: float = 0.3
     alpha_min: float = 1e-3
     alpha_factor: float = 0.5
     cohesion: float = 1e-6
     max_iterations: int = 100
+    retry_iterations: int | None = None
     max_simplex_iterations: int | None = None
     max_seconds: float | None = None
     lambda_tol: float = 1e-6
@@ -229,8 +242,8 @@ class NonAssociativeOptions:
             raise ValueError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
         if self.selection not in SELECTIONS:
             raise ValueError(f"selection must be one of {', '.join(SELECTIONS)}, got {self.selection!r}")
-        if self.selection == "lazy" and self.scheme != "a":
-            raise ValueError("selection 'lazy' needs scheme 'a' (its yield condition is a bound on s)")
+        if self.selection != "vertex" and self.scheme != "a":
+            raise ValueError(f"selection {self.selection!r} needs scheme 'a' (the lazy model bounds s by mu nbar)")
         beta = self.relaxation
         if beta is not None and (isinstance(beta, bool) or not isinstance(beta, (int, float))
                                  or not (0.0 < float(beta) <= 1.0)):
@@ -245,6 +258,8 @@ class NonAssociativeOptions:
         if not (0.0 < self.alpha_factor <= 1.0):
             raise ValueError(f"alpha_factor must be in (0, 1], got {self.alpha_factor!r}")
         check_integer("max_iterations", self.max_iterations, 2)
+        if self.retry_iterations is not None:
+            check_integer("retry_iterations", self.retry_iterations, 2)
         if self.max_simplex_iterations is not None:
             check_integer("max_simplex_iterations", self.max_simplex_iterations, 1)
         check_integer("window", self.window, 3)

@@ -102,6 +102,12 @@ class SequenceDiagnostics:
         equilibrium_residual: largest equilibrium violation (block weights).
         sliding_points: points of the final mechanism that slide while in contact.
         fallback_steps: scheme (b) LPs replaced by a scheme (a) step.
+        selection: how this sequence's iterates picked their forces,
+            ``"vertex"`` or ``"lazy"``.
+        vertex_attempt: with ``selection="vertex+lazy"``, the vertex
+            sequence that ended cycling (or at its cap) before this lazy one
+            ran (``None`` otherwise); its LPs count in the direction's
+            ``iterations`` and ``seconds``.
     """
 
     stop_reason: str
@@ -118,6 +124,8 @@ class SequenceDiagnostics:
     equilibrium_residual: float = math.nan
     sliding_points: int = 0
     fallback_steps: int = 0
+    selection: str = "vertex"
+    vertex_attempt: SequenceDiagnostics | None = field(default=None, repr=False)
 
 
 def diagnostics(d: DirectionResult) -> SequenceDiagnostics:
@@ -298,6 +306,8 @@ class NonAssociativeResult:
             dilatancy_residual=q.dilatancy_residual, history_load_factor=tuple(r.load_factor for r in q.history),
             cold_algorithm=q.cold_algorithm,
             fallback_steps=sum(diagnostics(d).fallback_steps for d in self.directions),
+            selection=q.selection, vertex_stop_reason="" if q.vertex_attempt is None else q.vertex_attempt.stop_reason,
+            vertex_lambda_band=None if q.vertex_attempt is None else q.vertex_attempt.lambda_band,
             **lowest_fields(self.lowest_state, self.lowest), **global_fields(self.global_search),
         )
 

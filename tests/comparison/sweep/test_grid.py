@@ -69,6 +69,19 @@ def test_the_example_grids_parse() -> None:
         assert cells(load_grid(path)), path
 
 
+def test_the_nonassociative_selection_of_a_sweep() -> None:
+    """A sweep's iterated LP runs the report's selection (vertex, then lazy where it cycles) unless the grid
+    names one; scheme b, which the lazy selection does not serve, runs vertex."""
+    assert MICRO_NONASSOC.selection == "vertex+lazy"
+    g = parse_grid(GOOD.replace("max_blocks = 50", 'selection = "vertex"'))
+    assert g.methods[-1].method == replace(MICRO_NONASSOC, selection="vertex")
+    g = parse_grid(GOOD.replace("max_blocks = 50", 'scheme = "b"'))
+    assert g.methods[-1].method == replace(MICRO_NONASSOC, scheme="b", selection="vertex")
+    assert "selection" not in MICRO_ASSOC.key() and MICRO_NONASSOC.key()["selection"] == "vertex+lazy"
+    assert MICRO_NONASSOC.label == "micro-nonassoc (scheme a)"
+    assert replace(MICRO_NONASSOC, selection="lazy").label == "micro-nonassoc (scheme a, lazy selection)"
+
+
 def test_a_range_by_count() -> None:
     g = parse_grid(GOOD.replace("{ from = 12, to = 24, step = 6 }", "{ from = 12, to = 24, num = 3 }"))
     assert g.axes["rows"] == (12, 18, 24)
@@ -86,6 +99,9 @@ def test_a_range_by_count() -> None:
         (('solver = "clarabel"', 'solver = "gurobi"'), ["line 17", "method.solver", "gurobi"]),
         (('kind = "micro-nonassoc"', 'kind = "micro-magic"'), ["line 19", "method.kind"]),
         (("max_blocks = 50", "max_blocks = 0"), ["line 20", "max_blocks must be a positive integer"]),
+        (("max_blocks = 50", 'selection = "closest"'), ["line 20", "method.selection", "closest"]),
+        (("max_blocks = 50", 'scheme = "b"\nselection = "lazy"'),
+         ["line 21", "method.selection 'lazy' needs scheme 'a'"]),
         (('first_course = ["full", "half"]', 'first_course = "middle"'), ["bond.first_course", "middle"]),
         (('[[method]]\nkind = "macro"', '[[method]]\nkind = "macro"\nsolver = "x"'), ["unknown key method.solver"]),
         (("name = \"g\"", "name = \"g\"\nspeed = 1"), ["unknown key 'speed'"]),

@@ -87,3 +87,41 @@ def test_lazy_needs_scheme_a() -> None:
         NonAssociativeOptions(scheme="b", selection="lazy")
     with pytest.raises(ValueError, match="selection must be one of vertex, lazy"):
         NonAssociativeOptions(selection="closest")  # type: ignore[arg-type]
+
+
+def test_vertex_then_lazy_retries_a_failed_direction() -> None:
+    """``vertex+lazy``: Set 12's vertex sequence stopped at a cap of 4 LPs is
+    run again lazily, which is certified within the cap; the result is the
+    lazy sequence's, exact, with the vertex attempt and the LPs of both."""
+    w = wall(1.0, 1 / 3)
+    r = solve_nonassociative(w, selection="vertex+lazy", max_iterations=4, lowest=False)
+    vertex = solve_nonassociative(w, max_iterations=4, lowest=False)
+    lazy = solve_nonassociative(w, selection="lazy", max_iterations=4, lowest=False)
+    assert vertex.status == "max_iterations" and lazy.converged
+    assert r.converged and r.load_factor == pytest.approx(lazy.load_factor, rel=1e-12)
+    q = r.sequence
+    assert q.selection == "lazy" and q.vertex_attempt is not None
+    assert q.vertex_attempt.stop_reason == "max_iterations" and q.vertex_attempt.selection == "vertex"
+    assert r.iterations == vertex.iterations + lazy.iterations and len(r.history) == lazy.iterations + 1
+    v = verify_collapse_state(micro.assemble(w), r.governing)
+    assert max(v[k] for k in ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield",
+                              "energy")) <= 1e-9
+    rec = r.to_record()
+    assert rec.selection == "lazy" and rec.vertex_stop_reason == "max_iterations"
+    assert rec.vertex_lambda_band == vertex.lambda_band
+    assert type(rec).from_dict(rec.to_dict()) == rec
+
+
+def test_vertex_then_lazy_keeps_a_converged_vertex_sequence() -> None:
+    """Where the vertex sequence converges, ``vertex+lazy`` is the vertex result (no lazy run)."""
+    w = wall(1.0, 1 / 3)
+    r = solve_nonassociative(w, selection="vertex+lazy", lowest=False)
+    assert r.converged and r.load_factor == pytest.approx(0.708622, abs=1e-6)
+    assert r.sequence.selection == "vertex" and r.sequence.vertex_attempt is None
+    rec = r.to_record()
+    assert rec.selection == "vertex" and rec.vertex_stop_reason == "" and rec.vertex_lambda_band is None
+
+
+def test_vertex_then_lazy_needs_scheme_a() -> None:
+    with pytest.raises(ValueError, match="selection 'vertex\\+lazy' needs scheme 'a'"):
+        NonAssociativeOptions(scheme="b", selection="vertex+lazy")

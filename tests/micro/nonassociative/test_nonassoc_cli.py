@@ -45,7 +45,8 @@ def test_cli_cycling_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
 
 @pytest.mark.parametrize("extra", [["--scheme", "c"], ["--relaxation", "0"], ["--max-iterations", "x"],
                                    ["--solver", "clarabel"], ["--global", "--node-limit", "0"],
-                                   ["--selection", "closest"], ["--selection", "lazy", "--scheme", "b"]])
+                                   ["--selection", "closest"], ["--selection", "lazy", "--scheme", "b"],
+                                   ["--selection", "vertex+lazy", "--scheme", "b"]])
 def test_cli_bad_options(extra: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "6", "--f", "0.75",
                  "--friction", "nonassociative", *extra])
