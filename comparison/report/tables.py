@@ -79,13 +79,14 @@ def plain(c: Any) -> Any:
 
 def lam_cell(rec: Record) -> Any:
     """The cell showing a record's load factor: the number, the band of a
-    cycling sequence, or the status of a method that gave no number."""
+    sequence that cycled or reached its cap, or the status of a method that
+    gave no number."""
     if math.isfinite(rec.load_factor):
         return rec.load_factor
     nonassoc = rec.nonassoc
     band = None if nonassoc is None else nonassoc.lambda_band
-    if rec.status == "cycling" and band is not None and all(math.isfinite(v) for v in band):
-        return f"{band[0]:.4f}-{band[1]:.4f} (cycling)"
+    if rec.status in ("cycling", "max_iterations") and band is not None and all(math.isfinite(v) for v in band):
+        return f"{band[0]:.4f}-{band[1]:.4f} ({rec.status})"
     return {"not_applicable": "n/a", "not_run": "not run"}.get(rec.status, rec.status)
 
 

@@ -12,7 +12,7 @@ from comparison.report.plan import NONASSOC_MAX_BLOCKS, table9_alternative
 from comparison.report.reproduce import how_to_reproduce
 from comparison.report.results import Results
 from comparison.report.tables import Table, published
-from comparison.runner import NONASSOC_MAX_LPS
+from comparison.runner import NONASSOC_MAX_LPS, NONASSOC_RETRY_LPS
 
 #: The order of the tables in ``REPORT.md``.
 ORDER = (
@@ -55,7 +55,9 @@ STATUS_LEGEND = {
     "cycling": "the iterated LP's λ repeats or oscillates without an exact state; the cell shows the range of "
     "its last values, and no λ",
     "max_iterations": "the iterated LP stopped without settling, at its cap of LPs "
-    f"({NONASSOC_MAX_LPS} per load direction in this report) or of simplex iterations; no λ",
+    f"({NONASSOC_MAX_LPS} per load direction in this report, {NONASSOC_RETRY_LPS} for the lazy sequence run after "
+    "a vertex sequence that cycled) or of simplex iterations; the cell shows the range of its last values, "
+    "and no λ",
     "solver_failure": "an LP of the iterated sequence failed; no λ",
     "inaccurate": "the back end called its answer optimal but it failed the independent re-check; no λ",
     "time_limit": "the LP back end hit its time limit; no λ",

@@ -113,10 +113,10 @@ class NonAssociativeOptions:
             :data:`LAZY_WEIGHT` on ``|n - nbar|``: the forces of the parts
             that do not move stop jumping from one vertex to another: on
             Set 2, which cycles with vertices, the sequence contracts and is
-            certified after 34 LPs; a lazy sequence ends converged only by
+            certified after 30 LPs; a lazy sequence ends converged only by
             the certificate, with the mechanism of the plain LP at the last
             ``nbar``). The two end at different states, the lazy one mostly
-            higher: on the 120 walls of ``xcheck stability`` higher on 102
+            higher: on the 120 walls of ``xcheck stability`` higher on 94
             of the 118 where both converge, by 3.7 % (median), 35 % at
             most; it cycles on 2, where the vertex default converges.
             ``"vertex+lazy"``: the vertex sequence, and on a direction
