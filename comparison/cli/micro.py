@@ -272,6 +272,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
         if result.mechanism_band is not None:
             lo, hi = result.mechanism_band
             print(f"  collapse states with this mechanism: lambda in [{lo:.6f}, {hi:.6f}]")
+        _print_retry(result)
         _print_lowest(result)
     else:
         band = (
@@ -280,6 +281,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
             else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
         )
         print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
+        _print_retry(result)
     if verbosity == QUIET:
         return
     print(
@@ -295,6 +297,17 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
                 f"  {r.iteration:>3}  {r.load_factor:.6f}  {dn:>9}  {r.simplex_iterations:>11}  "
                 f"{r.seconds:7.3f}  {r.algorithm}  {r.certificate}".rstrip()
             )
+
+
+def _print_retry(result: NonAssociativeResult) -> None:
+    """With ``--selection vertex+lazy``: the line saying the lazy sequence ran, and how the vertex one ended."""
+    first = result.sequence.vertex_attempt
+    if first is None:
+        return
+    band = "" if first.lambda_band is None else f", lambda in [{first.lambda_band[0]:.6f}, {first.lambda_band[1]:.6f}]"
+    lazy = len(result.history) - 1
+    print(f"  lazy sequence ({lazy} LPs) after the vertex sequence ended {first.stop_reason} "
+          f"({result.iterations - lazy} LPs{band})")
 
 
 def _print_lowest(result: NonAssociativeResult) -> None:

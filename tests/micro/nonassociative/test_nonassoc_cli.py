@@ -64,6 +64,21 @@ def test_cli_lazy_selection(capsys: pytest.CaptureFixture[str]) -> None:
     assert 0.69 < out["load_factor"] <= out["associative_load_factor"]
 
 
+def test_cli_vertex_then_lazy(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--selection vertex+lazy`` says that the lazy sequence ran and how the vertex one ended; the JSON
+    record carries the same."""
+    args = ["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
+            "--selection", "vertex+lazy", "--max-iterations", "4", "--no-lowest"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "converged in 8 LPs (certified)" in out
+    assert "lazy sequence (4 LPs) after the vertex sequence ended max_iterations (4 LPs, lambda in [" in out
+    assert main([*args, "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["selection"] == "lazy" and rec["vertex_stop_reason"] == "max_iterations"
+    assert rec["options"]["selection"] == "vertex+lazy" and len(rec["vertex_lambda_band"]) == 2
+
+
 def test_cli_global_node_limit(capsys: pytest.CaptureFixture[str]) -> None:
     """A node-limited search (5 blocks): the lowest state, the bound and the gap, flat JSON keys."""
     code = main(["micro", "--t", "1", "--m", "1", "--rows", "2", "--f", "0.6", "--friction", "nonassociative",
