@@ -305,9 +305,8 @@ def _print_retry(result: NonAssociativeResult) -> None:
     if first is None:
         return
     band = "" if first.lambda_band is None else f", lambda in [{first.lambda_band[0]:.6f}, {first.lambda_band[1]:.6f}]"
-    lazy = len(result.history) - 1
-    print(f"  lazy sequence ({lazy} LPs) after the vertex sequence ended {first.stop_reason} "
-          f"({result.iterations - lazy} LPs{band})")
+    print(f"  lazy sequence ({len(result.history) - 1} LPs) after the vertex sequence ended {first.stop_reason} "
+          f"({len(first.history) - 1} LPs{band})")
 
 
 def _print_lowest(result: NonAssociativeResult) -> None:

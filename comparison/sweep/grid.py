@@ -299,6 +299,9 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
                 options[key] = checks.choice(f"method.{key}", entry.get(key, default), choices)
             except ValueError as exc:
                 raise src.error(str(exc), "method", key, index) from None
-            if key == "selection" and options[key] != "vertex" and options["scheme"] == "b":
-                raise src.error(f"method.selection {options[key]!r} needs scheme 'a'", "method", key, index)
+    if kind == "micro-nonassoc":
+        try:  # the options' own check of the pair (a lazy selection needs scheme a)
+            micro.nonassociative.NonAssociativeOptions(scheme=options["scheme"], selection=options["selection"])
+        except ValueError as exc:
+            raise src.error(f"method.{exc}", "method", "selection", index) from None
     return GridMethod(replace(Method(kind), **options), _max_blocks(entry, "method", index, src))
