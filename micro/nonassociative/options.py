@@ -25,6 +25,7 @@ DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 #: How an iterate picks its forces among the optimal fields of its LP
 #: (``"vertex+lazy"``: the vertex sequence, and the lazy one where it fails).
 SELECTIONS = ("vertex", "lazy", "vertex+lazy")
+Selection = Literal["vertex", "lazy", "vertex+lazy"]
 #: ``"vertex+lazy"`` runs the lazy sequence on a direction whose vertex
 #: sequence ended with one of these statuses.
 RETRY_STATUSES = ("cycling", "max_iterations")
@@ -121,7 +122,8 @@ class NonAssociativeOptions:
             most; it cycles on 2, where the vertex default converges.
             ``"vertex+lazy"``: the vertex sequence, and on a direction
             where it ends ``cycling`` or ``max_iterations``
-            (:data:`RETRY_STATUSES`) the lazy one from the start again (the
+            (:data:`RETRY_STATUSES`) the lazy one, ``nbar`` started from
+            the vertex sequence's last normal forces (the
             direction's ``sequence.vertex_attempt`` keeps the first; what
             ``xcheck report`` runs: Set 2 of Table 5 cycles with vertices
             and is certified by the lazy sequence).
@@ -207,7 +209,7 @@ class NonAssociativeOptions:
     """
 
     scheme: Literal["a", "b"] = "a"
-    selection: Literal["vertex", "lazy", "vertex+lazy"] = "vertex"
+    selection: Selection = "vertex"
     relaxation: float | None = None
     alpha0: float = 0.3
     alpha_min: float = 1e-3

@@ -71,8 +71,8 @@ def test_cli_vertex_then_lazy(capsys: pytest.CaptureFixture[str]) -> None:
             "--selection", "vertex+lazy", "--max-iterations", "4", "--no-lowest"]
     assert main(args) == 0
     out = capsys.readouterr().out
-    assert "converged in 8 LPs (certified)" in out
-    assert "lazy sequence (4 LPs) after the vertex sequence ended max_iterations (4 LPs, lambda in [" in out
+    assert "converged in 7 LPs (certified)" in out
+    assert "lazy sequence (3 LPs) after the vertex sequence ended max_iterations (4 LPs, lambda in [" in out
     assert main([*args, "--json"]) == 0
     rec = json.loads(capsys.readouterr().out)
     assert rec["selection"] == "lazy" and rec["vertex_stop_reason"] == "max_iterations"
