@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
+
+if TYPE_CHECKING:
+    from micro.nonassociative.options import Selection
 
 Kind = Literal["macro", "micro-assoc", "micro-nonassoc"]
 
@@ -28,13 +31,19 @@ NONASSOC_LOWEST_MAX_BLOCKS = 300
 #: the vertex sequence, and the lazy one on a direction where it cycles (Set 2
 #: of Table 5: cycling with vertices, certified by the lazy sequence after 30
 #: LPs). Walls where the vertex sequence converges keep its result.
-NONASSOC_SELECTION = "vertex+lazy"
+NONASSOC_SELECTION: Selection = "vertex+lazy"
 #: Cap on the LPs of that lazy sequence per direction: Set 2 is certified
 #: after 30; Set 9, on which it oscillates too (with relaxation 0.3, 0.6 and
 #: 1), ran 49-57 LPs of ~12 s (cold interior point + crossover on 1,830
 #: blocks) before the cycle test stopped it: 15-18 minutes, which would take
 #: the report beyond its 20.
 NONASSOC_RETRY_LPS = 40
+
+
+def default_selection(scheme: str) -> Selection:
+    """The runner's selection for a scheme: :data:`NONASSOC_SELECTION` for
+    (a), ``"vertex"`` for (b), which has no lazy selection."""
+    return NONASSOC_SELECTION if scheme == "a" else "vertex"
 
 
 @dataclass(frozen=True)
@@ -49,8 +58,8 @@ class Method:
         head_joints: ``"frictional"`` or ``"frictionless"``.
         lowest_max_blocks: non-associative: the descent to the lowest certified
             state runs on walls of at most this many blocks.
-        selection: non-associative: how the iterates pick their forces
-            (:data:`NONASSOC_SELECTION`).
+        selection: non-associative: how the iterates pick their forces;
+            ``None``: the scheme's default (:attr:`nonassoc_selection`).
     """
 
     kind: Kind
@@ -59,7 +68,15 @@ class Method:
     first_course: str = "full"
     head_joints: str = "frictional"
     lowest_max_blocks: int = NONASSOC_LOWEST_MAX_BLOCKS
-    selection: str = NONASSOC_SELECTION
+    selection: Selection | None = None
+
+    @property
+    def nonassoc_selection(self) -> Selection:
+        """The selection the iterated LP runs: :attr:`selection`, or
+        :func:`default_selection` of the scheme. Resolved here rather than
+        stored, so that ``replace(MICRO_NONASSOC, scheme="b")`` gets scheme
+        (b)'s default."""
+        return default_selection(self.scheme) if self.selection is None else self.selection
 
     @property
     def label(self) -> str:
@@ -71,7 +88,7 @@ class Method:
             opts.append("half first")
         if self.head_joints != "frictional":
             opts.append("frictionless heads")
-        if self.kind == "micro-nonassoc" and self.selection != NONASSOC_SELECTION:
+        if self.kind == "micro-nonassoc" and self.nonassoc_selection != default_selection(self.scheme):
             opts.append(f"{self.selection} selection")
         return f"{self.kind} ({', '.join(opts)})"
 
@@ -84,6 +101,8 @@ class Method:
             d.pop("scheme")
             d.pop("lowest_max_blocks")
             d.pop("selection")
+        else:
+            d["selection"] = self.nonassoc_selection  # an explicit default is the same computation
         return d
 
 

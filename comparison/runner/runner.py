@@ -53,7 +53,7 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         nres = micro.solve_nonassociative(
             wall,
             scheme=method.scheme,
-            selection=method.selection,
+            selection=method.nonassoc_selection,
             max_iterations=NONASSOC_MAX_LPS,
             retry_iterations=NONASSOC_RETRY_LPS,
             lowest=wall.n_blocks <= method.lowest_max_blocks,

@@ -51,7 +51,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from comparison.runner.methods import MACRO, NONASSOC_SELECTION, Method
+from comparison.runner.methods import MACRO, Method
 from comparison.scene import _key_line, _table_line
 from macro import checks
 
@@ -291,17 +291,16 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
         return GridMethod(MACRO)
     options: dict[str, Any] = {}
     for key, choices, default in (("solver", micro.SOLVERS, "highs"), ("scheme", SCHEMES, "a"),
-                                  ("selection", micro.nonassociative.SELECTIONS, NONASSOC_SELECTION)):
-        if key in METHOD_KEYS[kind]:
-            if key == "selection" and options["scheme"] == "b":
-                default = "vertex"  # the lazy selection is scheme (a)'s
+                                  ("selection", micro.nonassociative.SELECTIONS, None)):
+        if key in METHOD_KEYS[kind] and (key != "selection" or key in entry):  # no selection: the scheme's
             try:
                 options[key] = checks.choice(f"method.{key}", entry.get(key, default), choices)
             except ValueError as exc:
                 raise src.error(str(exc), "method", key, index) from None
+    method = replace(Method(kind), **options)
     if kind == "micro-nonassoc":
         try:  # the options' own check of the pair (a lazy selection needs scheme a)
-            micro.nonassociative.NonAssociativeOptions(scheme=options["scheme"], selection=options["selection"])
+            micro.nonassociative.NonAssociativeOptions(scheme=method.scheme, selection=method.nonassoc_selection)
         except ValueError as exc:
             raise src.error(f"method.{exc}", "method", "selection", index) from None
-    return GridMethod(replace(Method(kind), **options), _max_blocks(entry, "method", index, src))
+    return GridMethod(method, _max_blocks(entry, "method", index, src))

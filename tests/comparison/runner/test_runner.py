@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -60,6 +61,16 @@ def test_cached_records_are_typed_and_equal_to_the_computed_ones(tmp_path: Path)
     macro_rec = again[MACRO].result
     assert isinstance(macro_rec, MacroRecord)
     assert macro_rec.alpha_c_star_deg < macro_rec.alpha_c_deg  # the stepped crack is steeper
+
+
+def test_a_scheme_b_method_built_in_code_runs_its_own_selection(tmp_path: Path) -> None:
+    """``replace(MICRO_NONASSOC, scheme="b")`` runs scheme (b) with the vertex selection (the report's
+    ``vertex+lazy`` is scheme (a)'s) instead of failing on the pair."""
+    spec = WallSpec.from_paper(t=1, m=1, rows=6, f=0.75, name="small")
+    rec = Runner(tmp_path).run(spec, replace(MICRO_NONASSOC, scheme="b"))
+    assert rec.nonassoc is not None and rec.nonassoc.scheme == "b", rec.message
+    assert rec.nonassoc.selection == "vertex" and rec.nonassoc.vertex_stop_reason == ""
+    assert Record.from_dict(rec.to_dict()).method == rec.method
 
 
 def test_cache_entries_are_json_of_the_typed_record(tmp_path: Path) -> None:
