@@ -28,12 +28,13 @@ NONASSOC_MAX_LPS = 100
 NONASSOC_LOWEST_MAX_BLOCKS = 300
 
 #: How the runner's iterated LP picks its forces (:data:`micro.nonassociative.SELECTIONS`):
-#: the vertex sequence, and the lazy one on a direction where it cycles (Set 2
-#: of Table 5: cycling with vertices, certified by the lazy sequence after 30
-#: LPs). Walls where the vertex sequence converges keep its result.
+#: the vertex sequence, and the lazy one from its last normal forces on a
+#: direction where it cycles (Set 2 of Table 5: cycling with vertices, certified
+#: by the lazy sequence after 17 LPs). Walls where the vertex sequence converges
+#: keep its result. Scheme (b) runs ``"vertex"`` (:func:`default_selection`).
 NONASSOC_SELECTION: Selection = "vertex+lazy"
 #: Cap on the LPs of that lazy sequence per direction: Set 2 is certified
-#: after 30; Set 9, on which it oscillates too (with relaxation 0.3, 0.6 and
+#: after 17 (30 from the associative start); Set 9, on which it oscillates too (with relaxation 0.3, 0.6 and
 #: 1), ran 49-57 LPs of ~12 s (cold interior point + crossover on 1,830
 #: blocks) before the cycle test stopped it: 15-18 minutes, which would take
 #: the report beyond its 20.
