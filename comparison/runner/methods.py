@@ -34,10 +34,10 @@ NONASSOC_LOWEST_MAX_BLOCKS = 300
 #: keep its result. Scheme (b) runs ``"vertex"`` (:func:`default_selection`).
 NONASSOC_SELECTION: Selection = "vertex+lazy"
 #: Cap on the LPs of that lazy sequence per direction: Set 2 is certified
-#: after 17 (30 from the associative start); Set 9, on which it oscillates too (with relaxation 0.3, 0.6 and
-#: 1), ran 49-57 LPs of ~12 s (cold interior point + crossover on 1,830
-#: blocks) before the cycle test stopped it: 15-18 minutes, which would take
-#: the report beyond its 20.
+#: after 17 (30 from the associative start); Set 9, on which it oscillates
+#: too (with relaxation 0.3, 0.6 and 1), ran 49-57 LPs of ~12 s (cold
+#: interior point + crossover on 1,830 blocks) before the cycle test stopped
+#: it: 15-18 minutes, which would take the report beyond its 20.
 NONASSOC_RETRY_LPS = 40
 
 

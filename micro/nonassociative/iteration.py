@@ -69,13 +69,19 @@ class Sequence:
         direction: ``+1`` or ``-1``.
         options: the options.
         start: scaled normal forces ``(P,)`` to start ``nbar`` from instead of
-            the associative LP's (which is still solved: iterate 0 and the
+            the associative LP's (which still gives iterate 0 and the
             associative load factor); ``None``: the associative LP's.
+        iterate0: the associative LP's ``(outcome, algorithm, x)`` as
+            another sequence on the same LP, direction and ``start`` option
+            solved it (its :attr:`iterate0`), to reuse instead of solving
+            it again; ``None``: solve it.
     """
 
     def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions,
-                 start: FloatArray | None = None) -> None:
+                 start: FloatArray | None = None,
+                 iterate0: tuple[Outcome, str, FloatArray | None] | None = None) -> None:
         self.lp, self.d, self.o, self.start = lp, direction, options, start
+        self.iterate0 = iterate0
         self.certificate = Certificate(lp, direction, options)
         self.history: list[IterationRecord] = []
         self.fallbacks = 0
@@ -123,7 +129,9 @@ class Sequence:
     def run(self) -> DirectionResult:
         """Run the sequence to its stop and check the final state."""
         t_start = time.perf_counter()
-        out, algo0, x = self._start()
+        if self.iterate0 is None:
+            self.iterate0 = self._start()
+        out, algo0, x = self.iterate0
         if x is None:
             self._record(0, NAN, NAN, NAN, NAN, 0.0, out, algo0)
             return self._fail("associative_failed", f"the associative LP failed ({out.native_status})",
@@ -425,13 +433,14 @@ def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions)
     """
     if options.selection != "vertex+lazy":
         return Sequence(lp, direction, options).run()
-    first = Sequence(lp, direction, dataclasses.replace(options, selection="vertex")).run()
+    vertex = Sequence(lp, direction, dataclasses.replace(options, selection="vertex"))
+    first = vertex.run()
     if first.status not in RETRY_STATUSES:
         return first
     cap = options.max_iterations if options.retry_iterations is None else options.retry_iterations
     start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
     second = Sequence(lp, direction, dataclasses.replace(options, selection="lazy", max_iterations=cap),
-                      start=start).run()
+                      start=start, iterate0=vertex.iterate0).run()
     assert second.sequence is not None
     message = second.message if second.converged else f"lazy: {second.message}; vertex: {first.message}"
     return dataclasses.replace(

@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 from micro.backends.base import check_integer, check_number
 from micro.backends.clarabel import CLARABEL_RETRY
@@ -24,8 +24,8 @@ SCHEMES = ("a", "b")
 DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 #: How an iterate picks its forces among the optimal fields of its LP
 #: (``"vertex+lazy"``: the vertex sequence, and the lazy one where it fails).
-SELECTIONS = ("vertex", "lazy", "vertex+lazy")
 Selection = Literal["vertex", "lazy", "vertex+lazy"]
+SELECTIONS: tuple[str, ...] = get_args(Selection)
 #: ``"vertex+lazy"`` runs the lazy sequence on a direction whose vertex
 #: sequence ended with one of these statuses.
 RETRY_STATUSES = ("cycling", "max_iterations")

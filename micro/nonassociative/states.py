@@ -72,8 +72,10 @@ def restricted_columns(lp: LimitLP, v: FloatArray) -> BoolArray | None:
     """The generator columns (``[g+ (P), g- (P)]``) the mechanism ``v`` forbids.
 
     Rates below :data:`~micro.mechanism.STATE_TOL` of the largest count as
-    zero, or below ten times the dual noise of a simplex mechanism (closing
-    rates of a few 1e-5 of the largest were seen at closed points).
+    zero (the rule of :func:`~micro.nonassociative.checks.verify_collapse_state`);
+    closing rates up to :data:`~micro.nonassociative.options.INTERPENETRATION`
+    are read as the dual noise of a simplex mechanism at closed points
+    (a few 1e-5 of the largest were seen).
 
     Returns:
         The ``(2P,)`` mask, or ``None`` when ``v`` makes points interpenetrate
@@ -88,7 +90,7 @@ def restricted_columns(lp: LimitLP, v: FloatArray) -> BoolArray | None:
     noise = max(-float(np.min(dn, initial=0.0)), 0.0) / scale
     if noise > INTERPENETRATION:
         return None
-    tol = max(STATE_TOL, 10.0 * noise) * scale
+    tol = STATE_TOL * scale
     opening = dn > tol
     friction = lp.mu > 0.0
     slip_pos = (ds > tol) & friction & ~opening  # s = -mu n: g+ carries nothing
