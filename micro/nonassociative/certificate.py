@@ -52,6 +52,7 @@ from micro.nonassociative.options import (
     TINY,
     NonAssociativeOptions,
 )
+from micro.nonassociative.states import point_states
 
 FloatArray = NDArray[np.float64]
 State = tuple[FloatArray, FloatArray, float]
@@ -103,28 +104,15 @@ class Certificate:
         or ``None`` when ``v`` makes points interpenetrate (possible with
         scheme (b), whose ``n`` columns also enter the friction rows): no
         force field can then make it a collapse state."""
-        lp = self.lp
-        dn = lp.Bn.T @ v
-        ds = lp.Bs.T @ v
-        scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)), 1e-300)
-        # the simplex duals carry noise: closed points of a scheme (a)
-        # mechanism showed closing rates down to -1.1e-5 of the largest rate
-        # (Set 4), where exact duals give >= 0. Up to INTERPENETRATION such
-        # rates are read as noise at closed points; beyond it the mechanism
-        # really interpenetrates (scheme (b), whose own mechanisms dilate by
-        # alpha mu |slip|: its closing rates are not noise, and any beyond
-        # STATE_TOL reject it). A rate is zero below STATE_TOL of the largest,
-        # the rule of verify_collapse_state: a state certified here passes its
-        # slip-at-yield check (an earlier margin of 10 x the noise let Set 2's
-        # state slip at 1.01e-6 of the largest rate with friction below yield).
-        noise = max(-float(np.min(dn, initial=0.0)), 0.0) / scale
-        if noise > (INTERPENETRATION if self.o.scheme == "a" else STATE_TOL):
+        # scheme (b)'s own mechanisms dilate by alpha mu |slip|: its closing
+        # rates are not noise, and any beyond STATE_TOL reject it
+        states = point_states(self.lp.Bn.T @ v, self.lp.Bs.T @ v,
+                              INTERPENETRATION if self.o.scheme == "a" else STATE_TOL)
+        if states is None:
             return None
-        tol = STATE_TOL * scale
-        opening = dn > tol
-        slip = (np.abs(ds) > tol) & ~opening
-        up_p = np.where(opening | (slip & (ds > 0)), 0.0, np.inf)  # g+ carries s = +mu n
-        up_m = np.where(opening | (slip & (ds < 0)), 0.0, np.inf)  # g- carries s = -mu n
+        opening, slip_pos, slip_neg = states
+        up_p = np.where(opening | slip_pos, 0.0, np.inf)  # g+ carries s = +mu n
+        up_m = np.where(opening | slip_neg, 0.0, np.inf)  # g- carries s = -mu n
         return up_p, up_m
 
     def state_lp(self, v: FloatArray, sense: float, time_limit: float = math.inf) -> tuple[State | None, Outcome]:

@@ -71,10 +71,10 @@ class Sequence:
         start: scaled normal forces ``(P,)`` to start ``nbar`` from instead of
             the associative LP's (which still gives iterate 0 and the
             associative load factor); ``None``: the associative LP's.
-        iterate0: the associative LP's ``(outcome, algorithm, x)`` as
-            another sequence on the same LP, direction and ``start`` option
-            solved it (its :attr:`iterate0`), to reuse instead of solving
-            it again; ``None``: solve it.
+        iterate0: the associative LP's ``(outcome, algorithm, x)`` from
+            another sequence on the same LP and direction with the same
+            ``options.start`` (its :attr:`iterate0`), reused instead of
+            solved again; ``None``: solve it.
     """
 
     def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions,

@@ -68,14 +68,40 @@ WARM_ITERATIONS = 2
 SPARSITY_WEIGHT = 1e-3
 
 
-def restricted_columns(lp: LimitLP, v: FloatArray) -> BoolArray | None:
-    """The generator columns (``[g+ (P), g- (P)]``) the mechanism ``v`` forbids.
+def point_states(dn: FloatArray, ds: FloatArray, max_noise: float) -> tuple[BoolArray, BoolArray, BoolArray] | None:
+    """Which points of a mechanism open and which slip, by the one rule for
+    "this rate is zero" (the certificate's pattern and :func:`restricted_columns`).
 
-    Rates below :data:`~micro.mechanism.STATE_TOL` of the largest count as
-    zero (the rule of :func:`~micro.nonassociative.checks.verify_collapse_state`);
-    closing rates up to :data:`~micro.nonassociative.options.INTERPENETRATION`
-    are read as the dual noise of a simplex mechanism at closed points
-    (a few 1e-5 of the largest were seen).
+    A rate is zero below :data:`~micro.mechanism.STATE_TOL` of the largest,
+    the rule of :func:`~micro.nonassociative.checks.verify_collapse_state`, so
+    that a state built on the pattern passes its slip-at-yield check (a
+    former margin of 10 x the dual noise let states slip at 1.01e-6 of the
+    largest rate with friction below yield). Closing rates up to
+    ``max_noise`` of the largest are read as the dual noise of a simplex
+    mechanism at closed points (down to -1.1e-5 seen on Set 4, where exact
+    duals give >= 0); beyond it the mechanism interpenetrates.
+
+    Args:
+        dn, ds: ``(P,)`` opening and slip rates.
+        max_noise: largest closing rate, relative to the largest rate, read as noise.
+
+    Returns:
+        ``(opening, slipping with ds > 0, slipping with ds < 0)`` masks, or
+        ``None`` when a point closes by more than ``max_noise``.
+    """
+    scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)), 1e-300)
+    noise = max(-float(np.min(dn, initial=0.0)), 0.0) / scale
+    if noise > max_noise:
+        return None
+    tol = STATE_TOL * scale
+    opening = dn > tol
+    return opening, (ds > tol) & ~opening, (ds < -tol) & ~opening
+
+
+def restricted_columns(lp: LimitLP, v: FloatArray) -> BoolArray | None:
+    """The generator columns (``[g+ (P), g- (P)]``) the mechanism ``v`` forbids
+    (rates read by :func:`point_states`, closing rates up to
+    :data:`~micro.nonassociative.options.INTERPENETRATION` as noise).
 
     Returns:
         The ``(2P,)`` mask, or ``None`` when ``v`` makes points interpenetrate
@@ -84,18 +110,14 @@ def restricted_columns(lp: LimitLP, v: FloatArray) -> BoolArray | None:
     """
     dn = lp.Bn.T @ v
     ds = lp.Bs.T @ v
-    scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)))
-    if scale <= 0.0:
+    if not (dn.any() or ds.any()):
         return None
-    noise = max(-float(np.min(dn, initial=0.0)), 0.0) / scale
-    if noise > INTERPENETRATION:
+    states = point_states(dn, ds, INTERPENETRATION)
+    if states is None:
         return None
-    tol = STATE_TOL * scale
-    opening = dn > tol
-    friction = lp.mu > 0.0
-    slip_pos = (ds > tol) & friction & ~opening  # s = -mu n: g+ carries nothing
-    slip_neg = (ds < -tol) & friction & ~opening
-    return np.concatenate([opening | slip_pos, opening | slip_neg])
+    opening, slip_pos, slip_neg = states
+    friction = lp.mu > 0.0  # s = -mu n at a slipping point: the generator on the slip's side carries nothing
+    return np.concatenate([opening | (slip_pos & friction), opening | (slip_neg & friction)])
 
 
 @dataclass(frozen=True, eq=False)
