@@ -91,10 +91,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     na.add_argument(
         "--selection",
         default="vertex",
-        metavar="vertex|lazy|vertex+lazy",
-        help="which optimal forces each LP of scheme a takes: vertex (the simplex's, default), lazy (the "
-        "ones closest to nbar; contracts where vertices cycle, e.g. Set 2) or vertex+lazy (vertex, then lazy "
-        "where it cycles or hits its cap: what xcheck report runs)",
+        metavar="vertex|lazy|proximal|vertex+lazy|vertex+proximal",
+        help="which forces scheme a's iterates go on from: vertex (the simplex's, default), lazy (each LP's "
+        "optimal forces closest to nbar), proximal (nbar moved towards the field closest to it that carries "
+        "the LP's load; reaches a state where vertices cycle, e.g. Sets 2 and 9), or vertex+lazy, "
+        "vertex+proximal (vertex, then the other where it cycles or hits its cap; vertex+proximal is what "
+        "xcheck report runs)",
     )
     na.add_argument(
         "--relaxation",
@@ -300,12 +302,14 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
 
 
 def _print_retry(result: NonAssociativeResult) -> None:
-    """With ``--selection vertex+lazy``: the line saying the lazy sequence ran, and how the vertex one ended."""
+    """With ``--selection vertex+lazy`` or ``vertex+proximal``: the line saying the second sequence ran,
+    and how the vertex one ended."""
     first = result.sequence.vertex_attempt
     if first is None:
         return
     band = "" if first.lambda_band is None else f", lambda in [{first.lambda_band[0]:.6f}, {first.lambda_band[1]:.6f}]"
-    print(f"  lazy sequence ({len(result.history) - 1} LPs) after the vertex sequence ended {first.stop_reason} "
+    print(f"  {result.sequence.selection} sequence ({len(result.history) - 1} LPs) after the vertex sequence "
+          f"ended {first.stop_reason} "
           f"({len(first.history) - 1} LPs{band})")
 
 

@@ -320,7 +320,7 @@ def histories_figure(res: Results, path: Path) -> Figure | None:
         band, kind = na.mechanism_band, "mechanism band"
         if band is None and na.lambda_band is not None and all(math.isfinite(v) for v in na.lambda_band):
             band, kind = na.lambda_band, "cycling band"
-        label = f"{c.label}, lazy" if na.selection == "lazy" else c.label
+        label = c.label if na.selection == "vertex" else f"{c.label}, {na.selection}"
         series.append(History(label, rec.status, na.history_load_factor, band, kind))
     if not series:
         return None

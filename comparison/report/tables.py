@@ -91,9 +91,9 @@ def lam_cell(rec: Record) -> Any:
 
 
 def selection_cell(na: NonAssociativeRecord) -> str:
-    """``"vertex"``, or ``"lazy after vertex (<how the vertex sequence stopped>)"``."""
-    if na.selection == "lazy" and na.vertex_stop_reason:
-        return f"lazy after vertex ({na.vertex_stop_reason})"
+    """``"vertex"``, or ``"<selection> after vertex (<how the vertex sequence stopped>)"``."""
+    if na.selection != "vertex" and na.vertex_stop_reason:
+        return f"{na.selection} after vertex ({na.vertex_stop_reason})"
     return na.selection
 
 

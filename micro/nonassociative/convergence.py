@@ -88,3 +88,20 @@ def detect_cycle(lams: list[float], dns: list[float], tol: float, window: int) -
         if b2 <= tol * ref and d2 >= NO_PROGRESS * d1:
             return "stagnation", (float(w2.min()), float(w2.max()))
     return None
+
+
+def detect_stall(steps: list[float], lams: list[float], window: int) -> tuple[str, Band] | None:
+    """The proximal selection's no-progress test: its ``lambda`` may move
+    while its steps ``|n - nbar|_1 / |nbar|_1`` shrink, so it stops only
+    when the smallest step of the last window is at least
+    :data:`NO_PROGRESS` of the smallest of the window before.
+
+    Returns:
+        ``("stagnation", (min, max) of lambda over the last window)`` or ``None``.
+    """
+    if len(steps) < 2 * window:
+        return None
+    if min(steps[-window:]) >= NO_PROGRESS * min(steps[-2 * window : -window]):
+        w = lams[-window:]
+        return "stagnation", (min(w), max(w))
+    return None

@@ -2,7 +2,9 @@
 
 Iterate 0 is the associative LP (:meth:`Sequence._start`); its normal forces
 give the first ``nbar``. Iterate ``k >= 1`` rebuilds every point's yield
-condition from ``nbar = beta n_(k-1) + (1 - beta) n_(k-2)`` in the persistent
+condition from ``nbar = beta n_(k-1) + (1 - beta) n_(k-2)`` (the proximal
+selection: ``nbar`` moved by ``beta`` towards its projection,
+:mod:`micro.nonassociative.proximal`) in the persistent
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
@@ -14,8 +16,8 @@ stop has status ``time_limit``. A failed run is
 recovered (:meth:`Sequence._recover`); each iterate is then tested for the
 stops of :mod:`micro.nonassociative.convergence`. The final iterate is
 checked (:mod:`micro.nonassociative.checks`). :func:`solve_direction` runs
-one direction with the chosen selection, and for ``"vertex+lazy"`` the lazy
-sequence where the vertex one fails.
+one direction with the chosen selection, and for ``"vertex+lazy"`` and
+``"vertex+proximal"`` the other sequence where the vertex one fails.
 """
 
 from __future__ import annotations
@@ -42,7 +44,9 @@ from micro.nonassociative.options import (
     TINY,
     WARM_LIMIT_PIVOTS,
     NonAssociativeOptions,
+    Selection,
 )
+from micro.nonassociative.proximal import Projection
 from micro.nonassociative.results import (
     CONVERGED,
     CONVERGED_STOPS,
@@ -98,6 +102,10 @@ class Sequence:
         self.streak_length = COLD_STREAK
         self.last_try = -(10**9)
         self.model: IterationModel | None = None
+        # the proximal selection's QP and its steps |n - nbar|_1 / |nbar|_1
+        self.projection = Projection(lp, direction, options.user_limit) if options.selection == "proximal" else None
+        self.steps: list[float] = []
+        self.step = NAN
 
     # ------------------------------------------------------------ iterate 0
     def _start(self) -> tuple[Outcome, str, FloatArray | None]:
@@ -175,7 +183,8 @@ class Sequence:
             t_it = time.perf_counter()
             new_alpha = alpha
             if k > 1:
-                nbar = o.beta * n_prev + (1.0 - o.beta) * n_prev2
+                nbar = (o.beta * n_prev + (1.0 - o.beta) * n_prev2 if self.projection is None
+                        else self._proximal_nbar(model.nbar, lam_prev, n_prev, n_prev2))
                 new_alpha = max(o.alpha_min, alpha * o.alpha_factor) if o.scheme == "b" else 0.0
                 model.set_capacity(nbar, new_alpha, alpha, self.c0)
             alpha = new_alpha
@@ -197,6 +206,18 @@ class Sequence:
             if o.max_seconds is not None and time.perf_counter() - t_start > o.max_seconds:
                 return "time_budget", convergence.window_band(self.lams, o.window), None
         return "max_iterations", convergence.window_band(self.lams, o.window), None
+
+    def _proximal_nbar(self, nbar: FloatArray, lam: float, n_prev: FloatArray, n_prev2: FloatArray) -> FloatArray:
+        """The proximal selection's next ``nbar``: ``nbar`` moved by ``beta``
+        towards its projection at the LP's ``lam``; where Clarabel does not
+        solve the QP, the vertex rule for this step."""
+        assert self.projection is not None
+        proj = self.projection.project(nbar, lam)
+        self.step = proj.step
+        if proj.normal is None:
+            return self.o.beta * n_prev + (1.0 - self.o.beta) * n_prev2
+        self.steps.append(proj.step)
+        return nbar + self.o.beta * (proj.normal - nbar)
 
     # ------------------------------------------------- warm / cold policy
     def _solve(self, model: IterationModel, k: int, n_prev: FloatArray, alpha: float) -> tuple[Outcome, str]:
@@ -293,10 +314,15 @@ class Sequence:
         exact = None if o.selection == "lazy" else convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
         if exact is not None:
             return exact, None, None
-        if (o.certify and alpha_done and algo != "fallback-a"
-                and convergence.settled(self.lams, k, self.last_try, o) and self._try_certificate(k, v, lam)):
+        # the proximal sequence asks at every iterate: its lambda need not settle before its state does
+        due = k >= 2 if self.projection is not None else convergence.settled(self.lams, k, self.last_try, o)
+        if o.certify and alpha_done and algo != "fallback-a" and due and self._try_certificate(k, v, lam):
             return "certified", None, None
-        if alpha_done:
+        if self.projection is not None:
+            stall = convergence.detect_stall(self.steps, self.lams, o.window)
+            if stall is not None:
+                return stall[0], stall[1], None
+        elif alpha_done:
             cyc = convergence.detect_cycle(self.lams, self.dns, o.lambda_tol, o.window)
             if cyc is not None:
                 return cyc[0], cyc[1], None
@@ -351,8 +377,9 @@ class Sequence:
         self.history.append(IterationRecord(
             iteration=k, load_factor=lam, lambda_change=dlam, max_dn=dn, coulomb_residual=coul, alpha=alpha,
             simplex_iterations=int(out.simplex_iterations), ipm_iterations=int(out.ipm_iterations),
-            seconds=float(out.seconds), algorithm=algo, status=out.status.value,
+            seconds=float(out.seconds), algorithm=algo, status=out.status.value, proximal_step=self.step,
         ))
+        self.step = NAN
 
     # ------------------------------------------------------------ finish
     def _fail(self, reason: str, msg: str, t_start: float, lam_assoc: float,
@@ -422,27 +449,29 @@ class Sequence:
 def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> DirectionResult:
     """The iterated LP on one load direction with ``options.selection``.
 
-    ``"vertex+lazy"`` runs the vertex sequence, and where it ends with a
-    status of :data:`~micro.nonassociative.options.RETRY_STATUSES` the lazy
+    ``"vertex+lazy"`` (``"vertex+proximal"``) runs the vertex sequence, and
+    where it ends with a status of
+    :data:`~micro.nonassociative.options.RETRY_STATUSES` the lazy (proximal)
     sequence (at most ``options.retry_iterations`` LPs), its ``nbar``
     started from the vertex sequence's last normal forces rather than the
     associative LP's: Set 2 (1,230 blocks) was certified after 17 lazy LPs
-    from there against 30 from the associative forces. The lazy result is
+    from there against 30 from the associative forces. The second result is
     returned with the vertex sequence in ``sequence.vertex_attempt``, and
     the LPs and seconds of both.
     """
-    if options.selection != "vertex+lazy":
+    if not options.selection.startswith("vertex+"):
         return Sequence(lp, direction, options).run()
+    retry: Selection = "proximal" if options.selection == "vertex+proximal" else "lazy"
     vertex = Sequence(lp, direction, dataclasses.replace(options, selection="vertex"))
     first = vertex.run()
     if first.status not in RETRY_STATUSES:
         return first
     cap = options.max_iterations if options.retry_iterations is None else options.retry_iterations
     start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
-    second = Sequence(lp, direction, dataclasses.replace(options, selection="lazy", max_iterations=cap),
+    second = Sequence(lp, direction, dataclasses.replace(options, selection=retry, max_iterations=cap),
                       start=start, iterate0=vertex.iterate0).run()
     assert second.sequence is not None
-    message = second.message if second.converged else f"lazy: {second.message}; vertex: {first.message}"
+    message = second.message if second.converged else f"{retry}: {second.message}; vertex: {first.message}"
     return dataclasses.replace(
         second, iterations=first.iterations + second.iterations, seconds=first.seconds + second.seconds,
         message=message, sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence),

@@ -22,9 +22,10 @@ from micro.results import Directions, check_directions
 SCHEMES = ("a", "b")
 #: Default relaxation ``beta`` per scheme (``nbar = beta n_k + (1 - beta) n_(k-1)``).
 DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
-#: How an iterate picks its forces among the optimal fields of its LP
-#: (``"vertex+lazy"``: the vertex sequence, and the lazy one where it fails).
-Selection = Literal["vertex", "lazy", "vertex+lazy"]
+#: How an iterate picks its forces among the optimal fields of its LP, or
+#: (``"proximal"``) the next ``nbar`` near them (``"vertex+lazy"``,
+#: ``"vertex+proximal"``: the vertex sequence, and the other where it fails).
+Selection = Literal["vertex", "lazy", "proximal", "vertex+lazy", "vertex+proximal"]
 SELECTIONS: tuple[str, ...] = get_args(Selection)
 #: ``"vertex+lazy"`` runs the lazy sequence on a direction whose vertex
 #: sequence ended with one of these statuses.
@@ -40,6 +41,23 @@ RETRY_STATUSES = ("cycling", "max_iterations")
 #: 1.5e-3), so the certificate asks the plain LP at the same ``nbar`` (this
 #: cost switched off) for its mechanism.
 LAZY_WEIGHT = 1e-7
+#: The proximal selection's margin below the LP's optimum: its QP asks for the
+#: field closest to ``nbar`` that carries ``lambda* (1 - PROX_MARGIN)``
+#: (:mod:`micro.nonassociative.proximal`). At 1e-5 Clarabel stopped at its
+#: iteration cap ("AlmostSolved", 200 iterations) on most QPs of Sets 2 and 9
+#: (the feasible set is too thin); at 1e-3 Set 9's sequence had not been
+#: certified after 40 LPs; at 1e-4 it was after 38 (and Set 2 after 21).
+PROX_MARGIN = 1e-4
+#: Clarabel settings of the proximal QP: a projection needs no more than
+#: 1e-8 (it only chooses the next ``nbar``; the certificate decides
+#: convergence); QDLDL named as for the LPs (``CLARABEL_TIGHT``).
+PROX_CLARABEL: dict[str, Any] = {
+    "direct_solve_method": "qdldl",
+    "tol_gap_abs": 1e-8,
+    "tol_gap_rel": 1e-8,
+    "tol_feas": 1e-8,
+    "max_iter": 400,
+}
 
 # ------------------------------------------------------------ warm / cold policy
 # Every decision of the sequence is taken on deterministic work measures
@@ -127,6 +145,15 @@ class NonAssociativeOptions:
             direction's ``sequence.vertex_attempt`` keeps the first; what
             ``xcheck report`` runs: Set 2 of Table 5 cycles with vertices
             and is certified by the lazy sequence).
+            ``"proximal"`` (scheme (a) only): the LP's vertex gives
+            ``lambda*`` and the mechanism, and the next ``nbar`` moves by
+            ``beta`` towards the field closest to ``nbar`` that carries
+            ``lambda* (1 - PROX_MARGIN)`` with the same capacities (a QP,
+            :mod:`micro.nonassociative.proximal`); the certificate is tried
+            at every iterate, and the sequence stops as ``stagnation`` when
+            its steps stop shrinking. It certified Set 9 (1,830 blocks),
+            which cycles with every other selection. ``"vertex+proximal"``:
+            as ``"vertex+lazy"`` with the proximal sequence second.
         relaxation: ``beta`` in ``(0, 1]`` (``None``: :data:`DEFAULT_RELAXATION`;
             :attr:`beta` is the value used).
         alpha0, alpha_min, alpha_factor: slope schedule of scheme (b):
@@ -135,7 +162,8 @@ class NonAssociativeOptions:
             of the associative solution (scale-free; default one millionth
             of the force level).
         max_iterations: cap on non-associative LPs per direction.
-        retry_iterations: ``"vertex+lazy"``: cap on the lazy sequence's LPs
+        retry_iterations: ``"vertex+lazy"``, ``"vertex+proximal"``: cap on
+            the second sequence's LPs
             (``None``: :attr:`max_iterations`).
         max_simplex_iterations: cap on the simplex iterations (warm runs,
             crossovers and clean-ups) of the non-associative LPs per
@@ -245,7 +273,8 @@ class NonAssociativeOptions:
         if self.selection not in SELECTIONS:
             raise ValueError(f"selection must be one of {', '.join(SELECTIONS)}, got {self.selection!r}")
         if self.selection != "vertex" and self.scheme != "a":
-            raise ValueError(f"selection {self.selection!r} needs scheme 'a' (the lazy model bounds s by mu nbar)")
+            raise ValueError(f"selection {self.selection!r} needs scheme 'a' "
+                             "(the lazy and proximal models bound s by mu nbar)")
         beta = self.relaxation
         if beta is not None and (isinstance(beta, bool) or not isinstance(beta, (int, float))
                                  or not (0.0 < float(beta) <= 1.0)):

@@ -47,6 +47,10 @@ class IterationRecord:
             of the certified field.
         certificate_seconds, certificate_iterations: cost of the try
             (interior-point iterations).
+        proximal_step: the proximal selection's ``|n - nbar|_1 / |nbar|_1``
+            of the projection that gave this LP's ``nbar`` (its QP's time is
+            in ``seconds``); NaN for the other selections, the first LP and
+            an unsolved QP.
     """
 
     iteration: int
@@ -63,6 +67,7 @@ class IterationRecord:
     certificate: str = ""
     certificate_seconds: float = 0.0
     certificate_iterations: int = 0
+    proximal_step: float = math.nan
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready (NaN -> None)."""

@@ -1,0 +1,122 @@
+"""The proximal selection: the next ``nbar`` is ``nbar`` projected onto the fields its LP allows.
+
+Gilbert's LP at ``nbar`` (``|s| <= mu nbar``, maximise ``lambda``) has a face
+of optimal force fields; the vertex selection takes the simplex's vertex of
+it, whose forces jump in the parts of the wall that do not move, and the
+iteration ``nbar <- n`` is a discontinuous map that cycles on large walls
+(Sets 2 and 9). Here the LP gives ``lambda*`` and the mechanism as before,
+and the next ``nbar`` moves towards the field closest to ``nbar`` among those
+that carry ``lambda* (1 - PROX_MARGIN)`` with the same capacities:
+
+    min  1/2 |n - nbar|^2 + 1/2 |s|^2
+    s.t. B_n n + B_s s = -f_D - d lambda* (1 - PROX_MARGIN) f_L,
+         n >= 0,  |s| <= mu nbar,
+
+then ``nbar <- nbar + beta (n - nbar)``. The objective is strictly convex,
+so the field is unique and moves continuously with ``nbar`` (the ``|s|^2``
+term only makes the shear forces unique). At a fixed point ``nbar`` itself
+carries ``lambda*(nbar) (1 - PROX_MARGIN)`` with ``|s| <= mu nbar``: a force
+field that satisfies Coulomb with its own normal forces within a margin of
+the LP's optimum, which is what a non-associative collapse state is at
+``PROX_MARGIN = 0`` (any optimal field and any optimal mechanism of one LP
+are complementary). The iterate is converged only when the certificate
+finds an exact state with the LP's mechanism, as for the other selections.
+
+The QP is solved by Clarabel (interior point), built once per direction;
+only its right-hand side and linear cost change between iterates
+(``update``, which needs Clarabel's presolve off).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import clarabel
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from micro.backends.clarabel import clarabel_settings
+from micro.lp import LimitLP
+from micro.nonassociative.options import PROX_CLARABEL, PROX_MARGIN
+
+FloatArray = NDArray[np.float64]
+
+#: Clarabel statuses whose solution is taken as the projection.
+_SOLVED = ("Solved", "AlmostSolved")
+
+
+@dataclass(frozen=True)
+class ProjectionResult:
+    """One proximal projection.
+
+    Attributes:
+        normal: the projected normal forces ``n`` (scaled), or ``None`` when
+            Clarabel did not solve the QP.
+        shear: its shear forces ``s`` (scaled), or ``None``.
+        step: ``|n - nbar|_1 / |nbar|_1`` (NaN when not solved).
+        status: Clarabel's status.
+        iterations: its interior-point iterations.
+        seconds: wall time.
+    """
+
+    normal: FloatArray | None
+    shear: FloatArray | None
+    step: float
+    status: str
+    iterations: int
+    seconds: float
+
+
+class Projection:
+    """The proximal QP of one load direction (module docstring), built once.
+
+    Args:
+        lp: the wall's LP.
+        direction: ``+1`` or ``-1``.
+        time_limit: the user's limit in seconds per solve (``inf``: none).
+    """
+
+    def __init__(self, lp: LimitLP, direction: int, time_limit: float = math.inf) -> None:
+        P = lp.n_points
+        self.lp, self.d, self.P = lp, direction, P
+        eye = sp.identity(P, format="csc")
+        zero = sp.csc_matrix((P, P))
+        # rows: equilibrium (zero cone), then -n <= 0, s <= mu nbar, -s <= mu nbar
+        self.A = sp.vstack([sp.hstack([lp.Bn, lp.Bs]), sp.hstack([-eye, zero]), sp.hstack([zero, eye]),
+                            sp.hstack([zero, -eye])], format="csc")
+        self.Pm = sp.identity(2 * P, format="csc")
+        self.cones = [clarabel.ZeroConeT(lp.n_eq), clarabel.NonnegativeConeT(3 * P)]
+        self.settings = clarabel_settings(PROX_CLARABEL)
+        self.settings.presolve_enable = False  # update() needs it off
+        if math.isfinite(time_limit):
+            self.settings.time_limit = float(time_limit)
+        self.solver: clarabel.DefaultSolver | None = None
+
+    def _data(self, nbar: FloatArray, lam: float) -> tuple[FloatArray, FloatArray]:
+        lp, P = self.lp, self.P
+        cap = lp.mu * nbar
+        b = np.concatenate([lp.rhs - (self.d * lam * (1.0 - PROX_MARGIN)) * lp.live, np.zeros(P), cap, cap])
+        q = np.concatenate([-nbar, np.zeros(P)])
+        return q, b
+
+    def project(self, nbar: FloatArray, lam: float) -> ProjectionResult:
+        """The field closest to ``nbar`` that carries ``lam (1 - PROX_MARGIN)``
+        with the capacities ``mu nbar`` (``lam``: the LP's optimum at ``nbar``)."""
+        t0 = time.perf_counter()
+        q, b = self._data(nbar, lam)
+        if self.solver is None:
+            self.solver = clarabel.DefaultSolver(self.Pm, q, self.A, b, self.cones, self.settings)
+        else:
+            self.solver.update(q=q, b=b)
+        sol = self.solver.solve()
+        status = str(sol.status)
+        seconds = time.perf_counter() - t0
+        if status not in _SOLVED:
+            return ProjectionResult(None, None, float("nan"), status, int(sol.iterations), seconds)
+        x = np.asarray(sol.x)
+        n = np.maximum(x[: self.P], 0.0)
+        step = float(np.abs(n - nbar).sum()) / max(float(np.abs(nbar).sum()), 1e-300)
+        return ProjectionResult(n, x[self.P :], step, status, int(sol.iterations), seconds)
