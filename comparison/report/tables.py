@@ -434,10 +434,11 @@ def histories(res: Results) -> Table:
         selection = None if na is None else selection_cell(na)
         t.add(c.label, rec.status, selection, None if na is None else na.iterations, rec.load_factor, *band)
     t.note = (
-        "selection: how the iterates picked their forces: `vertex` (the simplex's vertex, Gilbert et al.'s "
-        "iteration), or `lazy after vertex (...)`: the vertex sequence ended as said in brackets, and the lazy "
-        f"sequence (each LP's optimal forces closest to the last ones; at most {NONASSOC_RETRY_LPS} LPs) ran "
-        "after it; the iterations count both, the band is the last sequence's. Figure: `histories.png`."
+        "selection: how the iterates went on from an LP: `vertex` (from the simplex's vertex, Gilbert et al.'s "
+        "iteration), or `proximal after vertex (...)`: the vertex sequence ended as said in brackets, and the "
+        "proximal sequence (each LP's capacities moved towards the force field closest to them that carries "
+        f"the last LP's load; at most {NONASSOC_RETRY_LPS} LPs) ran after it; the iterations count both, the "
+        "band is the last sequence's. Figure: `histories.png`."
     )
     return t
 

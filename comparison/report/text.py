@@ -55,7 +55,7 @@ STATUS_LEGEND = {
     "cycling": "the iterated LP's λ repeats or oscillates without an exact state; the cell shows the range of "
     "its last values, and no λ",
     "max_iterations": "the iterated LP stopped without settling, at its cap of LPs "
-    f"({NONASSOC_MAX_LPS} per load direction in this report, {NONASSOC_RETRY_LPS} for the lazy sequence run after "
+    f"({NONASSOC_MAX_LPS} per load direction in this report, {NONASSOC_RETRY_LPS} for the proximal sequence run after "
     "a vertex sequence that cycled) or of simplex iterations; the cell shows the range of its last values, "
     "and no λ",
     "solver_failure": "an LP of the iterated sequence failed; no λ",

@@ -28,22 +28,22 @@ NONASSOC_MAX_LPS = 100
 NONASSOC_LOWEST_MAX_BLOCKS = 300
 
 #: How the runner's iterated LP picks its forces (:data:`micro.nonassociative.SELECTIONS`):
-#: the vertex sequence, and the lazy one from its last normal forces on a
-#: direction where it cycles (Set 2 of Table 5: cycling with vertices, certified
-#: by the lazy sequence after 17 LPs). Walls where the vertex sequence converges
-#: keep its result. Scheme (b) runs ``"vertex"`` (:func:`default_selection`).
-NONASSOC_SELECTION: Selection = "vertex+lazy"
-#: Cap on the LPs of that lazy sequence per direction: Set 2 is certified
-#: after 17 (30 from the associative start); Set 9, on which it oscillates
-#: too (with relaxation 0.3, 0.6 and 1), ran 49-57 LPs of ~12 s (cold
-#: interior point + crossover on 1,830 blocks) before the cycle test stopped
-#: it: 15-18 minutes, which would take the report beyond its 20.
+#: the vertex sequence, and the proximal one from its last normal forces on a
+#: direction where it cycles (Sets 2 and 9 of Table 5 cycle with vertices; the
+#: proximal sequence certifies them after 15 and 27 LPs, 77 s and 335 s in all
+#: on one core; the lazy sequence, which the report ran before, certified Set 2
+#: after 17 LPs, 157 s in all, and ended Set 9 at its cap of 40 LPs after 727 s).
+#: Walls where the vertex sequence converges keep its result. Scheme (b) runs
+#: ``"vertex"`` (:func:`default_selection`).
+NONASSOC_SELECTION: Selection = "vertex+proximal"
+#: Cap on the LPs of that proximal sequence per direction (Sets 2 and 9 need
+#: 15 and 27; a lazy LP on Set 9 cost ~12 s, a proximal one 3-7 s with its QP).
 NONASSOC_RETRY_LPS = 40
 
 
 def default_selection(scheme: str) -> Selection:
     """The runner's selection for a scheme: :data:`NONASSOC_SELECTION` for
-    (a), ``"vertex"`` for (b), which has no lazy selection."""
+    (a), ``"vertex"`` for (b), which has no lazy or proximal selection."""
     return NONASSOC_SELECTION if scheme == "a" else "vertex"
 
 

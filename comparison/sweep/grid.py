@@ -29,7 +29,8 @@ Format (see ``examples/sweeps/``)::
     [[method]]
     kind = "micro-nonassoc"
     scheme = "a"                       # "a" or "b" (default "a")
-    selection = "vertex+lazy"          # "vertex", "lazy" or "vertex+lazy" (default; scheme b: "vertex")
+    selection = "vertex+proximal"      # "vertex", "lazy", "proximal", "vertex+lazy" or "vertex+proximal"
+                                       # (default; scheme b: "vertex")
     max_blocks = 600                   # this method on walls of at most 600 blocks
 
 A range is ``{ from, to, step }`` or ``{ from, to, num }`` (``num`` values,

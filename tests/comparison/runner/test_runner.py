@@ -65,7 +65,7 @@ def test_cached_records_are_typed_and_equal_to_the_computed_ones(tmp_path: Path)
 
 def test_a_scheme_b_method_built_in_code_runs_its_own_selection(tmp_path: Path) -> None:
     """``replace(MICRO_NONASSOC, scheme="b")`` runs scheme (b) with the vertex selection (the report's
-    ``vertex+lazy`` is scheme (a)'s) instead of failing on the pair."""
+    ``vertex+proximal`` is scheme (a)'s) instead of failing on the pair."""
     spec = WallSpec.from_paper(t=1, m=1, rows=6, f=0.75, name="small")
     rec = Runner(tmp_path).run(spec, replace(MICRO_NONASSOC, scheme="b"))
     assert rec.nonassoc is not None and rec.nonassoc.scheme == "b", rec.message
