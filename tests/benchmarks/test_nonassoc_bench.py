@@ -8,8 +8,11 @@ Run with ``pytest -m benchmark --benchmark-enable tests/benchmarks/test_nonassoc
   m = 1/3, f = 0.6, 1,230 blocks), target <= 10 s and <= 3 x one cold
   associative solve; also the same wall with f = 0.75 (harder: 29 LPs);
 * ``nonassoc-1230`` (``slow``): Set 2 (1,230 blocks, f = 0.8) with the lazy
-  selection (the vertex default cycles on it), and with the report's
-  ``vertex+lazy`` (the vertex sequence, then the lazy one from its last forces);
+  selection (the vertex default cycles on it), with ``vertex+lazy`` (the
+  vertex sequence, then the lazy one from its last forces) and with the
+  report's ``vertex+proximal`` (the proximal sequence second);
+* ``nonassoc-1830`` (``slow``): Set 9 (1,830 blocks), which cycles with the
+  vertex and lazy selections, with the report's ``vertex+proximal``;
 * ``nonassoc-3630`` (``slow``): Set 10 (3,630 blocks), one round, capped at 30 LPs;
 * ``nonassoc-7575`` (``slow``): the Table 9 wall (Set 15: 5 storeys x 30 rows,
   f = 0.75, 7,575 blocks), target <= 120 s, one round capped at 6 LPs (set
@@ -44,7 +47,8 @@ ASSOC = {"set12": 0.7120472, "w1230": 0.4695330, "w7575": 0.5072512}
 #: Converged non-associative load factors (default options: scheme (a),
 #: relaxation 0.6, certified) and their LPs.
 NONASSOC = {"set12": (0.7086216, 7), "w1230": (0.4680950, 9), "set2-lazy": (0.5487750, 30),
-            "set2-vertex+lazy": (0.5476048, 67 + 17)}
+            "set2-vertex+lazy": (0.5476048, 67 + 17), "set2-vertex+proximal": (0.5481709, 67 + 15),
+            "set9-vertex+proximal": (0.3914066, 50 + 27)}
 
 
 def _wall(rows: int, storeys: int, t: float = 1.0, m: float = 1 / 3, f: float = 0.75) -> micro.BlockWall:
@@ -119,19 +123,34 @@ def test_bench_1230_f075_nonassoc(benchmark) -> None:  # type: ignore[no-untyped
 
 @pytest.mark.slow
 @pytest.mark.benchmark(group="nonassoc-1230")
-@pytest.mark.parametrize("selection", ["lazy", "vertex+lazy"])
+@pytest.mark.parametrize("selection", ["lazy", "vertex+lazy", "vertex+proximal"])
 def test_bench_set2_lazy(benchmark, selection: str) -> None:  # type: ignore[no-untyped-def]
     """Set 2 (1,230 blocks, f = 0.8), which cycles with vertices, with the lazy
     selection from the associative forces (measured: 30 LPs, 136 s on one
-    core while the other ran another wall) and as the report runs it (67
-    vertex LPs, then 17 lazy ones from the vertex sequence's last forces):
-    certified, in a state that passes the exact checks."""
-    w = case("2").spec().to_micro()
+    core while the other ran another wall), then 67 vertex LPs and 17 lazy
+    ones from the vertex sequence's last forces, and as the report runs it
+    (the same 67 vertex LPs, then 15 proximal ones): certified, in a state
+    that passes the exact checks."""
+    _certified(benchmark, "2", selection)
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark(group="nonassoc-1830")
+def test_bench_set9_proximal(benchmark) -> None:  # type: ignore[no-untyped-def]
+    """Set 9 (1,830 blocks), which cycles with the vertex and lazy selections,
+    as the report runs it: 50 vertex LPs, then 27 proximal ones (335 s on one
+    core while the other ran another wall); certified, exact."""
+    _certified(benchmark, "9", "vertex+proximal")
+
+
+def _certified(benchmark, name: str, selection: str) -> None:  # type: ignore[no-untyped-def]
+    """One round of the report's iterated LP on a wall whose state is pinned."""
+    w = case(name).spec().to_micro()
     r = benchmark.pedantic(micro.solve_nonassociative, args=(w,),
                            kwargs=dict(selection=selection, lowest=False, retry_iterations=40),
                            rounds=1, iterations=1)
     _record(benchmark, r)
-    lam, lps = NONASSOC[f"set2-{selection}"]
+    lam, lps = NONASSOC[f"set{name}-{selection}"]
     assert r.converged and r.stop_reason == "certified", r.message
     assert r.load_factor == pytest.approx(lam, rel=1e-6) and r.iterations == lps
     v = micro.verify_collapse_state(micro.assemble(w), r.governing)
