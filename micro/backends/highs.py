@@ -16,8 +16,12 @@ shared sign.
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
+import os
+import sys
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -25,6 +29,9 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status, recheck
 from micro.lp import LimitLP
+
+if TYPE_CHECKING:
+    import highspy
 
 FloatArray = NDArray[np.float64]
 
@@ -74,6 +81,39 @@ class StallGuard:
         data_in.user_interrupt = self.fired
 
 
+def quiet_highs() -> highspy.Highs:
+    """A new ``highspy.Highs`` with its output off.
+
+    highspy 1.16 prints its banner (two lines) on the process's standard
+    output when it builds its first instance, before any option can be set:
+    it broke ``xcheck micro --json`` (one JSON line on stdout). The
+    instance is built with file descriptor 1 pointed at the null device
+    (C-level output; a Python-level redirect does not see it), the C
+    buffers flushed before it is restored.
+    """
+    import highspy
+
+    sys.stdout.flush()
+    saved = os.dup(1)
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        h = highspy.Highs()
+        h.setOptionValue("output_flag", False)
+    finally:
+        _flush_c_stdout()
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(null)
+    return h
+
+
+def _flush_c_stdout() -> None:
+    """``fflush(NULL)``: what HiGHS wrote on descriptor 1 goes out before it is restored."""
+    with contextlib.suppress(OSError, AttributeError):  # no C library to ask (not seen on Linux or macOS)
+        ctypes.CDLL(None).fflush(None)
+
+
 def _highs_inf(a: FloatArray, inf: float) -> FloatArray:
     a = np.array(a, dtype=np.float64, copy=True)
     a[np.isposinf(a)] = inf
@@ -119,8 +159,7 @@ class PersistentHighsModel:
         self._hs = highspy
         self._inf = float(highspy.kHighsInf)
         A = sp.csc_matrix(A)
-        h = highspy.Highs()
-        h.setOptionValue("output_flag", False)
+        h = quiet_highs()
         h.setOptionValue("solver", algorithm)
         if algorithm == "ipm":
             # Crossover was both the slow part (minutes on 7,575 blocks) and
@@ -270,8 +309,7 @@ class PersistentHighsModel:
         ``algorithm``: for re-solving an iterate cold."""
         clone = object.__new__(PersistentHighsModel)
         clone._hs, clone._inf = self._hs, self._inf
-        h = self._hs.Highs()
-        h.setOptionValue("output_flag", False)
+        h = quiet_highs()
         clone._passed(h, h.passModel(self._highs.getLp()))
         clone._highs = h
         clone.stall_guard = None

@@ -17,6 +17,8 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from micro.backends.highs import quiet_highs
+
 FloatArray = NDArray[np.float64]
 #: The HiGHS model object the global search holds (its modules name the type
 #: through this alias: they do not import ``highspy`` themselves).
@@ -81,8 +83,7 @@ def build(
     Raises:
         RuntimeError: HiGHS rejected the model.
     """
-    h = highspy.Highs()
-    h.setOptionValue("output_flag", False)
+    h = quiet_highs()
     inf = h.getInfinity()
     A = sp.csc_matrix(A)
     A.sort_indices()

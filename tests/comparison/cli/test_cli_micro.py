@@ -67,3 +67,19 @@ def test_bad_wall_one_line(capsys: pytest.CaptureFixture[str]) -> None:
     rc = cli.main(["micro", "--t", "30", "--m", "1", "--rows", "12", "--f", "0.75"])  # L = 0.4 < l = 1
     err = capsys.readouterr().err
     assert rc == 2 and "t must be in" in err and "one block long" in err and err.count("\n") == 1
+
+
+def test_json_stdout_of_a_real_process_is_one_json_line() -> None:
+    """In a fresh process (where HiGHS builds its first instance) stdout is
+    the JSON line alone: highspy 1.16 prints a banner on descriptor 1 when its
+    first instance is built, which ``capsys`` does not see."""
+    import subprocess
+    import sys
+
+    code = "import sys; from comparison.cli import main; sys.exit(main(sys.argv[1:]))"
+    args = ["micro", *WALL, "--friction", "nonassociative", "--no-lowest", "--json"]
+    p = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.splitlines()
+    assert len(lines) == 1, p.stdout[:300]
+    assert json.loads(lines[0])["status"] == "converged"
