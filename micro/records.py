@@ -196,6 +196,9 @@ class NonAssociativeRecord(MicroRecord):
         global_gap: ``(global_load_factor - global_lower_bound) / global_load_factor``.
         global_status: ``""`` (not run), ``"optimal"`` (the gap closed),
             ``"time_limit"``, ``"node_limit"``, ``"infeasible"`` or ``"solver_error"``.
+        fused_bodies, fused_points: moving bodies and contact points of the
+            fused wall the sequence ran on (0 and 0: the wall itself;
+            :mod:`micro.nonassociative.fusion`).
     """
 
     scheme: str
@@ -227,3 +230,5 @@ class NonAssociativeRecord(MicroRecord):
     global_lower_bound: float = math.nan
     global_gap: float = math.nan
     global_status: str = ""
+    fused_bodies: int = 0
+    fused_points: int = 0

@@ -112,6 +112,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "settled iterate whose mechanism admits an exact collapse state ends the sequence",
     )
     na.add_argument(
+        "--fuse",
+        action="store_true",
+        help="run the iterated LP on the fused wall: the blocks that the associative mechanism moves as one "
+        "rigid body are one body; a state counts only when the certificate of the whole wall extends it to "
+        "every block",
+    )
+    na.add_argument(
         "--no-lowest",
         action="store_true",
         help="skip the descent to the lowest certified collapse state (lowest_load_factor)",
@@ -236,6 +243,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         certify=not args.no_certify,
         lowest=not args.no_lowest,
         global_=args.global_,
+        fuse=args.fuse,
         **global_limit,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
@@ -284,6 +292,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
         )
         print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
         _print_retry(result)
+    _print_fusion(result)
     if verbosity == QUIET:
         return
     print(
@@ -311,6 +320,17 @@ def _print_retry(result: NonAssociativeResult) -> None:
     print(f"  {result.sequence.selection} sequence ({len(result.history) - 1} LPs) after the vertex sequence "
           f"ended {first.stop_reason} "
           f"({len(first.history) - 1} LPs{band})")
+
+
+def _print_fusion(result: NonAssociativeResult) -> None:
+    """With ``--fuse``: the size of the fused wall, and whether the wall's certificate took its state."""
+    f = result.sequence.fusion
+    if f is None:
+        return
+    took = {"certified": "; the wall's certificate extends its state to every block",
+            "rejected": "; the wall's certificate rejects its state"}.get(f.wall_certificate, "")
+    print(f"  fused wall: {f.bodies:,} moving bodies ({f.single_bodies:,} of one block), {f.blocks_at_rest:,} "
+          f"blocks at rest, {f.points:,} of {f.wall_points:,} contact points{took}")
 
 
 def _print_lowest(result: NonAssociativeResult) -> None:

@@ -36,6 +36,7 @@ Modules, one concept each:
 ``convergence``  the exact stop, the settle test, cycle detection;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
 ``results``      :class:`IterationRecord`, :class:`SequenceDiagnostics`, :class:`NonAssociativeResult`;
+``fusion``       the blocks that move as one rigid body fused into one (``options.fuse``);
 ``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
 ``lowest``       the descent to the lowest certified collapse state (``options.lowest``);
 ``global_mip``   the mixed-integer search for the global minimum (``options.global_``), with
@@ -69,6 +70,7 @@ from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.convergence import detect_cycle
+from micro.nonassociative.fusion import solve_fused
 from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
 from micro.nonassociative.iteration import solve_direction
 from micro.nonassociative.lowest import LowestDirection, lowest_state
@@ -80,6 +82,7 @@ from micro.nonassociative.results import (
     SOLVER_FAILURE,
     STATUSES,
     TIME_LIMIT,
+    FusionDiagnostics,
     IterationRecord,
     NonAssociativeResult,
     SequenceDiagnostics,
@@ -96,6 +99,7 @@ __all__ = [
     "SOLVER_FAILURE",
     "STATUSES",
     "TIME_LIMIT",
+    "FusionDiagnostics",
     "GlobalOptions",
     "GlobalResult",
     "IterationRecord",
@@ -132,7 +136,8 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     t0 = time.perf_counter()
     lp = assemble(wall)
     build = time.perf_counter() - t0
-    results = tuple(solve_direction(lp, d, o) for d in load_directions(o.directions, wall.mirror_symmetric))
+    solve = solve_fused if o.fuse else solve_direction
+    results = tuple(solve(lp, d, o) for d in load_directions(o.directions, wall.mirror_symmetric))
     lowest = tuple(lowest_state(lp, r, o) for r in results if r.converged) if o.lowest else ()
     glob = _global_search(lp, results, lowest, o) if o.global_ else None
     solve_secs = time.perf_counter() - t0 - build

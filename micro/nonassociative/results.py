@@ -75,6 +75,38 @@ class IterationRecord:
 
 
 @dataclass(frozen=True)
+class FusionDiagnostics:
+    """How a sequence ran on the fused wall (:mod:`micro.nonassociative.fusion`).
+
+    Attributes:
+        bodies: moving bodies of the fused LP.
+        single_bodies: of them, bodies of one block.
+        blocks_at_rest: blocks fused into the ground.
+        points: contact points of the fused LP.
+        wall_points: contact points of the wall.
+        rigid_tol: a contact was rigid below this fraction of the largest rate.
+        associative_load_factor: the wall's associative ``lambda`` (Clarabel)
+            whose mechanism gave the bodies.
+        seconds: the associative LP and the fusion.
+        wall_certificate: ``"certified"`` (the state extends to the whole
+            wall), ``"rejected"``, or ``""`` (not tried: the fused sequence
+            did not converge).
+        certificate_seconds: that certificate's LPs.
+    """
+
+    bodies: int
+    single_bodies: int
+    blocks_at_rest: int
+    points: int
+    wall_points: int
+    rigid_tol: float
+    associative_load_factor: float
+    seconds: float
+    wall_certificate: str = ""
+    certificate_seconds: float = 0.0
+
+
+@dataclass(frozen=True)
 class SequenceDiagnostics:
     """What the iterated LP adds to a :class:`~micro.results.DirectionResult`.
 
@@ -84,7 +116,8 @@ class SequenceDiagnostics:
             ``"oscillating"``, ``"stagnation"``, ``"max_iterations"``,
             ``"work_budget"``, ``"time_budget"`` (``max_seconds``),
             ``"time_limit"`` (an LP's ``time_limit``), ``"lp_failed"``, ``"cold_check_failed"``,
-            ``"equilibrium_residual"``, ``"associative_failed"``).
+            ``"equilibrium_residual"``, ``"associative_failed"``,
+            ``"fused_state_rejected"``).
         last_load_factor: ``lambda`` of the last successful iterate.
         lambda_band: ``(min, max)`` of ``lambda`` over the detected cycle or
             the last window (``None`` when converged).
@@ -113,6 +146,9 @@ class SequenceDiagnostics:
             sequence that ended cycling (or at its cap) before this lazy one
             ran (``None`` otherwise); its LPs count in the direction's
             ``iterations`` and ``seconds``.
+        fusion: how the sequence ran on the fused wall (``options.fuse``;
+            ``None``: on the wall itself). Its history is then the fused
+            LP's; forces, residuals and the mechanism band are the wall's.
     """
 
     stop_reason: str
@@ -131,6 +167,7 @@ class SequenceDiagnostics:
     fallback_steps: int = 0
     selection: str = "vertex"
     vertex_attempt: SequenceDiagnostics | None = field(default=None, repr=False)
+    fusion: FusionDiagnostics | None = None
 
 
 def diagnostics(d: DirectionResult) -> SequenceDiagnostics:
@@ -314,6 +351,8 @@ class NonAssociativeResult:
             selection=q.selection, vertex_stop_reason="" if q.vertex_attempt is None else q.vertex_attempt.stop_reason,
             vertex_lambda_band=None if q.vertex_attempt is None else q.vertex_attempt.lambda_band,
             **lowest_fields(self.lowest_state, self.lowest), **global_fields(self.global_search),
+            fused_bodies=0 if q.fusion is None else q.fusion.bodies,
+            fused_points=0 if q.fusion is None else q.fusion.points,
         )
 
     def summary(self) -> dict[str, Any]:
@@ -354,7 +393,7 @@ def solver_description(options: NonAssociativeOptions) -> str:
     roles = [("clarabel" if options.start == "interior" else "highs-ipm+crossover", "start")]
     if options.certify or options.mechanism_band:
         roles.append(("clarabel" if options.state_solver == "clarabel" else "highs-ipm", "certificate"))
-    roles.append(("highs-simplex", "iterated"))
+    roles.append(("highs-simplex", "iterated" + (", fused" if options.fuse else "")))
     if options.cold_check:
         roles.append(("highs-ipm", "cold check"))
     by_solver: dict[str, list[str]] = {}

@@ -1,0 +1,271 @@
+"""Model reduction: the blocks that move as one rigid body fused into one body.
+
+On a large wall most contacts of the collapse mechanism neither open nor
+slip. In the associative mechanism of Table 5's Set 10 (3,630 blocks, an
+interior point's) 8,335 of its 10,710 contacts have relative rates below
+1e-5 of the largest, and 2,494 blocks do not move at all; yet every LP of the
+iterated sequence carries all their contact forces, and the warm dual
+simplex wanders through their statically indeterminate fields (94,000 to
+179,000 simplex iterations per LP on Set 10).
+
+:func:`rigid_bodies` joins the blocks linked by such RIGID contacts into
+bodies, and the blocks linked to the ground into the ground; a block with a
+contact that is not rigid stays a body of its own.
+:func:`fuse` writes the LP of the bodies:
+
+* a body's three equilibrium rows are the sums of its blocks' rows, the
+  moments taken about one reference point (the mean of its blocks'
+  centroids): ``M_O = M_i + (x_i - x_O) F_y - (y_i - y_O) F_x``. This is a
+  sparse AGGREGATION matrix ``R`` (3 rows per body, 3 columns per block);
+* the rows of the blocks at rest drop out (their contacts with moving blocks
+  become supports);
+* the contact points inside a body, or inside the ground, drop out, since
+  their forces cancel in the sums.
+
+The result is again a :class:`~micro.lp.LimitLP` (rows ``R B``, the kept
+points), so the iterated LP runs on it unchanged. Its duals are the bodies'
+velocities, and ``R^T`` spreads them to the blocks as rigid motions.
+
+A state of the fused LP is not yet a state of the wall: inside every body the
+contact forces must still carry the blocks' loads with ``|s| <= mu n``. The
+certificate of the whole wall
+(:class:`~micro.nonassociative.certificate.Certificate`) decides. It gets the
+bodies' mechanism spread to the blocks, in which the contacts inside a body
+stick. Any field it finds is then an exact non-associative collapse state of
+the WALL, and :func:`solve_fused` accepts nothing less. The fusion restricts
+the mechanisms the sequence can reach: a state it finds is one of the wall's
+(non-unique) collapse states, not necessarily the one the unfused sequence
+would reach.
+
+Measured (2026-11-23; single runs on one core, the other busy),
+``vertex+proximal``, bodies from Clarabel's associative mechanism at
+:data:`~micro.nonassociative.options.FUSE_RIGID_TOL`, on the paper's walls of
+up to 2,000 blocks (Table 5 and Table 7):
+
+* 13 of 14 fused runs are certified on the wall, each inside the mechanism
+  band of the unfused run's state, from -0.63 % to +1.62 % of its value
+  (Ref and Sets 1-9: -0.29 % to +0.24 %). Set 4 ends at the cap (40
+  proximal LPs after the vertex sequence) where the unfused run converges;
+* the fused LPs have 58-85 % of the points (Sets 7, 8 and 14: 43 %, 24 %
+  and 38 %), and the 14 runs took 250 s against 457 s, but not every wall
+  gains: Set 9 71 s against 335 s, Set 2 35 s against 77 s, Set 3 84 s
+  against 12 s (its fused vertex sequence cycles);
+* Set 10 (3,630 blocks; 1,106 bodies, 6,692 of 21,420 points): the fused
+  LPs take 0.5-15 s instead of 24-283 s, but the sequence still does not
+  settle (proximal, ``beta`` 0.3: stagnation after 45 LPs, lambda in
+  [0.2446, 0.2615]);
+* Set 15 (7,575 blocks): Clarabel's associative mechanism moves nearly every
+  block a little (median contact rate 9e-5 of the largest), so 33,262 of the
+  wall's points stay, and the first fused LP ran over 17 minutes (the
+  unfused one takes 63-96 s): no use there.
+
+The library default is off, and ``xcheck report`` runs the wall itself.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+from scipy.sparse.csgraph import connected_components
+
+from micro.backends.clarabel import ClarabelBackend
+from micro.lp import LimitLP
+from micro.mechanism import mechanism_from_duals
+from micro.nonassociative import checks
+from micro.nonassociative.certificate import Certificate
+from micro.nonassociative.iteration import solve_direction
+from micro.nonassociative.options import EQUILIBRIUM_RESIDUAL, FUSE_RIGID_TOL, NonAssociativeOptions
+from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
+from micro.results import DirectionResult
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+def rigid_bodies(lp: LimitLP, velocities: FloatArray, tol: float = FUSE_RIGID_TOL) -> tuple[IntArray, int]:
+    """The rigid bodies of a mechanism.
+
+    Args:
+        lp: the wall's LP.
+        velocities: block velocities (duals of the equilibrium rows, ``3 n_blocks``).
+        tol: a contact is rigid when the opening and slip rates at both its
+            points are below this fraction of the largest rate.
+
+    Returns:
+        ``(body, n_bodies)``: the body of every block, ``-1`` for the blocks
+        joined to the ground by rigid contacts (at rest). A block with a
+        contact that is not rigid is a body of its own, so that the sequence
+        can shift a crack of the associative mechanism by a block (fused up
+        to its moving contacts, Set 9 ended at the LP cap: 775 bodies, λ in
+        [0.3900, 0.3929] after 40 proximal LPs; as here, certified).
+    """
+    wall = lp.wall
+    nb = wall.n_blocks
+    dn, ds = lp.Bn.T @ velocities, lp.Bs.T @ velocities
+    rate = np.maximum(np.abs(dn), np.abs(ds)).reshape(-1, 2).max(axis=1)
+    rigid = rate <= tol * max(float(rate.max(initial=0.0)), 1e-300)
+    ground = nb  # node of the ground in the contact graph
+    a = np.where(wall.contact_a < 0, ground, wall.contact_a)
+    b = np.where(wall.contact_b < 0, ground, wall.contact_b)
+    # a block with a moving contact stays single: the cracks may shift by a block
+    single = np.zeros(nb + 1, dtype=bool)
+    single[a[~rigid]] = True
+    single[b[~rigid]] = True
+    single[ground] = False
+    join = rigid & ~single[a] & ~single[b]
+    graph = sp.coo_matrix((np.ones(int(join.sum())), (a[join], b[join])), shape=(nb + 1, nb + 1))
+    _, label = connected_components(graph, directed=False)
+    moving = label[:nb] != label[ground]
+    # number the moving bodies 0, 1, ... in the order of their first block
+    _, first, inverse = np.unique(label[:nb][moving], return_index=True, return_inverse=True)
+    order = np.argsort(np.argsort(first))
+    body = np.full(nb, -1, dtype=np.int64)
+    body[moving] = order[inverse]
+    return body, int(first.size)
+
+
+@dataclass(frozen=True, eq=False)
+class FusedLP:
+    """The LP of a wall's bodies (module docstring).
+
+    Attributes:
+        lp: the fused LP (a :class:`LimitLP`; its ``wall`` is the whole wall's).
+        aggregation: ``R``, ``(3 n_bodies, 3 n_blocks)``: the bodies' rows
+            from the blocks'; ``R^T`` spreads body velocities to the blocks.
+        points: the wall's index of every point of the fused LP.
+        body: the body of every block (``-1``: at rest).
+        n_bodies: moving bodies.
+    """
+
+    lp: LimitLP
+    aggregation: sp.csr_matrix
+    points: IntArray
+    body: IntArray
+    n_bodies: int
+
+    @property
+    def blocks_at_rest(self) -> int:
+        """Blocks fused into the ground."""
+        return int(np.sum(self.body < 0))
+
+    @property
+    def single_bodies(self) -> int:
+        """Bodies of one block."""
+        return int(np.sum(np.bincount(self.body[self.body >= 0], minlength=self.n_bodies) == 1))
+
+    def velocities(self, body_velocities: FloatArray) -> FloatArray:
+        """The blocks' velocities of a mechanism of the bodies (rigid motions)."""
+        return np.asarray(self.aggregation.T @ body_velocities)
+
+
+def fuse(lp: LimitLP, body: IntArray, n_bodies: int) -> FusedLP:
+    """The LP of the bodies ``body`` (:func:`rigid_bodies`; module docstring)."""
+    wall = lp.wall
+    nb = wall.n_blocks
+    xc, yc = wall.xc / lp.length_scale, wall.yc / lp.length_scale
+    blk = np.flatnonzero(body >= 0)
+    c = body[blk]
+    count = np.bincount(c, minlength=n_bodies)
+    ox = np.bincount(c, xc[blk], minlength=n_bodies) / np.maximum(count, 1)
+    oy = np.bincount(c, yc[blk], minlength=n_bodies) / np.maximum(count, 1)
+    ones = np.ones(blk.size)
+    rows = np.concatenate([3 * c, 3 * c + 1, 3 * c + 2, 3 * c + 2, 3 * c + 2])
+    cols = np.concatenate([3 * blk, 3 * blk + 1, 3 * blk + 2, 3 * blk + 1, 3 * blk])
+    vals = np.concatenate([ones, ones, ones, xc[blk] - ox[c], -(yc[blk] - oy[c])])
+    R = sp.csr_matrix((vals, (rows, cols)), shape=(3 * n_bodies, 3 * nb))
+    side_a = np.where(wall.contact_a < 0, -1, body[np.maximum(wall.contact_a, 0)])
+    side_b = np.where(wall.contact_b < 0, -1, body[np.maximum(wall.contact_b, 0)])
+    points = np.flatnonzero(np.repeat(side_a != side_b, 2)).astype(np.int64)
+    Bn = sp.csc_matrix(R @ lp.Bn)[:, points]
+    Bs = sp.csc_matrix(R @ lp.Bs)[:, points]
+    Bn.sort_indices()
+    Bs.sort_indices()
+    mu = lp.mu[points]
+    live, dead = R @ lp.live, R @ lp.dead
+    muBs = Bs @ sp.diags(mu)
+    A = sp.hstack([Bn + muBs, Bn - muBs, sp.csc_matrix(live[:, None])], format="csc")
+    A.eliminate_zeros()
+    A.sort_indices()
+    P = points.size
+    upper = np.full(2 * P + 1, np.inf)
+    upper[P : 2 * P][mu == 0.0] = 0.0
+    fused = dataclasses.replace(
+        lp, A=A, Bn=Bn, Bs=Bs, rhs=-dead, col_lower=np.concatenate([np.zeros(2 * P), [-np.inf]]),
+        col_upper=upper, n_eq=3 * n_bodies, n_points=P, mu=mu, dead=dead, live=live,
+    )
+    return FusedLP(fused, R, points, body, n_bodies)
+
+
+def solve_fused(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> DirectionResult:
+    """The iterated LP of one direction on the fused wall (module docstring).
+
+    The associative LP of the whole wall (Clarabel) gives the mechanism whose
+    rigid bodies are fused; the sequence (``options.selection``) runs on
+    their LP; a converged state is accepted only when the certificate of the
+    whole wall finds a field for the bodies' mechanism at its ``lambda``. The
+    result is the wall's: forces at all its points, the mechanism of all its
+    blocks. Where the associative LP fails, or nothing moves, the unfused
+    sequence runs instead.
+    """
+    t0 = time.perf_counter()
+    unfused = dataclasses.replace(options, fuse=False)
+    assoc = ClarabelBackend(lp, time_limit=options.time_limit).solve(direction)
+    if not assoc.ok or assoc.duals is None:
+        return solve_direction(lp, direction, unfused)
+    body, n_bodies = rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]))
+    if n_bodies == 0:
+        return solve_direction(lp, direction, unfused)
+    fused = fuse(lp, body, n_bodies)
+    t_fuse = time.perf_counter() - t0
+    r = solve_direction(fused.lp, direction, unfused)
+    assert r.sequence is not None
+    seq = r.sequence
+    lam = seq.last_load_factor
+    seq = dataclasses.replace(seq, associative_load_factor=float(assoc.load_factor))
+    fusion = FusionDiagnostics(
+        bodies=n_bodies, single_bodies=fused.single_bodies, blocks_at_rest=fused.blocks_at_rest,
+        points=fused.lp.n_points, wall_points=lp.n_points, rigid_tol=FUSE_RIGID_TOL,
+        associative_load_factor=float(assoc.load_factor), seconds=t_fuse, wall_certificate="",
+    )
+    mechanism = None
+    if r.mechanism is not None:
+        v = fused.velocities(r.mechanism.velocities.ravel())
+        mechanism = mechanism_from_duals(lp, v, direction)
+    if not r.converged or mechanism is None:
+        return dataclasses.replace(
+            r, normal=None, shear=None, mechanism=mechanism, seconds=time.perf_counter() - t0,
+            message=f"on the fused wall ({n_bodies} bodies): {r.message}",
+            sequence=dataclasses.replace(seq, fusion=fusion))
+    v = mechanism.velocities.ravel()
+    cert = Certificate(lp, direction, options).certify(v, lam, time_limit=options.user_limit)
+    t_cert = cert.seconds
+    if cert.forces is None:
+        band = "no state" if cert.band is None else f"states from lambda = {cert.band[0]:.9g}"
+        fusion = dataclasses.replace(fusion, wall_certificate="rejected", certificate_seconds=t_cert)
+        return dataclasses.replace(
+            r, status=SOLVER_FAILURE, load_factor=math.nan, normal=None, shear=None, mechanism=mechanism,
+            seconds=time.perf_counter() - t0,
+            message=(f"the fused wall's state at lambda = {lam:.9g} is not a state of the wall: the certificate "
+                     f"of the whole wall finds {band} with its mechanism"),
+            sequence=dataclasses.replace(seq, stop_reason="fused_state_rejected", lambda_band=None,
+                                         fusion=fusion))
+    n, s = cert.forces
+    state = checks.final_state(lp, direction, v, n, s, lam)
+    fusion = dataclasses.replace(fusion, wall_certificate="certified", certificate_seconds=t_cert)
+    seq = dataclasses.replace(
+        seq, mechanism_band=cert.band, coulomb_residual=state.coulomb, dilatancy_residual=state.dilatancy,
+        equilibrium_residual=state.equilibrium, sliding_points=state.sliding_points, fusion=fusion)
+    status, message = CONVERGED, ""
+    if state.equilibrium > EQUILIBRIUM_RESIDUAL:
+        status, message = SOLVER_FAILURE, f"equilibrium residual {state.equilibrium:.2e} block weights on the wall"
+        seq = dataclasses.replace(seq, stop_reason="equilibrium_residual")
+    fs = lp.force_scale
+    return dataclasses.replace(
+        r, status=status, load_factor=lam if status == CONVERGED else math.nan, normal=n * fs, shear=s * fs,
+        mechanism=state.mechanism, seconds=time.perf_counter() - t0, message=message, sequence=seq)

@@ -1,0 +1,120 @@
+"""The fused wall: blocks that move as one rigid body fused into one body."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+import micro
+from comparison.wall import WallSpec
+from micro.backends.clarabel import ClarabelBackend
+from micro.nonassociative import NonAssociativeOptions, fusion, solve_nonassociative, verify_collapse_state
+from micro.nonassociative.certificate import Certificate, CertificateResult
+from micro.nonassociative.fusion import fuse, rigid_bodies
+
+EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
+
+
+def wall(t: float = 1.0, m: float = 1 / 3, rows: int = 12, f: float = 0.75) -> micro.BlockWall:
+    return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=0, storeys=1).to_micro()
+
+
+def test_every_block_its_own_body_is_the_wall_itself() -> None:
+    """With one body per block and none at rest the fused LP is the wall's
+    LP: the aggregation is the identity (moments about each block's own
+    centroid) and no point drops out."""
+    lp = micro.assemble(wall())
+    nb = lp.wall.n_blocks
+    f = fuse(lp, np.arange(nb, dtype=np.int64), nb)
+    assert f.lp.n_points == lp.n_points and f.lp.n_eq == lp.n_eq
+    assert abs(f.lp.Bn - lp.Bn).max() < 1e-12 and abs(f.lp.Bs - lp.Bs).max() < 1e-12
+    assert abs(f.lp.A - lp.A).max() < 1e-12
+    assert np.allclose(f.lp.live, lp.live) and np.allclose(f.lp.rhs, lp.rhs)
+
+
+def test_fused_equilibrium_follows_from_the_walls() -> None:
+    """The wall's associative field restricted to the kept points is in
+    equilibrium on the fused LP (the forces inside a body cancel in its
+    summed rows), and a motion of the bodies spread to the blocks is rigid
+    inside every body and zero at rest."""
+    lp = micro.assemble(wall())
+    out = ClarabelBackend(lp).solve(1)
+    assert out.n is not None and out.s is not None and out.duals is not None
+    body, nbody = rigid_bodies(lp, np.asarray(out.duals[: lp.n_eq]))
+    assert 0 < nbody < lp.wall.n_blocks and np.sum(body < 0) > 0
+    f = fuse(lp, body, nbody)
+    assert f.lp.n_points < lp.n_points
+    n, s, lam = np.asarray(out.n), np.asarray(out.s), out.load_factor
+    r = f.lp.Bn @ n[f.points] + f.lp.Bs @ s[f.points] + lam * f.lp.live - f.lp.rhs
+    assert np.max(np.abs(r)) < 1e-7
+    v = f.velocities(np.random.default_rng(0).normal(size=3 * nbody))
+    dn, ds = lp.Bn.T @ v, lp.Bs.T @ v
+    inside = np.setdiff1d(np.arange(lp.n_points), f.points)
+    assert np.max(np.abs(dn[inside]), initial=0.0) < 1e-12 and np.max(np.abs(ds[inside]), initial=0.0) < 1e-12
+    assert np.all(v.reshape(-1, 3)[body < 0] == 0.0)
+
+
+def test_rigid_bodies_of_a_still_and_of_a_one_block_mechanism() -> None:
+    """No motion: every block at rest. One moving block: it and the blocks
+    it touches (both sides of a moving contact stay single) are the bodies,
+    one block each."""
+    lp = micro.assemble(wall())
+    nb = lp.wall.n_blocks
+    body, nbody = rigid_bodies(lp, np.zeros(lp.n_eq))
+    assert nbody == 0 and np.all(body == -1)
+    v = np.zeros(lp.n_eq)
+    v[3 * (nb - 1)] = 1.0  # the last block (top row) slides
+    body, nbody = rigid_bodies(lp, v)
+    a, b = lp.wall.contact_a, lp.wall.contact_b
+    touching = set(a[b == nb - 1]) | set(b[a == nb - 1]) | {nb - 1}
+    touching.discard(-1)
+    assert nbody == len(touching) >= 2 and set(np.flatnonzero(body >= 0)) == touching
+
+
+@pytest.mark.parametrize("t, m", [(1.0, 1 / 3), (0.5, 1 / 3)])  # Table 7, Sets 12 and 11
+def test_fused_sequences_end_in_exact_states_of_the_wall(t: float, m: float) -> None:
+    """A fused run ends in a state of the WALL (forces at all its points,
+    every block's motion) that passes every collapse condition, inside the
+    wall's mechanism band and below the associative load; the record says
+    it was fused."""
+    w = wall(t, m)
+    r = solve_nonassociative(w, selection="vertex+proximal", lowest=False, fuse=True)
+    assert r.converged, r.message
+    lp = micro.assemble(w)
+    for d in r.directions:
+        q = d.sequence
+        assert q is not None and q.fusion is not None and q.fusion.wall_certificate == "certified"
+        assert 0 < q.fusion.points < lp.n_points == q.fusion.wall_points
+        assert d.normal is not None and d.normal.shape == (lp.n_points,)
+        v = verify_collapse_state(lp, d)
+        assert max(v[k] for k in EXACT) <= 1e-9, v
+        lo, hi = q.mechanism_band
+        assert lo - 1e-7 <= d.load_factor <= hi + 1e-7
+        assert d.load_factor <= q.associative_load_factor + 1e-9
+    rec = r.to_record()
+    assert rec.fused_bodies == r.sequence.fusion.bodies > 0 and rec.fused_points == r.sequence.fusion.points
+
+
+def test_a_state_the_wall_rejects_is_a_failure(monkeypatch: pytest.MonkeyPatch) -> None:
+    """When the certificate of the whole wall finds no state for the fused
+    mechanism, the run fails and says so (no load factor, no forces)."""
+
+    class Rejecting(Certificate):
+        def certify(self, v: np.ndarray, lam: float, *, time_limit: float = math.inf) -> CertificateResult:
+            return CertificateResult(None, None, 0.0, 0)
+
+    monkeypatch.setattr(fusion, "Certificate", Rejecting)  # the wall's certificate only
+    r = solve_nonassociative(wall(), lowest=False, fuse=True, directions="+x")
+    d = r.directions[0]
+    assert not r.converged and math.isnan(r.load_factor) and d.normal is None
+    assert d.status == "solver_failure" and d.sequence.stop_reason == "fused_state_rejected"
+    assert d.sequence.fusion.wall_certificate == "rejected"
+    assert "not a state of the wall" in d.message
+
+
+def test_fuse_option_is_a_flag() -> None:
+    assert NonAssociativeOptions(fuse=1).fuse is True  # type: ignore[arg-type]
+    assert dataclasses.replace(NonAssociativeOptions(), fuse=True).fuse
