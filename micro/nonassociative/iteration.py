@@ -38,11 +38,16 @@ from micro.nonassociative.model import IterationModel, restart
 from micro.nonassociative.options import (
     COLD_STREAK,
     COLD_SWITCH_PIVOTS,
+    CONT_COHESION,
+    CONT_FACTOR,
+    CONT_GAMMA0,
+    CONT_GAMMA_MIN,
     EQUILIBRIUM_RESIDUAL,
     MIN_WARM_LIMIT,
     RETRY_STATUSES,
     TINY,
     WARM_LIMIT_PIVOTS,
+    WARM_UNLIMITED,
     NonAssociativeOptions,
     Selection,
 )
@@ -106,6 +111,12 @@ class Sequence:
         self.projection = Projection(lp, direction, options.user_limit) if options.selection == "proximal" else None
         self.steps: list[float] = []
         self.step = NAN
+        # the continuation: scheme (a)'s vertex sequence reached from associative
+        # friction through friction rows of slope gamma mu (scheme (b)'s rows)
+        self.continuation = options.continuation and options.selection == "vertex"
+        self.rows = options.scheme == "b" or self.continuation  # friction as rows, not bounds
+        if self.continuation:  # its warm runs are not cut short: the path must not depend on a cap
+            self.warm_limit = WARM_UNLIMITED
 
     # ------------------------------------------------------------ iterate 0
     def _start(self) -> tuple[Outcome, str, FloatArray | None]:
@@ -156,10 +167,13 @@ class Sequence:
             return self._fail("associative_failed", "equilibrium needs a live load in the opposite direction",
                               t_start, lam_assoc)
         t_b = time.perf_counter()
-        model = IterationModel(self.lp, self.d, self.o.scheme, self.o.alpha0, lazy=self.o.selection == "lazy")
+        if self.continuation:  # its cohesion from the forces it starts from
+            self.c0 = CONT_COHESION * max(float(np.max(n0, initial=0.0)), TINY)
+        alpha = self.o.alpha0 if self.o.scheme == "b" else -CONT_GAMMA0 if self.continuation else 0.0
+        model = IterationModel(self.lp, self.d, "b" if self.rows else self.o.scheme, alpha,
+                               lazy=self.o.selection == "lazy")
         self.model = model
-        alpha = self.o.alpha0 if self.o.scheme == "b" else 0.0
-        model.set_capacity(n0, alpha, self.o.alpha0, self.c0)
+        model.set_capacity(n0, alpha, alpha, self.c0)
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
         if failed is not None and failed.status is Status.TIME_LIMIT:
             return self._fail("time_limit", f"LP {len(self.history) - 1} hit the time limit of "
@@ -183,9 +197,13 @@ class Sequence:
             t_it = time.perf_counter()
             new_alpha = alpha
             if k > 1:
-                nbar = (o.beta * n_prev + (1.0 - o.beta) * n_prev2 if self.projection is None
-                        else self._proximal_nbar(model.nbar, lam_prev, n_prev, n_prev2))
-                new_alpha = max(o.alpha_min, alpha * o.alpha_factor) if o.scheme == "b" else 0.0
+                if self.projection is not None:
+                    nbar = self._proximal_nbar(model.nbar, lam_prev, n_prev, n_prev2)
+                elif self.continuation:  # nbar follows the forces as gamma falls
+                    nbar = model.nbar + o.beta * (n_prev - model.nbar)
+                else:
+                    nbar = o.beta * n_prev + (1.0 - o.beta) * n_prev2
+                new_alpha = self._next_alpha(alpha)
                 model.set_capacity(nbar, new_alpha, alpha, self.c0)
             alpha = new_alpha
             t_upd = time.perf_counter() - t_it + (t_build if k == 1 else 0.0)
@@ -206,6 +224,16 @@ class Sequence:
             if o.max_seconds is not None and time.perf_counter() - t_start > o.max_seconds:
                 return "time_budget", convergence.window_band(self.lams, o.window), None
         return "max_iterations", convergence.window_band(self.lams, o.window), None
+
+    def _next_alpha(self, alpha: float) -> float:
+        """The next LP's slope: scheme (b)'s halved down to ``alpha_min``; the
+        continuation's ``-gamma`` times :data:`CONT_FACTOR`, and 0 (scheme
+        (a)) once ``gamma`` would fall to :data:`CONT_GAMMA_MIN`; else 0."""
+        if self.o.scheme == "b":
+            return max(self.o.alpha_min, alpha * self.o.alpha_factor)
+        if self.continuation:
+            return alpha * CONT_FACTOR if -alpha * CONT_FACTOR > CONT_GAMMA_MIN else 0.0
+        return 0.0
 
     def _proximal_nbar(self, nbar: FloatArray, lam: float, n_prev: FloatArray, n_prev2: FloatArray) -> FloatArray:
         """The proximal selection's next ``nbar``: ``nbar`` moved by ``beta``
@@ -233,7 +261,7 @@ class Sequence:
         ones of 40-65 s). A run stopped by the user's ``time_limit`` is
         returned as it is (the sequence ends)."""
         user = self.o.time_limit
-        cold = k == 1 or (self.o.scheme == "a" and self.warm_pivots > self.cold_switch
+        cold = k == 1 or (self.o.scheme == "a" and not self.continuation and self.warm_pivots > self.cold_switch
                           and self.cold_streak < self.streak_length)
         if cold:
             model.model.limit_next_run(user)
@@ -308,21 +336,22 @@ class Sequence:
         self.dns.append(dn)
         v = out.duals[: self.lp.n_eq]
         self.final = (v, n, s, lam)
-        alpha_done = o.scheme == "a" or alpha <= o.alpha_min
-        coul_tol = o.coulomb_tol + (self.c0 / nscale if o.scheme == "b" else 0.0)
+        alpha_done = alpha == 0.0 if self.continuation else o.scheme == "a" or alpha <= o.alpha_min
+        coul_tol = o.coulomb_tol + (self.c0 / nscale if self.rows else 0.0)
         # a lazy iterate's mechanism is perturbed by the selection's cost: only the certificate ends it
         exact = None if o.selection == "lazy" else convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
         if exact is not None:
             return exact, None, None
         # the proximal sequence asks at every iterate: its lambda need not settle before its state does
-        due = k >= 2 if self.projection is not None else convergence.settled(self.lams, k, self.last_try, o)
+        due = (k >= 2 if self.projection is not None or self.continuation
+               else convergence.settled(self.lams, k, self.last_try, o))
         if o.certify and alpha_done and algo != "fallback-a" and due and self._try_certificate(k, v, lam):
             return "certified", None, None
         if self.projection is not None:
             stall = convergence.detect_stall(self.steps, self.lams, o.window)
             if stall is not None:
                 return stall[0], stall[1], None
-        elif alpha_done:
+        elif alpha_done and not self.continuation:  # the continuation ends certified or at its cap
             cyc = convergence.detect_cycle(self.lams, self.dns, o.lambda_tol, o.window)
             if cyc is not None:
                 return cyc[0], cyc[1], None
@@ -446,7 +475,8 @@ class Sequence:
         return stop if status != CONVERGED else ""
 
 
-def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> DirectionResult:
+def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions,
+                    start: FloatArray | None = None) -> DirectionResult:
     """The iterated LP on one load direction with ``options.selection``.
 
     ``"vertex+lazy"`` (``"vertex+proximal"``) runs the vertex sequence, and
@@ -457,18 +487,20 @@ def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions)
     associative LP's: Set 2 (1,230 blocks) was certified after 17 lazy LPs
     from there against 30 from the associative forces. The second result is
     returned with the vertex sequence in ``sequence.vertex_attempt``, and
-    the LPs and seconds of both.
+    the LPs and seconds of both. ``start``: normal forces to start the
+    (first) sequence's ``nbar`` from (:class:`Sequence`).
     """
     if not options.selection.startswith("vertex+"):
-        return Sequence(lp, direction, options).run()
+        return Sequence(lp, direction, options, start=start).run()
     retry: Selection = "proximal" if options.selection == "vertex+proximal" else "lazy"
-    vertex = Sequence(lp, direction, dataclasses.replace(options, selection="vertex"))
+    vertex = Sequence(lp, direction, dataclasses.replace(options, selection="vertex"), start=start)
     first = vertex.run()
     if first.status not in RETRY_STATUSES:
         return first
     cap = options.max_iterations if options.retry_iterations is None else options.retry_iterations
     start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
-    second = Sequence(lp, direction, dataclasses.replace(options, selection=retry, max_iterations=cap),
+    second = Sequence(lp, direction, dataclasses.replace(options, selection=retry, max_iterations=cap,
+                                                         continuation=False),
                       start=start, iterate0=vertex.iterate0).run()
     assert second.sequence is not None
     message = second.message if second.converged else f"{retry}: {second.message}; vertex: {first.message}"

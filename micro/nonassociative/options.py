@@ -99,6 +99,25 @@ STATE_RESIDUAL = 1e-7
 #: Relative slack of the test "the iterate's lambda lies in the mechanism band".
 BAND_SLACK = 1e-7
 
+# ------------------------------------------------------------ continuation
+#: The continuation (``continuation=True``) reaches scheme (a)'s vertex
+#: sequence from associative friction: LP ``k`` bounds the shear by the line
+#: ``|s| <= c0 + (1 - gamma) mu nbar + gamma mu n`` through ``(nbar, mu nbar)``
+#: (``gamma = 1``: associative Coulomb; ``gamma = 0``: scheme (a)) in scheme
+#: (b)'s friction rows, ``gamma = CONT_GAMMA0`` at the first LP ...
+CONT_GAMMA0 = 0.9
+#: ... times this at every LP ...
+CONT_FACTOR = 0.8
+#: ... and 0 once it would fall to this or below (LP 32 on).
+CONT_GAMMA_MIN = 1e-3
+#: Its cohesion ``c0``, relative to the largest normal force it starts from
+#: (scheme (b) has ``cohesion``, 1e-6: with it the fused Set 9's first LP gave
+#: lambda = 5.46 against 0.394 associative).
+CONT_COHESION = 1e-9
+#: Its warm runs are not cut short (a cap would make the path depend on it):
+#: the fused Set 10's second LP took 60,122 simplex iterations, 40 s.
+WARM_UNLIMITED = 2**31 - 1
+
 # ------------------------------------------------------------------ fusion
 #: A contact is rigid, and the blocks it joins are fused into one body
 #: (:mod:`micro.nonassociative.fusion`), when its opening and slip rates in the
@@ -250,6 +269,15 @@ class NonAssociativeOptions:
             points, 71 s against 335 s; but Set 3 84 s against 12 s), and
             only the mechanisms of the bodies can form (measurements in the
             module).
+        continuation: reach scheme (a) by continuation from associative
+            friction (:data:`CONT_GAMMA0` and after): the vertex sequence's
+            LPs bound the shear by a line of slope ``gamma mu`` through
+            ``(nbar, mu nbar)``, ``gamma`` from 0.9 down to 0 over 31 LPs,
+            ``nbar`` moved by ``beta`` towards each LP's forces; from
+            ``gamma = 0`` on the certificate is tried at every LP and only
+            it or the cap ends the sequence. With ``fuse``, it starts from the
+            wall's associative forces. Scheme (a) and a vertex sequence only
+            (the proximal or lazy retry runs without it).
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -286,6 +314,7 @@ class NonAssociativeOptions:
     global_node_limit: int | None = None
     global_bounds: Literal["per_point", "uniform"] = "per_point"
     fuse: bool = False
+    continuation: bool = False
 
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
@@ -321,6 +350,10 @@ class NonAssociativeOptions:
         self._normalise()
 
     def _check_rest(self) -> None:
+        if self.continuation and (self.scheme != "a" or self.selection in ("lazy", "proximal")):
+            raise ValueError("continuation needs scheme 'a' and a vertex sequence (selection 'vertex', "
+                             f"'vertex+lazy' or 'vertex+proximal'), got scheme {self.scheme!r}, "
+                             f"selection {self.selection!r}")
         st = self.settle_tol
         if isinstance(st, bool) or not isinstance(st, (int, float)) or not (0.0 <= st < 1.0):
             raise ValueError(f"settle_tol must be a number in [0, 1), got {st!r}")
@@ -350,7 +383,7 @@ class NonAssociativeOptions:
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, float(getattr(self, name)))
         object.__setattr__(self, "certify", bool(self.certify))
-        for name in ("mechanism_band", "lowest", "global_", "fuse"):
+        for name in ("mechanism_band", "lowest", "global_", "fuse", "continuation"):
             object.__setattr__(self, name, bool(getattr(self, name)))
 
     @property
