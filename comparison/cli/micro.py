@@ -119,6 +119,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "every block",
     )
     na.add_argument(
+        "--continuation",
+        action="store_true",
+        help="reach scheme a by continuation from associative friction (the vertex sequence's first 31 LPs "
+        "bound the shear by lines of falling slope through (nbar, mu nbar)); scheme a only",
+    )
+    na.add_argument(
         "--no-lowest",
         action="store_true",
         help="skip the descent to the lowest certified collapse state (lowest_load_factor)",
@@ -225,6 +231,9 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     choice("--selection", args.selection, SELECTIONS)
     if args.selection != "vertex" and args.scheme != "a":
         raise UsageError(f"--selection {args.selection} needs --scheme a")
+    if args.continuation and (args.scheme != "a" or args.selection in ("lazy", "proximal")):
+        raise UsageError("--continuation needs --scheme a and a vertex sequence (--selection vertex, vertex+lazy "
+                         "or vertex+proximal)")
     if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
     relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
@@ -244,6 +253,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         lowest=not args.no_lowest,
         global_=args.global_,
         fuse=args.fuse,
+        continuation=args.continuation,
         **global_limit,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None

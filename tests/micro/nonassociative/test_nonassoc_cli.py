@@ -46,7 +46,8 @@ def test_cli_cycling_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
 @pytest.mark.parametrize("extra", [["--scheme", "c"], ["--relaxation", "0"], ["--max-iterations", "x"],
                                    ["--solver", "clarabel"], ["--global", "--node-limit", "0"],
                                    ["--selection", "closest"], ["--selection", "lazy", "--scheme", "b"],
-                                   ["--selection", "vertex+lazy", "--scheme", "b"]])
+                                   ["--selection", "vertex+lazy", "--scheme", "b"],
+                                   ["--continuation", "--scheme", "b"], ["--continuation", "--selection", "proximal"]])
 def test_cli_bad_options(extra: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "6", "--f", "0.75",
                  "--friction", "nonassociative", *extra])
@@ -89,3 +90,12 @@ def test_cli_global_node_limit(capsys: pytest.CaptureFixture[str]) -> None:
     assert out["lowest_load_factor"] <= out["load_factor"]
     assert out["global_status"] in ("node_limit", "optimal") and out["global_nodes"] >= 1
     assert out["global_lower_bound"] <= out["global_load_factor"] <= out["lowest_load_factor"] * (1 + 1e-7)
+
+
+def test_cli_fuse_and_continuation(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--fuse --continuation`` runs both and says how the wall was fused."""
+    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
+                 "--fuse", "--continuation", "--no-lowest", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["converged"] is True
+    assert out["fused_bodies"] > 0 and out["fused_points"] > 0 and len(out["history"]) > 32
