@@ -8,7 +8,7 @@ from typing import Any
 
 from comparison.cases import CASES, MODELS, SET4_HINGE_LOAD_FACTORS, case, cases_in_table
 from comparison.report.figures import Figure
-from comparison.report.plan import NONASSOC_MAX_BLOCKS, table9_alternative
+from comparison.report.plan import NONASSOC_MAX_BLOCKS, NONASSOC_MAX_BLOCKS_CASES, table9_alternative
 from comparison.report.reproduce import how_to_reproduce
 from comparison.report.results import Results
 from comparison.report.tables import Table, published
@@ -61,8 +61,9 @@ STATUS_LEGEND = {
     "solver_failure": "an LP of the iterated sequence failed; no λ",
     "inaccurate": "the back end called its answer optimal but it failed the independent re-check; no λ",
     "time_limit": "the LP back end hit its time limit; no λ",
-    "not run": f"the report does not run this method on this wall (the iterated LP on walls above "
-    f"{NONASSOC_MAX_BLOCKS:,} blocks: too slow for the report)",
+    "not run": f"the report does not run this method on this wall (the iterated LP on the paper's walls above "
+    f"{NONASSOC_MAX_BLOCKS_CASES:,} blocks and on the other walls above {NONASSOC_MAX_BLOCKS:,}: too slow for the "
+    "report)",
     "n/a": "no number: the method does not apply to this wall or gave none (the status column or the "
     "table's note says which)",
     "not_applicable": "the micro wall cannot be built (shown as n/a where a λ would be)",

@@ -27,6 +27,13 @@ NONASSOC_MAX_LPS = 100
 #: report far beyond its 20 minutes; Table 7's walls (54-150 blocks) keep it.
 NONASSOC_LOWEST_MAX_BLOCKS = 300
 
+#: On walls of more than this many blocks the runner's iterated LP runs on the
+#: fused wall (:mod:`micro.nonassociative.fusion`) with the continuation
+#: (``continuation=True``): Set 10 (3,630 blocks) is certified after 54 LPs,
+#: 475 s on one core, where no unfused sequence settled in 12 minutes. The walls
+#: of up to 2,000 blocks keep the unfused sequence and its results.
+NONASSOC_FUSE_BLOCKS = 2000
+
 #: How the runner's iterated LP picks its forces (:data:`micro.nonassociative.SELECTIONS`):
 #: the vertex sequence, and the proximal one from its last normal forces on a
 #: direction where it cycles (Sets 2 and 9 of Table 5 cycle with vertices; the
@@ -61,6 +68,8 @@ class Method:
             state runs on walls of at most this many blocks.
         selection: non-associative: how the iterates pick their forces;
             ``None``: the scheme's default (:attr:`nonassoc_selection`).
+        fuse_min_blocks: non-associative, scheme (a): walls of more than
+            this many blocks run fused, with the continuation.
     """
 
     kind: Kind
@@ -70,6 +79,7 @@ class Method:
     head_joints: str = "frictional"
     lowest_max_blocks: int = NONASSOC_LOWEST_MAX_BLOCKS
     selection: Selection | None = None
+    fuse_min_blocks: int = NONASSOC_FUSE_BLOCKS
 
     @property
     def nonassoc_selection(self) -> Selection:
@@ -102,6 +112,7 @@ class Method:
             d.pop("scheme")
             d.pop("lowest_max_blocks")
             d.pop("selection")
+            d.pop("fuse_min_blocks")
         else:
             d["selection"] = self.nonassoc_selection  # an explicit default is the same computation
         return d

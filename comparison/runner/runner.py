@@ -50,6 +50,9 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         if res.velocities is not None and res.direction:
             mechanism = Mechanism(np.asarray(res.velocities), res.direction)
     else:
+        # the continuation needs scheme (a) and a vertex sequence (the runner's default selections)
+        large = wall.n_blocks > method.fuse_min_blocks and method.scheme == "a" and method.nonassoc_selection in (
+            "vertex", "vertex+lazy", "vertex+proximal")
         nres = micro.solve_nonassociative(
             wall,
             scheme=method.scheme,
@@ -57,6 +60,8 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
             max_iterations=NONASSOC_MAX_LPS,
             retry_iterations=NONASSOC_RETRY_LPS,
             lowest=wall.n_blocks <= method.lowest_max_blocks,
+            fuse=large,
+            continuation=large,
         )
         record = nres.to_record()
         gov = next((d for d in nres.directions if d.direction == nres.direction), None)
