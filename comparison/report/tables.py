@@ -91,10 +91,15 @@ def lam_cell(rec: Record) -> Any:
 
 
 def selection_cell(na: NonAssociativeRecord) -> str:
-    """``"vertex"``, or ``"<selection> after vertex (<how the vertex sequence stopped>)"``."""
+    """``"vertex"``, or ``"<selection> after vertex (<how the vertex sequence stopped>)"``;
+    on a fused wall (the runner fuses only with the continuation) followed by
+    ``", continuation, fused wall (<bodies> bodies)"``."""
+    cell = na.selection
     if na.selection != "vertex" and na.vertex_stop_reason:
-        return f"{na.selection} after vertex ({na.vertex_stop_reason})"
-    return na.selection
+        cell = f"{na.selection} after vertex ({na.vertex_stop_reason})"
+    if na.fused_bodies:
+        cell += f", continuation, fused wall ({na.fused_bodies:,} bodies)"
+    return cell
 
 
 def band_cell(band: tuple[float, float] | None) -> str | None:
@@ -438,7 +443,10 @@ def histories(res: Results) -> Table:
         "iteration), or `proximal after vertex (...)`: the vertex sequence ended as said in brackets, and the "
         "proximal sequence (each LP's capacities moved towards the force field closest to them that carries "
         f"the last LP's load; at most {NONASSOC_RETRY_LPS} LPs) ran after it; the iterations count both, the "
-        "band is the last sequence's. Figure: `histories.png`."
+        "band is the last sequence's. `continuation, fused wall`: on the walls above 2,000 blocks the vertex "
+        "sequence reaches scheme a from associative friction (its first 31 LPs bound the shear by lines of "
+        "falling slope) on the wall with the blocks that move as one rigid body fused into one body; its state "
+        "is checked on the whole wall. Figure: `histories.png`."
     )
     return t
 
