@@ -48,7 +48,7 @@ ASSOC = {"set12": 0.7120472, "w1230": 0.4695330, "w7575": 0.5072512}
 #: relaxation 0.6, certified) and their LPs.
 NONASSOC = {"set12": (0.7086216, 7), "w1230": (0.4680950, 9), "set2-lazy": (0.5487750, 30),
             "set2-vertex+lazy": (0.5476048, 67 + 17), "set2-vertex+proximal": (0.5481709, 67 + 15),
-            "set9-vertex+proximal": (0.3914066, 50 + 27)}
+            "set9-vertex+proximal": (0.3914066, 50 + 27), "set10-fused-continuation": (0.2537577, 54)}
 
 
 def _wall(rows: int, storeys: int, t: float = 1.0, m: float = 1 / 3, f: float = 0.75) -> micro.BlockWall:
@@ -184,6 +184,26 @@ def test_bench_3630_nonassoc(benchmark) -> None:  # type: ignore[no-untyped-def]
     """Set 10 (3 storeys x 20 rows, t = 1, m = 1, f = 0.6: 3,630 blocks)."""
     r = _large(benchmark, "10", 30)
     assert r.blocks == 3630
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark(group="nonassoc-3630")
+def test_bench_set10_fused_continuation(benchmark) -> None:  # type: ignore[no-untyped-def]
+    """Set 10 as the report runs it: fused (1,106 bodies, 6,692 of 21,420
+    points) with the continuation; certified on the wall after 54 LPs (475 s
+    on one core while the other ran another wall), exact on the wall."""
+    w = case("10").spec().to_micro()
+    r = benchmark.pedantic(micro.solve_nonassociative, args=(w,),
+                           kwargs=dict(selection="vertex+proximal", lowest=False, retry_iterations=40, fuse=True,
+                                       continuation=True), rounds=1, iterations=1)
+    _record(benchmark, r)
+    lam, lps = NONASSOC["set10-fused-continuation"]
+    assert r.converged and r.stop_reason == "certified", r.message
+    assert r.load_factor == pytest.approx(lam, rel=1e-6) and r.iterations == lps
+    assert r.sequence.fusion is not None and r.sequence.fusion.wall_certificate == "certified"
+    v = micro.verify_collapse_state(micro.assemble(w), r.governing)
+    assert v["equilibrium"] <= 1e-9 and v["coulomb"] <= 1e-12 and v["interpenetration"] <= 1e-6
+    assert v["dilatancy"] <= 1e-6 and v["slip_off_yield"] <= 1e-12 and v["energy"] <= 1e-6
 
 
 @pytest.mark.slow
