@@ -17,7 +17,12 @@ recovered (:meth:`Sequence._recover`); each iterate is then tested for the
 stops of :mod:`micro.nonassociative.convergence`. The final iterate is
 checked (:mod:`micro.nonassociative.checks`). :func:`solve_direction` runs
 one direction with the chosen selection, and for ``"vertex+lazy"`` and
-``"vertex+proximal"`` the other sequence where the vertex one fails.
+``"vertex+proximal"`` the other sequence where the vertex one fails. With
+``continuation`` the vertex sequence's LPs hold scheme (b)'s friction rows
+with a positive slope ``gamma mu`` falling to 0 (``CONT_*`` in
+:mod:`~micro.nonassociative.options`), ``nbar`` moves by ``beta`` towards
+each LP's forces, warm runs are uncapped and never switched to cold, and
+from ``gamma = 0`` the certificate is tried at every LP with no cycle test.
 """
 
 from __future__ import annotations
