@@ -249,7 +249,12 @@ def solve_fused(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> 
     cert = Certificate(lp, direction, options).certify(v, lam, time_limit=options.user_limit)
     t_cert = cert.seconds
     if cert.forces is None:
-        band = "no state" if cert.band is None else f"states from lambda = {cert.band[0]:.9g}"
+        if cert.band is None:
+            band = "no state"
+        elif math.isfinite(cert.band[1]):
+            band = f"states only for lambda in [{cert.band[0]:.9g}, {cert.band[1]:.9g}]"
+        else:
+            band = f"states only from lambda = {cert.band[0]:.9g}"
         fusion = dataclasses.replace(fusion, wall_certificate="rejected", certificate_seconds=t_cert)
         return dataclasses.replace(
             r, status=SOLVER_FAILURE, load_factor=math.nan, normal=None, shear=None, mechanism=mechanism,
