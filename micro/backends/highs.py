@@ -20,6 +20,7 @@ import contextlib
 import ctypes
 import os
 import sys
+import threading
 import time
 from typing import TYPE_CHECKING, Any
 
@@ -81,6 +82,10 @@ class StallGuard:
         data_in.user_interrupt = self.fired
 
 
+#: Serialises :func:`quiet_highs`' swaps of file descriptor 1 between threads.
+_STDOUT_LOCK = threading.Lock()
+
+
 def quiet_highs() -> highspy.Highs:
     """A new ``highspy.Highs`` with its output off.
 
@@ -93,18 +98,19 @@ def quiet_highs() -> highspy.Highs:
     """
     import highspy
 
-    sys.stdout.flush()
-    saved = os.dup(1)
-    null = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(null, 1)
-        h = highspy.Highs()
-        h.setOptionValue("output_flag", False)
-    finally:
-        _flush_c_stdout()
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(null)
+    with _STDOUT_LOCK:  # two threads swapping descriptor 1 at once could leave it on the null device
+        sys.stdout.flush()
+        saved = os.dup(1)
+        null = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, 1)
+            h = highspy.Highs()
+            h.setOptionValue("output_flag", False)
+        finally:
+            _flush_c_stdout()
+            os.dup2(saved, 1)
+            os.close(saved)
+            os.close(null)
     return h
 
 
