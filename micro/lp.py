@@ -154,6 +154,26 @@ def point_geometry(wall: BlockWall) -> tuple[IntArray, IntArray, FloatArray, Flo
     return a, b, px, py, nrm, tan
 
 
+def generator_form(Bn: sp.csc_matrix, Bs: sp.csc_matrix, mu: FloatArray,
+                   live: FloatArray) -> tuple[sp.csc_matrix, FloatArray, FloatArray]:
+    """The LP in generator form from its equilibrium columns (module docstring).
+
+    Returns:
+        ``(A, col_lower, col_upper)``: ``A = [B_n + mu B_s, B_n - mu B_s, f_L]``,
+        generators ``>= 0`` (``g-`` fixed at 0 where ``mu = 0``), ``lambda`` free.
+    """
+    P = Bn.shape[1]
+    muBs = Bs @ sp.diags(mu)
+    A = sp.hstack([Bn + muBs, Bn - muBs, sp.csc_matrix(live[:, None])], format="csc")
+    A.eliminate_zeros()
+    A.sort_indices()
+    col_lower = np.concatenate([np.zeros(2 * P), [-np.inf]])
+    col_upper = np.full(2 * P + 1, np.inf)
+    # mu = 0 (frictionless head joints): g- would duplicate g+; fix it at 0
+    col_upper[P : 2 * P][mu == 0.0] = 0.0
+    return A, col_lower, col_upper
+
+
 def assemble(wall: BlockWall) -> LimitLP:
     """Assemble the LP of ``wall`` with whole-array operations (no loop per contact).
 
@@ -202,15 +222,7 @@ def assemble(wall: BlockWall) -> LimitLP:
     live = (wall.live / np.array([fs, fs, fs * ls])).ravel()
     dead = (wall.dead / np.array([fs, fs, fs * ls])).ravel()
     mu = np.repeat(wall.mu, 2)
-    muBs = Bs @ sp.diags(mu)
-    A = sp.hstack([Bn + muBs, Bn - muBs, sp.csc_matrix(live[:, None])], format="csc")
-    A.eliminate_zeros()
-    A.sort_indices()
-    inf = np.inf
-    col_lower = np.concatenate([np.zeros(2 * P), [-inf]])
-    col_upper = np.full(2 * P + 1, inf)
-    # mu = 0 (frictionless head joints): g- would duplicate g+; fix it at 0
-    col_upper[P : 2 * P][mu == 0.0] = 0.0
+    A, col_lower, col_upper = generator_form(Bn, Bs, mu, live)
     return LimitLP(
         wall=wall,
         A=A,

@@ -32,6 +32,7 @@ Modules, one concept each:
 ``options``      :class:`NonAssociativeOptions` and the policy constants;
 ``model``        the persistent HiGHS model of one direction and its updates;
 ``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
+``direction``    which sequences run on a direction (the selection, the retry) and their joint result;
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
 ``convergence``  the exact stop, the settle test, cycle detection;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
@@ -70,9 +71,9 @@ from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.convergence import detect_cycle
+from micro.nonassociative.direction import solve_direction
 from micro.nonassociative.fusion import solve_fused
 from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
-from micro.nonassociative.iteration import solve_direction
 from micro.nonassociative.lowest import LowestDirection, lowest_state
 from micro.nonassociative.options import DEFAULT_RELAXATION, SCHEMES, SELECTIONS, NonAssociativeOptions
 from micro.nonassociative.results import (

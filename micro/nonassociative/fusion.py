@@ -76,11 +76,11 @@ from numpy.typing import NDArray
 from scipy.sparse.csgraph import connected_components
 
 from micro.backends.clarabel import ClarabelBackend
-from micro.lp import LimitLP
+from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
-from micro.nonassociative.iteration import solve_direction
+from micro.nonassociative.direction import solve_direction
 from micro.nonassociative.options import EQUILIBRIUM_RESIDUAL, FUSE_RIGID_TOL, NonAssociativeOptions
 from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
 from micro.results import DirectionResult
@@ -189,16 +189,10 @@ def fuse(lp: LimitLP, body: IntArray, n_bodies: int) -> FusedLP:
     Bs.sort_indices()
     mu = lp.mu[points]
     live, dead = R @ lp.live, R @ lp.dead
-    muBs = Bs @ sp.diags(mu)
-    A = sp.hstack([Bn + muBs, Bn - muBs, sp.csc_matrix(live[:, None])], format="csc")
-    A.eliminate_zeros()
-    A.sort_indices()
-    P = points.size
-    upper = np.full(2 * P + 1, np.inf)
-    upper[P : 2 * P][mu == 0.0] = 0.0
+    A, lower, upper = generator_form(Bn, Bs, mu, live)
     fused = dataclasses.replace(
-        lp, A=A, Bn=Bn, Bs=Bs, rhs=-dead, col_lower=np.concatenate([np.zeros(2 * P), [-np.inf]]),
-        col_upper=upper, n_eq=3 * n_bodies, n_points=P, mu=mu, dead=dead, live=live,
+        lp, A=A, Bn=Bn, Bs=Bs, rhs=-dead, col_lower=lower, col_upper=upper, n_eq=3 * n_bodies,
+        n_points=points.size, mu=mu, dead=dead, live=live,
     )
     return FusedLP(fused, R, points, body, n_bodies)
 
@@ -234,7 +228,7 @@ def solve_fused(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> 
     fusion = FusionDiagnostics(
         bodies=n_bodies, single_bodies=fused.single_bodies, blocks_at_rest=fused.blocks_at_rest,
         points=fused.lp.n_points, wall_points=lp.n_points, rigid_tol=FUSE_RIGID_TOL,
-        associative_load_factor=float(assoc.load_factor), seconds=t_fuse, wall_certificate="",
+        seconds=t_fuse, wall_certificate="",
     )
     mechanism = None
     if r.mechanism is not None:

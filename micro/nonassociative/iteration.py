@@ -15,9 +15,8 @@ stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
 stop has status ``time_limit``. A failed run is
 recovered (:meth:`Sequence._recover`); each iterate is then tested for the
 stops of :mod:`micro.nonassociative.convergence`. The final iterate is
-checked (:mod:`micro.nonassociative.checks`). :func:`solve_direction` runs
-one direction with the chosen selection, and for ``"vertex+lazy"`` and
-``"vertex+proximal"`` the other sequence where the vertex one fails. With
+checked (:mod:`micro.nonassociative.checks`). Which sequences run on a
+direction is :mod:`micro.nonassociative.direction`'s. With
 ``continuation`` the vertex sequence's LPs hold scheme (b)'s friction rows
 with a positive slope ``gamma mu`` falling to 0 (``CONT_*`` in
 :mod:`~micro.nonassociative.options`), ``nbar`` moves by ``beta`` towards
@@ -49,12 +48,10 @@ from micro.nonassociative.options import (
     CONT_GAMMA_MIN,
     EQUILIBRIUM_RESIDUAL,
     MIN_WARM_LIMIT,
-    RETRY_STATUSES,
     TINY,
     WARM_LIMIT_PIVOTS,
     WARM_UNLIMITED,
     NonAssociativeOptions,
-    Selection,
 )
 from micro.nonassociative.proximal import Projection
 from micro.nonassociative.results import (
@@ -478,38 +475,3 @@ class Sequence:
                    }.get(stop, f"time budget of {self.o.max_seconds} s spent after {len(self.history) - 1} LPs")
             return msg + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else "")
         return stop if status != CONVERGED else ""
-
-
-def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions,
-                    start: FloatArray | None = None) -> DirectionResult:
-    """The iterated LP on one load direction with ``options.selection``.
-
-    ``"vertex+lazy"`` (``"vertex+proximal"``) runs the vertex sequence, and
-    where it ends with a status of
-    :data:`~micro.nonassociative.options.RETRY_STATUSES` the lazy (proximal)
-    sequence (at most ``options.retry_iterations`` LPs), its ``nbar``
-    started from the vertex sequence's last normal forces rather than the
-    associative LP's: Set 2 (1,230 blocks) was certified after 17 lazy LPs
-    from there against 30 from the associative forces. The second result is
-    returned with the vertex sequence in ``sequence.vertex_attempt``, and
-    the LPs and seconds of both. ``start``: normal forces to start the
-    (first) sequence's ``nbar`` from (:class:`Sequence`).
-    """
-    if not options.selection.startswith("vertex+"):
-        return Sequence(lp, direction, options, start=start).run()
-    retry: Selection = "proximal" if options.selection == "vertex+proximal" else "lazy"
-    vertex = Sequence(lp, direction, dataclasses.replace(options, selection="vertex"), start=start)
-    first = vertex.run()
-    if first.status not in RETRY_STATUSES:
-        return first
-    cap = options.max_iterations if options.retry_iterations is None else options.retry_iterations
-    start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
-    second = Sequence(lp, direction, dataclasses.replace(options, selection=retry, max_iterations=cap,
-                                                         continuation=False),
-                      start=start, iterate0=vertex.iterate0).run()
-    assert second.sequence is not None
-    message = second.message if second.converged else f"{retry}: {second.message}; vertex: {first.message}"
-    return dataclasses.replace(
-        second, iterations=first.iterations + second.iterations, seconds=first.seconds + second.seconds,
-        message=message, sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence),
-    )

@@ -85,8 +85,6 @@ class FusionDiagnostics:
         points: contact points of the fused LP.
         wall_points: contact points of the wall.
         rigid_tol: a contact was rigid below this fraction of the largest rate.
-        associative_load_factor: the wall's associative ``lambda`` (Clarabel)
-            whose mechanism gave the bodies.
         seconds: the associative LP and the fusion.
         wall_certificate: ``"certified"`` (the state extends to the whole
             wall), ``"rejected"``, or ``""`` (not tried: the fused sequence
@@ -100,7 +98,6 @@ class FusionDiagnostics:
     points: int
     wall_points: int
     rigid_tol: float
-    associative_load_factor: float
     seconds: float
     wall_certificate: str = ""
     certificate_seconds: float = 0.0
@@ -148,7 +145,9 @@ class SequenceDiagnostics:
             ``iterations`` and ``seconds``.
         fusion: how the sequence ran on the fused wall (``options.fuse``;
             ``None``: on the wall itself). Its history is then the fused
-            LP's; forces, residuals and the mechanism band are the wall's.
+            LP's; forces, residuals, the mechanism band and
+            ``associative_load_factor`` (whose mechanism gave the bodies)
+            are the wall's.
     """
 
     stop_reason: str
