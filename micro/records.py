@@ -199,6 +199,9 @@ class NonAssociativeRecord(MicroRecord):
         fused_bodies, fused_points: moving bodies and contact points of the
             fused wall the sequence ran on (0 and 0: the wall itself;
             :mod:`micro.nonassociative.fusion`).
+        unfused_stop_reason: with ``fused_retry``, how the wall's own
+            sequences ended before the fused wall with the continuation
+            certified the governing direction (``""``: it did not run).
     """
 
     scheme: str
@@ -232,3 +235,4 @@ class NonAssociativeRecord(MicroRecord):
     global_status: str = ""
     fused_bodies: int = 0
     fused_points: int = 0
+    unfused_stop_reason: str = ""

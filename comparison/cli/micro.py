@@ -125,6 +125,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "bound the shear by lines of falling slope through (nbar, mu nbar)); scheme a only",
     )
     na.add_argument(
+        "--no-fused-retry",
+        action="store_true",
+        help="with --selection vertex+lazy or vertex+proximal: where both sequences end cycling or at their "
+        "caps, do not run the fused wall with the continuation after them",
+    )
+    na.add_argument(
         "--no-lowest",
         action="store_true",
         help="skip the descent to the lowest certified collapse state (lowest_load_factor)",
@@ -254,6 +260,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         global_=args.global_,
         fuse=args.fuse,
         continuation=args.continuation,
+        fused_retry=not args.no_fused_retry,
         **global_limit,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
@@ -333,10 +340,15 @@ def _print_retry(result: NonAssociativeResult) -> None:
 
 
 def _print_fusion(result: NonAssociativeResult) -> None:
-    """With ``--fuse``: the size of the fused wall, and whether the wall's certificate took its state."""
+    """With ``--fuse`` (or after the wall's own sequences failed, ``fused_retry``): the size of the fused
+    wall, and whether the wall's certificate took its state."""
     f = result.sequence.fusion
     if f is None:
         return
+    before = result.sequence.unfused_attempt
+    if before is not None:
+        print(f"  the wall's own sequences ended {before.stop_reason} ({len(before.history) - 1} LPs); "
+              "then the fused wall with the continuation:")
     took = {"certified": "; the wall's certificate extends its state to every block",
             "rejected": "; the wall's certificate rejects its state"}.get(f.wall_certificate, "")
     print(f"  fused wall: {f.bodies:,} moving bodies ({f.single_bodies:,} of one block), {f.blocks_at_rest:,} "

@@ -93,12 +93,15 @@ def lam_cell(rec: Record) -> Any:
 def selection_cell(na: NonAssociativeRecord) -> str:
     """``"vertex"``, or ``"<selection> after vertex (<how the vertex sequence stopped>)"``;
     on a fused wall (the runner fuses only with the continuation) followed by
-    ``", continuation, fused wall (<bodies> bodies)"``."""
+    ``", continuation, fused wall (<bodies> bodies)"``, and, where the wall's
+    own sequences ran first (``fused_retry``), ``" after the wall's (<how they ended>)"``."""
     cell = na.selection
     if na.selection != "vertex" and na.vertex_stop_reason:
         cell = f"{na.selection} after vertex ({na.vertex_stop_reason})"
     if na.fused_bodies:
         cell += f", continuation, fused wall ({na.fused_bodies:,} bodies)"
+    if na.unfused_stop_reason:
+        cell += f" after the wall's ({na.unfused_stop_reason})"
     return cell
 
 

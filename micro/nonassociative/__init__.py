@@ -71,8 +71,7 @@ from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.convergence import detect_cycle
-from micro.nonassociative.direction import solve_direction
-from micro.nonassociative.fusion import solve_fused
+from micro.nonassociative.fusion import solve_chain
 from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
 from micro.nonassociative.lowest import LowestDirection, lowest_state
 from micro.nonassociative.options import DEFAULT_RELAXATION, SCHEMES, SELECTIONS, NonAssociativeOptions
@@ -137,8 +136,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     t0 = time.perf_counter()
     lp = assemble(wall)
     build = time.perf_counter() - t0
-    solve = solve_fused if o.fuse else solve_direction
-    results = tuple(solve(lp, d, o) for d in load_directions(o.directions, wall.mirror_symmetric))
+    results = tuple(solve_chain(lp, d, o) for d in load_directions(o.directions, wall.mirror_symmetric))
     lowest = tuple(lowest_state(lp, r, o) for r in results if r.converged) if o.lowest else ()
     glob = _global_search(lp, results, lowest, o) if o.global_ else None
     solve_secs = time.perf_counter() - t0 - build

@@ -58,7 +58,11 @@ up to 2,000 blocks (Table 5 and Table 7):
 * Set 15 (7,575 blocks): Clarabel's associative mechanism moves nearly every
   block a little (median contact rate 9e-5 of the largest), so 33,262 of the
   wall's points stay, and the first fused LP ran over 17 minutes (the
-  unfused one takes 63-96 s): no use there.
+  unfused one takes 63-96 s): no use there. Nor is a sparser seed (README,
+  "The fused wall"): the vertex of scheme (a)'s first LP still keeps 29,472
+  points, and fusing the slow parts as well leaves the fused LP without a
+  mechanism (16 of 24 models tried) or raises its associative lambda by
+  25-37 %: the upper 60 % of that wall deforms in every mechanism found.
 
 The library default is off, and ``xcheck report`` runs the wall itself.
 """
@@ -81,7 +85,7 @@ from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.direction import solve_direction
-from micro.nonassociative.options import EQUILIBRIUM_RESIDUAL, FUSE_RIGID_TOL, NonAssociativeOptions
+from micro.nonassociative.options import EQUILIBRIUM_RESIDUAL, FUSE_RIGID_TOL, RETRY_STATUSES, NonAssociativeOptions
 from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
 from micro.results import DirectionResult
 
@@ -271,3 +275,39 @@ def solve_fused(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> 
     return dataclasses.replace(
         r, status=status, load_factor=lam if status == CONVERGED else math.nan, normal=n * fs, shear=s * fs,
         mechanism=state.mechanism, seconds=time.perf_counter() - t0, message=message, sequence=seq)
+
+
+def solve_chain(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> DirectionResult:
+    """One load direction as ``options`` ask: the fused wall (``fuse``), or
+    the wall's own sequences (:func:`solve_direction`) and, where those of
+    ``"vertex+lazy"`` or ``"vertex+proximal"`` (scheme (a)) both end
+    ``cycling`` or ``max_iterations``, the fused wall with the continuation
+    (``fused_retry``).
+
+    Measured (2026-11-23): the two error-map walls on which the vertex and
+    the proximal sequences fail (t = 1 and 2/3, m = 2/3, 36 rows: 882 and
+    1,314 blocks; the vertex sequence oscillating after 40 LPs, the proximal
+    one at its cap of 40; 97 s and 252 s in the sweep) are certified
+    by it at 0.3477748 and 0.3484541 (inside the last window of the first's
+    proximal sequence, 0.04 % above the second's), after 84 and 74 more LPs, 24.5 s and 22.5 s (one
+    core, the other busy). The continuation on the wall itself left the
+    882-block wall at its cap of 100 LPs (336 s), lambda in [0.3454, 0.3488].
+
+    A certified third run is returned with the wall's sequences in
+    ``sequence.unfused_attempt``; a failed one leaves the wall's result,
+    its message extended. Either way the LPs and seconds of all runs count.
+    """
+    if options.fuse:
+        return solve_fused(lp, direction, options)
+    first = solve_direction(lp, direction, options)
+    if (not options.fused_retry or options.continuation or options.scheme != "a"
+            or not options.selection.startswith("vertex+") or first.status not in RETRY_STATUSES):
+        return first
+    third = solve_fused(lp, direction, dataclasses.replace(options, fuse=True, continuation=True))
+    assert first.sequence is not None and third.sequence is not None
+    iterations, seconds = first.iterations + third.iterations, first.seconds + third.seconds
+    if not third.converged:
+        return dataclasses.replace(first, iterations=iterations, seconds=seconds,
+                                   message=f"{first.message}; the fused wall with the continuation: {third.message}")
+    return dataclasses.replace(third, iterations=iterations, seconds=seconds,
+                               sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence))

@@ -278,6 +278,16 @@ class NonAssociativeOptions:
             it or the cap ends the sequence. With ``fuse``, it starts from the
             wall's associative forces. Scheme (a) and a vertex sequence only
             (the proximal or lazy retry runs without it).
+        fused_retry: with ``"vertex+lazy"`` or ``"vertex+proximal"`` and
+            scheme (a), on a direction where both sequences end ``cycling``
+            or ``max_iterations``, a third run: the fused wall with the
+            continuation (``fuse`` and ``continuation``), its state checked
+            on the whole wall (:func:`~micro.nonassociative.fusion.solve_chain`).
+            It certified the two error-map walls (882 and 1,314 blocks) on
+            which the vertex and proximal sequences end at their caps, in
+            about 23 s each. Walls on which the first two converge are not
+            touched; off with ``fuse`` or ``continuation`` (the chain then
+            is that already).
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -315,6 +325,7 @@ class NonAssociativeOptions:
     global_bounds: Literal["per_point", "uniform"] = "per_point"
     fuse: bool = False
     continuation: bool = False
+    fused_retry: bool = True
 
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
@@ -383,7 +394,7 @@ class NonAssociativeOptions:
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, float(getattr(self, name)))
         object.__setattr__(self, "certify", bool(self.certify))
-        for name in ("mechanism_band", "lowest", "global_", "fuse", "continuation"):
+        for name in ("mechanism_band", "lowest", "global_", "fuse", "continuation", "fused_retry"):
             object.__setattr__(self, name, bool(getattr(self, name)))
 
     @property

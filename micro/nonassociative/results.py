@@ -148,6 +148,11 @@ class SequenceDiagnostics:
             LP's; forces, residuals, the mechanism band and
             ``associative_load_factor`` (whose mechanism gave the bodies)
             are the wall's.
+        unfused_attempt: the wall's own sequences (vertex, then lazy or
+            proximal) that ended cycling or at their caps before this run
+            on the fused wall with the continuation certified the direction
+            (``options.fused_retry``; ``None`` otherwise); their LPs count
+            in the direction's ``iterations`` and ``seconds``.
     """
 
     stop_reason: str
@@ -167,6 +172,7 @@ class SequenceDiagnostics:
     selection: str = "vertex"
     vertex_attempt: SequenceDiagnostics | None = field(default=None, repr=False)
     fusion: FusionDiagnostics | None = None
+    unfused_attempt: SequenceDiagnostics | None = field(default=None, repr=False)
 
 
 def diagnostics(d: DirectionResult) -> SequenceDiagnostics:
@@ -352,6 +358,7 @@ class NonAssociativeResult:
             **lowest_fields(self.lowest_state, self.lowest), **global_fields(self.global_search),
             fused_bodies=0 if q.fusion is None else q.fusion.bodies,
             fused_points=0 if q.fusion is None else q.fusion.points,
+            unfused_stop_reason="" if q.unfused_attempt is None else q.unfused_attempt.stop_reason,
         )
 
     def summary(self) -> dict[str, Any]:

@@ -118,3 +118,74 @@ def test_a_state_the_wall_rejects_is_a_failure(monkeypatch: pytest.MonkeyPatch) 
 def test_fuse_option_is_a_flag() -> None:
     assert NonAssociativeOptions(fuse=1).fuse is True  # type: ignore[arg-type]
     assert dataclasses.replace(NonAssociativeOptions(), fuse=True).fuse
+
+
+def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int) -> list[tuple[int, bool]]:
+    """Cap the wall's own sequences (not the continuation) at ``cap`` LPs
+    each, so that they end ``max_iterations``; returns the calls made."""
+    real = fusion.solve_direction
+    calls: list[tuple[int, bool]] = []
+
+    def capped(lp: micro.LimitLP, d: int, o: NonAssociativeOptions, start: np.ndarray | None = None
+               ) -> micro.DirectionResult:
+        calls.append((lp.n_points, o.continuation))
+        if not o.continuation:
+            o = dataclasses.replace(o, max_iterations=cap, retry_iterations=cap)
+        return real(lp, d, o, start=start)
+
+    monkeypatch.setattr(fusion, "solve_direction", capped)
+    return calls
+
+
+def test_fused_retry_certifies_where_the_walls_sequences_end_at_their_caps(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where the vertex and the proximal sequences both end at their caps
+    (forced: 2 LPs each on Table 7's Set 11), the fused wall with the
+    continuation runs third; its state is an exact state of the WALL, the
+    wall's sequences are kept in ``unfused_attempt`` and every LP counts."""
+    calls = _capped_wall_sequences(monkeypatch, 2)
+    w = wall(0.5)
+    r = solve_nonassociative(w, selection="vertex+proximal", lowest=False, directions="+x")
+    lp = micro.assemble(w)
+    d = r.directions[0]
+    q = d.sequence
+    assert r.converged, r.message
+    assert calls[0] == (lp.n_points, False) and calls[1][1] and calls[1][0] < lp.n_points
+    assert q.unfused_attempt is not None and q.unfused_attempt.stop_reason == "max_iterations"
+    assert q.unfused_attempt.vertex_attempt is not None  # the vertex sequence, then the proximal one
+    assert q.fusion is not None and q.fusion.wall_certificate == "certified"
+    assert d.iterations == (len(q.unfused_attempt.vertex_attempt.history) - 1
+                            + len(q.unfused_attempt.history) - 1 + len(q.history) - 1)
+    v = verify_collapse_state(lp, d)  # the certificate's interior point: equilibrium to 7e-8 block weights here
+    assert v["equilibrium"] <= 1e-6 and v["energy"] <= 1e-6, v
+    assert max(v[k] for k in ("coulomb", "interpenetration", "dilatancy", "slip_off_yield")) <= 1e-9, v
+    rec = r.to_record()
+    assert rec.unfused_stop_reason == "max_iterations" and rec.fused_bodies > 0
+
+
+def test_no_fused_retry_when_off_or_with_one_sequence(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``fused_retry=False``, or the vertex selection alone: the failed
+    direction stays failed, and the wall's sequences are the only run."""
+    calls = _capped_wall_sequences(monkeypatch, 2)
+    for opts in ({"selection": "vertex+proximal", "fused_retry": False}, {"selection": "vertex"}):
+        calls.clear()
+        r = solve_nonassociative(wall(0.5), lowest=False, directions="+x", **opts)  # type: ignore[arg-type]
+        assert r.status == "max_iterations" and math.isnan(r.load_factor) and len(calls) == 1
+        assert r.directions[0].sequence.unfused_attempt is None and r.to_record().unfused_stop_reason == ""
+
+
+def test_a_failed_fused_retry_leaves_the_walls_result(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A fused retry that fails too (its continuation capped at 2 LPs here)
+    leaves the wall's status and band, with both runs' LPs and a message
+    naming both."""
+    real = fusion.solve_direction
+
+    def capped(lp: micro.LimitLP, d: int, o: NonAssociativeOptions, start: np.ndarray | None = None
+               ) -> micro.DirectionResult:
+        return real(lp, d, dataclasses.replace(o, max_iterations=2, retry_iterations=2), start=start)
+
+    monkeypatch.setattr(fusion, "solve_direction", capped)
+    r = solve_nonassociative(wall(0.5), selection="vertex+proximal", lowest=False, directions="+x")
+    d = r.directions[0]
+    assert d.status == "max_iterations" and d.sequence.lambda_band is not None
+    assert "the fused wall with the continuation:" in d.message
+    assert d.iterations > len(d.sequence.history) - 1 + len(d.sequence.vertex_attempt.history) - 1

@@ -99,3 +99,14 @@ def test_cli_fuse_and_continuation(capsys: pytest.CaptureFixture[str]) -> None:
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and out["converged"] is True
     assert out["fused_bodies"] > 0 and out["fused_points"] > 0 and len(out["history"]) > 32
+
+
+def test_cli_no_fused_retry(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--no-fused-retry`` reaches the options (on by default); a run that
+    needs no retry has no unfused attempt to report."""
+    args = ["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
+            "--selection", "vertex+proximal", "--no-lowest", "--json"]
+    for extra, on in (([], True), (["--no-fused-retry"], False)):
+        assert main([*args, *extra]) == 0
+        out = json.loads(capsys.readouterr().out)
+        assert out["options"]["fused_retry"] is on and out["unfused_stop_reason"] == ""
