@@ -64,7 +64,11 @@ up to 2,000 blocks (Table 5 and Table 7):
   mechanism (16 of 24 models tried) or raises its associative lambda by
   25-37 %: the upper 60 % of that wall deforms in every mechanism found.
 
-The library default is off, and ``xcheck report`` runs the wall itself.
+The option ``fuse`` is off by default, and ``xcheck report`` runs the wall
+itself up to 2,000 blocks. :func:`solve_chain` also runs the fused wall, with
+the continuation, after the wall's own ``vertex+proximal`` (or
+``vertex+lazy``) sequences have failed on a direction (``fused_retry``, on by
+default).
 """
 
 from __future__ import annotations
@@ -287,11 +291,12 @@ def solve_chain(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> 
     Measured (2026-11-23): the two error-map walls on which the vertex and
     the proximal sequences fail (t = 1 and 2/3, m = 2/3, 36 rows: 882 and
     1,314 blocks; the vertex sequence oscillating after 40 LPs, the proximal
-    one at its cap of 40; 97 s and 252 s in the sweep) are certified
-    by it at 0.3477748 and 0.3484541 (inside the last window of the first's
-    proximal sequence, 0.04 % above the second's), after 84 and 74 more LPs, 24.5 s and 22.5 s (one
-    core, the other busy). The continuation on the wall itself left the
-    882-block wall at its cap of 100 LPs (336 s), lambda in [0.3454, 0.3488].
+    one at its cap of 40; 97 s and 252 s in the sweep) are certified by it
+    at 0.3477748 and 0.3484541 (inside the last window of the first's
+    proximal sequence, 0.04 % above the second's), after 84 and 74 more
+    LPs, 24.5 s and 22.5 s (one core, the other busy). The continuation on
+    the wall itself left the 882-block wall at its cap of 100 LPs (336 s),
+    lambda in [0.3454, 0.3488].
 
     A certified third run is returned with the wall's sequences in
     ``sequence.unfused_attempt``; a failed one leaves the wall's result,
