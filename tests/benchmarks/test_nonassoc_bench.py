@@ -13,6 +13,9 @@ Run with ``pytest -m benchmark --benchmark-enable tests/benchmarks/test_nonassoc
   report's ``vertex+proximal`` (the proximal sequence second);
 * ``nonassoc-1830`` (``slow``): Set 9 (1,830 blocks), which cycles with the
   vertex and lazy selections, with the report's ``vertex+proximal``;
+* ``nonassoc-882`` (``slow``): the error-map wall t = 1, m = 2/3, 36 rows
+  (882 blocks), on which the vertex and proximal sequences fail and the
+  fused retry (the fused wall with the continuation) certifies it;
 * ``nonassoc-3630`` (``slow``): Set 10 (3,630 blocks), one round, capped at 30 LPs;
 * ``nonassoc-7575`` (``slow``): the Table 9 wall (Set 15: 5 storeys x 30 rows,
   f = 0.75, 7,575 blocks), target <= 120 s, one round capped at 6 LPs (set
@@ -48,7 +51,8 @@ ASSOC = {"set12": 0.7120472, "w1230": 0.4695330, "w7575": 0.5072512}
 #: relaxation 0.6, certified) and their LPs.
 NONASSOC = {"set12": (0.7086216, 7), "w1230": (0.4680950, 9), "set2-lazy": (0.5487750, 30),
             "set2-vertex+lazy": (0.5476048, 67 + 17), "set2-vertex+proximal": (0.5481709, 67 + 15),
-            "set9-vertex+proximal": (0.3914066, 50 + 27), "set10-fused-continuation": (0.2537577, 54)}
+            "set9-vertex+proximal": (0.3914066, 50 + 27), "set10-fused-continuation": (0.2537577, 54),
+            "errormap-882-fused-retry": (0.3477748, 40 + 40 + 84)}
 
 
 def _wall(rows: int, storeys: int, t: float = 1.0, m: float = 1 / 3, f: float = 0.75) -> micro.BlockWall:
@@ -203,6 +207,31 @@ def test_bench_set10_fused_continuation(benchmark) -> None:  # type: ignore[no-u
     assert r.sequence.fusion is not None and r.sequence.fusion.wall_certificate == "certified"
     v = micro.verify_collapse_state(micro.assemble(w), r.governing)
     assert v["equilibrium"] <= 1e-9 and v["coulomb"] <= 1e-12 and v["interpenetration"] <= 1e-6
+    assert v["dilatancy"] <= 1e-6 and v["slip_off_yield"] <= 1e-12 and v["energy"] <= 1e-6
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark(group="nonassoc-882")
+def test_bench_errormap_fused_retry(benchmark) -> None:  # type: ignore[no-untyped-def]
+    """The error map's t = 1, m = 2/3, 36-row wall (882 blocks) as the sweep
+    runs it: the vertex sequence oscillates (40 LPs), the proximal one ends at
+    its cap (40), and the fused wall with the continuation is certified on
+    the wall (84 LPs); measured 97 s for the first two in the sweep and 24.5 s
+    for the third (one core, the other busy)."""
+    w = _wall(36, 1, t=1.0, m=2 / 3, f=0.6)
+    assert w.n_blocks == 882
+    r = benchmark.pedantic(micro.solve_nonassociative, args=(w,),
+                           kwargs=dict(selection="vertex+proximal", lowest=False, retry_iterations=40),
+                           rounds=1, iterations=1)
+    _record(benchmark, r)
+    lam, lps = NONASSOC["errormap-882-fused-retry"]
+    assert r.converged and r.stop_reason == "certified", r.message
+    assert r.load_factor == pytest.approx(lam, rel=1e-6) and r.iterations == lps
+    q = r.sequence
+    assert q.unfused_attempt is not None and q.unfused_attempt.stop_reason == "max_iterations"
+    assert q.fusion is not None and q.fusion.wall_certificate == "certified"
+    v = micro.verify_collapse_state(micro.assemble(w), r.governing)
+    assert v["equilibrium"] <= 1e-6 and v["coulomb"] <= 1e-12 and v["interpenetration"] <= 1e-6
     assert v["dilatancy"] <= 1e-6 and v["slip_off_yield"] <= 1e-12 and v["energy"] <= 1e-6
 
 
