@@ -114,8 +114,9 @@ def summary(cells: Sequence[MapCell]) -> dict[str, Any]:
             "unsafe": sum(e > AGREEMENT for e in errs),
             "agree": sum(abs(e) <= AGREEMENT for e in errs),
             "above_10pct": sum(e > 0.10 for e in errs),
-            "median": statistics.median(errs) if errs else math.nan,
-            "max": max(errs, default=math.nan),
+            # None (JSON null) for an empty part: NaN is not JSON (report.json)
+            "median": statistics.median(errs) if errs else None,
+            "max": max(errs) if errs else None,
         }
 
     groups = sorted({(c.storeys, c.rows) for c in ref})

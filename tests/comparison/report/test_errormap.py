@@ -63,3 +63,16 @@ def test_the_committed_error_map_table_is_complete() -> None:
     # the Table 5 reference wall: macro 0.5825 (the paper's 0.58) above the micro reference
     ref = next(c for c in cells if (c.t, c.m, c.rows, c.storeys) == (1.0, pytest.approx(1 / 3), 60, 3))
     assert ref.macro == pytest.approx(0.5825, abs=1e-4) and ref.error > 0.2
+
+
+def test_an_empty_part_of_the_summary_is_valid_json(tmp_path: Path) -> None:
+    """Every wall with a converged non-associative reference: the part
+    against the associative LP is empty, and its median and worst are null,
+    not NaN (which strict JSON readers refuse)."""
+    import json
+
+    rows = [_row("macro", 0.56, "optimal"), _row("micro-assoc", 0.52, "optimal"),
+            _row("micro-nonassoc", 0.5, "converged")]
+    s = errormap.summary(errormap.load(write_table(rows, tmp_path / "map.csv")))
+    assert s["assoc"] == {"walls": 0, "unsafe": 0, "agree": 0, "above_10pct": 0, "median": None, "max": None}
+    assert json.loads(json.dumps(s, allow_nan=False)) == s
