@@ -231,13 +231,13 @@ def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, 
 def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWall, time_limit: float | None) -> int:
     """``--friction nonassociative``: the iterated LP (HiGHS only)."""
     import micro
-    from micro.nonassociative import SCHEMES, SELECTIONS
+    from micro.nonassociative import SCHEMES, SELECTIONS, continuation_allowed
 
     choice("--scheme", args.scheme, SCHEMES)
     choice("--selection", args.selection, SELECTIONS)
     if args.selection != "vertex" and args.scheme != "a":
         raise UsageError(f"--selection {args.selection} needs --scheme a")
-    if args.continuation and (args.scheme != "a" or args.selection in ("lazy", "proximal")):
+    if args.continuation and not continuation_allowed(args.scheme, args.selection):
         raise UsageError("--continuation needs --scheme a and a vertex sequence (--selection vertex, vertex+lazy "
                          "or vertex+proximal)")
     if args.solver not in ("highs", "highs-simplex", "highs-ipm"):

@@ -50,9 +50,8 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         if res.velocities is not None and res.direction:
             mechanism = Mechanism(np.asarray(res.velocities), res.direction)
     else:
-        # the continuation needs scheme (a) and a vertex sequence (the runner's default selections)
-        large = wall.n_blocks > method.fuse_min_blocks and method.scheme == "a" and method.nonassoc_selection in (
-            "vertex", "vertex+lazy", "vertex+proximal")
+        allowed = micro.nonassociative.continuation_allowed(method.scheme, method.nonassoc_selection)
+        large = wall.n_blocks > method.fuse_min_blocks and allowed
         nres = micro.solve_nonassociative(
             wall,
             scheme=method.scheme,

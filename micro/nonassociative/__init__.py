@@ -74,7 +74,13 @@ from micro.nonassociative.convergence import detect_cycle
 from micro.nonassociative.fusion import solve_chain
 from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
 from micro.nonassociative.lowest import LowestDirection, lowest_state
-from micro.nonassociative.options import DEFAULT_RELAXATION, SCHEMES, SELECTIONS, NonAssociativeOptions
+from micro.nonassociative.options import (
+    DEFAULT_RELAXATION,
+    SCHEMES,
+    SELECTIONS,
+    NonAssociativeOptions,
+    continuation_allowed,
+)
 from micro.nonassociative.results import (
     CONVERGED,
     CYCLING,
@@ -107,6 +113,7 @@ __all__ = [
     "NonAssociativeOptions",
     "NonAssociativeResult",
     "SequenceDiagnostics",
+    "continuation_allowed",
     "detect_cycle",
     "lowest_state",
     "solve_global",

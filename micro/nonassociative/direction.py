@@ -9,6 +9,7 @@ or proximal one) and joins their results.
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -50,7 +51,13 @@ def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions,
                       start=start, iterate0=vertex.iterate0).run()
     assert second.sequence is not None
     message = second.message if second.converged else f"{retry}: {second.message}; vertex: {first.message}"
-    return dataclasses.replace(
-        second, iterations=first.iterations + second.iterations, seconds=first.seconds + second.seconds,
-        message=message, sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence),
-    )
+    return joined(first, second, second, message=message,
+                  sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence))
+
+
+def joined(first: DirectionResult, second: DirectionResult, result: DirectionResult,
+           **changes: Any) -> DirectionResult:
+    """``result`` (one of two runs on a direction, ``first`` then ``second``)
+    with the LPs and seconds of both, and ``changes``."""
+    return dataclasses.replace(result, iterations=first.iterations + second.iterations,
+                               seconds=first.seconds + second.seconds, **changes)

@@ -88,7 +88,7 @@ from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
-from micro.nonassociative.direction import solve_direction
+from micro.nonassociative.direction import joined, solve_direction
 from micro.nonassociative.options import EQUILIBRIUM_RESIDUAL, FUSE_RIGID_TOL, RETRY_STATUSES, NonAssociativeOptions
 from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
 from micro.results import DirectionResult
@@ -310,9 +310,7 @@ def solve_chain(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> 
         return first
     third = solve_fused(lp, direction, dataclasses.replace(options, fuse=True, continuation=True))
     assert first.sequence is not None and third.sequence is not None
-    iterations, seconds = first.iterations + third.iterations, first.seconds + third.seconds
     if not third.converged:
-        return dataclasses.replace(first, iterations=iterations, seconds=seconds,
-                                   message=f"{first.message}; the fused wall with the continuation: {third.message}")
-    return dataclasses.replace(third, iterations=iterations, seconds=seconds,
-                               sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence))
+        return joined(first, third, first,
+                      message=f"{first.message}; the fused wall with the continuation: {third.message}")
+    return joined(first, third, third, sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence))

@@ -27,6 +27,13 @@ DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 #: ``"vertex+proximal"``: the vertex sequence, and the other where it fails).
 Selection = Literal["vertex", "lazy", "proximal", "vertex+lazy", "vertex+proximal"]
 SELECTIONS: tuple[str, ...] = get_args(Selection)
+
+
+def continuation_allowed(scheme: str, selection: str) -> bool:
+    """Whether ``continuation`` can run: it needs scheme (a) and a vertex
+    sequence (``"vertex"``, ``"vertex+lazy"`` or ``"vertex+proximal"``; the
+    retry of the last two runs without it)."""
+    return scheme == "a" and selection.startswith("vertex")
 #: ``"vertex+lazy"`` runs the lazy sequence on a direction whose vertex
 #: sequence ended with one of these statuses.
 RETRY_STATUSES = ("cycling", "max_iterations")
@@ -361,7 +368,7 @@ class NonAssociativeOptions:
         self._normalise()
 
     def _check_rest(self) -> None:
-        if self.continuation and (self.scheme != "a" or self.selection in ("lazy", "proximal")):
+        if self.continuation and not continuation_allowed(self.scheme, self.selection):
             raise ValueError("continuation needs scheme 'a' and a vertex sequence (selection 'vertex', "
                              f"'vertex+lazy' or 'vertex+proximal'), got scheme {self.scheme!r}, "
                              f"selection {self.selection!r}")
