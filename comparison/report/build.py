@@ -20,7 +20,7 @@ from typing import Any
 
 from comparison.outputs import writable_directory
 from comparison.progress import NORMAL, Progress
-from comparison.report import errormap, figures, lowest
+from comparison.report import bond, errormap, figures, lowest
 from comparison.report.findings import findings
 from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
@@ -105,11 +105,13 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
     for tb in tables.values():
         tb.write_csv(out / f"{tb.name}.csv")
     error_map, error_numbers = errormap.write(out)
+    bond_text, bond_rows = bond.section()
     tables_json = {k: v.records() for k, v in tables.items()}
-    (out / "report.json").write_text(
-        json.dumps({"meta": meta, "tables": tables_json, "errormap": error_numbers}, indent=1, default=str)
-    )
+    (out / "report.json").write_text(json.dumps(
+        {"meta": meta, "tables": tables_json, "errormap": error_numbers, "table9_bond": bond_rows},
+        indent=1, default=str,
+    ))
     path = out / "REPORT.md"
     text = document(res, tables, findings(res), figure_list, meta)
-    path.write_text(text + "\n" + error_map + "\n" + lowest.section())
+    path.write_text(text + "\n" + error_map + "\n" + bond_text + "\n" + lowest.section())
     return path
