@@ -63,7 +63,7 @@ STATUS_LEGEND = {
     "time_limit": "the LP back end hit its time limit; no λ",
     "not run": f"the report does not run this method on this wall (the iterated LP on the paper's walls above "
     f"{NONASSOC_MAX_BLOCKS_CASES:,} blocks and on the other walls above {NONASSOC_MAX_BLOCKS:,}: too slow for the "
-    "report)",
+    "report; for Sets 15-17 see \"Table 9's walls with coarser bonds\" below)",
     "n/a": "no number: the method does not apply to this wall or gave none (the status column or the "
     "table's note says which)",
     "not_applicable": "the micro wall cannot be built (shown as n/a where a λ would be)",
