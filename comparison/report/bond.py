@@ -9,7 +9,7 @@ the report does not recompute it): the same walls (t = 1, m = 1/3, f = 0.75,
 p = 0, 1, 8) built with fewer rows of proportionally larger units, with the
 macro, associative and non-associative load factors of each. The section
 tabulates them and how far the non-associative value lies below the
-associative one, rows by rows. Every non-associative collapse state is
+associative one, from the coarsest bond to the finest. Every non-associative collapse state is
 statically admissible for the associative LP, so the associative value bounds
 the non-associative one from above at any number of rows; the table shows how
 close the two come as the bond gets finer.
@@ -121,9 +121,9 @@ def findings(rows: Sequence[BondRow]) -> list[str]:
             best, worst = min(r.macro_error for r in done), max(r.macro_error for r in done)
             parts.append(f"the non-associative λ differs from the associative one by {gaps}; the macro λ lies "
                          f"{_pct(best)} % to {_pct(worst)} % above the non-associative one")
-        if failed:
-            at = ", ".join(f"{r.rows}" for r in failed)
-            parts.append(f"the iterated LP did not settle at {at} rows (`{failed[0].nonassoc_status}`)")
+        for status in dict.fromkeys(r.nonassoc_status for r in failed):
+            at = ", ".join(f"{r.rows}" for r in failed if r.nonassoc_status == status)
+            parts.append(f"the iterated LP did not settle at {at} rows (`{status}`)")
         if parts:
             out.append(f"* **{label}** (p = {p:g}): " + "; ".join(parts) + ".")
     return out

@@ -28,10 +28,13 @@ def test_each_wall_pairs_its_three_load_factors(tmp_path: Path) -> None:
         _row("macro", 0.61, "optimal", rows=60, p=8.0),
         _row("micro-assoc", 0.52, "optimal", rows=60, p=8.0),
         _row("micro-nonassoc", math.nan, "max_iterations", rows=60, p=8.0),
+        _row("macro", 0.62, "optimal", rows=75, p=8.0),
+        _row("micro-assoc", 0.51, "optimal", rows=75, p=8.0),
+        _row("micro-nonassoc", math.nan, "cycling", rows=75, p=8.0),
     ], tmp_path / "bond.csv")
     rows = bond.load(table)
-    assert [(r.label, r.rows) for r in rows] == [("Set 15", 30), ("Set 17", 60)]
-    first, second = rows
+    assert [(r.label, r.rows) for r in rows] == [("Set 15", 30), ("Set 17", 60), ("Set 17", 75)]
+    first, second, _ = rows
     assert first.nonassoc == 0.49 and first.lps == 16 and first.blocks == 315
     assert first.below_assoc == pytest.approx(-0.02) and first.macro_error == pytest.approx(0.11 / 0.49)
     assert math.isnan(second.nonassoc) and second.nonassoc_status == "max_iterations"
@@ -39,7 +42,8 @@ def test_each_wall_pairs_its_three_load_factors(tmp_path: Path) -> None:
     text, records = bond.section(table)
     assert "| Set 17 | 8 | 60 | 315 | 0.6100 | 0.5200 | max iterations | – | – | 16 |" in text
     assert "by -2.00 % at 30 rows" in text
-    assert "* **Set 17** (p = 8): the iterated LP did not settle at 60 rows (`max_iterations`)." in text
+    assert ("* **Set 17** (p = 8): the iterated LP did not settle at 60 rows (`max_iterations`); "
+            "the iterated LP did not settle at 75 rows (`cycling`).") in text
     strict = json.loads(json.dumps(records, allow_nan=False))
     assert strict[1]["nonassoc"] is None and strict[0]["set"] == "Set 15"
 
