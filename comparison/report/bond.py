@@ -23,14 +23,12 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from comparison.sweep.table import number, read_table
+from comparison.report.errormap import wall_values
 
 #: The committed sweep table the section reads.
 TABLE = Path(__file__).resolve().parents[2] / "reports" / "sweeps" / "table9_bond.csv"
 #: Table 9's set for each overloading ratio p of the sweep.
 SETS = {0.0: "Set 15", 1.0: "Set 16", 8.0: "Set 17"}
-#: The micro statuses whose load factor the table shows as a number.
-SHOWN = {"micro-assoc": "optimal", "micro-nonassoc": "converged"}
 
 
 @dataclass(frozen=True)
@@ -74,38 +72,20 @@ class BondRow:
 
 
 def load(path: Path = TABLE) -> list[BondRow]:
-    """The walls of the sweep table, by p then rows."""
-    walls: dict[tuple[float, int], dict[str, Any]] = {}
-    for row in read_table(path):
-        if row["kind"] != "macro" and row["first_course"] != "full":
-            continue
-        w = walls.setdefault((float(row["p"]), int(row["rows"])), {
-            "macro": math.nan, "micro-assoc": math.nan, "micro-nonassoc": math.nan,
-            "blocks": 0, "status": "", "lps": 0,
-        })
-        kind = row["kind"]
-        if kind == "macro":
-            w["macro"] = number(row["load_factor"]) if row["status"] == "optimal" else math.nan
-            continue
-        w["blocks"] = max(w["blocks"], int(row["blocks"] or 0))
-        if SHOWN.get(kind) == row["status"]:
-            w[kind] = number(row["load_factor"])
-        if kind == "micro-nonassoc":
-            w["status"], w["lps"] = str(row["status"]), int(row["iterations"] or 0)
-    return [BondRow(p, rows, w["blocks"], w["macro"], w["micro-assoc"], w["micro-nonassoc"], w["status"], w["lps"])
-            for (p, rows), w in sorted(walls.items())]
+    """The walls of the sweep table (read as the error map's, :func:`~comparison.report.errormap.wall_values`),
+    by p then rows."""
+    rows = [BondRow(float(p), int(o), w["blocks"], w["macro"], w["micro-assoc"], w["micro-nonassoc"],
+                    w["nonassoc_status"], w["nonassoc_lps"])
+            for (_t, _m, o, _n, _f, p), w in wall_values(path).items()]
+    return sorted(rows, key=lambda r: (r.p, r.rows))
 
 
 def _lam(x: float, status: str = "") -> str:
     return f"{x:.4f}" if math.isfinite(x) else (status or "–").replace("_", " ")
 
 
-def _pct(x: float) -> str:
-    return f"{100 * x:+.1f}" if math.isfinite(x) else "–"
-
-
-def _pct2(x: float) -> str:
-    return f"{100 * x:+.2f}" if math.isfinite(x) else "–"
+def _pct(x: float, digits: int = 1) -> str:
+    return f"{100 * x:+.{digits}f}" if math.isfinite(x) else "–"
 
 
 def findings(rows: Sequence[BondRow]) -> list[str]:
@@ -117,7 +97,7 @@ def findings(rows: Sequence[BondRow]) -> list[str]:
         failed = [r for r in rows if r.p == p and r.nonassoc_status and r.nonassoc_status != "converged"]
         parts = []
         if done:
-            gaps = ", ".join(f"{_pct2(r.below_assoc)} % at {r.rows} rows" for r in done)
+            gaps = ", ".join(f"{_pct(r.below_assoc, 2)} % at {r.rows} rows" for r in done)
             best, worst = min(r.macro_error for r in done), max(r.macro_error for r in done)
             parts.append(f"the non-associative λ differs from the associative one by {gaps}; the macro λ lies "
                          f"{_pct(best)} % to {_pct(worst)} % above the non-associative one")
@@ -157,7 +137,7 @@ def section(path: Path = TABLE) -> tuple[str, list[dict[str, Any]]]:
     ]
     for r in rows:
         lines.append(f"| {r.label} | {r.p:g} | {r.rows} | {r.blocks} | {_lam(r.macro)} | {_lam(r.assoc)} "
-                     f"| {_lam(r.nonassoc, r.nonassoc_status)} | {_pct2(r.below_assoc)} | {_pct(r.macro_error)} "
+                     f"| {_lam(r.nonassoc, r.nonassoc_status)} | {_pct(r.below_assoc, 2)} | {_pct(r.macro_error)} "
                      f"| {r.lps or '–'} |")
     return "\n".join(lines) + "\n", [_record(r) for r in rows]
 

@@ -78,20 +78,32 @@ class MapCell:
         return (self.macro - ref) / ref if math.isfinite(ref) else math.nan
 
 
-def load(path: Path = TABLE) -> list[MapCell]:
-    """The walls of a sweep table with their macro and micro load factors."""
+def wall_values(path: Path = TABLE) -> dict[tuple[str, ...], dict[str, Any]]:
+    """Per wall of a sweep table, keyed ``(t, m, rows, storeys, f, p)`` as the table writes them: the
+    macro load factor (``"macro"``), the micro ones that count as references (``"micro-assoc"``,
+    ``"micro-nonassoc"``; NaN otherwise), the blocks of those (``"blocks"``), and how the iterated LP
+    ended (``"nonassoc_status"``, ``"nonassoc_lps"``; ``""`` and 0 without it). Micro rows: the bond
+    with a full first course."""
     walls: dict[tuple[str, ...], dict[str, Any]] = {}
     for row in read_table(path):
         key = (row["t"], row["m"], row["rows"], row["storeys"], row["f"], row["p"])
-        w = walls.setdefault(key, {"macro": math.nan, "micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0})
+        w = walls.setdefault(key, {"macro": math.nan, "micro-assoc": math.nan, "micro-nonassoc": math.nan,
+                                   "blocks": 0, "nonassoc_status": "", "nonassoc_lps": 0})
         kind = row["kind"]
         if kind == "macro" and row["status"] == "optimal":
             w["macro"] = number(row["load_factor"])
         elif REFERENCE_STATUS.get(kind) == row["status"] and row["first_course"] == "full":
             w[kind] = number(row["load_factor"])
             w["blocks"] = max(w["blocks"], int(row["blocks"] or 0))
+        if kind == "micro-nonassoc" and row["first_course"] == "full":
+            w["nonassoc_status"], w["nonassoc_lps"] = str(row["status"]), int(row["iterations"] or 0)
+    return walls
+
+
+def load(path: Path = TABLE) -> list[MapCell]:
+    """The walls of a sweep table with their macro and micro load factors."""
     cells = []
-    for (t, m, rows, storeys, f, p), w in walls.items():
+    for (t, m, rows, storeys, f, p), w in wall_values(path).items():
         wall = (float(t), float(m), int(rows), int(storeys), float(f), float(p))
         cells.append(MapCell(*wall, w["blocks"], w["macro"], w["micro-assoc"], w["micro-nonassoc"]))
     return cells
