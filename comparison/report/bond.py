@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from comparison.report.errormap import wall_values
+from comparison.report.tables import plain
 
 #: The committed sweep table the section reads.
 TABLE = Path(__file__).resolve().parents[2] / "reports" / "sweeps" / "table9_bond.csv"
@@ -143,9 +144,6 @@ def section(path: Path = TABLE) -> tuple[str, list[dict[str, Any]]]:
 
 
 def _record(r: BondRow) -> dict[str, Any]:
-    """``r`` for ``report.json``: strict JSON, NaN as ``null``."""
-    def clean(x: Any) -> Any:
-        return None if isinstance(x, float) and not math.isfinite(x) else x
-
+    """``r`` for ``report.json``: strict JSON, NaN as ``null`` (:func:`~comparison.report.tables.plain`)."""
     extra = {"set": r.label, "below_assoc": r.below_assoc, "macro_error": r.macro_error}
-    return {k: clean(v) for k, v in {**asdict(r), **extra}.items()}
+    return {k: plain(v) for k, v in {**asdict(r), **extra}.items()}
