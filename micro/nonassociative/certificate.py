@@ -19,7 +19,7 @@ fields, not only the LP's optimal ones.
 The load factors of these states form an interval, the MECHANISM BAND: its
 ends are two LPs (min and max ``lambda``), solved by an interior point, no
 basis. An iterate's ``lambda`` is certified when it lies in the band
-(relative slack :data:`~micro.nonassociative.options.BAND_SLACK`), and the
+(relative slack :data:`~micro.nonassociative.tuning.BAND_SLACK`), and the
 state at ``lambda`` is the convex combination of the two end states
 (equilibrium is linear). A feasibility LP at fixed ``lambda`` would be one LP
 instead of two, but HiGHS' interior point stopped with "Solve error" when
@@ -43,16 +43,16 @@ from micro.backends.clarabel import ClarabelBackend
 from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
-from micro.nonassociative.options import (
+from micro.nonassociative.recipe import Recipe
+from micro.nonassociative.states import point_states
+from micro.nonassociative.tuning import (
     BAND_SLACK,
     INTERPENETRATION,
     STATE_CLARABEL,
     STATE_IPM_ITERATIONS,
     STATE_RESIDUAL,
     TINY,
-    NonAssociativeOptions,
 )
-from micro.nonassociative.states import point_states
 
 FloatArray = NDArray[np.float64]
 State = tuple[FloatArray, FloatArray, float]
@@ -86,7 +86,7 @@ class Certificate:
         options: the options (``scheme``, ``state_solver``, ``time_limit``).
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions) -> None:
+    def __init__(self, lp: LimitLP, direction: int, options: Recipe) -> None:
         self.lp, self.d, self.o = lp, direction, options
         self._state: PersistentHighsModel | None = None
 

@@ -16,19 +16,20 @@ from numpy.typing import NDArray
 
 from micro.lp import LimitLP
 from micro.nonassociative.iteration import Sequence
-from micro.nonassociative.options import RETRY_STATUSES, NonAssociativeOptions, Selection
+from micro.nonassociative.recipe import Recipe
+from micro.nonassociative.tuning import RETRY_STATUSES, Selection
 from micro.results import DirectionResult
 
 FloatArray = NDArray[np.float64]
 
 
-def solve_direction(lp: LimitLP, direction: int, options: NonAssociativeOptions,
+def solve_direction(lp: LimitLP, direction: int, options: Recipe,
                     start: FloatArray | None = None) -> DirectionResult:
     """The iterated LP on one load direction with ``options.selection``.
 
     ``"vertex+lazy"`` (``"vertex+proximal"``) runs the vertex sequence, and
     where it ends with a status of
-    :data:`~micro.nonassociative.options.RETRY_STATUSES` the lazy (proximal)
+    :data:`~micro.nonassociative.tuning.RETRY_STATUSES` the lazy (proximal)
     sequence (at most ``options.retry_iterations`` LPs), its ``nbar``
     started from the vertex sequence's last normal forces rather than the
     associative LP's: Set 2 (1,230 blocks) was certified after 17 lazy LPs

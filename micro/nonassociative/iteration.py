@@ -8,7 +8,7 @@ selection: ``nbar`` moved by ``beta`` towards its projection,
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
-simplex iterations (:data:`~micro.nonassociative.options.COLD_SWITCH_PIVOTS`).
+simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`).
 Every decision counts work (iterations, LPs), never seconds: the path and its
 numbers are the same on a loaded or slower machine; only the optional user
 stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
@@ -19,7 +19,7 @@ checked (:mod:`micro.nonassociative.checks`). Which sequences run on a
 direction is :mod:`micro.nonassociative.direction`'s. With
 ``continuation`` the vertex sequence's LPs hold scheme (b)'s friction rows
 with a positive slope ``gamma mu`` falling to 0 (``CONT_*`` in
-:mod:`~micro.nonassociative.options`), ``nbar`` moves by ``beta`` towards
+:mod:`~micro.nonassociative.tuning`), ``nbar`` moves by ``beta`` towards
 each LP's forces, warm runs are uncapped and never switched to cold, and
 from ``gamma = 0`` the certificate is tried at every LP with no cycle test.
 """
@@ -39,21 +39,8 @@ from micro.lp import LimitLP
 from micro.nonassociative import checks, convergence
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.options import (
-    COLD_STREAK,
-    COLD_SWITCH_PIVOTS,
-    CONT_COHESION,
-    CONT_FACTOR,
-    CONT_GAMMA0,
-    CONT_GAMMA_MIN,
-    EQUILIBRIUM_RESIDUAL,
-    MIN_WARM_LIMIT,
-    TINY,
-    WARM_LIMIT_PIVOTS,
-    WARM_UNLIMITED,
-    NonAssociativeOptions,
-)
 from micro.nonassociative.proximal import Projection
+from micro.nonassociative.recipe import LPProgress, Recipe
 from micro.nonassociative.results import (
     CONVERGED,
     CONVERGED_STOPS,
@@ -64,6 +51,22 @@ from micro.nonassociative.results import (
     Band,
     IterationRecord,
     SequenceDiagnostics,
+)
+from micro.nonassociative.tuning import (
+    COHESION,
+    COLD_STREAK,
+    COLD_SWITCH_PIVOTS,
+    COLD_TOL,
+    CONT_COHESION,
+    CONT_FACTOR,
+    CONT_GAMMA0,
+    CONT_GAMMA_MIN,
+    COULOMB_TOL,
+    EQUILIBRIUM_RESIDUAL,
+    MIN_WARM_LIMIT,
+    TINY,
+    WARM_LIMIT_PIVOTS,
+    WARM_UNLIMITED,
 )
 from micro.results import DIR_NAME, DirectionResult
 
@@ -88,7 +91,7 @@ class Sequence:
             solved again; ``None``: solve it.
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions,
+    def __init__(self, lp: LimitLP, direction: int, options: Recipe,
                  start: FloatArray | None = None,
                  iterate0: tuple[Outcome, str, FloatArray | None] | None = None) -> None:
         self.lp, self.d, self.o, self.start = lp, direction, options, start
@@ -116,6 +119,8 @@ class Sequence:
         # the continuation: scheme (a)'s vertex sequence reached from associative
         # friction through friction rows of slope gamma mu (scheme (b)'s rows)
         self.continuation = options.continuation and options.selection == "vertex"
+        fused = lp.n_eq != 3 * lp.wall.n_blocks  # the LP of a fused wall (fewer bodies than blocks)
+        self.stage = ("fused " if fused else "") + options.selection + (" continuation" if self.continuation else "")
         self.rows = options.scheme == "b" or self.continuation  # friction as rows, not bounds
         if self.continuation:  # its warm runs are not cut short: the path must not depend on a cap
             self.warm_limit = WARM_UNLIMITED
@@ -161,7 +166,7 @@ class Sequence:
         n0, s0 = x[: self.lp.n_points], x[self.lp.n_points : 2 * self.lp.n_points]
         n0 = np.maximum(n0, 0.0)
         # scheme (b)'s cohesion, relative to the largest associative normal force
-        self.c0 = self.o.cohesion * max(float(np.max(n0, initial=0.0)), TINY)
+        self.c0 = COHESION * max(float(np.max(n0, initial=0.0)), TINY)
         self._record(0, lam_assoc, NAN, NAN, checks.coulomb_residual(self.lp, n0, s0), 0.0, out, algo0)
         if self.start is not None:
             n0 = np.maximum(self.start, 0.0)
@@ -339,7 +344,7 @@ class Sequence:
         v = out.duals[: self.lp.n_eq]
         self.final = (v, n, s, lam)
         alpha_done = alpha == 0.0 if self.continuation else o.scheme == "a" or alpha <= o.alpha_min
-        coul_tol = o.coulomb_tol + (self.c0 / nscale if self.rows else 0.0)
+        coul_tol = COULOMB_TOL + (self.c0 / nscale if self.rows else 0.0)
         # a lazy iterate's mechanism is perturbed by the selection's cost: only the certificate ends it
         exact = None if o.selection == "lazy" else convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
         if exact is not None:
@@ -411,6 +416,7 @@ class Sequence:
             seconds=float(out.seconds), algorithm=algo, status=out.status.value, proximal_step=self.step,
         ))
         self.step = NAN
+        self.o.tell(LPProgress(DIR_NAME[self.d], self.stage, k, lam, dn, algo, float(out.seconds)))
 
     # ------------------------------------------------------------ finish
     def _fail(self, reason: str, msg: str, t_start: float, lam_assoc: float,
@@ -434,9 +440,9 @@ class Sequence:
         status = (CONVERGED if stop in CONVERGED_STOPS else TIME_LIMIT if stop == "time_budget"
                   else MAX_ITERATIONS if stop in ("max_iterations", "work_budget") else CYCLING)
         state = checks.final_state(lp, self.d, v, n, s, lam)
-        cold = checks.cold_check(model, lam, o.cold_tol) if o.cold_check else checks.ColdCheck(NAN, NAN, "", "")
+        cold = checks.cold_check(model, lam, COLD_TOL)
         msg = cold_note = ""
-        if o.cold_check and (not math.isfinite(cold.rel_diff) or cold.rel_diff > o.cold_tol):
+        if not math.isfinite(cold.rel_diff) or cold.rel_diff > COLD_TOL:
             cold_note = (f"the final iterate re-solved cold gives lambda = {cold.load_factor:.9g} against "
                          f"{lam:.9g} warm (HiGHS hot start; status {cold.native_status})")
             if status == CONVERGED:

@@ -57,7 +57,8 @@ def test_macro_json_matches_schema(argv: list[str], capsys: pytest.CaptureFixtur
         (["--friction", "associative", "--solver", "highs"], 0, "optimal"),
         (["--friction", "associative", "--solver", "clarabel", "--t", "0.5"], 0, "optimal"),
         (["--friction", "nonassociative"], 0, "converged"),
-        (["--friction", "nonassociative", "--max-iterations", "2"], 1, "max_iterations"),
+        (["--friction", "nonassociative", "--max-iterations", "2", "--tuning", "selection=vertex"], 1,
+         "max_iterations"),
     ],
     ids=["assoc-highs", "assoc-clarabel-set11", "nonassoc", "nonassoc-failed"],
 )
@@ -71,7 +72,8 @@ def test_micro_json_matches_schema(
 
 def test_schema_refuses_undocumented_keys_and_numbers_on_failure(capsys: pytest.CaptureFixture[str]) -> None:
     """The schemas can fail: an extra key, and a number beside a failure status, are refused."""
-    _, doc = _run(["micro", *WALL, "--friction", "nonassociative", "--max-iterations", "2", "--json"], capsys)
+    _, doc = _run(["micro", *WALL, "--friction", "nonassociative", "--max-iterations", "2", "--tuning",
+                   "selection=vertex", "--json"], capsys)
     micro = _validator("micro")
     assert _errors(micro, {**doc, "undocumented": 1})
     assert _errors(micro, {**doc, "load_factor": 0.71})
