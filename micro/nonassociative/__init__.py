@@ -34,12 +34,13 @@ Modules, one concept each:
 ``recipe``       :class:`Recipe`, both resolved for one wall (what the modules read);
 ``model``        the persistent HiGHS model of one direction and its updates;
 ``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
-``direction``    which sequences run on a direction (the selection, the retry) and their joint result;
+``pipeline``     one direction: which sequences run (the vertex one, the lazy or proximal retry, the fused wall);
+``selections``   the selections (vertex, lazy, proximal, continuation), one object each behind one interface;
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
 ``convergence``  the exact stop, the settle test, cycle detection;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
 ``results``      :class:`IterationRecord`, :class:`SequenceDiagnostics`, :class:`NonAssociativeResult`;
-``fusion``       the blocks that move as one rigid body fused into one (``options.fuse``);
+``fusion``       the blocks that move as one rigid body fused into one, and the fused state on the wall;
 ``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
 ``lowest``       the descent to the lowest certified collapse state (``options.lowest``);
 ``global_mip``   the mixed-integer search for the global minimum (``options.global_``), with
@@ -73,10 +74,10 @@ from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.convergence import detect_cycle
-from micro.nonassociative.fusion import solve_chain
 from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
 from micro.nonassociative.lowest import LowestDirection, lowest_state
 from micro.nonassociative.options import LOWEST_BUDGET, LOWEST_ROW_LPS, NonAssociativeOptions
+from micro.nonassociative.pipeline import solve_chain
 from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
 from micro.nonassociative.results import (
     CONVERGED,

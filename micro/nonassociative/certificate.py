@@ -55,7 +55,8 @@ from micro.nonassociative.tuning import (
 )
 
 FloatArray = NDArray[np.float64]
-State = tuple[FloatArray, FloatArray, float]
+#: ``(n, s, lambda)`` of a state found by a certificate LP.
+StateTriple = tuple[FloatArray, FloatArray, float]
 
 
 @dataclass(frozen=True, eq=False)
@@ -115,7 +116,7 @@ class Certificate:
         up_m = np.where(opening | slip_neg, 0.0, np.inf)  # g- carries s = -mu n
         return up_p, up_m
 
-    def state_lp(self, v: FloatArray, sense: float, time_limit: float = math.inf) -> tuple[State | None, Outcome]:
+    def state_lp(self, v: FloatArray, sense: float, time_limit: float = math.inf) -> tuple[StateTriple | None, Outcome]:
         """Minimise ``sense * lambda`` over the collapse states compatible
         with the mechanism ``v`` (the generator columns of :meth:`pattern`),
         by an interior point capped at :data:`STATE_IPM_ITERATIONS`
@@ -147,7 +148,7 @@ class Certificate:
         return (n, s, lam), out
 
     def _state_lp_clarabel(self, up_p: FloatArray, up_m: FloatArray, sense: float,
-                           time_limit: float) -> tuple[State | None, Outcome]:
+                           time_limit: float) -> tuple[StateTriple | None, Outcome]:
         """:meth:`state_lp` by Clarabel: the generator LP with the excluded
         columns left out (its own residual check)."""
         lp, d = self.lp, self.d

@@ -59,15 +59,15 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.sparse.csgraph import connected_components
 
+from micro.backends.base import Outcome
 from micro.backends.clarabel import ClarabelBackend
 from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
-from micro.nonassociative.direction import joined, solve_direction
 from micro.nonassociative.recipe import Recipe
 from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
-from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL, FUSE_RIGID_TOL, RETRY_STATUSES
+from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL, FUSE_RIGID_TOL
 from micro.results import DirectionResult
 
 FloatArray = NDArray[np.float64]
@@ -182,30 +182,41 @@ def fuse(lp: LimitLP, body: IntArray, n_bodies: int) -> FusedLP:
     return FusedLP(fused, R, points, body, n_bodies)
 
 
-def solve_fused(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult:
-    """The iterated LP of one direction on the fused wall (module docstring).
+def fused_wall(lp: LimitLP, direction: int, options: Recipe) -> tuple[FusedLP, Outcome] | None:
+    """The fused wall of one direction: the associative LP of the whole wall
+    (Clarabel) gives the mechanism whose rigid bodies are fused.
 
-    The associative LP of the whole wall (Clarabel) gives the mechanism whose
-    rigid bodies are fused; the sequence (``options.selection``) runs on
-    their LP; a converged state is accepted only when the certificate of the
-    whole wall finds a field for the bodies' mechanism at its ``lambda``. The
-    result is the wall's: forces at all its points, the mechanism of all its
-    blocks. Where the associative LP fails, or nothing moves, the unfused
-    sequence runs instead.
+    Returns:
+        ``(the fused LP, the associative outcome)``, or ``None`` where the
+        associative LP fails or nothing moves (the wall itself must run).
     """
-    t0 = time.perf_counter()
-    unfused = dataclasses.replace(options, fuse=False)
     assoc = ClarabelBackend(lp, time_limit=options.time_limit).solve(direction)
     if not assoc.ok or assoc.duals is None:
-        return solve_direction(lp, direction, unfused)
+        return None
     body, n_bodies = rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]))
     if n_bodies == 0:
-        return solve_direction(lp, direction, unfused)
-    fused = fuse(lp, body, n_bodies)
-    t_fuse = time.perf_counter() - t0
-    # the continuation starts from the wall's associative forces at the points kept
-    start = np.maximum(np.asarray(assoc.n)[fused.points], 0.0) if options.continuation and assoc.n is not None else None
-    r = solve_direction(fused.lp, direction, unfused, start=start)
+        return None
+    return fuse(lp, body, n_bodies), assoc
+
+
+def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: DirectionResult,
+                options: Recipe, t0: float, t_fuse: float) -> DirectionResult:
+    """The fused wall's result ``r`` as the wall's (module docstring): a
+    converged state is accepted only when the certificate of the whole wall
+    finds a field for the bodies' mechanism at its ``lambda``; the result has
+    forces at all the wall's points and the mechanism of all its blocks.
+
+    Args:
+        lp: the wall's LP.
+        direction: ``+1`` or ``-1``.
+        fused: the fused wall (:func:`fused_wall`).
+        assoc: the wall's associative outcome whose mechanism was fused.
+        r: the sequences' result on ``fused.lp``.
+        options: the recipe.
+        t0: when the fusing started (``time.perf_counter()``).
+        t_fuse: the seconds of the associative LP and the fusion.
+    """
+    n_bodies = fused.n_bodies
     assert r.sequence is not None
     seq = r.sequence
     lam = seq.last_load_factor
@@ -258,30 +269,3 @@ def solve_fused(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult
         mechanism=state.mechanism, seconds=time.perf_counter() - t0, message=message, sequence=seq)
 
 
-def solve_chain(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult:
-    """One load direction as ``options`` ask: the fused wall (``fuse``), or
-    the wall's own sequences (:func:`solve_direction`) and, where those of
-    ``"vertex+lazy"`` or ``"vertex+proximal"`` (scheme (a)) both end
-    ``cycling`` or ``max_iterations``, the fused wall with the continuation
-    (``fused_retry``).
-
-    It certified the two error-map walls (882 and 1,314 blocks) on which the
-    vertex and the proximal sequences end at their caps (measurements:
-    ``docs/research/2026-11-25-nonassociative-recipe.md``).
-
-    A certified third run is returned with the wall's sequences in
-    ``sequence.unfused_attempt``; a failed one leaves the wall's result,
-    its message extended. Either way the LPs and seconds of all runs count.
-    """
-    if options.fuse:
-        return solve_fused(lp, direction, options)
-    first = solve_direction(lp, direction, options)
-    if (not options.fused_retry or options.continuation or options.scheme != "a"
-            or not options.selection.startswith("vertex+") or first.status not in RETRY_STATUSES):
-        return first
-    third = solve_fused(lp, direction, dataclasses.replace(options, fuse=True, continuation=True))
-    assert first.sequence is not None and third.sequence is not None
-    if not third.converged:
-        return joined(first, third, first,
-                      message=f"{first.message}; the fused wall with the continuation: {third.message}")
-    return joined(first, third, third, sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence))

@@ -106,7 +106,7 @@ FINISHED, BUDGET = "finished", "budget"
 
 
 @dataclass(frozen=True, eq=False)
-class State:
+class CollapseState:
     """An exact collapse state of one direction (scaled units).
 
     Attributes:
@@ -216,20 +216,20 @@ class Descent:
         return self.forces.lps + self.mechanisms.lps + (self.gilbert[1].lps if self.gilbert is not None else 0)
 
     # ------------------------------------------------------------ checks
-    def as_result(self, state: State) -> DirectionResult:
+    def as_result(self, state: CollapseState) -> DirectionResult:
         """``state`` as a :class:`~micro.results.DirectionResult` (dimensional forces)."""
         fs = self.lp.force_scale
         return DirectionResult(direction=DIR_NAME[self.d], status=FOUND, load_factor=state.load_factor,
                                iterations=0, seconds=0.0, normal=state.n * fs, shear=state.s * fs,
                                mechanism=mechanism_from_duals(self.lp, state.v, self.d))
 
-    def exact(self, state: State) -> bool:
+    def exact(self, state: CollapseState) -> bool:
         """Every residual of :func:`verify_collapse_state` is at most :data:`EXACT_TOL`."""
         res = verify_collapse_state(self.lp, self.as_result(state))
         return all(v <= EXACT_TOL for k, v in res.items() if k != "slipping_points")
 
     # ------------------------------------------------------------ polish
-    def settle(self, f: ForceField, v: FloatArray, origin: str) -> State | None:
+    def settle(self, f: ForceField, v: FloatArray, origin: str) -> CollapseState | None:
         """The field ``f`` (the lower end of ``v``'s pattern) with a mechanism
         exactly compatible with it, or else with ``v`` itself; ``None``
         unless the state passes :meth:`exact`.
@@ -241,7 +241,7 @@ class Descent:
         :data:`EXACT_TOL`."""
         clean = self.mechanisms.compatible(f)
         for mech in (clean, v) if clean is not None else (v,):
-            state = State(f.load_factor, f.n, f.s, mech, origin)
+            state = CollapseState(f.load_factor, f.n, f.s, mech, origin)
             if self.exact(state):
                 return state
         return None
@@ -251,7 +251,7 @@ class Descent:
         restricted = restricted_columns(self.lp, v)
         return None if restricted is None else self.forces.solve(restricted)
 
-    def polish(self, v: FloatArray, origin: str) -> State | None:
+    def polish(self, v: FloatArray, origin: str) -> CollapseState | None:
         """The lower end of ``v``'s band, then the convex-concave rounds
         (module docstring) until no compatible mechanism lowers it.
 
@@ -277,7 +277,7 @@ class Descent:
         """The points whose friction a proposal releases (:data:`RELEASED_KINDS`)."""
         return np.isin(np.repeat(self.lp.wall.contact_kind, 2), RELEASED_KINDS) & (self.lp.mu > 0.0)
 
-    def propose(self, state: State, released: BoolArray) -> State | None:
+    def propose(self, state: CollapseState, released: BoolArray) -> CollapseState | None:
         """Relaxed Gilbert steps from ``state``'s normal forces with the
         friction of the ``released`` points set to zero; the lowest polished
         exact state of the steps' distinct mechanisms (``None`` if none)."""
@@ -289,7 +289,7 @@ class Descent:
         model, runs = self.gilbert
         beta = self.o.beta
         n_prev = n_prev2 = state.n
-        best: State | None = None
+        best: CollapseState | None = None
         for k in range(PROPOSAL_STEPS):
             if self.spent():
                 break
@@ -317,7 +317,7 @@ class Descent:
         fs = self.lp.force_scale
         v0 = np.asarray(start.mechanism.velocities, dtype=float).ravel()
         lam0 = start.sequence.last_load_factor if start.sequence is not None else start.load_factor
-        it = State(lam0, start.normal / fs, start.shear / fs, v0, "iterated")
+        it = CollapseState(lam0, start.normal / fs, start.shear / fs, v0, "iterated")
         best = it if self.exact(it) else None
         path = [] if best is None else [best.load_factor]
         lower = self.polish(v0, "lower end")
@@ -335,7 +335,7 @@ class Descent:
             path.append(new.load_factor)
         return self._finish(best, tuple(path), tuple(moves), t0)
 
-    def _finish(self, best: State | None, path: tuple[float, ...], moves: tuple[str, ...],
+    def _finish(self, best: CollapseState | None, path: tuple[float, ...], moves: tuple[str, ...],
                 t0: float) -> LowestDirection:
         """The band of the lowest state's mechanism and the result."""
         name = DIR_NAME[self.d]

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 from micro.nonassociative.options import NonAssociativeOptions
-from micro.nonassociative.tuning import Selection, Tuning
+from micro.nonassociative.tuning import SelectionName, Tuning
 from micro.results import Directions
 
 
@@ -59,7 +59,7 @@ class Recipe:
     """
 
     scheme: Literal["a", "b"]
-    selection: Selection
+    selection: SelectionName
     relaxation: float
     alpha0: float
     alpha_min: float

@@ -27,8 +27,8 @@ DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
 #: How an iterate picks its forces among the optimal fields of its LP, or
 #: (``"proximal"``) the next ``nbar`` near them (``"vertex+lazy"``,
 #: ``"vertex+proximal"``: the vertex sequence, and the other where it fails).
-Selection = Literal["vertex", "lazy", "proximal", "vertex+lazy", "vertex+proximal"]
-SELECTIONS: tuple[str, ...] = get_args(Selection)
+SelectionName = Literal["vertex", "lazy", "proximal", "vertex+lazy", "vertex+proximal"]
+SELECTIONS: tuple[str, ...] = get_args(SelectionName)
 
 
 #: ``"vertex+lazy"`` runs the lazy sequence on a direction whose vertex
@@ -158,7 +158,7 @@ TINY = 1e-12
 #: one from its last normal forces on a direction where it cycles or hits its
 #: cap (Sets 2 and 9 of Table 5 cycle with vertices; the proximal sequence
 #: certifies them). Scheme (b) has only the vertex selection.
-DEFAULT_SELECTION: Selection = "vertex+proximal"
+DEFAULT_SELECTION: SelectionName = "vertex+proximal"
 #: Cap on the LPs of that second sequence per direction.
 RETRY_LPS = 40
 #: Walls of more than this many blocks run fused with the continuation
@@ -244,7 +244,7 @@ class Tuning:
     """
 
     scheme: Literal["a", "b"] = "a"
-    selection: Selection | None = None
+    selection: SelectionName | None = None
     relaxation: float | None = None
     alpha0: float = 0.3
     alpha_min: float = 1e-3
@@ -316,7 +316,7 @@ class Tuning:
         check_integer("settle_window", self.settle_window, 2)
 
     @property
-    def resolved_selection(self) -> Selection:
+    def resolved_selection(self) -> SelectionName:
         """:attr:`selection`, or the scheme's default."""
         if self.selection is not None:
             return self.selection

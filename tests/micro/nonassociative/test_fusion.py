@@ -11,7 +11,14 @@ import pytest
 import micro
 from comparison.wall import WallSpec
 from micro.backends.clarabel import ClarabelBackend
-from micro.nonassociative import NonAssociativeOptions, Tuning, fusion, solve_nonassociative, verify_collapse_state
+from micro.nonassociative import (
+    NonAssociativeOptions,
+    Tuning,
+    fusion,
+    pipeline,
+    solve_nonassociative,
+    verify_collapse_state,
+)
 from micro.nonassociative.certificate import Certificate, CertificateResult
 from micro.nonassociative.fusion import fuse, rigid_bodies
 
@@ -123,7 +130,7 @@ def test_fuse_option_is_a_flag() -> None:
 def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int) -> list[tuple[int, bool]]:
     """Cap the wall's own sequences (not the continuation) at ``cap`` LPs
     each, so that they end ``max_iterations``; returns the calls made."""
-    real = fusion.solve_direction
+    real = pipeline.solve_direction
     calls: list[tuple[int, bool]] = []
 
     def capped(lp: micro.LimitLP, d: int, o: NonAssociativeOptions, start: np.ndarray | None = None
@@ -133,7 +140,7 @@ def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int) -> list[tu
             o = dataclasses.replace(o, max_iterations=cap, retry_iterations=cap)
         return real(lp, d, o, start=start)
 
-    monkeypatch.setattr(fusion, "solve_direction", capped)
+    monkeypatch.setattr(pipeline, "solve_direction", capped)
     return calls
 
 
@@ -177,13 +184,13 @@ def test_a_failed_fused_retry_leaves_the_walls_result(monkeypatch: pytest.Monkey
     """A fused retry that fails too (its continuation capped at 2 LPs here)
     leaves the wall's status and band, with both runs' LPs and a message
     naming both."""
-    real = fusion.solve_direction
+    real = pipeline.solve_direction
 
     def capped(lp: micro.LimitLP, d: int, o: NonAssociativeOptions, start: np.ndarray | None = None
                ) -> micro.DirectionResult:
         return real(lp, d, dataclasses.replace(o, max_iterations=2, retry_iterations=2), start=start)
 
-    monkeypatch.setattr(fusion, "solve_direction", capped)
+    monkeypatch.setattr(pipeline, "solve_direction", capped)
     r = solve_nonassociative(wall(0.5), tuning=Tuning(selection="vertex+proximal"), lowest=False, directions="+x")
     d = r.directions[0]
     assert d.status == "max_iterations" and d.sequence.lambda_band is not None

@@ -14,7 +14,7 @@ from micro.nonassociative import (
     solve_nonassociative,
     verify_collapse_state,
 )
-from micro.nonassociative.iteration import Sequence
+from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.model import IterationModel, restart
 from micro.nonassociative.tuning import LAZY_WEIGHT
 
@@ -110,7 +110,7 @@ def test_vertex_then_lazy_retries_a_failed_direction() -> None:
     assert vertex.status == "max_iterations" and vertex.governing.normal is not None
     lazy_options = recipe_for(w.n_blocks, NonAssociativeOptions(max_iterations=4, lowest=False),
                               Tuning(selection="lazy"))
-    lazy = Sequence(lp, 1, lazy_options, start=vertex.governing.normal / lp.force_scale).run()
+    lazy = LPSequence(lp, 1, lazy_options, start=vertex.governing.normal / lp.force_scale).run()
     assert lazy.converged
     assert r.converged and r.load_factor == pytest.approx(lazy.load_factor, rel=1e-12)
     # not the lazy sequence from the associative forces (0.7117, measured), nearer the vertex one (0.7086)

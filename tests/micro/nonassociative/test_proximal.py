@@ -17,7 +17,7 @@ from micro.nonassociative import (
     verify_collapse_state,
 )
 from micro.nonassociative.convergence import detect_stall
-from micro.nonassociative.iteration import Sequence
+from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.model import IterationModel, restart
 from micro.nonassociative.proximal import Projection
 from micro.nonassociative.tuning import PROX_MARGIN
@@ -129,7 +129,7 @@ def test_vertex_then_proximal_retries_a_failed_direction() -> None:
     assert vertex.status == "max_iterations" and vertex.governing.normal is not None
     options = recipe_for(w.n_blocks, NonAssociativeOptions(max_iterations=20, lowest=False),
                          Tuning(selection="proximal"))
-    prox = Sequence(lp, 1, options, start=vertex.governing.normal / lp.force_scale).run()
+    prox = LPSequence(lp, 1, options, start=vertex.governing.normal / lp.force_scale).run()
     assert prox.converged
     assert r.converged and r.load_factor == pytest.approx(prox.load_factor, rel=1e-9)
     q = r.sequence
