@@ -345,9 +345,13 @@ class Tuning:
         return dataclasses.replace(self, **overrides)
 
     def changed(self) -> dict[str, Any]:
-        """The knobs that differ from the defaults (the report's method: ``{}``)."""
-        default = Tuning()
-        return {k: getattr(self, k) for k in TUNING_KNOBS if getattr(self, k) != getattr(default, k)}
+        """The knobs that change the computation from the defaults' (the report's
+        method: ``{}``; a selection or relaxation that names the default is no change)."""
+        default = Tuning(scheme=self.scheme)
+        same = {"selection": self.resolved_selection == default.resolved_selection,
+                "relaxation": self.beta == default.beta}
+        return {k: getattr(self, k) for k in TUNING_KNOBS
+                if getattr(self, k) != getattr(Tuning(), k) and not same.get(k, False)}
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready."""
