@@ -58,7 +58,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--friction",
         default="associative",
         metavar="LAW",
-        help="friction law: associative (default) or nonassociative (iterated LP, HiGHS)",
+        help="friction law: associative (default) or nonassociative (the iterated LP; -v streams its LPs)",
     )
     g.add_argument(
         "--solver",
@@ -85,7 +85,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
     # ---- non-associative friction: the report's method; research knobs only through --tuning
     na = p.add_argument_group("non-associative friction (--friction nonassociative; the report's method)")
-    na.add_argument("--max-iterations", default="100", metavar="N", help="cap on the LPs per direction (default 100)")
+    na.add_argument("--max-iterations", default=None, metavar="N",
+                    help="cap on the LPs of a direction's first sequence (default: the library's, 100)")
     na.add_argument(
         "--no-lowest",
         action="store_true",
@@ -259,15 +260,15 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         raise UsageError("--solver applies to --friction associative only (the iterated LP runs HiGHS' simplex "
                          "and Clarabel's interior point)")
     tuning = parse_tuning(args.tuning)
-    max_it = int_option("--max-iterations", args.max_iterations, minimum=2)
-    # with --global, --time-limit also limits each direction's branch and bound
-    global_limit: dict[str, Any] = {} if time_limit is None else {"global_time_limit": time_limit}
+    # the options given; the others are the library's defaults
+    given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit, "global_time_limit": time_limit}
+    if args.max_iterations is not None:
+        given["max_iterations"] = int_option("--max-iterations", args.max_iterations, minimum=2)
     if args.node_limit is not None:
-        global_limit["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
+        given["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
     result = micro.solve_nonassociative(
         wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
-        max_iterations=max_it, time_limit=time_limit, lowest=not args.no_lowest, global_=args.global_,
-        **global_limit,
+        lowest=not args.no_lowest, global_=args.global_, **given,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:
@@ -333,8 +334,8 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
 
 
 def _print_retry(result: NonAssociativeResult) -> None:
-    """With ``--selection vertex+lazy`` or ``vertex+proximal``: the line saying the second sequence ran,
-    and how the vertex one ended."""
+    """Where the vertex sequence failed and the proximal (or lazy) one ran: the line saying so, and how
+    the vertex one ended."""
     first = result.sequence.vertex_attempt
     if first is None:
         return
@@ -345,8 +346,8 @@ def _print_retry(result: NonAssociativeResult) -> None:
 
 
 def _print_fusion(result: NonAssociativeResult) -> None:
-    """With ``--fuse`` (or after the wall's own sequences failed, ``fused_retry``): the size of the fused
-    wall, and whether the wall's certificate took its state."""
+    """On a fused wall (walls of more than 2,000 blocks, ``--tuning fuse=true``, or after the wall's own
+    sequences failed): the size of the fused wall, and whether the wall's certificate took its state."""
     f = result.sequence.fusion
     if f is None:
         return
@@ -366,8 +367,9 @@ def _print_lowest(result: NonAssociativeResult) -> None:
     if low is not None:
         n = len(low.moves)
         moves = f", {n} move{'s' if n > 1 else ''}" if n else ""
+        spent = "; its budget of LPs spent: the lowest found so far" if low.stop == "budget" else ""
         print(f"  lowest certified collapse state: lambda = {low.load_factor:.6f} ({low.direction}; "
-              f"{low.origin}{moves}; {low.lps} LPs, {low.seconds:.3f} s)")
+              f"{low.origin}{moves}; {low.lps} LPs, {low.seconds:.3f} s{spent})")
     elif result.lowest:
         print(f"  lowest certified collapse state: none ({'; '.join(x.message for x in result.lowest if x.message)})")
     g = result.global_search
