@@ -39,7 +39,7 @@ stops when no proposal is (a relative decrease below :data:`LOWEST_TOL`
 counts as none) or after :data:`LOWEST_MAX_MOVES` accepted proposals.
 
 THE BUDGET. A descent may solve at most
-``lowest_budget x (the direction's iterated LPs) + LOWEST_ROW_LPS / rows``
+``(LOWEST_ROW_LPS + lowest_budget x (the direction's iterated LPs)) / rows``
 LPs
 (:mod:`micro.nonassociative.options`; then one more for the band of the
 state it returns). It counts LPs, not seconds, so it stops at the same state
@@ -371,7 +371,7 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe) -> Lowest
     """
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
-    budget = math.ceil(options.lowest_budget * start.iterations + LOWEST_ROW_LPS / lp.n_eq)
+    budget = math.ceil((LOWEST_ROW_LPS + options.lowest_budget * start.iterations) / lp.n_eq)
     return Descent(lp, direction_sign(start.direction), options, budget).run(start)
 
 

@@ -16,15 +16,15 @@ from micro.backends.base import check_integer
 from micro.results import Directions, check_directions
 
 #: The descent to the lowest certified state may solve at most
-#: ``lowest_budget * (the direction's iterated LPs) + LOWEST_ROW_LPS / (equilibrium rows)``
-#: LPs per direction (:mod:`micro.nonassociative.lowest`): the second term is a
-#: fixed amount of work in LPs times rows, many LPs on a small wall, few on a
-#: large one, whose LPs cost more. With 0.5 and 20,000 every descent of
-#: ``xcheck stability --lowest`` (178 walls, up to 294 blocks, up to 86 LPs)
-#: finishes, and the 1,230-block wall of Table 5 (9 iterated LPs) gets 10.
+#: ``(LOWEST_ROW_LPS + lowest_budget * (the direction's iterated LPs)) / (equilibrium rows)``
+#: LPs per direction (:mod:`micro.nonassociative.lowest`): a work budget in LPs
+#: times rows, so many LPs on a small wall and few on a large one, whose LPs
+#: cost more. With 20,000 and 500 every descent of ``xcheck stability
+#: --lowest`` (178 walls, up to 294 blocks, up to 86 LPs) finishes, and the
+#: walls of Table 5 get 7 (1,230 blocks, 9 iterated LPs) to 17 LPs (Set 2, 82).
 LOWEST_ROW_LPS = 20_000
-#: Default of :attr:`NonAssociativeOptions.lowest_budget`.
-LOWEST_BUDGET = 0.5
+#: Default of :attr:`NonAssociativeOptions.lowest_budget` (LPs times rows per iterated LP).
+LOWEST_BUDGET = 500.0
 
 
 @dataclass(frozen=True)
@@ -45,11 +45,11 @@ class NonAssociativeOptions:
             depends on time: the same wall gives the same numbers everywhere.
         lowest: after a converged run, descend to the lowest certified
             collapse state (``lowest_load_factor``; :mod:`micro.nonassociative.lowest`).
-        lowest_budget: the descent's budget per direction in LPs, as a
-            multiple of the LPs the direction's iterated LP took (plus
-            :data:`LOWEST_ROW_LPS` over the wall's equilibrium rows); a
-            descent that spends it returns the lowest certified state found
-            so far (``lowest_stop="budget"``). No clock decides it.
+        lowest_budget: the descent's budget per direction, in LPs times
+            equilibrium rows per LP of the direction's iterated LP (plus
+            :data:`LOWEST_ROW_LPS`; divided by the wall's rows it is a number
+            of LPs); a descent that spends it returns the lowest certified
+            state found so far (``lowest_stop="budget"``). No clock decides it.
         global_: then search for the global minimum by branch and bound
             (:mod:`micro.nonassociative.global_mip`; walls of a few blocks).
         global_time_limit: seconds of branch and bound per direction
