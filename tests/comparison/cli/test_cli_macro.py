@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from comparison.cli import main
-from comparison.scene import SceneError, parse_scene
+from comparison.scene import STOREY_HOWTO, SceneError, parse_scene
 
 ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = ROOT / "examples" / "three-storey.toml"
@@ -202,3 +202,26 @@ def test_an_error_inside_a_model_is_not_a_usage_error(monkeypatch: pytest.Monkey
     monkeypatch.setattr(macro, "solve", broken)
     with pytest.raises(ValueError, match="a bug inside the solver"):
         main(["macro", "--rows", "12", "--t", "1", "--m", "1/3", "--f", "0.6"])
+
+
+@pytest.mark.parametrize(
+    ("text", "where"),
+    [
+        ("storey = 5\n" + GOOD.split("[[storey]]")[0], "(line 1): storey = 5 gives no storey"),
+        (GOOD.split("[[storey]]")[0].replace("friction = 0.6", "friction = 0.6\nstorey = 5"),
+         "(line 6): unknown key 'storey' in [wall]"),
+        (GOOD.split("[[storey]]")[0].replace("friction = 0.6", "friction = 0.6\nstoreys = 5"),
+         "(line 6): unknown key 'storeys' in [wall]"),
+        (GOOD.split("[[storey]]")[0] + "[storey]\nrows = 20\n", "(line 9): [storey] is a single table"),
+        (GOOD.split("[[storey]]")[0], "no [[storey]] given"),
+    ],
+    ids=["top-level", "in-wall", "storeys-in-wall", "single-table", "none"],
+)
+def test_a_scene_without_storey_tables_is_told_how_to_write_them(text: str, where: str) -> None:
+    """Issue 31, item 13: ``storey = 5`` was told ``no [[storey]] given`` and not how to write one."""
+    with pytest.raises(SceneError) as exc:
+        parse_scene(text, source="w.toml")
+    message = str(exc.value)
+    assert where in message and "\n" not in message, message
+    assert message.endswith(f": {STOREY_HOWTO}") or message.endswith(f"; {STOREY_HOWTO}"), message
+    assert "a line [[storey]], then rows = N" in STOREY_HOWTO
