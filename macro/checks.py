@@ -98,7 +98,7 @@ def _real(value: object) -> float | None:
         try:
             return float(value)
         except OverflowError:  # an int beyond the doubles (10**400): infinite, for the checks to refuse
-            return math.inf if value > 0 else -math.inf
+            return -math.inf if str(value).lstrip().startswith("-") else math.inf
     return None
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from comparison.cli import main
+from comparison.report.committed import BOND, ERRORMAP, LOWEST
 from comparison.scene import STOREY_HOWTO, SceneError, parse_scene
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -169,6 +170,12 @@ def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.C
     assert code == 0 and "REPORT.md" in out
     assert err.startswith("plan: ") and "0 cached" in err.splitlines()[0]  # the plan first
     assert "micro-assoc" in err  # then one line per computation (not a terminal: no bar)
+    # the committed tables are read from --tables, by default --out: not there, so said loudly
+    # (issue 31, item 10)
+    missing = [line for line in err.splitlines() if line.startswith("xcheck: warning: the report's table ")]
+    assert [line.split()[5] for line in missing] == [str(tmp_path / n) for n in (ERRORMAP, BOND, LOWEST)], err
+    assert "The sweep table `reports/sweeps/errormap.csv` is missing." in (tmp_path / "REPORT.md").read_text()
+    cache += ["--tables", str(ROOT / "reports")]
     text = (tmp_path / "REPORT.md").read_text()
     for heading in (
         "Table 5",
@@ -181,11 +188,34 @@ def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.C
         assert heading in text
     for name in ("table7.csv", "report.json", "sensitivity.png", "speed_accuracy.png", "mechanism_12.png"):
         assert (tmp_path / name).stat().st_size > 0, name
-    # a second run reads everything from the cache; not on a terminal and not --verbose: silent
+    # issue 31, item 9: timings.md said "N computations, 0 read from the result cache" and every row
+    # "read from the cache: yes" (the records computed in the workers are read back from the cache)
+    computed = _timings(tmp_path)
+    assert computed["cached"] == 0 and computed["yes"] == 0 and computed["rows"] > 0
+    assert "0 read from the result cache" in (tmp_path / "timings.md").read_text()
+    # a second run reads everything from the cache; not on a terminal and not --verbose: the plan, the
+    # status line (issue 31, item 8: it was silent) and what it wrote, on stderr
     code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache)
-    assert code == 0 and err == ""
+    lines = err.splitlines()
+    assert code == 0 and lines[0].startswith("plan: ") and ", 0 to compute" in lines[0], err
+    assert lines[-1].startswith(f"wrote {len(list(tmp_path.glob('*.*')))} files into {tmp_path}: REPORT.md, "
+                                "report.json, timings.md, "), err
+    assert len(lines) == 2 and "micro-assoc" not in err  # nothing to compute: no status line
+    again = _timings(tmp_path)
+    assert again["cached"] == again["yes"] == again["rows"] == computed["rows"]
+    assert "The sweep table `reports/sweeps/errormap.csv` is missing." not in (tmp_path / "REPORT.md").read_text()
     code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache, "--verbose")
     assert code == 0 and ", 0 to compute" in err and "micro-assoc" not in err
+    code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache, "-q")
+    assert code == 0 and err == ""
+
+
+def _timings(out: Path) -> dict[str, int]:
+    """The run's cached count and its micro rows, and how many of them say "read from the cache"."""
+    timings = json.loads((out / "timings.json").read_text())
+    rows = [r for r in timings["timings"] if not r["method"].startswith("macro")]
+    return {"cached": timings["run"]["cached"], "rows": len(rows),
+            "yes": sum(r["read from the cache"] == "yes" for r in rows)}
 
 
 def test_cache_and_no_cache_exclude_each_other(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
