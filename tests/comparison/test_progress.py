@@ -6,7 +6,7 @@ import io
 
 import pytest
 
-from comparison.progress import LOG_SECONDS, NORMAL, QUIET, VERBOSE, Progress, duration
+from comparison.progress import NORMAL, QUIET, VERBOSE, Progress
 
 
 class Terminal(io.StringIO):
@@ -53,6 +53,8 @@ def test_a_log_gets_a_status_line_every_tenth_or_30_seconds() -> None:
     """Issue 31, item 8: off a terminal ``xcheck report`` printed nothing (25 minutes of nothing under load).
     Without ``-q`` it now prints the plan, a status line each time another 10 % is done or 30 s have
     passed since the last (done, cached, to go, elapsed, ETA), and its summary, on stderr."""
+    from comparison.progress import LOG_SECONDS
+
     stream, clock = io.StringIO(), Clock()
     with Progress(NORMAL, stream, clock=clock) as p:
         p.say("plan: 100 computations")
@@ -87,5 +89,7 @@ def test_a_log_gets_a_status_line_every_tenth_or_30_seconds() -> None:
 
 
 def test_durations() -> None:
+    from comparison.progress import duration
+
     assert [duration(s) for s in (0.4, 59.6, 65, 3599, 7380)] == ["0 s", "1 min 00 s", "1 min 05 s", "59 min 59 s",
                                                                      "2 h 03 min"]

@@ -11,8 +11,7 @@ from pathlib import Path
 import pytest
 
 from comparison.cli import main
-from comparison.report.committed import BOND, ERRORMAP, LOWEST
-from comparison.scene import STOREY_HOWTO, SceneError, parse_scene
+from comparison.scene import SceneError, parse_scene
 
 ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = ROOT / "examples" / "three-storey.toml"
@@ -170,8 +169,15 @@ def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.C
     assert code == 0 and "REPORT.md" in out
     assert err.startswith("plan: ") and "0 cached" in err.splitlines()[0]  # the plan first
     assert "micro-assoc" in err  # then one line per computation (not a terminal: no bar)
+    # issue 31, item 9: timings.md said "N computations, 0 read from the result cache" and every row
+    # "read from the cache: yes" (the records computed in the workers are read back from the cache)
+    computed = _timings(tmp_path)
+    assert computed["cached"] == 0 and computed["yes"] == 0 and computed["rows"] > 0
+    assert "0 read from the result cache" in (tmp_path / "timings.md").read_text()
     # the committed tables are read from --tables, by default --out: not there, so said loudly
     # (issue 31, item 10)
+    from comparison.report.committed import BOND, ERRORMAP, LOWEST
+
     missing = [line for line in err.splitlines() if line.startswith("xcheck: warning: the report's table ")]
     assert [line.split()[5] for line in missing] == [str(tmp_path / n) for n in (ERRORMAP, BOND, LOWEST)], err
     assert "The sweep table `reports/sweeps/errormap.csv` is missing." in (tmp_path / "REPORT.md").read_text()
@@ -188,13 +194,8 @@ def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.C
         assert heading in text
     for name in ("table7.csv", "report.json", "sensitivity.png", "speed_accuracy.png", "mechanism_12.png"):
         assert (tmp_path / name).stat().st_size > 0, name
-    # issue 31, item 9: timings.md said "N computations, 0 read from the result cache" and every row
-    # "read from the cache: yes" (the records computed in the workers are read back from the cache)
-    computed = _timings(tmp_path)
-    assert computed["cached"] == 0 and computed["yes"] == 0 and computed["rows"] > 0
-    assert "0 read from the result cache" in (tmp_path / "timings.md").read_text()
-    # a second run reads everything from the cache; not on a terminal and not --verbose: the plan, the
-    # status line (issue 31, item 8: it was silent) and what it wrote, on stderr
+    # a second run reads everything from the cache; not on a terminal and not --verbose: the plan and what
+    # it wrote, on stderr (issue 31, item 8: it was silent; with something to compute, status lines between)
     code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache)
     lines = err.splitlines()
     assert code == 0 and lines[0].startswith("plan: ") and ", 0 to compute" in lines[0], err
@@ -249,6 +250,8 @@ def test_an_error_inside_a_model_is_not_a_usage_error(monkeypatch: pytest.Monkey
 )
 def test_a_scene_without_storey_tables_is_told_how_to_write_them(text: str, where: str) -> None:
     """Issue 31, item 13: ``storey = 5`` was told ``no [[storey]] given`` and not how to write one."""
+    from comparison.scene import STOREY_HOWTO
+
     with pytest.raises(SceneError) as exc:
         parse_scene(text, source="w.toml")
     message = str(exc.value)

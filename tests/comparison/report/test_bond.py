@@ -9,7 +9,6 @@ from pathlib import Path
 import pytest
 
 from comparison.report import bond
-from comparison.report.committed import BOND
 from comparison.sweep.table import write_table
 
 REPORTS = Path(__file__).resolve().parents[3] / "reports"
@@ -57,7 +56,7 @@ def test_a_missing_table_is_said_not_raised(tmp_path: Path) -> None:
 
 
 def test_the_committed_table_has_its_non_associative_values_below_the_associative_ones() -> None:
-    rows = bond.load(REPORTS / BOND)
+    rows = bond.load(REPORTS / "sweeps" / "table9_bond.csv")
     assert {(r.p, r.rows) for r in rows} == {(p, o) for p in (0.0, 1.0, 8.0) for o in (30, 45, 60, 75)}
     unsettled = {(r.p, r.rows) for r in rows if r.nonassoc_status != "converged"}
     assert unsettled == {(8.0, 60), (8.0, 75)}  # Set 17's shape: both sequences and the fused retry fail
@@ -78,7 +77,7 @@ def test_the_report_reads_its_committed_tables_from_a_stated_directory(tmp_path:
     import warnings
 
     from comparison.report import errormap, lowest
-    from comparison.report.committed import ERRORMAP, LOWEST, MADE_BY, MissingTableWarning, committed_table
+    from comparison.report.committed import BOND, ERRORMAP, LOWEST, MADE_BY, MissingTableWarning, committed_table
 
     for module in (bond, errormap, lowest):
         assert "__file__" not in Path(module.__file__).read_text(), module.__name__

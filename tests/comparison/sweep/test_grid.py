@@ -10,10 +10,8 @@ from pathlib import Path
 import pytest
 
 from comparison.cli import main
-from comparison.cli.sweep import scheduler_address
 from comparison.runner import MACRO, MICRO_ASSOC, MICRO_NONASSOC
 from comparison.sweep import GridError, cells, load_grid, parse_grid
-from comparison.sweep.grid import MAX_CELLS, cell_count
 from comparison.sweep.plan import wall_points
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -159,6 +157,8 @@ def test_a_grid_above_the_cell_limit_is_refused_before_it_is_built(
 ) -> None:
     """Issue 31, item 2: 10,000 x 10,000 walls were planned in memory (5 GB, then a MemoryError traceback);
     the grid is now counted, not built, and refused in one line with exit 2."""
+    from comparison.sweep.grid import MAX_CELLS, cell_count
+
     path = tmp_path / "huge.toml"
     path.write_text(
         "[axes]\nt = { from = 1, to = 2, num = 10000 }\nm = { from = 0.1, to = 1, num = 10000 }\nrows = 12\n"
@@ -190,6 +190,8 @@ def test_a_bad_scheduler_address_is_refused_before_connecting(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], address: str
 ) -> None:
     """Issue 31, item 3: these waited for the connection's time-out (about 40 s), then a traceback and exit 1."""
+    from comparison.cli.sweep import scheduler_address
+
     good = tmp_path / "g.toml"
     good.write_text(GOOD)
     assert main(["sweep", str(good), "--out", str(tmp_path / "o"), "--scheduler", address]) == 2
