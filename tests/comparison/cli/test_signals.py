@@ -158,3 +158,29 @@ def test_a_killed_sweep_leaves_no_orphan_and_resumes_without_losing_a_cell(tmp_p
     assert counts["cached"] >= done_before and counts["cached"] + counts["computed"] == 16
     assert counts["failed"] == 0 and _cached(cache) == 16
     assert all(r["status"] in ("converged", "cycling", "not_applicable", "max_iterations") for r in rows)
+
+
+#: How long ``micro --global`` may take to exit after Ctrl-C (seconds): HiGHS stops within a node. Before
+#: the interrupt callback the branch and bound ran on to its end (about 20 s on this wall, up to the time limit).
+GLOBAL_EXIT_SECONDS = 5.0
+
+
+@pytest.mark.processes
+def test_ctrl_c_stops_the_global_search_within_seconds() -> None:
+    # 9 blocks: the iterated LP and the bounds take a tenth of a second, the branch and bound tens of seconds
+    proc = _xcheck("micro", "--t", "2", "--m", "1/3", "--rows", "6", "--f", "0.6", "--friction", "nonassociative",
+                   "--global", "--time-limit", "120")
+    try:
+        time.sleep(4.0)  # well inside the branch and bound
+        assert proc.poll() is None, "the search ended before it was interrupted"
+        t0 = time.monotonic()
+        os.killpg(proc.pid, signal.SIGINT)
+        code = proc.wait(EXIT_SECONDS)
+        took = time.monotonic() - t0
+        err = proc.stderr.read().decode() if proc.stderr else ""
+        assert code == 130, err
+        assert "Traceback" not in err and "interrupted" in err, err
+        assert took < GLOBAL_EXIT_SECONDS, f"{took:.1f} s after Ctrl-C"
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
