@@ -175,3 +175,34 @@ def test_scip_without_pyscipopt_is_refused(monkeypatch: pytest.MonkeyPatch) -> N
     monkeypatch.setattr(global_scip, "available", lambda: False)
     with pytest.raises(ValueError, match=r"pyscipopt.*\[global\]"):
         GlobalOptions(solver="scip")
+
+
+@pytest.mark.processes
+@pytest.mark.skipif(not global_scip.available(), reason="pyscipopt not installed")
+def test_ctrl_c_stops_scip_within_seconds() -> None:
+    """SCIP's own Ctrl-C handler stops the search and the interrupt reaches Python (the HiGHS path: test_signals.py)."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    code = ("import micro\nfrom comparison.wall import WallSpec\n"
+            "from micro.nonassociative.global_mip import GlobalOptions, solve_global\n"
+            "lp = micro.assemble(WallSpec.from_paper(t=2, m=1/3, rows=6, f=0.6).to_micro())\n"
+            "print('searching', flush=True)\n"
+            "solve_global(lp, 1, GlobalOptions(solver='scip', time_limit=120))\n")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        assert proc.stdout is not None and proc.stdout.readline() == b"searching\n"
+        time.sleep(3.0)  # the bounds take a tenth of a second, SCIP tens of seconds on these 9 blocks
+        assert proc.poll() is None
+        t0 = time.monotonic()
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=20)
+        assert time.monotonic() - t0 < 5.0
+        assert b"KeyboardInterrupt" in err
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
