@@ -87,6 +87,18 @@ def _alive(procs: list[psutil.Process], timeout: float) -> list[psutil.Process]:
     return [p for p in alive if p.is_running() and p.status() != psutil.STATUS_ZOMBIE]
 
 
+def _ctrl_c(proc: subprocess.Popen[bytes]) -> float:
+    """Send Ctrl-C to the process group; check exit 130 with one line and no traceback; the seconds it took."""
+    t0 = time.monotonic()
+    os.killpg(proc.pid, signal.SIGINT)
+    code = proc.wait(EXIT_SECONDS)
+    took = time.monotonic() - t0
+    err = proc.stderr.read().decode() if proc.stderr else ""
+    assert code == 130, err
+    assert "Traceback" not in err and "interrupted" in err, err
+    return took
+
+
 def _cached(cache: Path) -> int:
     return sum(1 for _ in cache.rglob("*.json"))
 
@@ -111,13 +123,7 @@ def test_ctrl_c_stops_the_run_with_exit_130_and_ends_its_workers(tmp_path: Path,
     try:
         kids = _workers(proc, 2)
         time.sleep(1.0)  # let them work
-        t0 = time.monotonic()
-        os.killpg(proc.pid, signal.SIGINT)
-        code = proc.wait(EXIT_SECONDS)
-        took = time.monotonic() - t0
-        err = proc.stderr.read().decode() if proc.stderr else ""
-        assert code == 130, err
-        assert "Traceback" not in err and "interrupted" in err, err
+        took = _ctrl_c(proc)
         assert not _alive(kids, timeout=5.0), "processes left behind"
         assert took < EXIT_SECONDS
     finally:
@@ -173,13 +179,7 @@ def test_ctrl_c_stops_the_global_search_within_seconds() -> None:
     try:
         time.sleep(4.0)  # well inside the branch and bound
         assert proc.poll() is None, "the search ended before it was interrupted"
-        t0 = time.monotonic()
-        os.killpg(proc.pid, signal.SIGINT)
-        code = proc.wait(EXIT_SECONDS)
-        took = time.monotonic() - t0
-        err = proc.stderr.read().decode() if proc.stderr else ""
-        assert code == 130, err
-        assert "Traceback" not in err and "interrupted" in err, err
+        took = _ctrl_c(proc)
         assert took < GLOBAL_EXIT_SECONDS, f"{took:.1f} s after Ctrl-C"
     finally:
         if proc.poll() is None:
