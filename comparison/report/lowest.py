@@ -18,7 +18,7 @@ from comparison.sweep.table import number, read_table
 #: Its columns that hold numbers.
 NUMERIC = (
     "orduna", "lambda_iterated", "lambda_lowest", "global_best", "global_bound", "global_gap",
-    "iterated_seconds", "lowest_seconds", "global_seconds",
+    "iterated_seconds", "lowest_seconds", "global_seconds", "lambda_macro",
 )
 
 
@@ -26,7 +26,7 @@ def load(path: Path) -> list[dict[str, Any]]:
     """The study's rows, numeric columns as floats (NaN when empty)."""
     rows: list[dict[str, Any]] = read_table(path)
     for r in rows:
-        r.update({k: number(r[k]) for k in NUMERIC})
+        r.update({k: number(r.get(k, "")) for k in NUMERIC})  # a table written before a column was added
     return rows
 
 

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism
+from micro.nonassociative import global_scip
 from micro.nonassociative.global_bounds import POLICIES, BigM
 from micro.nonassociative.global_pattern import Pattern
 from micro.nonassociative.global_search import Incumbent, search_direction
@@ -40,6 +41,8 @@ OPTIMAL, TIME_LIMIT, NODE_LIMIT = "optimal", "time_limit", "node_limit"
 INFEASIBLE, SOLVER_ERROR = "infeasible", "solver_error"
 STATUSES = (OPTIMAL, TIME_LIMIT, NODE_LIMIT, INFEASIBLE, SOLVER_ERROR)
 _DIR_NAME = {1: "+x", -1: "-x"}
+#: Values of ``GlobalOptions.solver``.
+SOLVERS = ("highs", "scip")
 
 
 @dataclass(frozen=True)
@@ -57,8 +60,10 @@ class GlobalOptions:
         bounds: big-M policy for the normal forces: ``"per_point"`` (an LP
             per contact point) or ``"uniform"`` (one LP for all points).
         energy_cut: add the valid inequality ``lift <= lambda_up * live work``.
-        seed: HiGHS' random seed (the search is deterministic for a seed).
-        log: print HiGHS' log.
+        seed: the solver's random seed (the search is deterministic for a seed).
+        log: print the solver's log.
+        solver: ``"highs"`` (default) or ``"scip"`` (the same model, solved by
+            SCIP; needs ``pyscipopt``, the optional extra ``global``).
     """
 
     time_limit: float | None = 300.0
@@ -68,6 +73,7 @@ class GlobalOptions:
     energy_cut: bool = True
     seed: int = 0
     log: bool = False
+    solver: Literal["highs", "scip"] = "highs"
 
     def __post_init__(self) -> None:
         t = self.time_limit
@@ -83,6 +89,10 @@ class GlobalOptions:
             raise ValueError(f"bounds must be one of {', '.join(POLICIES)}, got {self.bounds!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ValueError(f"seed must be zero or a positive integer, got {self.seed!r}")
+        if self.solver not in SOLVERS:
+            raise ValueError(f"solver must be one of {', '.join(SOLVERS)}, got {self.solver!r}")
+        if self.solver == "scip" and not global_scip.available():
+            raise ValueError("solver 'scip' needs pyscipopt: pip install 'xcheck-masonry[global]'")
 
 
 @dataclass(frozen=True, eq=False)
