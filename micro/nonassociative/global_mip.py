@@ -32,6 +32,7 @@ from micro.nonassociative import global_scip
 from micro.nonassociative.global_bounds import POLICIES, BigM
 from micro.nonassociative.global_pattern import Pattern
 from micro.nonassociative.global_search import Incumbent, search_direction
+from micro.records import json_number
 
 FloatArray = NDArray[np.float64]
 
@@ -303,14 +304,10 @@ def global_summary(result: GlobalResult) -> dict[str, Any]:
         ``global_status``, and beside them ``global_direction``,
         ``global_nodes`` and ``global_seconds``.
     """
-
-    def num(x: float) -> float | None:
-        return float(x) if math.isfinite(x) else None
-
     return {
-        "global_load_factor": num(result.load_factor),
-        "global_lower_bound": num(result.lower_bound),
-        "global_gap": num(result.gap),
+        "global_load_factor": json_number(result.load_factor),
+        "global_lower_bound": json_number(result.lower_bound),
+        "global_gap": json_number(result.gap),
         "global_status": result.status,
         "global_direction": result.direction,
         "global_nodes": sum(r.nodes for r in result.directions),

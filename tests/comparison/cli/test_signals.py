@@ -108,8 +108,8 @@ def _cached(cache: Path) -> int:
     "command",
     [
         ["report", "--quick", "--workers", "2"],
-        ["stability", "--quick", "--processes", "2"],
-        ["stability", "--lowest", "--quick", "--processes", "2"],
+        ["stability", "--quick", "--workers", "2"],
+        ["stability", "--lowest", "--quick", "--workers", "2"],
         ["sweep", "GRID", "--workers", "2"],
     ],
     ids=["report", "stability", "stability-lowest", "sweep"],
