@@ -173,7 +173,7 @@ def search_direction(lp: LimitLP, direction: int, opts: GlobalOptions, inc: Incu
                          message=msg)
 
 
-def _status(out: gh.Outcome, best: Incumbent | None, found: Incumbent | None, bound: float,
+def _status(out: gh.MipOutcome, best: Incumbent | None, found: Incumbent | None, bound: float,
             opts: GlobalOptions) -> tuple[str, str]:
     """Status and message from HiGHS' outcome and the rebuilt states."""
     if out.status in _LIMITS:

@@ -37,6 +37,15 @@ def test_json(capsys: pytest.CaptureFixture[str]) -> None:
     assert out["load_factor"] == pytest.approx(0.712047, abs=1e-5)
 
 
+def test_no_solver_named_runs_the_library_default(capsys: pytest.CaptureFixture[str]) -> None:
+    import micro
+
+    rc = cli.main(["micro", *WALL, "--friction", "associative", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0 and out["solver"] == micro.DEFAULT_SOLVER
+    assert out["load_factor"] == pytest.approx(0.712047, abs=1e-5)
+
+
 def test_text_and_plot(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:  # type: ignore[no-untyped-def]
     png = tmp_path / "m.png"
     rc = cli.main(["micro", *WALL, "--first-course", "half", "--head-joints", "frictionless", "--plot", str(png)])
