@@ -2,7 +2,7 @@
 
 Example::
 
-    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction associative --solver highs --json
+    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction associative --solver clarabel --json
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --scheme a --json
     xcheck micro --t 2 --m 1/3 --rows 6 --f 0.6 --friction nonassociative --global --time-limit 60 --json
 """
@@ -39,7 +39,7 @@ FRICTION_LAWS = ("associative", "nonassociative")
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``micro`` subcommand."""
-    from micro import SOLVERS
+    from micro import DEFAULT_SOLVER, SOLVERS
 
     p = add_command(
         subparsers,
@@ -58,9 +58,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     g.add_argument(
         "--solver",
-        default="highs",
+        default=None,
         metavar="NAME",
-        help=f"LP back end: {', '.join(SOLVERS)} (default highs = HiGHS interior point, no crossover)",
+        help=f"LP back end: {', '.join(SOLVERS)} (default {DEFAULT_SOLVER}, the library's and the report's)",
     )
     g.add_argument(
         "--first-course",
@@ -159,7 +159,8 @@ def run(args: argparse.Namespace) -> int:
     from micro import SOLVERS
 
     choice("--friction", args.friction, FRICTION_LAWS)
-    choice("--solver", args.solver, SOLVERS)
+    if args.solver is not None:
+        choice("--solver", args.solver, SOLVERS)
     choice("--first-course", args.first_course, ("full", "half"))
     choice("--head-joints", args.head_joints, ("frictional", "frictionless"))
     time_limit = in_range("--time-limit", args.time_limit, "a positive number of seconds", math.inf)
@@ -172,7 +173,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(str(exc)) from None
     if args.friction == "nonassociative":
         return _run_nonassociative(args, spec, wall, time_limit)
-    result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
+    result = micro.solve_associative(wall, solver=args.solver or micro.DEFAULT_SOLVER, time_limit=time_limit)
     if args.plot is not None and result.ok:
         from micro.plot import plot_mechanism
 
@@ -242,7 +243,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     if args.continuation and not continuation_allowed(args.scheme, args.selection):
         raise UsageError("--continuation needs --scheme a and a vertex sequence (--selection vertex, vertex+lazy "
                          "or vertex+proximal)")
-    if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
+    if args.solver is not None and args.solver not in ("highs-ipm", "highs-simplex"):
         raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
     relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
     max_it = int_option("--max-iterations", args.max_iterations, minimum=2)

@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Literal
 
+from micro import DEFAULT_SOLVER
+
 if TYPE_CHECKING:
     from micro.nonassociative.options import Selection
 
@@ -60,7 +62,8 @@ class Method:
 
     Attributes:
         kind: ``"macro"``, ``"micro-assoc"`` or ``"micro-nonassoc"``.
-        solver: micro back end (see :data:`micro.SOLVERS`).
+        solver: micro back end (see :data:`micro.SOLVERS`; default the library's,
+            :data:`micro.DEFAULT_SOLVER`).
         scheme: non-associative scheme (``"a"`` or ``"b"``).
         first_course: micro bond phase, ``"full"`` or ``"half"``.
         head_joints: ``"frictional"`` or ``"frictionless"``.
@@ -73,7 +76,7 @@ class Method:
     """
 
     kind: Kind
-    solver: str = "highs"
+    solver: str = DEFAULT_SOLVER
     scheme: Literal["a", "b"] = "a"
     first_course: str = "full"
     head_joints: str = "frictional"

@@ -24,7 +24,7 @@ Format (see ``examples/sweeps/``)::
 
     [[method]]
     kind = "micro-assoc"
-    solver = "clarabel"                # a micro back end (default "highs")
+    solver = "clarabel"                # a micro back end (default "normal-ipm", the library's)
 
     [[method]]
     kind = "micro-nonassoc"
@@ -310,7 +310,7 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
     if kind == "macro":
         return GridMethod(MACRO)
     options: dict[str, Any] = {}
-    for key, choices, default in (("solver", micro.SOLVERS, "highs"), ("scheme", SCHEMES, "a"),
+    for key, choices, default in (("solver", micro.SOLVERS, micro.DEFAULT_SOLVER), ("scheme", SCHEMES, "a"),
                                   ("selection", micro.nonassociative.SELECTIONS, None)):
         if key in METHOD_KEYS[kind] and (key != "selection" or key in entry):  # no selection: the scheme's
             try:
