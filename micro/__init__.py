@@ -13,8 +13,8 @@ with :func:`solve_associative`::
 and with non-associative (zero-dilatancy) friction by the iterated LP of
 Gilbert, Casapulla & Ahmed (2006) with :func:`solve_nonassociative`::
 
-    result = micro.solve_nonassociative(wall, scheme="a")
-    result.load_factor, result.status, result.iterations, result.history
+    result = micro.solve_nonassociative(wall)   # the report's method
+    result.load_factor, result.status, result.lowest_load_factor, result.history
 
 Every result has a flat, JSON-ready record (``result.to_record()``).
 
@@ -34,6 +34,7 @@ from micro.nonassociative import (
     NonAssociativeOptions,
     NonAssociativeResult,
     SequenceDiagnostics,
+    Tuning,
     solve_nonassociative,
     verify_collapse_state,
 )
@@ -58,6 +59,7 @@ __all__ = [
     "Outcome",
     "SequenceDiagnostics",
     "Status",
+    "Tuning",
     "assemble",
     "build_wall",
     "estimate_bytes",

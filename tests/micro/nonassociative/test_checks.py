@@ -6,7 +6,7 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import CYCLING, solve_nonassociative
+from micro.nonassociative import CYCLING, Tuning, solve_nonassociative
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
 #: 12 rows, f = 0.75: (t, m, lambda).
@@ -26,7 +26,7 @@ def test_converged_states_are_collapse_states(kw: dict, relaxation: float) -> No
     from micro.nonassociative import verify_collapse_state
 
     w = wall(**kw)
-    r = solve_nonassociative(w, relaxation=relaxation)
+    r = solve_nonassociative(w, tuning=Tuning(relaxation=relaxation))
     assert r.converged, r.message
     lp = micro.assemble(w)
     for d in r.directions:
@@ -46,7 +46,7 @@ def test_not_converged_state_violates_yield() -> None:
     from micro.nonassociative import verify_collapse_state
 
     w = wall(1.0, 1.0)
-    r = solve_nonassociative(w, relaxation=1.0, certify=False)
+    r = solve_nonassociative(w, tuning=Tuning(relaxation=1.0, certify=False, selection="vertex"))
     assert r.status == CYCLING
     v = verify_collapse_state(micro.assemble(w), r.governing)
     assert v["slip_off_yield"] > 1e-3 or v["coulomb"] > 1e-3
