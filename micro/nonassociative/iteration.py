@@ -434,9 +434,10 @@ class Sequence:
         status = (CONVERGED if stop in CONVERGED_STOPS else TIME_LIMIT if stop == "time_budget"
                   else MAX_ITERATIONS if stop in ("max_iterations", "work_budget") else CYCLING)
         state = checks.final_state(lp, self.d, v, n, s, lam)
-        cold = checks.cold_check(model, lam, o.cold_tol) if o.cold_check else checks.ColdCheck(NAN, NAN, "", "")
+        check_cold = o.cold_check and checks.cold_check_due(stop)
+        cold = checks.cold_check(model, lam, o.cold_tol) if check_cold else checks.ColdCheck(NAN, NAN, "", "")
         msg = cold_note = ""
-        if o.cold_check and (not math.isfinite(cold.rel_diff) or cold.rel_diff > o.cold_tol):
+        if check_cold and (not math.isfinite(cold.rel_diff) or cold.rel_diff > o.cold_tol):
             cold_note = (f"the final iterate re-solved cold gives lambda = {cold.load_factor:.9g} against "
                          f"{lam:.9g} warm (HiGHS hot start; status {cold.native_status})")
             if status == CONVERGED:
