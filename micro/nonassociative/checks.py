@@ -22,8 +22,9 @@ FloatArray = NDArray[np.float64]
 #: LPs, which start from no basis, found it for the iterate's mechanism at its
 #: ``lambda``, and it passes the collapse conditions whatever the warm run's
 #: objective; a sequence that did not converge returns no state. The re-solve
-#: took 22-26 % of the iterated LP's CPU time on Table 7's walls and ~15 % on
-#: Table 5's reference wall, all certified (docs/research/2026-11-25-nonassociative-profile.md).
+#: took 14-26 % of the iterated LP's CPU time on Table 7's walls and Set 5 and
+#: 19 % on Table 5's reference wall, all certified
+#: (docs/research/2026-11-25-nonassociative-profile.md).
 COLD_CHECKED_STOPS = ("lambda_and_forces", "lambda_and_coulomb")
 
 
