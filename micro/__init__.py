@@ -7,7 +7,7 @@ with :func:`solve_associative`::
     import micro
     wall = micro.build_wall(length=12, block_length=3, block_height=1, rows=(12,),
                             thickness=(1,), overload=(0,), unit_weight=1, friction=0.75)
-    result = micro.solve_associative(wall, solver="highs")
+    result = micro.solve_associative(wall)
     result.load_factor, result.direction, result.status
 
 and with non-associative (zero-dilatancy) friction by the iterated LP of
@@ -24,7 +24,7 @@ and ``nonassociative`` (the two analyses), ``plot``.
 """
 
 from micro.associative import solve_associative
-from micro.backends import SOLVERS, Outcome, Status, make_backend
+from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backend
 from micro.geometry import BlockWall, build_wall, estimate_bytes
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
@@ -42,6 +42,7 @@ from micro.records import AssociativeRecord, MicroRecord, NonAssociativeRecord
 from micro.results import DirectionResult, LimitResult
 
 __all__ = [
+    "DEFAULT_SOLVER",
     "SCHEMES",
     "SOLVERS",
     "AssociativeRecord",

@@ -183,8 +183,9 @@ class NonAssociativeRecord(MicroRecord):
         last_load_factor: ``lambda`` of the last successful iterate.
         associative_load_factor: smallest associative ``lambda`` over the
             directions solved.
-        cold_load_factor: the final iterate re-solved cold.
-        warm_cold_rel_diff: ``|warm - cold| / |cold|``.
+        cold_load_factor: the final iterate re-solved cold (NaN unless the
+            sequence stopped exactly, not by the certificate).
+        warm_cold_rel_diff: ``|warm - cold| / |cold|`` (NaN likewise).
         coulomb_residual: ``max(|s| - mu n, 0) / max n`` of the final forces.
         dilatancy_residual: largest opening rate at sliding points in
             contact, relative to the largest slip rate.

@@ -2,7 +2,7 @@
 
 Example::
 
-    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction associative --solver highs --json
+    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction associative --solver clarabel --json
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --json
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --tuning scheme=b --tuning relaxation=0.5
     xcheck micro --t 2 --m 1/3 --rows 6 --f 0.6 --friction nonassociative --global --time-limit 60 --json

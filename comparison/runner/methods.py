@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
+from micro import DEFAULT_SOLVER
 from micro.nonassociative.options import NonAssociativeOptions
 from micro.nonassociative.tuning import RETRY_LPS
 
@@ -29,7 +30,8 @@ class Method:
 
     Attributes:
         kind: ``"macro"``, ``"micro-assoc"`` or ``"micro-nonassoc"``.
-        solver: micro back end (see :data:`micro.SOLVERS`).
+        solver: micro back end (see :data:`micro.SOLVERS`; default the library's,
+            :data:`micro.DEFAULT_SOLVER`).
         first_course: micro bond phase, ``"full"`` or ``"half"``.
         head_joints: ``"frictional"`` or ``"frictionless"``.
         tuning: non-associative: the knobs of :class:`micro.Tuning` that
@@ -38,7 +40,7 @@ class Method:
     """
 
     kind: Kind
-    solver: str = "highs"
+    solver: str = DEFAULT_SOLVER
     first_course: str = "full"
     head_joints: str = "frictional"
     tuning: tuple[tuple[str, Any], ...] = ()

@@ -24,7 +24,7 @@ Format (see ``examples/sweeps/``)::
 
     [[method]]
     kind = "micro-assoc"
-    solver = "clarabel"                # a micro back end (default "highs")
+    solver = "clarabel"                # a micro back end (default "normal-ipm", the library's)
 
     [[method]]
     kind = "micro-nonassoc"
@@ -317,7 +317,7 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
                 options[key] = checks.choice(f"method.{key}", entry[key], choices)
             except ValueError as exc:
                 raise src.error(str(exc), "method", key, index) from None
-    solver = options.pop("solver", "highs")
+    solver = options.pop("solver", micro.DEFAULT_SOLVER)
     if kind != "micro-nonassoc":
         return GridMethod(Method(kind, solver=solver), _max_blocks(entry, "method", index, src))
     try:  # the tuning's own check of the pair (a lazy selection needs scheme a)

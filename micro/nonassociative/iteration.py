@@ -365,9 +365,10 @@ class LPSequence:
         status = (CONVERGED if stop in CONVERGED_STOPS else TIME_LIMIT if stop == "time_budget"
                   else MAX_ITERATIONS if stop in ("max_iterations", "work_budget") else CYCLING)
         state = checks.final_state(lp, self.d, v, n, s, lam)
-        cold = checks.cold_check(model, lam, COLD_TOL)
+        check_cold = checks.cold_check_due(stop)
+        cold = checks.cold_check(model, lam, COLD_TOL) if check_cold else checks.ColdCheck(NAN, NAN, "", "")
         msg = cold_note = ""
-        if not math.isfinite(cold.rel_diff) or cold.rel_diff > COLD_TOL:
+        if check_cold and (not math.isfinite(cold.rel_diff) or cold.rel_diff > COLD_TOL):
             cold_note = (f"the final iterate re-solved cold gives lambda = {cold.load_factor:.9g} against "
                          f"{lam:.9g} warm (HiGHS hot start; status {cold.native_status})")
             if status == CONVERGED:

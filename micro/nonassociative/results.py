@@ -125,8 +125,10 @@ class SequenceDiagnostics:
             factor in this band.
         associative_load_factor: ``lambda`` of the associative LP.
         history: every LP, the associative one first.
-        cold_load_factor: ``lambda`` of the final iterate re-solved cold.
-        warm_cold_rel_diff: ``|warm - cold| / |cold|``.
+        cold_load_factor: ``lambda`` of the final iterate re-solved cold
+            (NaN unless the sequence stopped exactly:
+            :data:`~micro.nonassociative.checks.COLD_CHECKED_STOPS`).
+        warm_cold_rel_diff: ``|warm - cold| / |cold|`` (NaN likewise).
         cold_algorithm: ``"ipm"``, ``"simplex"`` (when IPX gave up) or
             ``"ipm+crossover+simplex"`` (when IPX disagreed).
         coulomb_residual: ``max(|s| - mu n, 0)`` with the final forces,

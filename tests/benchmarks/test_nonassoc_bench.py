@@ -46,8 +46,9 @@ from comparison.cases import case
 from comparison.wall import WallSpec
 from micro.nonassociative import Tuning
 
-#: Associative load factors (HiGHS IPM).
-ASSOC = {"set12": 0.7120472, "w1230": 0.4695330, "w7575": 0.5072512}
+#: Associative load factors of the library's default back end (``normal-ipm``;
+#: HiGHS IPM, the default before, gave 0.5072512 on 7,575 blocks, 7.7e-6 low).
+ASSOC = {"set12": 0.7120472, "w1230": 0.4695331, "w7575": 0.5072551}
 #: Converged non-associative load factors (default options: scheme (a),
 #: relaxation 0.6, certified) and their LPs.
 NONASSOC = {"set12": (0.7086216, 7), "w1230": (0.4680950, 9), "set2-lazy": (0.5487750, 30),
@@ -263,4 +264,4 @@ def test_bench_7575_assoc_cold(benchmark) -> None:  # type: ignore[no-untyped-de
     w = _wall(150, 5)
     r = benchmark.pedantic(micro.solve_associative, args=(w,), rounds=1, iterations=1)
     benchmark.extra_info.update(load_factor=r.load_factor, blocks=r.blocks)
-    assert r.ok and r.load_factor == pytest.approx(ASSOC["w7575"], rel=2e-5)
+    assert r.ok and r.load_factor == pytest.approx(ASSOC["w7575"], rel=2e-6)

@@ -54,7 +54,7 @@ def test_macro_json_matches_schema(argv: list[str], capsys: pytest.CaptureFixtur
 @pytest.mark.parametrize(
     ("argv", "rc_expected", "status"),
     [
-        (["--friction", "associative", "--solver", "highs"], 0, "optimal"),
+        (["--friction", "associative", "--solver", "highs-ipm"], 0, "optimal"),
         (["--friction", "associative", "--solver", "clarabel", "--t", "0.5"], 0, "optimal"),
         (["--friction", "nonassociative"], 0, "converged"),
         (["--friction", "nonassociative", "--max-iterations", "2", "--tuning", "selection=vertex"], 1,
