@@ -104,7 +104,8 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
     ]
     for tb in tables.values():
         tb.write_csv(out / f"{tb.name}.csv")
-    error_map, error_numbers = errormap.write(out)
+    error_map, error_numbers = errormap.write(out, number=len(figure_list) + 1)
+    lowest_number = len(figure_list) + (2 if error_numbers else 1)
     bond_text, bond_rows = bond.section()
     tables_json = {k: v.records() for k, v in tables.items()}
     (out / "report.json").write_text(json.dumps(
@@ -113,5 +114,5 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
     ))
     path = out / "REPORT.md"
     text = document(res, tables, findings(res), figure_list, meta)
-    path.write_text(text + "\n" + error_map + "\n" + bond_text + "\n" + lowest.section())
+    path.write_text(text + "\n" + error_map + "\n" + bond_text + "\n" + lowest.section(out=out, number_=lowest_number))
     return path

@@ -25,7 +25,7 @@ NONASSOC_MAX_BLOCKS = 2000
 #: ... and on the paper's walls of at most this many: Set 10 (3,630 blocks)
 #: runs fused with the continuation (:data:`comparison.runner.NONASSOC_FUSE_BLOCKS`,
 #: 475 s); the 7,575-block Table 9 walls stay out (their first LPs take minutes
-#: and no method here has settled on them, see the README).
+#: and no method here has settled on them, see ``docs/micro/nonassociative.md``).
 NONASSOC_MAX_BLOCKS_CASES = 4000
 
 #: Base walls of the sensitivity sweeps and of the speed-accuracy study.
@@ -35,7 +35,7 @@ BASE_QUICK: Mapping[str, float] = {"t": 1.0, "m": 1 / 3, "rows": 12, "f": 0.75, 
 #: The values of each parameter in the sensitivity sweeps.
 SWEEPS_FULL: Mapping[str, tuple[float, ...]] = {
     "f": (0.4, 0.5, 0.6, 0.7, 0.8),
-    "t": (0.5, 1.0, 1.25, 2.0, 2.5),
+    "t": (0.5, 1.0, 1.25, 2.0, 2.5, 3.0),
     "m": (0.25, 1 / 3, 0.5, 1.0),
     "rows": (12, 24, 36, 45, 60),
     "p": (0.0, 1.0, 2.0, 4.0, 8.0),
@@ -53,7 +53,7 @@ def micro_methods() -> tuple[Method, ...]:
     """The micro methods of the report: the associative LP by the suite's own
     interior point on the normal equations (``normal-ipm``, the fastest
     accurate back end: 2.4-4.3 times faster than Clarabel on 1,230-7,575
-    blocks, README "Speed (micro, associative)") and the iterated
+    blocks, ``docs/speed.md``) and the iterated
     non-associative LP."""
     return (replace(MICRO_ASSOC, solver="normal-ipm"), MICRO_NONASSOC)
 
