@@ -7,20 +7,21 @@ with :func:`solve_associative`::
     import micro
     wall = micro.build_wall(length=12, block_length=3, block_height=1, rows=(12,),
                             thickness=(1,), overload=(0,), unit_weight=1, friction=0.75)
-    result = micro.solve_associative(wall, solver="highs")
+    result = micro.solve_associative(wall)
     result.load_factor, result.direction, result.status
 
 and with non-associative (zero-dilatancy) friction by the iterated LP of
 Gilbert, Casapulla & Ahmed (2006) with :func:`solve_nonassociative`::
 
-    result = micro.solve_nonassociative(wall, scheme="a")
-    result.load_factor, result.status, result.iterations, result.history
+    result = micro.solve_nonassociative(wall)
+    result.lowest_load_factor, result.load_factor, result.status, result.history
 
 Every result has a flat, JSON-ready record (``result.to_record()``).
 
 Layout: ``geometry`` (the wall), ``lp`` (the LP), ``backends`` (the solvers),
 ``mechanism``, ``results`` and ``records`` (what comes out), ``associative``
-and ``nonassociative`` (the two analyses), ``plot``.
+and ``nonassociative`` (the two analyses), ``plot``. The method, its options and which
+value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, global-search).
 """
 
 from micro.associative import solve_associative

@@ -189,6 +189,11 @@ def _cost(runs: Sequence[LowestRun], s: dict[str, Any]) -> list[str]:
         + (": " + ", ".join(f"{r.case.name} ({r.status})" for r in s["failed"]) if s["failed"] else "") + ".",
         "",
         "![lowest](lowest.png)",
+        "",
+        "The iterated LP's load factor against the lowest known collapse load, in bins of "
+        f"{BIN_WIDTH:g} %. Left: its excess over the global minimum where the global search closed. Right: its "
+        "excess over the lowest certified state, stacked by group of walls (a lower bound of its excess over the "
+        "global minimum).",
     ]
     return lines
 
