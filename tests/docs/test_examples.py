@@ -28,7 +28,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 #: Longest run of one example, seconds.
 TIMEOUT = 120
 #: Fence languages that hold commands, and those that hold Python.
