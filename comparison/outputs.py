@@ -20,8 +20,12 @@ def writable_directory(name: str, path: str | os.PathLike[str]) -> Path:
 
     Raises:
         ValueError: ``"{name}: cannot write to {path!r} (reason)"``: the path
-            is a file, or cannot be created or written.
+            is a file, or cannot be created or written; ``"{name} must name a
+            directory, got ''"`` for an empty string (which would mean the
+            working directory).
     """
+    if isinstance(path, str) and not path.strip():
+        raise ValueError(f"{name} must name a directory, got {path!r}")
     directory = Path(path)
     if directory.exists() and not directory.is_dir():
         raise ValueError(f"{name}: cannot write to {str(directory)!r} (it is a file, not a directory)")

@@ -1,41 +1,70 @@
-"""What a long run tells the person watching it: the plan, then a bar with counts and an ETA.
+"""What a long run tells the person watching it: the plan, then its progress, then what it wrote.
 
-The bar is tqdm's. What is shown follows the verbosity the command line
-passes down:
+Everything goes to stderr (stdout keeps the result). What is shown follows the
+verbosity the command line passes down:
 
 * ``QUIET`` (``--quiet``): nothing;
-* ``NORMAL`` (the default): on a terminal the plan, a progress bar with counts
-  and ETA and a closing summary; nothing when the output is not a terminal (a
-  log, a pipe, CI);
-* ``VERBOSE`` (``--verbose``): the plan, one line per computation and the
-  summary, terminal or not (and the bar on a terminal).
+* ``NORMAL`` (the default): the plan, then on a terminal a progress bar with
+  counts and ETA (tqdm's), elsewhere (a log, a pipe, CI) a status line each time
+  another :data:`LOG_STEP` of the work is done or :data:`LOG_SECONDS` have passed
+  since the last line, whichever comes first (done, cached, to go, elapsed,
+  ETA), then the closing summary (e.g. the paths written);
+* ``VERBOSE`` (``--verbose``): the same, and one line per computation.
+
+The status lines are written as computations finish: a single computation that
+runs for minutes is not interrupted by one.
 """
 
 from __future__ import annotations
 
 import sys
+import time
+from collections.abc import Callable
 from typing import TextIO
 
 from tqdm import tqdm
 
 QUIET, NORMAL, VERBOSE = -1, 0, 1
 
+#: Off a terminal, a status line at least each time this share of the work is done ...
+LOG_STEP = 0.1
+#: ... or this many seconds have passed since the last line, whichever comes first.
+LOG_SECONDS = 30.0
+
+
+def duration(seconds: float) -> str:
+    """``"45 s"``, ``"12 min 05 s"``, ``"2 h 03 min"``."""
+    s = max(0, round(seconds))
+    if s < 60:
+        return f"{s} s"
+    if s < 3600:
+        return f"{s // 60} min {s % 60:02d} s"
+    return f"{s // 3600} h {s % 3600 // 60:02d} min"
+
 
 class Progress:
-    """The plan, a bar and lines for one run; a context manager that closes the bar.
+    """The plan, the progress and the summary of one run; a context manager that closes the bar.
 
     Args:
         verbosity: :data:`QUIET`, :data:`NORMAL` or :data:`VERBOSE`.
         stream: where to write (default ``sys.stderr``).
+        clock: seconds, for the status lines (default ``time.monotonic``).
     """
 
-    def __init__(self, verbosity: int = NORMAL, stream: TextIO | None = None) -> None:
+    def __init__(
+        self, verbosity: int = NORMAL, stream: TextIO | None = None, clock: Callable[[], float] = time.monotonic
+    ) -> None:
         self.stream = sys.stderr if stream is None else stream
         tty = bool(getattr(self.stream, "isatty", lambda: False)())
         self.verbosity = verbosity
         self.show_bar = verbosity >= NORMAL and tty
-        self.show_text = verbosity >= VERBOSE or self.show_bar
+        self.show_text = verbosity >= NORMAL
+        self.show_status = verbosity >= NORMAL and not tty
+        self._clock = clock
         self._bar: tqdm | None = None
+        self._what, self._total, self._done, self._cached = "", 0, 0, 0
+        self._start = self._last = 0.0
+        self._last_done = 0
 
     def __enter__(self) -> Progress:
         return self
@@ -44,7 +73,7 @@ class Progress:
         self.close()
 
     def say(self, text: str) -> None:
-        """A line of the plan or of the summary (shown on a terminal, or when verbose)."""
+        """A line of the plan or of the summary (shown unless quiet)."""
         if not self.show_text:
             return
         if self._bar is not None:
@@ -52,18 +81,39 @@ class Progress:
         else:
             print(text, file=self.stream, flush=True)
 
-    def start(self, total: int, what: str) -> None:
-        """Open a bar of ``total`` steps labelled ``what`` (none when there is nothing to do)."""
+    def start(self, total: int, what: str, cached: int = 0) -> None:
+        """Begin ``total`` steps labelled ``what`` (``cached``: the plan's entries already done, for the
+        status lines); no bar when there is nothing to do."""
         self.close()
+        self._what, self._total, self._done, self._cached = what, total, 0, cached
+        self._start = self._last = self._clock()
+        self._last_done = 0
         if self.show_bar and total > 0:
             self._bar = tqdm(total=total, desc=what, unit="run", file=self.stream, dynamic_ncols=True, smoothing=0.1)
 
     def advance(self, line: str = "") -> None:
         """One step done; ``line`` says what (printed when verbose)."""
+        self._done += 1
         if self._bar is not None:
             self._bar.update(1)
         if line and self.verbosity >= VERBOSE:
             self.say(line)
+        if self.show_status and self._total > 0:
+            now = self._clock()
+            step = self._done - self._last_done >= LOG_STEP * self._total
+            if step or now - self._last >= LOG_SECONDS or self._done >= self._total:
+                self.say(self.status(now))
+                self._last, self._last_done = now, self._done
+
+    def status(self, now: float | None = None) -> str:
+        """``"micro: 12 of 88 done (14 %), 40 cached, 76 to go; 2 min 05 s elapsed, ETA 21 min 40 s"``."""
+        now = self._clock() if now is None else now
+        elapsed = now - self._start
+        left = max(self._total - self._done, 0)
+        eta = duration(elapsed / self._done * left) if self._done else "unknown"
+        share = 100 * self._done // self._total if self._total else 100
+        return (f"{self._what}: {self._done} of {self._total} done ({share} %), {self._cached} cached, {left} to go; "
+                f"{duration(elapsed)} elapsed, ETA {eta}")
 
     def close(self) -> None:
         """Close the bar (it stays on the screen)."""

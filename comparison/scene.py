@@ -49,6 +49,12 @@ _SCENE_KEYS = {
     "rows": ("storey", "rows"),
 }
 
+#: How a storey is written, for the messages of a scene whose storeys are missing or misspelt.
+STOREY_HOWTO = (
+    "write each storey as a table of its own: a line [[storey]], then rows = N on the next "
+    "(optionally thickness, overload); storey 1 is the top one"
+)
+
 _ALLOWED: dict[str, set[str]] = {
     "": {"name", "wall", "block", "storey"},
     "wall": {"length", "unit_weight", "friction"},
@@ -160,8 +166,9 @@ def _tables(data: dict[str, Any], src: _Source) -> dict[str, list[dict[str, Any]
     """The tables of the scene, every key known and every required key there."""
     for key in data:
         if key not in _ALLOWED[""]:
+            hint = f"; {STOREY_HOWTO}" if key == "storeys" else ""
             raise (
-                src.error(f"unknown key {key!r}", "", key)
+                src.error(f"unknown key {key!r}{hint}", "", key)
                 if _key_line(src.text, "", key)
                 else src.error(f"unknown table [{key}]", key)
             )
@@ -172,17 +179,19 @@ def _tables(data: dict[str, Any], src: _Source) -> dict[str, list[dict[str, Any]
         if not isinstance(data[table], dict):
             raise src.error(f"[{table}] must be a table", table)
         tables[table] = [data[table]]
+        _check_keys(table, 0, data[table], src)  # a storey written as a key of [wall] is named as such
     storeys = data.get("storey")
-    if not storeys:
-        raise SceneError(f"scene {src.source}: no [[storey]] given; a wall needs at least one storey")
-    if not isinstance(storeys, list):
-        raise src.error("storey must be an array of tables, written [[storey]]", "storey")
+    if "storey" not in data:
+        raise SceneError(f"scene {src.source}: no [[storey]] given: {STOREY_HOWTO}")
+    if isinstance(storeys, dict):
+        raise src.error(f"[storey] is a single table, not one per storey: {STOREY_HOWTO}", "storey")
+    if not isinstance(storeys, list) or not storeys:
+        raise src.error(f"storey = {storeys!r} gives no storey: {STOREY_HOWTO}", "", "storey")
     tables["storey"] = storeys
-    for table, entries in tables.items():
-        for index, entry in enumerate(entries):
-            if not isinstance(entry, dict):
-                raise src.error(f"[[{table}]] entry {index + 1} must be a table, got {entry!r}", table, None, index)
-            _check_keys(table, index, entry, src)
+    for index, entry in enumerate(storeys):
+        if not isinstance(entry, dict):
+            raise src.error(f"[[storey]] entry {index + 1} must be a table, got {entry!r}", "storey", None, index)
+        _check_keys("storey", index, entry, src)
     return tables
 
 
@@ -190,7 +199,8 @@ def _check_keys(table: str, index: int, entry: dict[str, Any], src: _Source) -> 
     """Every key of the ``index``-th ``[table]`` known, every required one there."""
     for key in entry:
         if key not in _ALLOWED[table]:
-            raise src.error(f"unknown key {key!r} in [{table}]", table, key, index)
+            hint = f"; {STOREY_HOWTO}" if key in ("storey", "storeys") else ""
+            raise src.error(f"unknown key {key!r} in [{table}]{hint}", table, key, index)
     for key in sorted(_REQUIRED[table] - set(entry)):
         raise src.error(f"missing key {key!r} in [{table}]", table, None, index)
 

@@ -95,7 +95,10 @@ def _real(value: object) -> float | None:
     if isinstance(value, bool):
         return None
     if isinstance(value, numbers.Real):
-        return float(value)
+        try:
+            return float(value)
+        except OverflowError:  # an int beyond the doubles (10**400): infinite, for the checks to refuse
+            return -math.inf if str(value).lstrip().startswith("-") else math.inf
     return None
 
 

@@ -151,7 +151,7 @@ def plot_mechanism(
         result: its :class:`LimitResult` (optimal, with velocities).
         path: output file (``.png``, ``.pdf``, ``.svg``).
         amplification: displacement scale; ``None`` chooses one.
-        title: figure title; default: load factor, direction and back end.
+        title: figure title; default: load factor, direction, friction law (associative), blocks and back end.
 
     Returns:
         The written path.
@@ -167,6 +167,7 @@ def plot_mechanism(
         path,
         amplification=amplification,
         title=title
-        or f"lambda = {result.load_factor:.4f} ({result.direction}), {result.blocks} blocks, {result.solver}",
+        or f"lambda = {result.load_factor:.4f} ({result.direction}), associative friction, {result.blocks} blocks, "
+        f"{result.solver}",
         direction=result.direction or None,
     )

@@ -28,7 +28,14 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Self
 
-__all__ = ["SUCCESS_STATUSES", "AssociativeRecord", "MicroRecord", "NonAssociativeRecord", "check_success"]
+__all__ = [
+    "SUCCESS_STATUSES",
+    "AssociativeRecord",
+    "MicroRecord",
+    "NonAssociativeRecord",
+    "check_success",
+    "json_number",
+]
 
 Band = tuple[float, float]
 
@@ -48,10 +55,19 @@ def check_success(owner: str, status: str, load_factor: float) -> None:
         raise ValueError(f"{owner}: status {status!r} needs a finite load factor >= 0, got {load_factor!r}")
 
 
+def json_number(value: float) -> float | None:
+    """``value`` as a strict JSON number: a float, or ``None`` for NaN and the infinities (JSON has neither).
+
+    The one NaN-to-null conversion of every micro summary and record.
+    """
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
 def _out(value: Any) -> Any:
     """JSON-ready: NaN and infinities -> None, tuples -> lists."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
+    if isinstance(value, float):
+        return json_number(value)
     if isinstance(value, tuple):
         return [_out(v) for v in value]
     return value

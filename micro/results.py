@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Status
 from micro.mechanism import CONTACT_STATE_NAMES, Mechanism
-from micro.records import AssociativeRecord, check_success
+from micro.records import AssociativeRecord, check_success, json_number
 
 if TYPE_CHECKING:
     from micro.nonassociative.results import SequenceDiagnostics
@@ -213,15 +213,15 @@ class LimitResult:
         return AssociativeRecord(solver=self.solver, **record_fields(self, self.mechanism))
 
     def summary(self) -> dict[str, Any]:
-        """JSON-ready summary: the record (:meth:`to_record`) with the contact
-        states and the directions as nested objects."""
+        """JSON-ready summary: the record (:meth:`to_record`, whose ``*_contacts``
+        keys are the mechanism's contact states, 0 without one) with the
+        directions as a nested object."""
         record = self.to_record()
         return {
             **record.to_dict(),
-            "contact_states": record.contact_states if self.contact_state is not None else {},
             "directions": {
                 d.direction: {
-                    "load_factor": None if not math.isfinite(d.load_factor) else d.load_factor,
+                    "load_factor": json_number(d.load_factor),
                     "status": d.status,
                     "native_status": d.native_status,
                     "iterations": d.iterations,

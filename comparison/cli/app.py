@@ -5,13 +5,15 @@ Only input validation maps to exit code 2: the parser's own errors and the
 exception is a bug and ends with its traceback. Bare ``xcheck`` prints the
 usage (exit 2); ``xcheck --version`` the version. A reader that closes the
 output early (``xcheck macro --json | head``) ends the run quietly with
-:data:`~comparison.cli.options.EXIT_BROKEN_PIPE` (141); Ctrl-C with 130. Warnings (e.g. an unreadable cache
-entry) are one line each, ``xcheck: warning: ...``.
+:data:`~comparison.cli.options.EXIT_BROKEN_PIPE` (141); Ctrl-C with 130; an output that cannot be
+written (a full disk: ``> /dev/full``) with one line ``xcheck: error: cannot write ...`` and exit code 1.
+Warnings (e.g. an unreadable cache entry) are one line each, ``xcheck: warning: ...``.
 """
 
 from __future__ import annotations
 
 import argparse
+import errno
 import os
 import sys
 import warnings
@@ -20,7 +22,18 @@ from contextlib import contextmanager
 from importlib import metadata
 
 from comparison.cli import macro, micro, references, report, stability, sweep
-from comparison.cli.options import EXIT_BROKEN_PIPE, EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, UsageError
+from comparison.cli.options import (
+    EXIT_BROKEN_PIPE,
+    EXIT_CODES,
+    EXIT_FAILED,
+    EXIT_INTERRUPTED,
+    EXIT_USAGE,
+    UsageError,
+)
+
+#: The errors of an output that cannot take more (``> /dev/full``, a full disk or quota, a file too large):
+#: one line and :data:`~comparison.cli.options.EXIT_FAILED`, not a traceback.
+DISK_FULL = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 
 class Parser(argparse.ArgumentParser):
@@ -74,6 +87,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         except BrokenPipeError:
             _drop_stdout()
             return EXIT_BROKEN_PIPE
+        except OSError as exc:
+            if exc.errno not in DISK_FULL:
+                raise
+            where = f" {exc.filename}" if exc.filename else " the output"
+            print(f"xcheck: error: cannot write{where}: {exc.strerror}", file=sys.stderr)
+            _drop_stdout()
+            return EXIT_FAILED
         except KeyboardInterrupt:
             print("xcheck: interrupted", file=sys.stderr)
             return EXIT_INTERRUPTED

@@ -19,7 +19,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Minimise Eq. (10) of the paper over the crack angle and the hinge storey.",
     )
     add_wall_options(p)
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--json", action="store_true", help="print one JSON object on one line")
     p.set_defaults(handler=run)
 
 
@@ -33,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         d = result.to_dict()
         d["paper_parameters"] = spec.paper_parameters()
-        print(json.dumps(d, indent=2))
+        print(json.dumps(d))  # one line, as micro --json
         return 0
     if args.verbosity == QUIET:
         print(f"{result.load_factor:.6f}")

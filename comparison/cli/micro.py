@@ -216,9 +216,11 @@ def _write_plot(draw: Callable[[], object], path: str) -> None:
 
 
 def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool, **extra: str) -> str:
-    """One JSON line: the result's summary with the wall and the options."""
+    """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters)
+    and the options."""
     summary.update(
-        wall=spec.name or "",
+        wall=spec.name or None,
+        paper_parameters=spec.paper_parameters(),
         friction=args.friction,
         first_course=args.first_course,
         head_joints=args.head_joints,
@@ -308,6 +310,8 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
             else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
         )
         print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
+        if verbosity == QUIET:  # the failure line alone (README, "Exit codes")
+            return
         _print_retry(result)
     _print_fusion(result)
     if verbosity == QUIET:

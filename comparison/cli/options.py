@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import warnings
 from fractions import Fraction
 from pathlib import Path
 
@@ -18,7 +19,8 @@ from comparison.wall import WallSpec
 
 #: Exit codes of ``xcheck`` (documented in the README and in ``xcheck --help``).
 EXIT_OK = 0
-#: A method ran but gave no load factor (a solve that is not optimal, an iterated LP that did not converge).
+#: A method ran but gave no load factor (a solve that is not optimal, an iterated LP that did not converge),
+#: or the output could not be written (a full disk).
 EXIT_FAILED = 1
 #: Bad input: a malformed option, an invalid wall, a bad scene file.
 EXIT_USAGE = 2
@@ -35,7 +37,8 @@ EXIT_CODES = """\
 exit codes:
   0    success: every method asked for gave its load factor
   1    a method failed: a solve that is not optimal, an iterated LP that did not converge
-       (the reason is printed; lambda is never printed as a number)
+       (the reason is printed; lambda is never printed as a number); or the output could
+       not be written (a full disk)
   2    bad input: one line 'xcheck: error: ...' naming the parameter (file and line for scenes)
   130  interrupted (Ctrl-C)
   141  the reader of the output went away (a closed pipe); nothing more is printed
@@ -81,15 +84,17 @@ def parse_fraction(name: str, text: str | float) -> float:
 def int_option(name: str, text: str, minimum: int = 1) -> int:
     """An integer option of at least ``minimum`` (a positive integer by default).
 
+    The text is read exactly (``12.0000000000000001`` is not 12, ``1e3`` is 1000), not through a float.
+
     Raises:
         UsageError: naming ``name`` and the rule.
     """
     rule = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
     try:
-        value = parse_fraction(name, text)
-    except UsageError:
+        value = Fraction(str(text).strip())
+    except (ValueError, ZeroDivisionError):
         raise UsageError(f"{name} must be {rule}, got {text!r}") from None
-    if not value.is_integer() or value < minimum:
+    if value.denominator != 1 or value < minimum:
         raise UsageError(f"{name} must be {rule}, got {text!r}")
     return int(value)
 
@@ -183,14 +188,26 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
     missing = [f"--{k}" for k in ("rows", "t", "m", "f") if getattr(args, k) is None]
     if missing:
         raise UsageError(f"missing {', '.join(missing)} (or give --scene FILE.toml)")
-    t, m = parse_fraction("t", args.t), parse_fraction("m", args.m)
-    rows = int_option("rows", args.rows)
-    f, p = parse_fraction("f", args.f), parse_fraction("p", "0" if args.p is None else args.p)
-    storeys = int_option("storeys", "1" if args.storeys is None else args.storeys)
+    given = {k: str(getattr(args, k)) for k in WALL_OPTIONS if getattr(args, k) is not None}
+    texts = {"p": "0", "storeys": "1"} | given
+    values: dict[str, float | int] = {k: parse_fraction(k, texts[k]) for k in ("t", "m", "f", "p")}
+    values |= {k: int_option(k, texts[k]) for k in ("rows", "storeys")}
     try:
-        return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=p, storeys=storeys)
+        return WallSpec.from_paper(**values)  # type: ignore[arg-type]
     except ValueError as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(echo_input(str(exc), texts, values)) from None
+
+
+def echo_input(message: str, texts: dict[str, str], values: dict[str, float | int]) -> str:
+    """A wall check's message about the parameter it names, quoting the value as the user wrote it.
+
+    The checks word the parsed number (``got inf`` for ``1e400``, 301 digits for ``1e300``); the command
+    line echoes the text instead (``t must be a positive number, got 1e400``).
+    """
+    name = message.split(" ", 1)[0].rstrip(":")
+    if name not in texts:
+        return message
+    return message.replace(f"got {values[name]!r}", f"got {texts[name].strip()}", 1)
 
 
 def add_cache_options(parser: argparse.ArgumentParser) -> None:
@@ -256,9 +273,19 @@ def add_executor_options(parser: argparse.ArgumentParser, default_workers: str |
 
 
 def workers_from_args(args: argparse.Namespace) -> int | None:
-    """The ``--workers`` option as a positive integer (``None``: not given).
+    """The ``--workers`` option as a positive integer (``None``: not given), at most the number of CPUs.
+
+    More workers than CPUs only split the memory further (each gets the memory available over the
+    workers) and run no faster: a larger number is capped at the CPU count with a warning.
 
     Raises:
         UsageError: not a positive integer.
     """
-    return None if args.workers is None else int_option("--workers", args.workers)
+    if args.workers is None:
+        return None
+    workers = int_option("--workers", args.workers)
+    cpus = os.cpu_count() or 1
+    if workers > cpus:
+        warnings.warn(f"--workers {args.workers}: this machine has {cpus} CPUs; using {cpus} workers", stacklevel=2)
+        return cpus
+    return workers

@@ -5,7 +5,17 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from comparison.cli.options import UsageError, add_cache_options, add_command, cache_dir_from_args
+from comparison.cli.options import (
+    UsageError,
+    add_cache_options,
+    add_command,
+    cache_dir_from_args,
+    output_directory,
+)
+
+#: Where ``xcheck references`` writes unless told: the working directory, never the installed package's own
+#: data file (the plugin's ``comparison/pytest_plugin/references.json`` is rewritten only when named).
+DEFAULT_OUT = "references.json"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -20,9 +30,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--out",
-        default=None,
+        default=DEFAULT_OUT,
         metavar="FILE.json",
-        help="where to write (default: the plugin's own comparison/pytest_plugin/references.json)",
+        help=f"where to write (default: {DEFAULT_OUT} in the working directory; the plugin ships "
+        "comparison/pytest_plugin/references.json of the source tree, written by naming it)",
     )
     p.add_argument("--quick", action="store_true", help="the micro model on Table 7's walls only")
     add_cache_options(p)
@@ -33,7 +44,12 @@ def run(args: argparse.Namespace) -> int:
     """Write the references and say how many cells."""
     from comparison.pytest_plugin import generate
 
-    out = Path(args.out) if args.out else Path(generate.__file__).with_name("references.json")
+    if not args.out.strip():
+        raise UsageError(f"--out must name a file, got {args.out!r}")
+    out = Path(args.out)
+    if out.is_dir():
+        raise UsageError(f"--out: {args.out!r} is a directory; name the file, e.g. {out / DEFAULT_OUT}")
+    output_directory("--out", out.parent)  # before the run, not after
     try:
         refs = generate.generate(
             out,

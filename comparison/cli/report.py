@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from comparison.cli.options import (
+    UsageError,
     add_cache_options,
     add_command,
     add_executor_options,
@@ -23,10 +25,30 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Tables 5, 7, 8, 9 and beyond, failure modes, sensitivity and speed-accuracy figures.",
     )
     p.add_argument("--out", default="reports", help="output directory (default: reports)")
+    p.add_argument(
+        "--tables",
+        default=None,
+        metavar="DIR",
+        help="where the committed tables the report reads and does not recompute are (sweeps/errormap.csv, "
+        "sweeps/table9_bond.csv, lowest.csv; default: the --out directory); a missing one is a warning",
+    )
     p.add_argument("--quick", action="store_true", help="the micro model on the small walls only (under a minute)")
     add_cache_options(p)
     add_executor_options(p)
     p.set_defaults(handler=run)
+
+
+def readable_directory(option: str, path: str) -> Path:
+    """``path`` as an existing directory.
+
+    Raises:
+        UsageError: empty, missing or not a directory.
+    """
+    if not path.strip():
+        raise UsageError(f"{option} must name a directory, got {path!r}")
+    if not Path(path).is_dir():
+        raise UsageError(f"{option}: {path!r} is not a directory")
+    return Path(path)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -38,12 +60,14 @@ def run(args: argparse.Namespace) -> int:
     from comparison.report import build_report
 
     out = output_directory("--out", args.out)
+    tables = None if args.tables is None else readable_directory("--tables", args.tables)
     path = build_report(
         out,
         quick=args.quick,
         cache_dir=cache_dir_from_args(args),
         verbosity=args.verbosity,
         workers=workers_from_args(args),
+        tables_dir=tables,
     )
     print(f"wrote {path}")
     return 0

@@ -2,15 +2,19 @@
 
 Example::
 
-    xcheck stability --out reports --processes 2
+    xcheck stability --out reports --workers 2
     xcheck stability --lowest --out reports
 """
 
 from __future__ import annotations
 
 import argparse
+import warnings
 
-from comparison.cli.options import UsageError, add_command, int_option, output_directory
+from comparison.cli.options import UsageError, add_command, output_directory, workers_from_args
+
+#: Worker processes of the studies unless ``--workers`` says otherwise.
+STUDY_WORKERS = 2
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -23,7 +27,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "of 120 small walls and writes stability.md, stability.csv and stability.png.",
     )
     p.add_argument("--out", default="reports", metavar="DIR", help="output folder (default reports)")
-    p.add_argument("--processes", default="2", metavar="N", help="worker processes (default 2)")
+    p.add_argument("--workers", default=None, metavar="N", help="local worker processes (default 2)")
+    # the option's old name, unlike report's and sweep's --workers: still read, with a warning
+    p.add_argument("--processes", default=None, help=argparse.SUPPRESS)
     p.add_argument("--quick", action="store_true", help="12 walls only (smoke test)")
     p.add_argument(
         "--table7",
@@ -43,7 +49,12 @@ def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck stability``."""
     from comparison.stability import main_study, table7_variants
 
-    processes = int_option("--processes", args.processes)
+    if args.processes is not None:
+        if args.workers is not None:
+            raise UsageError("--processes is the old name of --workers; give --workers alone")
+        warnings.warn("--processes is deprecated: use --workers", FutureWarning, stacklevel=1)
+        args.workers = args.processes
+    processes = workers_from_args(args) or STUDY_WORKERS
     output_directory("--out", args.out)
     try:
         if args.table7:

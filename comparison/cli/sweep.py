@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 from typing import TYPE_CHECKING
+from urllib.parse import urlsplit
 
 from comparison.cli.options import (
     UsageError,
@@ -26,6 +27,8 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
 
 #: Bytes in a gigabyte (``--worker-memory`` is given in GB).
 GB = 1e9
+#: The transports a ``dask.distributed`` scheduler listens on (``--scheduler tcp://host:8786``).
+SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -85,13 +88,32 @@ def run(args: argparse.Namespace) -> int:
     return 1 if done.counts["failed"] else 0
 
 
+def scheduler_address(text: str) -> str:
+    """``text`` when it is a scheduler address ``SCHEME://HOST:PORT`` (:data:`SCHEDULER_SCHEMES`), checked
+    before any connection is tried (a bad one would wait for the connection's time-out).
+
+    Raises:
+        UsageError: another scheme (``http://``), no host, or a port that is not a number in 1..65535.
+    """
+    rule = f"an address SCHEME://HOST:PORT such as tcp://127.0.0.1:8786 (SCHEME {', '.join(SCHEDULER_SCHEMES)})"
+    parts = urlsplit(text.strip())
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    if (parts.scheme not in SCHEDULER_SCHEMES or not parts.hostname or port is None or not 0 < port < 65536
+            or parts.path not in ("", "/") or parts.query or parts.fragment):
+        raise UsageError(f"--scheduler must be {rule}, got {text!r}")
+    return text.strip()
+
+
 def _executor(workers: int | None, scheduler: str | None, memory: int | None) -> Executor:
     """The executor the options ask for; a scheduler that cannot be reached is bad input."""
     from comparison.runner.executor import make_executor
     from comparison.runner.executor.cluster import ClusterError
 
-    if scheduler is not None and "://" not in scheduler:
-        raise UsageError(f"--scheduler must be an address such as tcp://host:8786, got {scheduler!r}")
+    if scheduler is not None:
+        scheduler_address(scheduler)
     try:
         return make_executor(workers, scheduler, memory)
     except ImportError:  # pragma: no cover - dask is in the [dask] extra

@@ -161,7 +161,7 @@ def generate(
             todo = [item for item in runs if item not in runner.cache]
             cached = len(runs) - len(todo)
             progress.say(f"plan: {len(runs)} micro computations: {cached} cached, {len(todo)} to compute")
-            progress.start(len(todo), "micro")
+            progress.start(len(todo), "micro", cached=cached)
             with LocalExecutor(os.cpu_count() or 1) as executor:
                 runner.keep(prefetch(runner.cache, todo, executor, progress).unstored)
     cells: list[Reference] = []

@@ -12,7 +12,8 @@ Fixtures:
 
 Options: ``--xcheck-compute`` (our methods computed as references for the
 walls of ``--xcheck-walls``, default ``macro``; ``micro-assoc``,
-``micro-nonassoc`` through the result cache), ``--xcheck-cases`` (``"7"``, ``"5,9"``, ``"Ref,Set 12"``, ``"all"``),
+``micro-nonassoc`` through the result cache), ``--xcheck-cases`` (``"7"``, ``"5,9"``, ``"Ref,Set 12"``, ``"all"``,
+or names of the walls of ``--xcheck-walls``: see :func:`~comparison.pytest_plugin.walls.cases_and_walls`),
 ``--xcheck-walls FILE.toml`` (see :func:`~comparison.pytest_plugin.walls.walls_from_file`),
 ``--xcheck-table PATH`` (``.md`` or ``.csv``), ``--xcheck-against LIST`` (the
 reference columns of the table, default
@@ -39,7 +40,12 @@ _WALLS = pytest.StashKey[Sequence[PaperCase]]()
 def pytest_addoption(parser: pytest.Parser) -> None:
     """The plugin's options."""
     g = parser.getgroup("xcheck", "xcheck-masonry: the paper's walls and reference values")
-    g.addoption("--xcheck-cases", default=None, metavar="LIST", help="paper cases for xcheck_case: tables or cases")
+    g.addoption(
+        "--xcheck-cases",
+        default=None,
+        metavar="LIST",
+        help="walls for xcheck_case: tables (7), paper cases (Ref, Set 12), all, or names of --xcheck-walls walls",
+    )
     g.addoption("--xcheck-walls", default=None, metavar="FILE.toml", help="your own walls for xcheck_case")
     g.addoption(
         "--xcheck-compute",

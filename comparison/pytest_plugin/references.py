@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import asdict, dataclass
 from importlib import resources
@@ -87,6 +88,24 @@ class Reference:
         if self.value is None or self.tolerance is None:
             raise MissingReference(f"{self.name}: no reference value ({self.status or 'not computed'})")
         return self.tolerance + rel * math.fabs(self.value) + abs
+
+
+def received_number(where: str, value: object) -> float:
+    """``value`` as a float when it is a real number (a Python or NumPy integer or float; NaN allowed).
+
+    A model that returns ``None``, a string or an array is a bug of the test, named here rather than
+    turned into a number (``"0.5"``) or a bare ``TypeError``.
+
+    Args:
+        where: the case, the method and the call, e.g. ``"Set 12 / my model: xcheck_table.add"``.
+        value: what the model gave.
+
+    Raises:
+        TypeError: ``"{where} needs a number, got '0.5' (str)"``.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{where} needs a number, got {value!r} ({type(value).__name__})")
+    return float(value)
 
 
 class MissingReference(LookupError):
@@ -180,11 +199,14 @@ class References:
             The reference cell.
 
         Raises:
+            TypeError: ``value`` is not a number (``None``, a string), naming the case, the method and
+                what was received (:func:`received_number`).
             ReferenceMismatch: ``value`` is outside, e.g. ``Set 14 / micro-nonassoc / load_factor:
                 0.2600 outside 0.2684 ± 0.0067 (iterated LP, ...; reference tolerance 0.0013 + 2 % of the
                 reference)``.
             MissingReference: there is no reference value for that cell.
         """
+        value = received_number(f"{case_label(wall)} / {method} / {cell}: xcheck_references.check", value)
         ref = self.get(wall, method, cell)
         allowed = ref.allowed(rel, abs)
         assert ref.value is not None  # allowed() raised otherwise

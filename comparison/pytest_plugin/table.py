@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from comparison.cases import PaperCase
-from comparison.pytest_plugin.references import MissingReference, References, case_label
+from comparison.pytest_plugin.references import MissingReference, References, case_label, received_number
 
 #: The references a table compares against unless told otherwise: our two micro LPs, Orduña's
 #: micro values (Table 7) and the paper's macro model.
@@ -40,8 +40,13 @@ class ComparisonTable:
     entries: list[tuple[PaperCase | str, str, float]] = field(default_factory=list)
 
     def add(self, wall: PaperCase | str, value: float, method: str = "yours") -> None:
-        """Record ``method``'s load factor ``value`` on ``wall``."""
-        self.entries.append((wall, method, float(value)))
+        """Record ``method``'s load factor ``value`` on ``wall``.
+
+        Raises:
+            TypeError: ``value`` is not a number (``None``, ``"0.5"``), naming the wall, the method and what
+                was received (:func:`~comparison.pytest_plugin.references.received_number`).
+        """
+        self.entries.append((wall, method, received_number(f"{case_label(wall)} / {method}: xcheck_table.add", value)))
 
     def _reference(self, wall: PaperCase | str, method: str) -> float | None:
         try:

@@ -34,16 +34,25 @@ class UserWall(PaperCase):
         return self.case
 
 
-def select_cases(selection: str) -> tuple[PaperCase, ...]:
-    """The paper's cases a comma-separated ``selection`` names: tables (``"7"``, ``"table 9"``),
-    cases (``"Ref"``, ``"Set 12"``, ``"12"``) or ``"all"``; tables are read as tables first.
+def select_cases(selection: str, own: Sequence[UserWall] = ()) -> tuple[PaperCase, ...]:
+    """The walls a comma-separated ``selection`` names: tables (``"7"``, ``"table 9"``), the paper's cases
+    (``"Ref"``, ``"Set 12"``, ``"12"``), ``"all"`` (every paper case), or the names of ``own`` walls
+    (``"my squat wall"``; a name of your own wall is read as that wall first, then a table, then a case).
+
+    Returns:
+        The paper's cases selected, in the paper's order, then the own walls named, in the file's order.
 
     Raises:
-        ValueError: a name that is neither a table nor a case.
+        ValueError: a name that is neither a table, a case nor one of ``own``.
     """
     out: dict[str, PaperCase] = {}
+    mine: dict[str, UserWall] = {}
+    own_by_name = {w.label: w for w in own}
     for raw in (s.strip() for s in selection.split(",") if s.strip()):
         key = raw.lower().removeprefix("table").strip()
+        if raw in own_by_name:
+            mine[raw] = own_by_name[raw]
+            continue
         if key == "all":
             found: tuple[PaperCase, ...] = CASES
         elif raw.lower().startswith("table") or (key.isdigit() and cases_in_table(key)):
@@ -51,9 +60,14 @@ def select_cases(selection: str) -> tuple[PaperCase, ...]:
             if not found:
                 raise ValueError(f"--xcheck-cases: no table {key!r} (tables 5, 6, 7, 8, 9)")
         else:
-            found = (case(raw),)
+            try:
+                found = (case(raw),)
+            except ValueError:
+                walls = f", nor a wall of --xcheck-walls ({', '.join(own_by_name)})" if own else ""
+                raise ValueError(f"--xcheck-cases: {raw!r} is neither a table (5, 6, 7, 8, 9), a paper case (Ref, "
+                                 f"Set 1..17){walls}") from None
         out |= {c.label: c for c in found}
-    return tuple(c for c in CASES if c.label in out)
+    return (*(c for c in CASES if c.label in out), *(w for w in own if w.label in mine))
 
 
 def paper_cases(*tables: str, known_gaps: Mapping[str, str] | None = None) -> list[Any]:
@@ -117,8 +131,22 @@ def _wall(where: str, w: Any) -> UserWall:
 
 
 def cases_and_walls(selection: str | None, walls_file: str | None) -> Sequence[PaperCase]:
-    """What ``--xcheck-cases`` and ``--xcheck-walls`` select (all the paper's cases when neither is given)."""
-    chosen: list[PaperCase] = list(select_cases(selection)) if selection else []
-    if walls_file:
-        chosen += walls_from_file(walls_file)
-    return chosen if selection or walls_file else list(CASES)
+    """What ``--xcheck-cases`` and ``--xcheck-walls`` select.
+
+    * neither: every paper case;
+    * ``--xcheck-walls`` alone: the file's walls alone;
+    * ``--xcheck-cases`` alone: the tables and cases it names;
+    * both: the tables and cases named, and the file's walls that the selection names, or all of them
+      when it names none (``--xcheck-cases 7 --xcheck-walls walls.toml``: Table 7 and your walls;
+      ``--xcheck-cases "my squat wall" --xcheck-walls walls.toml``: that wall alone).
+
+    Raises:
+        ValueError: an unreadable walls file, or a name that is neither a table, a case nor a wall of the file.
+    """
+    own = walls_from_file(walls_file) if walls_file else ()
+    if not selection:
+        return list(own) if own else list(CASES)
+    chosen = select_cases(selection, own)
+    if own and not any(isinstance(c, UserWall) for c in chosen):
+        chosen = (*chosen, *own)
+    return list(chosen)

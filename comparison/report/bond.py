@@ -2,8 +2,9 @@
 
 Sets 15-17 (five storeys, 150 rows, 7,575 blocks) have no non-associative
 load factor: the iterated LP does not settle on them within the runner's caps
-(``docs/research/2026-11-24-table9-coarser-bonds.md``). Reads
-``reports/sweeps/table9_bond.csv`` (written
+(``docs/research/2026-11-24-table9-coarser-bonds.md``). Reads the committed sweep table
+``sweeps/table9_bond.csv`` of the report's tables directory
+(:mod:`comparison.report.committed`; written
 by ``xcheck sweep examples/sweeps/table9_bond.toml --out reports/sweeps``;
 the report does not recompute it): the same walls (t = 1, m = 1/3, f = 0.75,
 p = 0, 1, 8) built with fewer rows of proportionally larger units, with the
@@ -26,8 +27,6 @@ from typing import Any
 from comparison.report.errormap import wall_values
 from comparison.report.tables import plain
 
-#: The committed sweep table the section reads.
-TABLE = Path(__file__).resolve().parents[2] / "reports" / "sweeps" / "table9_bond.csv"
 #: Table 9's set for each overloading ratio p of the sweep.
 SETS = {0.0: "Set 15", 1.0: "Set 16", 8.0: "Set 17"}
 
@@ -72,7 +71,7 @@ class BondRow:
         return (self.macro - self.nonassoc) / self.nonassoc if math.isfinite(self.macro + self.nonassoc) else math.nan
 
 
-def load(path: Path = TABLE) -> list[BondRow]:
+def load(path: Path) -> list[BondRow]:
     """The walls of the sweep table (read as the error map's, :func:`~comparison.report.errormap.wall_values`),
     by p then rows."""
     rows = [BondRow(float(p), int(o), w["blocks"], w["macro"], w["micro-assoc"], w["micro-nonassoc"],
@@ -110,10 +109,11 @@ def findings(rows: Sequence[BondRow]) -> list[str]:
     return out
 
 
-def section(path: Path = TABLE) -> tuple[str, list[dict[str, Any]]]:
-    """The report's markdown section and its rows (for ``report.json``); says so when the table is missing."""
+def section(path: Path | None) -> tuple[str, list[dict[str, Any]]]:
+    """The report's markdown section and its rows (for ``report.json``); says so when the table is missing
+    (``None``: :func:`~comparison.report.committed.committed_table` warned)."""
     title = "## Table 9's walls with coarser bonds"
-    if not path.exists():
+    if path is None or not path.exists():
         return f"{title}\n\nThe sweep table `reports/sweeps/table9_bond.csv` is missing.\n", []
     rows = load(path)
     lines = [

@@ -6,7 +6,8 @@ plan in local worker processes (:class:`~comparison.runner.executor.LocalExecuto
 with a progress bar), reads the whole plan into
 :class:`~comparison.report.results.Results`, and renders the tables, figures
 and text from them into ``REPORT.md``, one CSV per table, ``report.json`` (every
-number shown) and the figures.
+number shown) and the figures; the sections of the tables committed with the
+report read them from its tables directory (:mod:`comparison.report.committed`).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from typing import Any
 from comparison.outputs import writable_directory
 from comparison.progress import NORMAL, Progress
 from comparison.report import bond, errormap, figures, lowest
+from comparison.report.committed import BOND, ERRORMAP, LOWEST, committed_table
 from comparison.report.findings import findings
 from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
@@ -40,6 +42,7 @@ def build_report(
     cache_dir: Path | None,
     verbosity: int = NORMAL,
     workers: int | None = None,
+    tables_dir: Path | None = None,
 ) -> Path:
     """Compute everything and write ``REPORT.md``, CSVs, ``report.json`` and the figures.
 
@@ -51,6 +54,9 @@ def build_report(
             :func:`comparison.runner.default_cache_dir`.
         verbosity: what the progress display shows (see :mod:`comparison.progress`).
         workers: processes for the missing micro computations (default: the number of CPUs).
+        tables_dir: where the committed tables the report reads and does not recompute are
+            (:mod:`comparison.report.committed`; default ``out_dir``); a missing one is a warning and
+            its section says so.
 
     Returns:
         The path of ``REPORT.md``.
@@ -73,25 +79,39 @@ def build_report(
             f"{len(runs) - len(pending)} cached, {len(pending)} to compute"
             + ("" if runner.cache is None else f" in {processes} processes")
         )
-        progress.start(len(pending), "micro")
+        progress.start(len(pending), "micro", cached=len(runs) - len(pending))
         prefetched = Prefetched()
         if runner.cache is not None and pending:
             with LocalExecutor(processes) as executor:
                 prefetched = prefetch(runner.cache, [(it.spec, it.method) for it in pending], executor, progress)
             runner.keep(prefetched.unstored)
         results = compute(plan, runner)
-    meta = {"quick": quick, "methods": [m.label for m in [MACRO, *plan.methods]]}
-    run = {
-        "computed": prefetched.computed + runner.computed,
-        "cached": len(runs) - len(pending) if cache_dir is not None else 0,
-    }
-    path = _write(results, out_dir, meta)
-    write_timings(results, out_dir, {**run, "seconds": time.perf_counter() - start})
+        progress.close()
+        meta = {"quick": quick, "methods": [m.label for m in [MACRO, *plan.methods]]}
+        run = {
+            "computed": prefetched.computed + runner.computed,
+            "cached": len(runs) - len(pending) if cache_dir is not None else 0,
+        }
+        written = time.time()
+        path = _write(results, out_dir, meta, out_dir if tables_dir is None else Path(tables_dir))
+        write_timings(results, out_dir, {**run, "seconds": time.perf_counter() - start},
+                      computed={(it.spec, it.method) for it in pending})
+        progress.say(written_files(out_dir, since=written))
     return path
 
 
-def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
-    """Render the tables, figures and text of ``res`` into ``out`` (run times: :mod:`~comparison.report.timings`)."""
+def written_files(out: Path, since: float) -> str:
+    """The line saying what a run wrote into ``out``: the files modified since ``since`` (``time.time()``)."""
+    names = sorted(p.name for p in out.iterdir() if p.is_file() and p.stat().st_mtime >= since - 1.0)
+    main = [n for n in ("REPORT.md", "report.json", "timings.md") if n in names]
+    csv = sum(n.endswith(".csv") for n in names)
+    png = sum(n.endswith(".png") for n in names)
+    return f"wrote {len(names)} files into {out}: {', '.join(main)}, {csv} CSV tables, {png} figures"
+
+
+def _write(res: Results, out: Path, meta: Mapping[str, Any], tables_dir: Path) -> Path:
+    """Render the tables, figures and text of ``res`` into ``out`` (run times: :mod:`~comparison.report.timings`),
+    with the sections of the committed tables in ``tables_dir``."""
     tables = all_tables(res)
     hist = figures.histories_figure(res, out / "histories.png")
     scaling = scaling_figure(res, out / "scaling.png")
@@ -104,9 +124,9 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
     ]
     for tb in tables.values():
         tb.write_csv(out / f"{tb.name}.csv")
-    error_map, error_numbers = errormap.write(out, number=len(figure_list) + 1)
+    error_map, error_numbers = errormap.write(out, committed_table(tables_dir, ERRORMAP), number=len(figure_list) + 1)
     lowest_number = len(figure_list) + (2 if error_numbers else 1)
-    bond_text, bond_rows = bond.section()
+    bond_text, bond_rows = bond.section(committed_table(tables_dir, BOND))
     tables_json = {k: v.records() for k, v in tables.items()}
     (out / "report.json").write_text(json.dumps(
         {"meta": meta, "tables": tables_json, "errormap": error_numbers, "table9_bond": bond_rows},
@@ -114,5 +134,6 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any]) -> Path:
     ))
     path = out / "REPORT.md"
     text = document(res, tables, findings(res), figure_list, meta)
-    path.write_text(text + "\n" + error_map + "\n" + bond_text + "\n" + lowest.section(out=out, number_=lowest_number))
+    lowest_text = lowest.section(committed_table(tables_dir, LOWEST), out=out, number_=lowest_number)
+    path.write_text(text + "\n" + error_map + "\n" + bond_text + "\n" + lowest_text)
     return path

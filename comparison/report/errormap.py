@@ -1,6 +1,7 @@
 """The error map: where the macro model is unsafe, from the committed sweep table.
 
-Reads ``reports/sweeps/errormap.csv`` (written by ``xcheck sweep
+Reads the committed sweep table ``sweeps/errormap.csv`` of the report's tables
+directory (:mod:`comparison.report.committed`; written by ``xcheck sweep
 examples/sweeps/errormap.toml --out reports/sweeps``; the report does not
 recompute it) and pairs, wall by wall, the macro load factor with the micro
 reference: the iterated non-associative LP where it converged, else the
@@ -24,8 +25,6 @@ from typing import Any
 
 from comparison.sweep.table import number, read_table
 
-#: The committed sweep table the section reads.
-TABLE = Path(__file__).resolve().parents[2] / "reports" / "sweeps" / "errormap.csv"
 #: Relative difference within which the two models agree (the LPs are solved to about 1e-6 relative):
 #: a wall is unsafe when the macro load factor exceeds the micro reference by more. Walls where both
 #: slide at lambda = f differ by 1e-9 and count as agreeing.
@@ -78,7 +77,7 @@ class MapCell:
         return (self.macro - ref) / ref if math.isfinite(ref) else math.nan
 
 
-def wall_values(path: Path = TABLE) -> dict[tuple[str, ...], dict[str, Any]]:
+def wall_values(path: Path) -> dict[tuple[str, ...], dict[str, Any]]:
     """Per wall of a sweep table, keyed ``(t, m, rows, storeys, f, p)`` as the table writes them: the
     macro load factor (``"macro"``), the micro ones that count as references (``"micro-assoc"``,
     ``"micro-nonassoc"``; NaN otherwise), the blocks of those (``"blocks"``), and how the iterated LP
@@ -100,7 +99,7 @@ def wall_values(path: Path = TABLE) -> dict[tuple[str, ...], dict[str, Any]]:
     return walls
 
 
-def load(path: Path = TABLE) -> list[MapCell]:
+def load(path: Path) -> list[MapCell]:
     """The walls of a sweep table with their macro and micro load factors."""
     cells = []
     for (t, m, rows, storeys, f, p), w in wall_values(path).items():
@@ -202,7 +201,7 @@ def figure(cells: Sequence[MapCell], path: Path) -> Path:
     return path
 
 
-def nonassoc_stops(path: Path = TABLE) -> dict[str, int]:
+def nonassoc_stops(path: Path) -> dict[str, int]:
     """How the iterated LP ended on the walls of the map (bond as in :func:`load`), by status."""
     stops: dict[str, int] = {}
     for row in read_table(path):
@@ -294,13 +293,13 @@ def _share(part: dict[str, Any]) -> str:
     return f"{100 * part['unsafe'] / part['walls']:.0f} %" if part["walls"] else "no wall"
 
 
-def write(out: Path, table: Path = TABLE, number: int | None = None) -> tuple[str, dict[str, Any]]:
+def write(out: Path, table: Path | None, number: int | None = None) -> tuple[str, dict[str, Any]]:
     """Draw ``errormap.png`` into ``out``; the section's markdown and its numbers (for ``report.json``).
 
-    Without the committed table the section says so and nothing is drawn. ``number``: the figure's number
-    in the report.
+    Without the committed table (``None``: :func:`~comparison.report.committed.committed_table` warned)
+    the section says so and nothing is drawn. ``number``: the figure's number in the report.
     """
-    if not table.exists():
+    if table is None or not table.exists():
         return "## Error map\n\nThe sweep table `reports/sweeps/errormap.csv` is missing.\n", {}
     cells = load(table)
     name = figure(cells, out / "errormap.png").name

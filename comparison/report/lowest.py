@@ -1,6 +1,7 @@
 """Table 7 with the iterated LP, the lowest certified state and the global search, from the committed study.
 
-Reads ``reports/lowest.csv`` (written by ``xcheck stability --lowest --out
+Reads the committed study table ``lowest.csv`` of the report's tables directory
+(:mod:`comparison.report.committed`; written by ``xcheck stability --lowest --out
 reports``; the report does not recompute it: the descent and the global
 search take minutes), renders the rows of Table 7's walls beside Orduña's
 load factors (:func:`comparison.stability.lowest_render.table7_lines`) and
@@ -15,20 +16,18 @@ from typing import Any
 from comparison.stability.lowest_render import GROUPS, chart, table7_lines
 from comparison.sweep.table import number, read_table
 
-#: The committed study table the section reads.
-TABLE = Path(__file__).resolve().parents[2] / "reports" / "lowest.csv"
 #: Its columns that hold numbers.
 NUMERIC = (
     "orduna", "lambda_iterated", "lambda_lowest", "global_best", "global_bound", "global_gap",
-    "iterated_seconds", "lowest_seconds", "global_seconds",
+    "iterated_seconds", "lowest_seconds", "global_seconds", "lambda_macro",
 )
 
 
-def load(path: Path = TABLE) -> list[dict[str, Any]]:
+def load(path: Path) -> list[dict[str, Any]]:
     """The study's rows, numeric columns as floats (NaN when empty)."""
     rows: list[dict[str, Any]] = read_table(path)
     for r in rows:
-        r.update({k: number(r[k]) for k in NUMERIC})
+        r.update({k: number(r.get(k, "")) for k in NUMERIC})  # a table written before a column was added
     return rows
 
 
@@ -40,15 +39,15 @@ def figure(rows: list[dict[str, Any]], path: Path) -> Path:
     return chart(over_global, over_lowest, path)
 
 
-def section(path: Path = TABLE, out: Path | None = None, number_: int | None = None) -> str:
+def section(path: Path | None, out: Path | None = None, number_: int | None = None) -> str:
     """The report's markdown section (says so when the table is missing).
 
     Args:
-        path: the study's table.
+        path: the study's table (``None``: :func:`~comparison.report.committed.committed_table` warned).
         out: where to draw ``lowest.png`` (``None``: no figure).
         number_: the figure's number in the report.
     """
-    if not path.exists():
+    if path is None or not path.exists():
         return "## Table 7: the lowest collapse load\n\nThe study table `reports/lowest.csv` is missing.\n"
     rows = load(path)
     lines = table7_lines(rows)
@@ -64,7 +63,7 @@ def section(path: Path = TABLE, out: Path | None = None, number_: int | None = N
             "",
             f"**{label}.** The iterated LP's load factor against the lowest known collapse load, over every wall "
             f"of the study ({groups}), in bins of 1 %. Left: its excess over the global minimum on the {closed} "
-            "walls where the global search closed (the lowest certified state equals it there). Right: its excess "
+            "walls where the global search closed. Right: its excess "
             "over the lowest certified state, stacked by group: a lower bound of its excess over the global "
             "minimum. Data: `lowest.csv`.",
         ]

@@ -43,7 +43,7 @@ python3 -m venv .venv && .venv/bin/pip install -e .
 .venv/bin/xcheck report{quick} --out reports          # this report (cached results are reused)
 .venv/bin/xcheck stability --out reports          # stability.md: the iterated LP over 120 walls
 .venv/bin/xcheck stability --table7 --out reports # table7_nonassoc.md: Table 7 per bond variant
-.venv/bin/xcheck references                       # the pytest plugin's reference values
+.venv/bin/xcheck references --out comparison/pytest_plugin/references.json   # the plugin's references
 ```
 
 `--no-cache` recomputes everything (the cache: [docs/cli.md](../docs/cli.md#the-report-command-and-its-cache)).

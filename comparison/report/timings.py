@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import json
 import platform
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -19,6 +19,8 @@ from comparison.report.reproduce import machine
 from comparison.report.results import MACRO_TIMING_REPEATS, Results
 from comparison.report.scaling import scaling_table
 from comparison.report.tables import Table
+from comparison.runner import Method
+from comparison.wall import WallSpec
 
 #: The files of a report that hold run times (everything else reproduces exactly).
 TIMING_FILES = (
@@ -31,8 +33,16 @@ TIMING_FILES = (
 )
 
 
-def timings_table(res: Results) -> Table:
-    """Seconds of every computation of the report: the macro solve and each (wall, method) run."""
+def timings_table(res: Results, computed: Collection[tuple[WallSpec, Method]] = ()) -> Table:
+    """Seconds of every computation of the report: the macro solve and each (wall, method) run.
+
+    Args:
+        res: the results.
+        computed: the (wall, method) entries this run computed; the others' records were in the cache
+            before it started ("read from the cache": the records this run computed in worker processes
+            are read back from the cache too, and are not counted as such).
+    """
+    done_now = set(computed)
     t = Table(
         "timings",
         "Run times (as computed; a record read from the cache keeps the time of its computation)",
@@ -47,29 +57,32 @@ def timings_table(res: Results) -> Table:
         res.macro_seconds,
         "no",
     )
-    for (_, method), rec in res.records.items():
+    for key, rec in res.records.items():
         if rec.skipped:
             continue
         micro = rec.micro
         build_solve = None if micro is None else micro.build_seconds + micro.solve_seconds
-        t.add(rec.wall, method.label, None if micro is None else micro.blocks, build_solve, rec.seconds,
-              "yes" if rec.cached else "no")  # fmt: skip
+        t.add(rec.wall, key[1].label, None if micro is None else micro.blocks, build_solve, rec.seconds,
+              "yes" if rec.cached and key not in done_now else "no")  # fmt: skip
     return t
 
 
-def write_timings(res: Results, out: Path, run: Mapping[str, Any]) -> Path:
+def write_timings(
+    res: Results, out: Path, run: Mapping[str, Any], computed: Collection[tuple[WallSpec, Method]] = ()
+) -> Path:
     """Write ``timings.md``, ``timings.csv`` and ``timings.json``.
 
     Args:
         res: the results.
         out: the report's directory.
         run: this run's facts (``seconds``, ``computed``, ``cached``); the machine is added here.
+        computed: the (wall, method) entries this run computed (see :func:`timings_table`).
 
     Returns:
         The path of ``timings.md``.
     """
     run = {"python": platform.python_version(), "machine": machine(), **run}
-    table = timings_table(res)
+    table = timings_table(res, computed)
     scaling = scaling_table(res)
     table.write_csv(out / "timings.csv")
     scaling.write_csv(out / "scaling.csv")

@@ -101,6 +101,7 @@ class LowestRun:
         nodes: its branch-and-bound nodes.
         it_seconds, lowest_seconds, global_seconds: wall time of each part.
         it_lps, lowest_lps: LPs of the iterated LP (both directions) and of the descent.
+        macro: the macro-block model's load factor of the wall (Table 7's walls; NaN otherwise).
     """
 
     case: LowestCase
@@ -120,6 +121,7 @@ class LowestRun:
     global_seconds: float
     it_lps: int
     lowest_lps: int
+    macro: float = math.nan
 
     @property
     def closed(self) -> bool:
@@ -151,12 +153,45 @@ class LowestRun:
             "iterated_over_global": _rel(self.iterated, self.global_min),
             "lowest_over_global": _rel(self.lowest, self.global_min), "iterated_seconds": self.it_seconds,
             "lowest_seconds": self.lowest_seconds, "global_seconds": self.global_seconds,
-            "iterated_lps": self.it_lps, "lowest_lps": self.lowest_lps,
+            "iterated_lps": self.it_lps, "lowest_lps": self.lowest_lps, "lambda_macro": self.macro,
+            "macro_safe": safe_side(self.macro, min(self.lowest, self.global_best), self.global_bound),
         }
 
 
 def _rel(value: float, ref: float) -> float:
     return (value - ref) / ref if math.isfinite(value) and math.isfinite(ref) and ref > 0 else math.nan
+
+
+def safe_side(macro: float, best: float, bound: float) -> str:
+    """Is the macro model's load factor on the safe side of the micro model's (non-associative) collapse load?
+
+    Args:
+        macro: the macro model's load factor.
+        best: the least load factor of an exact (verified) micro collapse state.
+        bound: a proven lower bound of every micro collapse load factor.
+
+    Returns:
+        ``"yes"`` (proven: ``macro <= bound``), ``"no"`` (an exact collapse
+        state lies below ``macro``), ``"unproven"`` (``bound < macro <= best``)
+        or ``""`` (no macro value).
+    """
+    if not math.isfinite(macro):
+        return ""
+    if math.isfinite(bound) and macro <= bound:
+        return "yes"
+    if math.isfinite(best) and best < macro:
+        return "no"
+    return "unproven"
+
+
+def macro_load_factor(case: LowestCase) -> float:
+    """The macro model's load factor of a Table 7 wall (NaN for other groups, or when it fails)."""
+    if case.group != "table7":
+        return math.nan
+    import macro
+
+    r = macro.solve(case.wall.spec().to_macro())
+    return float(r.load_factor) if r.status == "optimal" else math.nan
 
 
 def study_cases(quick: bool = False) -> list[LowestCase]:
@@ -202,6 +237,7 @@ def run_case(case: LowestCase) -> LowestRun:
         rec.global_status, rec.global_load_factor, rec.global_lower_bound, rec.global_gap,
         0 if g is None else sum(d.nodes for d in g.directions), sum(d.seconds for d in r.directions),
         rec.lowest_seconds, nan if g is None else g.seconds, r.total_iterations, rec.lowest_lps,
+        macro_load_factor(case),
     )
 
 

@@ -105,13 +105,18 @@ def table7_lines(rows: Sequence[Mapping[str, Any]]) -> list[str]:
     lines = [
         "## Table 7: iterated LP, lowest certified state and global search against Orduña",
         "",
-        "| Set | Orduña | λ iterated (Δ %) | λ lowest (Δ %) | global: best / bound / gap (status) | moves "
-        "| seconds: iterated / descent / global |",
-        "|---|---|---|---|---|---|---|",
+        "| Set | Orduña | λ iterated (Δ %) | λ lowest (Δ %) | global: best / bound / gap (status) "
+        "| macro λ: safe side? "
+        "| moves | seconds: iterated / descent / global |",
+        "|---|---|---|---|---|---|---|---|",
     ]
+    verdicts: dict[str, list[str]] = {}
     for r in rows:
         if r["group"] != "table7":
             continue
+        macro, safe = r.get("lambda_macro", math.nan), r.get("macro_safe", "")
+        if safe and r["global_status"]:
+            verdicts.setdefault(safe, []).append(str(r["wall"]))
         o, it, low = r["orduna"], r["lambda_iterated"], r["lambda_lowest"]
         glob = (
             f"{_f(r['global_best'])} / {_f(r['global_bound'])} / {_f(100 * r['global_gap'], '.0f')} % "
@@ -119,10 +124,22 @@ def table7_lines(rows: Sequence[Mapping[str, Any]]) -> list[str]:
         )
         lines.append(
             f"| {r['wall']} | {_f(o, '.2f')} | {_f(it)} ({_pct(_rel(it, o))}) | {_f(low)} ({_pct(_rel(low, o))}) | "
-            f"{glob} | {r['lowest_moves']} | {_f(r['iterated_seconds'], '.2f')} / "
+            f"{glob} | {_f(macro)}: {safe or '–'} | {r['lowest_moves']} | {_f(r['iterated_seconds'], '.2f')} / "
             f"{_f(r['lowest_seconds'], '.2f')} / {_f(r['global_seconds'], '.1f')} |"
         )
-    return [*lines, ""]
+    return [*lines, "", *_verdict_lines(verdicts)]
+
+
+def _verdict_lines(verdicts: Mapping[str, list[str]]) -> list[str]:
+    """Per wall searched: is the macro model (`macro`) proven on the safe side of the micro collapse load?"""
+    if not verdicts:
+        return []
+    text = {"yes": "proven on the safe side (the global search's lower bound is at least the macro value)",
+            "no": "NOT on the safe side (an exact micro collapse state, verified, lies below the macro value)",
+            "unproven": "not proven either way (the macro value lies between the proven lower bound and the "
+                        "lowest exact collapse state)"}
+    return ["The macro model's load factor against the micro model's collapse loads, per wall searched: "
+            + "; ".join(f"{', '.join(walls)}: {text[k]}" for k, walls in verdicts.items() if k in text) + ".", ""]
 
 
 def _rel(value: float, ref: float) -> float:

@@ -34,11 +34,11 @@ Format (see ``examples/sweeps/``)::
     max_blocks = 600                   # this method on walls of at most 600 blocks
 
 A range is ``{ from, to, step }`` or ``{ from, to, num }`` (``num`` values,
-evenly spaced). Every wall is every combination of the axes' values (a
+evenly spaced; at most :data:`MAX_AXIS_VALUES`). Every wall is every combination of the axes' values (a
 combination whose rows do not split equally over its storeys is recorded as
-``not_applicable``); every micro method runs on every bond of every wall. A
-malformed file raises :class:`GridError`, one line naming the file, the key
-and its line.
+``not_applicable``); every micro method runs on every bond of every wall; a grid
+of more than :data:`MAX_CELLS` cells is refused. A malformed file raises
+:class:`GridError`, one line naming the file, the key and its line.
 """
 
 from __future__ import annotations
@@ -77,6 +77,10 @@ METHOD_KEYS: dict[str, set[str]] = {
 SCHEMES = ("a", "b")
 #: The most values one axis may expand to (a range with a tiny step is a typo, not a sweep).
 MAX_AXIS_VALUES = 10_000
+#: The most cells (rows of the table) a grid may have: its cells are planned in memory before anything
+#: runs (about 0.6 kB and 1 ms each for a micro method), and 100,000 rows are a 30 MB table. A larger
+#: grid is refused when read; split it into several sweeps (they share the result cache).
+MAX_CELLS = 100_000
 #: What a sweep's name may be made of (it names the table and metadata files).
 NAME_PATTERN = r"[A-Za-z0-9_.\-]+"
 _TOP = {"name", "axes", "bond", "limits", "method"}
@@ -174,7 +178,22 @@ def parse_grid(text: str, source: str = "<grid>", name: str = "sweep") -> Grid:
     limits = _table(data, "limits", src, required=False)
     _known(limits, {"max_blocks"}, "limits", src)
     max_blocks = _max_blocks(limits, "limits", 0, src)
-    return Grid(label, axes, bond, _methods(data, src), max_blocks)
+    grid = Grid(label, axes, bond, _methods(data, src), max_blocks)
+    count = cell_count(grid)
+    if count > MAX_CELLS:
+        sizes = " x ".join(f"{len(v):,} {k}" for k, v in axes.items() if len(v) > 1)
+        per_wall = count // math.prod(len(v) for v in axes.values())
+        raise GridError(f"grid {source}: {count:,} cells ({sizes} walls, {per_wall} per wall), more than the "
+                        f"{MAX_CELLS:,} a sweep may have: split it into smaller grids")
+    return grid
+
+
+def cell_count(grid: Grid) -> int:
+    """The cells of ``grid`` (rows of its table): every wall, times one per macro method and one per bond
+    of every micro method; counted without building them."""
+    walls = math.prod(len(v) for v in grid.axes.values())
+    bonds = math.prod(len(v) for v in grid.bond.values())
+    return walls * sum(1 if gm.method.kind == "macro" else bonds for gm in grid.methods)
 
 
 def _table(data: dict[str, Any], table: str, src: _Source, *, required: bool = True) -> dict[str, Any]:

@@ -67,7 +67,7 @@ def run_sweep(grid: Grid, out_dir: Path, *, cache: ResultCache, executor: Execut
         f"{len(runnable)} micro ({len(cached)} cached, {len(pending)} to compute on {executor.where}), "
         f"{skipped} skipped"
     )
-    progress.start(len(pending), "micro")
+    progress.start(len(pending), "micro", cached=len(cached))
     t0 = time.perf_counter()
     done = prefetch(cache, pending, executor, progress)
     micro_seconds = time.perf_counter() - t0

@@ -27,6 +27,11 @@ Model = highspy.Highs
 #: Primal and dual feasibility tolerance of the small LPs (scaled units:
 #: forces in block weights, rates normalised to at most 1).
 LP_TOLERANCE = 1e-10
+#: How often (seconds) the main thread wakes while HiGHS' branch and bound
+#: runs in its own thread, so that Ctrl-C is acted on.
+POLL_SECONDS = 0.1
+#: How long (seconds) to wait for HiGHS to stop once interrupted.
+STOP_SECONDS = 10.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,8 +135,15 @@ def run(h: highspy.Highs, *, mip: bool = False) -> Outcome:
 
     Returns:
         The :class:`Outcome`.
+
+    Raises:
+        KeyboardInterrupt: Ctrl-C during a MIP: HiGHS is stopped (by its
+            interrupt callback, within a node) before it is raised again.
     """
-    h.run()
+    if mip:
+        _run_interruptible(h)
+    else:
+        h.run()
     status = h.modelStatusToString(h.getModelStatus())
     info = h.getInfo()
     sol = h.getSolution()
@@ -141,3 +153,19 @@ def run(h: highspy.Highs, *, mip: bool = False) -> Outcome:
     bound = float(info.mip_dual_bound) if mip else obj
     nodes = int(info.mip_node_count) if mip else 0
     return Outcome(status, x, obj, bound, nodes, float(h.getRunTime()))
+
+
+def _run_interruptible(h: highspy.Highs) -> None:
+    """``h.run()`` in HiGHS' own thread, the main thread waiting in short
+    slices: a plain ``run()`` holds the main thread in C++ until the search
+    ends, so Python's Ctrl-C handler ran only when the time limit stopped it.
+    On Ctrl-C the interrupt callbacks stop HiGHS and the interrupt is raised again."""
+    h.HandleUserInterrupt = True
+    h.startSolve()
+    try:
+        while not h.wait(POLL_SECONDS)[0]:
+            pass
+    except KeyboardInterrupt:
+        h.cancelSolve()
+        h.wait(STOP_SECONDS)
+        raise

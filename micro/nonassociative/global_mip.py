@@ -28,9 +28,11 @@ from numpy.typing import NDArray
 from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism
+from micro.nonassociative import global_scip
 from micro.nonassociative.global_bounds import POLICIES, BigM
 from micro.nonassociative.global_pattern import Pattern
 from micro.nonassociative.global_search import Incumbent, search_direction
+from micro.records import json_number
 
 FloatArray = NDArray[np.float64]
 
@@ -39,6 +41,8 @@ OPTIMAL, TIME_LIMIT, NODE_LIMIT = "optimal", "time_limit", "node_limit"
 INFEASIBLE, SOLVER_ERROR = "infeasible", "solver_error"
 STATUSES = (OPTIMAL, TIME_LIMIT, NODE_LIMIT, INFEASIBLE, SOLVER_ERROR)
 _DIR_NAME = {1: "+x", -1: "-x"}
+#: Values of ``GlobalOptions.solver``.
+SOLVERS = ("highs", "scip")
 
 
 @dataclass(frozen=True)
@@ -56,8 +60,10 @@ class GlobalOptions:
         bounds: big-M policy for the normal forces: ``"per_point"`` (an LP
             per contact point) or ``"uniform"`` (one LP for all points).
         energy_cut: add the valid inequality ``lift <= lambda_up * live work``.
-        seed: HiGHS' random seed (the search is deterministic for a seed).
-        log: print HiGHS' log.
+        seed: the solver's random seed (the search is deterministic for a seed).
+        log: print the solver's log.
+        solver: ``"highs"`` (default) or ``"scip"`` (the same model, solved by
+            SCIP; needs ``pyscipopt``, the optional extra ``global``).
     """
 
     time_limit: float | None = 300.0
@@ -67,6 +73,7 @@ class GlobalOptions:
     energy_cut: bool = True
     seed: int = 0
     log: bool = False
+    solver: Literal["highs", "scip"] = "highs"
 
     def __post_init__(self) -> None:
         t = self.time_limit
@@ -82,6 +89,10 @@ class GlobalOptions:
             raise ValueError(f"bounds must be one of {', '.join(POLICIES)}, got {self.bounds!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ValueError(f"seed must be zero or a positive integer, got {self.seed!r}")
+        if self.solver not in SOLVERS:
+            raise ValueError(f"solver must be one of {', '.join(SOLVERS)}, got {self.solver!r}")
+        if self.solver == "scip" and not global_scip.available():
+            raise ValueError("solver 'scip' needs pyscipopt: pip install 'xcheck-masonry[global]'")
 
 
 @dataclass(frozen=True, eq=False)
@@ -293,14 +304,10 @@ def global_summary(result: GlobalResult) -> dict[str, Any]:
         ``global_status``, and beside them ``global_direction``,
         ``global_nodes`` and ``global_seconds``.
     """
-
-    def num(x: float) -> float | None:
-        return float(x) if math.isfinite(x) else None
-
     return {
-        "global_load_factor": num(result.load_factor),
-        "global_lower_bound": num(result.lower_bound),
-        "global_gap": num(result.gap),
+        "global_load_factor": json_number(result.load_factor),
+        "global_lower_bound": json_number(result.lower_bound),
+        "global_gap": json_number(result.gap),
         "global_status": result.status,
         "global_direction": result.direction,
         "global_nodes": sum(r.nodes for r in result.directions),

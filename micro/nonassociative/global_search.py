@@ -124,8 +124,20 @@ def _configure(h: gh.Model, opts: GlobalOptions) -> None:
         h.setOptionValue("mip_max_nodes", int(opts.node_limit))
 
 
-def _start(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent) -> None:
-    gh.set_start(h, solution_vector(lp, layout, inc.pattern, inc.n, inc.s, inc.load_factor, inc.v))
+def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts: GlobalOptions) -> gh.Outcome:
+    """The branch and bound by HiGHS, or by SCIP on the same model (``opts.solver``)."""
+    start = None if inc is None else solution_vector(lp, layout, inc.pattern, inc.n, inc.s, inc.load_factor, inc.v)
+    if opts.solver == "scip":
+        from micro.nonassociative import global_scip
+
+        m, xs = global_scip.from_highs(h)
+        if start is not None:
+            global_scip.set_start(m, xs, start)
+        return global_scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.time_limit, mip_gap=opts.mip_gap,
+                               abs_gap=MIP_ABS_GAP, feasibility=MIP_FEASIBILITY, seed=opts.seed, log=opts.log)
+    if start is not None:
+        gh.set_start(h, start)
+    return gh.run(h, mip=True)
 
 
 def search_direction(lp: LimitLP, direction: int, opts: GlobalOptions, inc: Incumbent | None) -> SearchOutcome:
@@ -146,10 +158,8 @@ def search_direction(lp: LimitLP, direction: int, opts: GlobalOptions, inc: Incu
         return SearchOutcome("solver_error", None, math.nan, None, {}, None, message=f"big-M bounds: {e}")
     h, layout = build_mip(lp, direction, bounds, energy_cut=opts.energy_cut)
     _configure(h, opts)
-    if inc is not None:
-        _start(h, lp, layout, inc)
     t0 = time.perf_counter()
-    out = gh.run(h, mip=True)
+    out = _solve(h, lp, layout, inc, opts)
     secs = time.perf_counter() - t0
     found = Incumbent.from_pattern(lp, direction, pattern_of(layout, out.x)) if out.x is not None else None
     best = min((c for c in (found, inc) if c is not None), key=lambda c: c.load_factor, default=None)

@@ -67,6 +67,7 @@ from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.model import IterationModel
 from micro.nonassociative.options import NonAssociativeOptions
 from micro.nonassociative.states import ForceField, ForceLP, MechanismLP, PersistentRuns, restricted_columns
+from micro.records import json_number
 from micro.results import DIR_NAME, DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
@@ -352,16 +353,13 @@ def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirecti
 
 
 def lowest_summary(low: LowestDirection) -> dict[str, Any]:
-    """One direction's descent as JSON-ready data (NaN -> ``None``)."""
-
-    def num(x: float) -> float | None:
-        return float(x) if math.isfinite(x) else None
-
+    """One direction's descent as JSON-ready data (NaN -> ``None``; ``contact_states`` ``None`` without a state)."""
+    num = json_number
     mech = low.state.mechanism if low.state is not None else None
     return {
         "direction": low.direction, "status": low.status, "load_factor": num(low.load_factor),
         "band": None if low.band is None else [num(x) for x in low.band], "path": [num(x) for x in low.path],
         "moves": list(low.moves), "origin": low.origin, "lps": low.lps, "seconds": low.seconds,
-        "contact_states": mech.state_counts() if mech is not None else {},
+        "contact_states": mech.state_counts() if mech is not None else None,
         "residuals": {k: num(v) for k, v in low.residuals.items()}, "message": low.message,
     }

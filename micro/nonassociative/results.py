@@ -9,7 +9,7 @@ from typing import Any
 from micro.nonassociative.global_mip import GlobalResult, global_fields, global_summary
 from micro.nonassociative.lowest import LowestDirection, lowest_fields, lowest_summary
 from micro.nonassociative.options import NonAssociativeOptions
-from micro.records import NonAssociativeRecord, check_success
+from micro.records import NonAssociativeRecord, check_success, json_number
 from micro.results import DirectionResult, record_fields
 
 #: Values of ``status``. ``max_iterations``: the cap on LPs or the work budget
@@ -71,7 +71,7 @@ class IterationRecord:
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready (NaN -> None)."""
-        return {k: None if isinstance(v, float) and not math.isfinite(v) else v for k, v in self.__dict__.items()}
+        return {k: json_number(v) if isinstance(v, float) else v for k, v in self.__dict__.items()}
 
 
 @dataclass(frozen=True)
@@ -365,15 +365,12 @@ class NonAssociativeResult:
         """JSON-ready summary: the record (:meth:`to_record`) with the
         contact states, the descent, options, history and directions as
         nested objects (and, after a global search, its direction, nodes and
-        seconds beside its record keys)."""
-
-        def num(v: float) -> float | None:
-            return v if math.isfinite(v) else None
-
+        seconds beside its record keys). The contact states of the mechanism
+        are the record's ``*_contacts`` keys (0 without one)."""
+        num = json_number
         record = self.to_record()
         return {
             **record.to_dict(),
-            "contact_states": record.contact_states if self.governing.mechanism is not None else {},
             "lowest": [lowest_summary(low) for low in self.lowest],
             **({} if self.global_search is None else global_summary(self.global_search)),
             "options": self.options.as_dict(),

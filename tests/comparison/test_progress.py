@@ -30,7 +30,7 @@ def _show(verbosity: int, stream: io.StringIO) -> str:
         (NORMAL, Terminal(), True, False, True),
         (VERBOSE, Terminal(), True, True, True),
         (QUIET, io.StringIO(), False, False, False),
-        (NORMAL, io.StringIO(), False, False, False),  # a log or a pipe: silent unless asked
+        (NORMAL, io.StringIO(), True, False, False),  # a log or a pipe: the plan and status lines, no bar
         (VERBOSE, io.StringIO(), True, True, False),
     ],
 )
@@ -39,3 +39,57 @@ def test_what_each_verbosity_shows(verbosity: int, stream: io.StringIO, plan: bo
     assert ("plan: 3 computations" in out) is plan
     assert ("wall 2: lambda = 0.5" in out) is lines
     assert ("3/3" in out) is bar  # tqdm's count
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = 1000.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def test_a_log_gets_a_status_line_every_tenth_or_30_seconds() -> None:
+    """Issue 31, item 8: off a terminal ``xcheck report`` printed nothing (25 minutes of nothing under load).
+    Without ``-q`` it now prints the plan, a status line each time another 10 % is done or 30 s have
+    passed since the last (done, cached, to go, elapsed, ETA), and its summary, on stderr."""
+    from comparison.progress import LOG_SECONDS
+
+    stream, clock = io.StringIO(), Clock()
+    with Progress(NORMAL, stream, clock=clock) as p:
+        p.say("plan: 100 computations")
+        p.start(100, "micro", cached=40)
+        for _ in range(25):  # 1 s each: a line at 10 and 20 done
+            clock.now += 1.0
+            p.advance("a wall: lambda = 0.5")
+        clock.now += LOG_SECONDS + 5  # one slow computation: a line although not another 10 %
+        p.advance()
+        for _ in range(74):
+            clock.now += 0.1
+            p.advance()
+        p.say("wrote 3 files")
+    lines = stream.getvalue().splitlines()
+    assert lines[0] == "plan: 100 computations" and lines[-1] == "wrote 3 files"
+    status = lines[1:-1]
+    assert status[:3] == [
+        "micro: 10 of 100 done (10 %), 40 cached, 90 to go; 10 s elapsed, ETA 1 min 30 s",
+        "micro: 20 of 100 done (20 %), 40 cached, 80 to go; 20 s elapsed, ETA 1 min 20 s",
+        "micro: 26 of 100 done (26 %), 40 cached, 74 to go; 1 min 00 s elapsed, ETA 2 min 51 s",
+    ]
+    assert status[-1].startswith("micro: 100 of 100 done (100 %), 40 cached, 0 to go; ") and status[-1].endswith(
+        "ETA 0 s")
+    assert len(status) == 11 and "lambda" not in stream.getvalue()  # per-computation lines only when verbose
+    quiet = io.StringIO()
+    with Progress(QUIET, quiet, clock=clock) as p:
+        p.say("plan")
+        p.start(10, "micro")
+        for _ in range(10):
+            p.advance("x")
+    assert quiet.getvalue() == ""
+
+
+def test_durations() -> None:
+    from comparison.progress import duration
+
+    assert [duration(s) for s in (0.4, 59.6, 65, 3599, 7380)] == ["0 s", "1 min 00 s", "1 min 05 s", "59 min 59 s",
+                                                                     "2 h 03 min"]

@@ -1,9 +1,10 @@
 """The examples of README.md and docs/ run as written.
 
 Every fenced ``sh`` block is a list of ``xcheck`` commands, each run in a temporary folder (with a copy
-of ``examples/``) by the ``xcheck`` of this environment (``python -m comparison.cli``); it fails on an
-exit code other than 0 or a run over :data:`TIMEOUT` seconds. Every fenced ``python`` block is run
-as a script in such a folder. A block preceded by an HTML comment is marked:
+of ``examples/`` and of the report's committed tables) by the ``xcheck`` of this environment
+(``python -m comparison.cli``); it fails on an exit code other than 0 or a run over :data:`TIMEOUT`
+seconds. Every fenced ``python`` block is run as a script in such a folder. A block preceded by an HTML
+comment is marked:
 
 * ``<!-- skip-example: REASON -->``: not run (synopses with placeholders, installs, long runs);
 * ``<!-- expect-exit: N -->``: its commands must exit with ``N``.
@@ -126,7 +127,10 @@ def cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _folder(tmp_path: Path) -> Path:
+    """A working folder like a clone's: ``examples/`` and the report's committed tables."""
     shutil.copytree(ROOT / "examples", tmp_path / "examples", ignore=shutil.ignore_patterns(".venv", "__pycache__"))
+    shutil.copytree(ROOT / "reports" / "sweeps", tmp_path / "reports" / "sweeps")
+    shutil.copy2(ROOT / "reports" / "lowest.csv", tmp_path / "reports" / "lowest.csv")
     return tmp_path
 
 

@@ -18,9 +18,13 @@ from enumeration import STATES, Enumerator
 from hand_walls import column_wall, small_wall
 
 import micro
-from micro.nonassociative import verify_collapse_state
+from micro.nonassociative import global_scip, verify_collapse_state
 from micro.nonassociative.global_bounds import big_m
 from micro.nonassociative.global_mip import GlobalOptions, StartState, global_summary, solve_global
+
+#: The solvers of the branch and bound; SCIP only with the optional extra ``global`` (pyscipopt).
+SOLVERS = ["highs", pytest.param("scip", marks=pytest.mark.skipif(not global_scip.available(),
+                                                                   reason="pyscipopt not installed"))]
 
 #: (name, wall, direction, non-associative minimum strictly below the associative load factor)
 WALLS = [
@@ -34,14 +38,15 @@ WALLS = [
 ]
 
 
+@pytest.mark.parametrize("solver", SOLVERS)
 @pytest.mark.parametrize("name, make, d, below", WALLS, ids=[w[0] for w in WALLS])
-def test_mip_equals_enumeration(name: str, make, d: int, below: bool) -> None:  # type: ignore[no-untyped-def]
-    """The MIP's least load factor is the minimum over all contact patterns."""
+def test_mip_equals_enumeration(name: str, make, d: int, below: bool, solver: str) -> None:  # type: ignore[no-untyped-def]
+    """The MIP's least load factor is the minimum over all contact patterns (HiGHS and SCIP)."""
     w = make()
     lp = micro.assemble(w)
     lam_enum, pattern = Enumerator(lp, d).minimum()
     assert pattern is not None
-    g = solve_global(lp, direction=d)
+    g = solve_global(lp, direction=d, options=GlobalOptions(solver=solver))  # type: ignore[arg-type]
     assert g.status == "optimal", g.message
     assert g.load_factor == pytest.approx(lam_enum, abs=1e-7)
     assert lam_enum * (1 - 1e-6) - 1e-9 <= g.lower_bound <= g.load_factor + 1e-12
@@ -70,13 +75,14 @@ def _as_direction(lp: micro.LimitLP, g) -> micro.DirectionResult:  # type: ignor
                                  shear=g.shear * fs, mechanism=g.mechanism)
 
 
+@pytest.mark.parametrize("solver", SOLVERS)
 @pytest.mark.parametrize("make", [lambda: small_wall(1.0, 0.5, 1.0, 2, 0.75),
                                   lambda: small_wall(1.5, 0.5, 1.0, 1, 0.75)])
-def test_state_is_collapse_state(make) -> None:  # type: ignore[no-untyped-def]
+def test_state_is_collapse_state(make, solver: str) -> None:  # type: ignore[no-untyped-def]
     """The returned state passes the iterated LP's independent check."""
     w = make()
     lp = micro.assemble(w)
-    g = solve_global(lp, direction=1).directions[0]
+    g = solve_global(lp, direction=1, options=GlobalOptions(solver=solver)).directions[0]  # type: ignore[arg-type]
     assert g.status == "optimal"
     v = verify_collapse_state(lp, _as_direction(lp, g))
     assert v["equilibrium"] <= 1e-8 and v["coulomb"] <= 1e-8 and v["interpenetration"] <= 1e-8
@@ -120,11 +126,12 @@ def test_start_from_iterated_lp() -> None:
     assert g.load_factor == pytest.approx(solve_global(lp, direction=1).load_factor, abs=1e-9)
 
 
-def test_node_limit_reports_bound_and_gap() -> None:
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_node_limit_reports_bound_and_gap(solver: str) -> None:
     """A search stopped by its node limit says so, with a valid bound and gap."""
     lp = micro.assemble(small_wall(1.0, 0.5, 1.0, 2, 0.75))
     exact = solve_global(lp, direction=1).load_factor
-    g = solve_global(lp, direction=1, options=GlobalOptions(node_limit=1))
+    g = solve_global(lp, direction=1, options=GlobalOptions(node_limit=1, solver=solver))  # type: ignore[arg-type]
     assert g.status == "node_limit"
     assert g.lower_bound <= exact + 1e-9
     if math.isfinite(g.load_factor):
@@ -152,7 +159,7 @@ def test_uniform_bounds_same_answer() -> None:
 @pytest.mark.parametrize("kw, word", [(dict(time_limit=0), "time_limit"), (dict(time_limit=-1.0), "time_limit"),
                                       (dict(node_limit=0), "node_limit"), (dict(node_limit=1.5), "node_limit"),
                                       (dict(mip_gap=1.0), "mip_gap"), (dict(bounds="tight"), "bounds"),
-                                      (dict(seed=-1), "seed")])
+                                      (dict(seed=-1), "seed"), (dict(solver="gurobi"), "solver")])
 def test_bad_options(kw: dict, word: str) -> None:
     with pytest.raises(ValueError, match=word):
         GlobalOptions(**kw)
@@ -161,3 +168,41 @@ def test_bad_options(kw: dict, word: str) -> None:
 def test_bad_direction() -> None:
     with pytest.raises(ValueError, match="direction"):
         solve_global(small_wall(1.0, 1.0, 1.0, 1, 0.75), direction=2)  # type: ignore[arg-type]
+
+
+def test_scip_without_pyscipopt_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Without the optional extra the option names what to install."""
+    monkeypatch.setattr(global_scip, "available", lambda: False)
+    with pytest.raises(ValueError, match=r"pyscipopt.*\[global\]"):
+        GlobalOptions(solver="scip")
+
+
+@pytest.mark.processes
+@pytest.mark.skipif(not global_scip.available(), reason="pyscipopt not installed")
+def test_ctrl_c_stops_scip_within_seconds() -> None:
+    """SCIP's own Ctrl-C handler stops the search and the interrupt reaches Python (the HiGHS path: test_signals.py)."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    code = ("import micro\nfrom comparison.wall import WallSpec\n"
+            "from micro.nonassociative.global_mip import GlobalOptions, solve_global\n"
+            "lp = micro.assemble(WallSpec.from_paper(t=2, m=1/3, rows=6, f=0.6).to_micro())\n"
+            "print('searching', flush=True)\n"
+            "solve_global(lp, 1, GlobalOptions(solver='scip', time_limit=120))\n")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        assert proc.stdout is not None and proc.stdout.readline() == b"searching\n"
+        time.sleep(3.0)  # the bounds take a tenth of a second, SCIP tens of seconds on these 9 blocks
+        assert proc.poll() is None
+        t0 = time.monotonic()
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=20)
+        assert time.monotonic() - t0 < 5.0
+        assert b"KeyboardInterrupt" in err
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)

@@ -51,7 +51,9 @@ def test_associative_record() -> None:
     # the summary (--json) is built from the record
     s = r.summary()
     assert {k: s[k] for k in d} == d
-    assert s["contact_states"] == rec.contact_states
+    # the contact states once, as the record's keys (issue 31: also as a nested copy, {} on failure)
+    assert "contact_states" not in s and rec.contact_states == {
+        "closed": s["closed_contacts"], "opening": s["opening_contacts"], "sliding": s["sliding_contacts"]}
 
 
 def test_failed_associative_record_round_trips_nan() -> None:
@@ -94,3 +96,18 @@ def test_from_dict_names_a_missing_field() -> None:
     del d["nnz"]
     with pytest.raises(KeyError, match="nnz"):
         micro.AssociativeRecord.from_dict(d)
+
+
+def test_one_nan_to_null_conversion() -> None:
+    """Issue 31 ("Also"): the summaries of the iterated LP, the descent and the global search each had
+    their own nested NaN-to-null helper; they use :func:`micro.records.json_number`."""
+    import inspect
+    import math
+
+    from micro.nonassociative import global_mip, lowest, results
+    from micro.records import json_number
+
+    assert [json_number(x) for x in (0.5, 1, math.nan, math.inf, -math.inf)] == [0.5, 1.0, None, None, None]
+    for module in (results, lowest, global_mip):
+        source = inspect.getsource(module)
+        assert "json_number" in source and "def num(" not in source, module.__name__

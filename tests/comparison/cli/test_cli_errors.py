@@ -167,3 +167,124 @@ def test_a_scene_too_large_for_the_macro_search(tmp_path: Path, capsys: pytest.C
     scene.write_text(f"[wall]\nlength = 6\nfriction = 0.6\n[block]\nlength = 0.3\nheight = 0.1\n{storeys}")
     code, _, err = run(capsys, "macro", "--scene", str(scene))
     one_line_error(code, err, "storeys", "GB")
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
+@pytest.mark.parametrize("argv", [["macro", *WALL, "--json"], ["macro", *WALL], ["micro", *WALL, "--json"]])
+def test_a_full_disk_on_stdout_is_one_line_and_exit_1(argv: list[str]) -> None:
+    """Issue 31, item 4: ``xcheck macro ... --json > /dev/full`` ended in a traceback."""
+    with open("/dev/full", "w") as full:
+        proc = subprocess.run(
+            [sys.executable, "-c", "import sys; from comparison.cli import main; sys.exit(main())", *argv],
+            cwd=ROOT, stdout=full, stderr=subprocess.PIPE, text=True, timeout=120,
+        )
+    assert proc.returncode == 1, proc.stderr
+    assert proc.stderr == "xcheck: error: cannot write the output: No space left on device\n"
+
+
+def test_macro_json_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 31, item 12: ``macro --json`` was pretty-printed over many lines, ``micro --json`` one line."""
+    for command in ("macro", "micro"):
+        code, out, _ = run(capsys, command, *WALL, "--json")
+        assert code == 0 and out.count("\n") == 1 and out.startswith("{"), (command, out[:200])
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--rows", "1e300"], "rows must be at most 1e+06, got 1e300: rows in all"),
+        (["--rows", "1e400"], "rows must be a positive integer, got 1e400"),
+        (["--t", "1e400"], "t must be a positive number, got 1e400"),
+        (["--m", "1e-400"], "m must be a positive number, got 1e-400"),
+        (["--f", "2e999"], "f must be a positive number, got 2e999"),
+        (["--rows", "12.0000000000000001"], "rows must be a positive integer, got '12.0000000000000001'"),
+        (["--storeys", "2.0000000000000001"], "storeys must be a positive integer, got '2.0000000000000001'"),
+    ],
+    ids=["rows-1e300", "rows-1e400", "t-1e400", "m-1e-400", "f-2e999", "rows-not-quite-12", "storeys"],
+)
+def test_a_bad_number_is_echoed_as_given(capsys: pytest.CaptureFixture[str], argv: list[str], message: str) -> None:
+    """Issue 31, item 13: ``--rows 1e300`` printed a 300-digit integer, ``--t 1e400`` said ``got inf``,
+    ``--rows 12.0000000000000001`` was taken as 12 (read through a float)."""
+    given = dict(zip(WALL[::2], WALL[1::2], strict=True)) | dict(zip(argv[::2], argv[1::2], strict=True))
+    code, _, err = run(capsys, "macro", *[x for kv in given.items() for x in kv])
+    one_line_error(code, err)
+    assert err == f"xcheck: error: {message}\n"
+
+
+def test_an_integer_option_is_read_exactly(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "macro", "--rows", "1.2e1", "--t", "1", "--m", "1/3", "--f", "0.75", "-q")
+    assert code == 0 and out == "0.648067\n"  # 1.2e1 rows are 12 rows exactly
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["report", "--quick", "--out", ""],
+        ["report", "--quick", "--cache", ""],
+        ["stability", "--quick", "--out", ""],
+        ["sweep", str(ROOT / "examples" / "sweeps" / "tiny.toml"), "--out", ""],
+        ["references", "--out", ""],
+    ],
+    ids=["report-out", "report-cache", "stability-out", "sweep-out", "references-out"],
+)
+def test_an_empty_path_is_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], argv: list[str]
+) -> None:
+    """Issue 31, item 13: ``--out ''`` wrote into the working directory (``references --out ''``: over the
+    installed package's own file)."""
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run(capsys, *argv)
+    one_line_error(code, err, "must name a", "got ''")
+    assert [p for p in tmp_path.rglob("*") if p.is_file()] == []
+
+
+def test_references_writes_into_the_working_directory_by_default(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Issue 31, item 12: ``xcheck references`` wrote by default over the installed package's own
+    ``references.json``; it now writes ``references.json`` in the working directory unless ``--out`` says."""
+    from comparison.pytest_plugin import generate
+    from comparison.pytest_plugin.references import References
+
+    written: list[Path] = []
+
+    def fake_generate(out: Path, **kwargs: object) -> References:
+        written.append(Path(out))
+        return References([])
+
+    monkeypatch.setattr(generate, "generate", fake_generate)
+    monkeypatch.chdir(tmp_path)
+    code, out, _ = run(capsys, "references", "--no-cache")
+    assert code == 0 and written == [Path("references.json")]
+    assert out == "wrote references.json: 0 cells, 0 with a value\n"
+    package_file = Path(generate.__file__).with_name("references.json")
+    assert written[0].resolve() != package_file.resolve()
+    code, _, err = run(capsys, "references", "--no-cache", "--out", str(tmp_path))
+    one_line_error(code, err, "is a directory")
+
+
+def test_stability_takes_workers_like_report_and_sweep(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Issue 31, item 12: ``stability --processes`` where ``report`` and ``sweep`` say ``--workers``; the old
+    name is still read, with a warning."""
+    import comparison.stability
+
+    seen: list[int] = []
+
+    def fake_study(out: str, *, processes: int, quick: bool, verbosity: int) -> dict[str, Path]:
+        seen.append(processes)
+        return {}
+
+    monkeypatch.setattr(comparison.stability, "main_study", fake_study)
+    monkeypatch.setattr("os.cpu_count", lambda: 2)
+    out = str(tmp_path / "o")
+    assert run(capsys, "stability", "--quick", "--out", out, "--workers", "1")[0] == 0
+    assert run(capsys, "stability", "--quick", "--out", out)[0] == 0
+    code, _, err = run(capsys, "stability", "--quick", "--out", out, "--processes", "1")
+    assert code == 0 and err == "xcheck: warning: --processes is deprecated: use --workers\n"
+    code, _, err = run(capsys, "stability", "--quick", "--out", out, "--workers", "9")
+    assert code == 0 and "using 2 workers" in err
+    assert seen == [1, 2, 1, 2]
+    code, _, err = run(capsys, "stability", "--quick", "--out", out, "--workers", "1", "--processes", "1")
+    one_line_error(code, err, "--processes is the old name of --workers")

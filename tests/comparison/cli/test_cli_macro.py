@@ -169,6 +169,19 @@ def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.C
     assert code == 0 and "REPORT.md" in out
     assert err.startswith("plan: ") and "0 cached" in err.splitlines()[0]  # the plan first
     assert "micro-assoc" in err  # then one line per computation (not a terminal: no bar)
+    # issue 31, item 9: timings.md said "N computations, 0 read from the result cache" and every row
+    # "read from the cache: yes" (the records computed in the workers are read back from the cache)
+    computed = _timings(tmp_path)
+    assert computed["cached"] == 0 and computed["yes"] == 0 and computed["rows"] > 0
+    assert "0 read from the result cache" in (tmp_path / "timings.md").read_text()
+    # the committed tables are read from --tables, by default --out: not there, so said loudly
+    # (issue 31, item 10)
+    from comparison.report.committed import BOND, ERRORMAP, LOWEST
+
+    missing = [line for line in err.splitlines() if line.startswith("xcheck: warning: the report's table ")]
+    assert [line.split()[5] for line in missing] == [str(tmp_path / n) for n in (ERRORMAP, BOND, LOWEST)], err
+    assert "The sweep table `reports/sweeps/errormap.csv` is missing." in (tmp_path / "REPORT.md").read_text()
+    cache += ["--tables", str(ROOT / "reports")]
     text = (tmp_path / "REPORT.md").read_text()
     for heading in (
         "Table 5",
@@ -181,11 +194,29 @@ def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.C
         assert heading in text
     for name in ("table7.csv", "report.json", "sensitivity.png", "speed_accuracy.png", "mechanism_12.png"):
         assert (tmp_path / name).stat().st_size > 0, name
-    # a second run reads everything from the cache; not on a terminal and not --verbose: silent
+    # a second run reads everything from the cache; not on a terminal and not --verbose: the plan and what
+    # it wrote, on stderr (issue 31, item 8: it was silent; with something to compute, status lines between)
     code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache)
-    assert code == 0 and err == ""
+    lines = err.splitlines()
+    assert code == 0 and lines[0].startswith("plan: ") and ", 0 to compute" in lines[0], err
+    assert lines[-1].startswith(f"wrote {len(list(tmp_path.glob('*.*')))} files into {tmp_path}: REPORT.md, "
+                                "report.json, timings.md, "), err
+    assert len(lines) == 2 and "micro-assoc" not in err  # nothing to compute: no status line
+    again = _timings(tmp_path)
+    assert again["cached"] == again["yes"] == again["rows"] == computed["rows"]
+    assert "The sweep table `reports/sweeps/errormap.csv` is missing." not in (tmp_path / "REPORT.md").read_text()
     code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache, "--verbose")
     assert code == 0 and ", 0 to compute" in err and "micro-assoc" not in err
+    code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache, "-q")
+    assert code == 0 and err == ""
+
+
+def _timings(out: Path) -> dict[str, int]:
+    """The run's cached count and its micro rows, and how many of them say "read from the cache"."""
+    timings = json.loads((out / "timings.json").read_text())
+    rows = [r for r in timings["timings"] if not r["method"].startswith("macro")]
+    return {"cached": timings["run"]["cached"], "rows": len(rows),
+            "yes": sum(r["read from the cache"] == "yes" for r in rows)}
 
 
 def test_cache_and_no_cache_exclude_each_other(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -202,3 +233,28 @@ def test_an_error_inside_a_model_is_not_a_usage_error(monkeypatch: pytest.Monkey
     monkeypatch.setattr(macro, "solve", broken)
     with pytest.raises(ValueError, match="a bug inside the solver"):
         main(["macro", "--rows", "12", "--t", "1", "--m", "1/3", "--f", "0.6"])
+
+
+@pytest.mark.parametrize(
+    ("text", "where"),
+    [
+        ("storey = 5\n" + GOOD.split("[[storey]]")[0], "(line 1): storey = 5 gives no storey"),
+        (GOOD.split("[[storey]]")[0].replace("friction = 0.6", "friction = 0.6\nstorey = 5"),
+         "(line 6): unknown key 'storey' in [wall]"),
+        (GOOD.split("[[storey]]")[0].replace("friction = 0.6", "friction = 0.6\nstoreys = 5"),
+         "(line 6): unknown key 'storeys' in [wall]"),
+        (GOOD.split("[[storey]]")[0] + "[storey]\nrows = 20\n", "(line 9): [storey] is a single table"),
+        (GOOD.split("[[storey]]")[0], "no [[storey]] given"),
+    ],
+    ids=["top-level", "in-wall", "storeys-in-wall", "single-table", "none"],
+)
+def test_a_scene_without_storey_tables_is_told_how_to_write_them(text: str, where: str) -> None:
+    """Issue 31, item 13: ``storey = 5`` was told ``no [[storey]] given`` and not how to write one."""
+    from comparison.scene import STOREY_HOWTO
+
+    with pytest.raises(SceneError) as exc:
+        parse_scene(text, source="w.toml")
+    message = str(exc.value)
+    assert where in message and "\n" not in message, message
+    assert message.endswith(f": {STOREY_HOWTO}") or message.endswith(f"; {STOREY_HOWTO}"), message
+    assert "a line [[storey]], then rows = N" in STOREY_HOWTO

@@ -83,3 +83,48 @@ def test_json_stdout_of_a_real_process_is_one_json_line() -> None:
     lines = p.stdout.splitlines()
     assert len(lines) == 1, p.stdout[:300]
     assert json.loads(lines[0])["status"] == "converged"
+
+
+@pytest.mark.parametrize(("friction", "law"), [("associative", "associative friction"),
+                                               ("nonassociative", "non-associative")])
+def test_the_plot_title_names_the_friction_law(
+    tmp_path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], friction: str, law: str
+) -> None:  # type: ignore[no-untyped-def]
+    """Issue 31, item 12: an associative ``--plot``'s title did not say which friction law drew it."""
+    import micro.plot
+
+    titles: list[str] = []
+    monkeypatch.setattr(micro.plot, "plot_velocities", lambda *a, title, **k: titles.append(title))
+    assert cli.main(["micro", *WALL, "--friction", friction, "--no-lowest" if friction == "nonassociative"
+                     else "--solver=highs", "--plot", str(tmp_path / "m.png")]) == 0
+    capsys.readouterr()
+    assert len(titles) == 1 and law in titles[0], titles
+
+
+def test_a_failed_run_prints_the_line_the_readme_documents(capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 31, item 13: what a failed run prints, with and without ``-q``, is stated in the README; under
+    ``-q`` the failure line alone."""
+    import re
+    from pathlib import Path
+
+    readme = (Path(__file__).parents[3] / "README.md").read_text()
+    documented = re.findall(r"^\s*\* `(status [^`]+)`", readme, flags=re.MULTILINE)
+    assert len(documented) == 2, documented
+    patterns = []
+    for template in documented:
+        rx = re.escape(template)
+        for token, sub in (("[, lambda in [LO, HI]]", r"(, lambda in \[[0-9.]+, [0-9.]+\])?"), ("STATUS", "[a-z_]+"),
+                           ("MESSAGE", ".+"), (" N ", r" \d+ ")):
+            rx = rx.replace(re.escape(token), sub)
+        patterns.append(rx)
+    runs = [(["--time-limit", "1e-9"], patterns[0]),
+            (["--friction", "nonassociative", "--max-iterations", "2", "--no-lowest"], patterns[1]),
+            (["--t", "0.5", "--f", "0.4", "--friction", "nonassociative", "--scheme", "b", "--no-certify",
+              "--no-lowest"], patterns[1])]
+    for extra, pattern in runs:
+        argv = ["micro", *WALL, *extra]
+        assert cli.main([*argv, "-q"]) == 1
+        quiet = capsys.readouterr().out
+        assert quiet.count("\n") == 1 and re.fullmatch(pattern, quiet.rstrip("\n")), (pattern, quiet)
+        assert cli.main(argv) == 1
+        assert capsys.readouterr().out.startswith(quiet)  # the same line, then the details

@@ -77,3 +77,46 @@ def test_schema_refuses_undocumented_keys_and_numbers_on_failure(capsys: pytest.
     assert _errors(micro, {**doc, "load_factor": 0.71})
     _, mdoc = _run(["macro", *WALL, "--json"], capsys)
     assert _errors(_validator("macro"), {**mdoc, "undocumented": 1})
+
+
+CYCLING = ["--t", "0.5", "--m", "1/3", "--rows", "12", "--f", "0.4", "--scheme", "b", "--no-certify", "--no-lowest"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "status"),
+    [
+        ([*WALL, "--friction", "associative", "--time-limit", "1e-9"], "time_limit"),
+        ([*WALL, "--friction", "associative", "--solver", "clarabel", "--time-limit", "1e-9"], "time_limit"),
+        ([*WALL, "--friction", "nonassociative", "--time-limit", "1e-9"], "time_limit"),
+        ([*WALL, "--friction", "nonassociative", "--max-iterations", "2", "--no-lowest"], "max_iterations"),
+        ([*CYCLING, "--friction", "nonassociative"], "cycling"),
+    ],
+    ids=["assoc-time-limit", "assoc-clarabel-time-limit", "nonassoc-time-limit", "nonassoc-max-iterations",
+         "nonassoc-cycling"],
+)
+def test_every_failure_status_matches_the_schema(
+    argv: list[str], status: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Issue 31, item 1: a failed run printed ``"contact_states": {}`` where the schema requires closed,
+    opening and sliding, so a pipeline validating its input rejected exactly the failure records. The
+    contact states are now the record's ``*_contacts`` keys alone (0 without a mechanism)."""
+    rc, doc = _run(["micro", *argv, "--json"], capsys)
+    assert (rc, doc["status"], doc["load_factor"]) == (1, status, None)
+    assert _errors(_validator("micro"), doc) == []
+    assert "contact_states" not in doc
+    assert all(isinstance(doc[f"{k}_contacts"], int) for k in ("closed", "opening", "sliding"))
+
+
+def test_micro_json_names_the_wall_once(capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 31, item 12: ``"wall": ""`` for a wall given by its parameters, and the contact counts twice.
+    The wall is now its name or null, with its paper parameters as ``macro --json`` gives them."""
+    _, doc = _run(["micro", *WALL, "--json"], capsys)
+    _, mdoc = _run(["macro", *WALL, "--json"], capsys)
+    assert doc["wall"] is None and doc["paper_parameters"] == mdoc["paper_parameters"]
+    assert doc["paper_parameters"] == {"t": 1.0, "m": pytest.approx(1 / 3), "rows": 12, "storeys": 1, "p": 0.0,
+                                       "f": 0.75}
+    assert "contact_states" not in doc and doc["closed_contacts"] + doc["opening_contacts"] + doc[
+        "sliding_contacts"] == doc["contacts"]
+    _, sdoc = _run(["micro", "--scene", str(Path(__file__).parents[3] / "examples" / "three-storey.toml"),
+                    "--json"], capsys)
+    assert sdoc["wall"] == "three-storey example" and _errors(_validator("micro"), sdoc) == []

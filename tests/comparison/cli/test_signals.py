@@ -87,6 +87,18 @@ def _alive(procs: list[psutil.Process], timeout: float) -> list[psutil.Process]:
     return [p for p in alive if p.is_running() and p.status() != psutil.STATUS_ZOMBIE]
 
 
+def _ctrl_c(proc: subprocess.Popen[bytes]) -> float:
+    """Send Ctrl-C to the process group; check exit 130 with one line and no traceback; the seconds it took."""
+    t0 = time.monotonic()
+    os.killpg(proc.pid, signal.SIGINT)
+    code = proc.wait(EXIT_SECONDS)
+    took = time.monotonic() - t0
+    err = proc.stderr.read().decode() if proc.stderr else ""
+    assert code == 130, err
+    assert "Traceback" not in err and "interrupted" in err, err
+    return took
+
+
 def _cached(cache: Path) -> int:
     return sum(1 for _ in cache.rglob("*.json"))
 
@@ -96,8 +108,8 @@ def _cached(cache: Path) -> int:
     "command",
     [
         ["report", "--quick", "--workers", "2"],
-        ["stability", "--quick", "--processes", "2"],
-        ["stability", "--lowest", "--quick", "--processes", "2"],
+        ["stability", "--quick", "--workers", "2"],
+        ["stability", "--lowest", "--quick", "--workers", "2"],
         ["sweep", "GRID", "--workers", "2"],
     ],
     ids=["report", "stability", "stability-lowest", "sweep"],
@@ -111,13 +123,7 @@ def test_ctrl_c_stops_the_run_with_exit_130_and_ends_its_workers(tmp_path: Path,
     try:
         kids = _workers(proc, 2)
         time.sleep(1.0)  # let them work
-        t0 = time.monotonic()
-        os.killpg(proc.pid, signal.SIGINT)
-        code = proc.wait(EXIT_SECONDS)
-        took = time.monotonic() - t0
-        err = proc.stderr.read().decode() if proc.stderr else ""
-        assert code == 130, err
-        assert "Traceback" not in err and "interrupted" in err, err
+        took = _ctrl_c(proc)
         assert not _alive(kids, timeout=5.0), "processes left behind"
         assert took < EXIT_SECONDS
     finally:
@@ -158,3 +164,23 @@ def test_a_killed_sweep_leaves_no_orphan_and_resumes_without_losing_a_cell(tmp_p
     assert counts["cached"] >= done_before and counts["cached"] + counts["computed"] == 16
     assert counts["failed"] == 0 and _cached(cache) == 16
     assert all(r["status"] in ("converged", "cycling", "not_applicable", "max_iterations") for r in rows)
+
+
+#: How long ``micro --global`` may take to exit after Ctrl-C (seconds): HiGHS stops within a node. Before
+#: the interrupt callback the branch and bound ran on to its end (about 20 s on this wall, up to the time limit).
+GLOBAL_EXIT_SECONDS = 5.0
+
+
+@pytest.mark.processes
+def test_ctrl_c_stops_the_global_search_within_seconds() -> None:
+    # 9 blocks: the iterated LP and the bounds take a tenth of a second, the branch and bound tens of seconds
+    proc = _xcheck("micro", "--t", "2", "--m", "1/3", "--rows", "6", "--f", "0.6", "--friction", "nonassociative",
+                   "--global", "--time-limit", "120")
+    try:
+        time.sleep(4.0)  # well inside the branch and bound
+        assert proc.poll() is None, "the search ended before it was interrupted"
+        took = _ctrl_c(proc)
+        assert took < GLOBAL_EXIT_SECONDS, f"{took:.1f} s after Ctrl-C"
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)

@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
-from comparison.pytest_plugin import References, UserWall, paper_cases, select_cases, walls_from_file
+from comparison.pytest_plugin import ComparisonTable, References, UserWall, paper_cases, select_cases, walls_from_file
+from comparison.pytest_plugin.walls import cases_and_walls
 
 TEST_FILE = """
 import pytest
@@ -80,7 +83,7 @@ def test_user_walls_file(tmp_path: Path) -> None:
 
 def test_bad_selection_is_a_usage_error(tmp_path: Path) -> None:
     run = _pytest(tmp_path, "--xcheck-cases", "Set 99", "-k", "any_wall")
-    assert run.returncode == 4 and "case must be Ref or 1..17, got 'Set 99'" in run.stderr, run.stderr
+    assert run.returncode == 4 and "'Set 99' is neither a table (5, 6, 7, 8, 9), a paper case" in run.stderr, run.stderr
     (tmp_path / "w.toml").write_text("[[wall]]\nname = 1\n")
     run = _pytest(tmp_path, "--xcheck-walls", "w.toml")
     assert run.returncode == 4 and "w.toml: wall[0]: missing 'f'" in run.stderr, run.stderr
@@ -109,3 +112,40 @@ def test_walls_file_errors_name_file_wall_and_key(tmp_path: Path) -> None:
     bad.write_text('[[wall]]\nname = "b"\nt = 1\nwidth = 3\n')
     with pytest.raises(ValueError, match=r"wall\[0\]: unknown key 'width'; missing 'f'; missing 'm'; missing 'rows'"):
         walls_from_file(bad)
+
+
+def test_own_walls_are_selected_by_name(tmp_path: Path) -> None:
+    """Issue 31, item 11: ``--xcheck-cases "my squat wall"`` was refused (``case must be Ref or 1..17``)
+    although the option takes the walls of ``--xcheck-walls`` too; they ran only beside paper cases."""
+    (tmp_path / "walls.toml").write_text(
+        '[[wall]]\nname = "my squat wall"\nt = 0.5\nm = "1/2"\nrows = 8\nf = 0.6\n'
+        '[[wall]]\nname = "pier"\nt = 2\nm = "1/2"\nrows = 8\nf = 0.6\n'
+    )
+    run = _pytest(tmp_path, "--xcheck-walls", "walls.toml", "--xcheck-cases", "my squat wall", "-k", "any_wall", "-vv")
+    assert run.returncode == 0 and "1 passed" in run.stdout and "my squat wall" in run.stdout, run.stdout
+    run = _pytest(tmp_path, "--xcheck-walls", "walls.toml", "--xcheck-cases", "Ref,pier", "-k", "any_wall", "-vv")
+    assert run.returncode == 0 and "2 passed" in run.stdout and "[pier]" in run.stdout, run.stdout
+    own = walls_from_file(tmp_path / "walls.toml")
+    assert [c.label for c in cases_and_walls("7", str(tmp_path / "walls.toml"))] == [
+        "Set 11", "Set 12", "Set 13", "Set 14", "my squat wall", "pier"]  # no wall named: all of them
+    assert [c.label for c in select_cases("pier, 12", own)] == ["Set 12", "pier"]
+    with pytest.raises(ValueError, match=r"'piers' is neither .* nor a wall of --xcheck-walls \(my squat wall, pier\)"):
+        select_cases("piers", own)
+
+
+@pytest.mark.parametrize("value", [None, "0.5", [0.5], True])
+def test_a_value_that_is_not_a_number_names_the_case_the_method_and_what_came(value: object) -> None:
+    """Issue 31, item 7: ``None`` or a string from the model raised a bare ``TypeError`` (``check``) or
+    was read as a number (``xcheck_table.add("0.5")`` gave 0.5)."""
+    refs = References.load()
+    table = ComparisonTable(refs)
+    got = re.escape(repr(value))
+    with pytest.raises(TypeError, match=rf"^Set 12 / mine: xcheck_table.add needs a number, got {got} "):
+        table.add("12", value, "mine")  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match=r"^Set 12 / orduna-micro / load_factor: xcheck_references.check needs a "
+                       rf"number, got {got} \({type(value).__name__}\)$"):
+        refs.check("Set 12", "orduna-micro", value)  # type: ignore[arg-type]
+    assert table.entries == []
+    table.add("12", np.float64(0.7), "mine")
+    table.add("12", 1, "mine")
+    assert [v for _, _, v in table.entries] == [0.7, 1.0]

@@ -11,6 +11,8 @@ import pytest
 from comparison.report import bond
 from comparison.sweep.table import write_table
 
+REPORTS = Path(__file__).resolve().parents[3] / "reports"
+
 
 def _row(kind: str, lam: float, status: str, rows: int = 30, p: float = 0.0, **extra: object) -> dict[str, object]:
     micro = kind != "macro"
@@ -54,7 +56,7 @@ def test_a_missing_table_is_said_not_raised(tmp_path: Path) -> None:
 
 
 def test_the_committed_table_has_its_non_associative_values_below_the_associative_ones() -> None:
-    rows = bond.load()
+    rows = bond.load(REPORTS / "sweeps" / "table9_bond.csv")
     assert {(r.p, r.rows) for r in rows} == {(p, o) for p in (0.0, 1.0, 8.0) for o in (30, 45, 60, 75)}
     unsettled = {(r.p, r.rows) for r in rows if r.nonassoc_status != "converged"}
     assert unsettled == {(8.0, 60), (8.0, 75)}  # Set 17's shape: both sequences and the fused retry fail
@@ -64,3 +66,38 @@ def test_the_committed_table_has_its_non_associative_values_below_the_associativ
         if (r.p, r.rows) not in unsettled:
             # a non-associative collapse state is statically admissible for the associative LP
             assert r.nonassoc <= r.assoc * (1 + 1e-6), (r.p, r.rows)
+
+
+def test_the_report_reads_its_committed_tables_from_a_stated_directory(tmp_path: Path) -> None:
+    """Issue 31, item 10: the report read its committed tables through the source tree
+    (``Path(__file__).parents[2] / "reports"``), so an installed package silently rendered "table missing".
+    They are read from the tables directory (``--tables``, default ``--out``); a missing one is a warning
+    naming its path and the command that makes it."""
+    import shutil
+    import warnings
+
+    from comparison.report import errormap, lowest
+    from comparison.report.committed import BOND, ERRORMAP, LOWEST, MADE_BY, MissingTableWarning, committed_table
+
+    for module in (bond, errormap, lowest):
+        assert "__file__" not in Path(module.__file__).read_text(), module.__name__
+    tables = tmp_path / "elsewhere"
+    for name in (BOND, ERRORMAP, LOWEST):
+        (tables / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(REPORTS / name, tables / name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        found = {name: committed_table(tables, name) for name in (BOND, ERRORMAP, LOWEST)}
+    assert found == {name: tables / name for name in found}
+    text, rows = bond.section(found[BOND])
+    assert "is missing" not in text and len(rows) == 12
+    assert "is missing" not in lowest.section(found[LOWEST])
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    for name in (BOND, ERRORMAP, LOWEST):
+        with pytest.warns(MissingTableWarning) as caught:
+            assert committed_table(empty, name) is None
+        message = str(caught[0].message)
+        assert str(empty / name) in message and MADE_BY[name].replace("DIR", str(empty)) in message
+    assert "is missing" in bond.section(None)[0] and "is missing" in lowest.section(None)
+    assert errormap.write(tmp_path, None) == (errormap.write(tmp_path, empty / ERRORMAP)[0], {})

@@ -8,7 +8,10 @@ from pathlib import Path
 import pytest
 
 from comparison.report import errormap
+from comparison.report.committed import ERRORMAP
 from comparison.sweep.table import write_table
+
+REPORTS = Path(__file__).resolve().parents[3] / "reports"
 
 
 def _row(kind: str, lam: float, status: str, **wall: float) -> dict[str, object]:
@@ -56,7 +59,7 @@ def test_each_wall_pairs_the_macro_value_with_the_best_micro_reference(tmp_path:
 
 
 def test_the_committed_error_map_table_is_complete() -> None:
-    cells = errormap.load()
+    cells = errormap.load(REPORTS / ERRORMAP)
     assert len(cells) == 250 and all(math.isfinite(c.macro) for c in cells)
     with_micro = [c for c in cells if c.reference_kind]
     assert len(with_micro) >= 150 and all(0 < c.reference < 1 for c in with_micro)

@@ -14,10 +14,12 @@ from pathlib import Path
 from comparison.report import build_report
 from comparison.report.timings import TIMING_FILES
 
+REPORTS = Path(__file__).resolve().parents[3] / "reports"
+
 
 def test_the_quick_report_reproduces_but_for_timings(quick_report_dir: Path, tmp_path: Path) -> None:
     again = tmp_path / "again"
-    build_report(again, quick=True, cache_dir=None)
+    build_report(again, quick=True, cache_dir=None, tables_dir=REPORTS)
     names = sorted(p.name for p in quick_report_dir.iterdir())
     assert names == sorted(p.name for p in again.iterdir())
     differ = [

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import replace
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -10,6 +12,7 @@ import pytest
 from comparison.cli import main
 from comparison.runner import MACRO, MICRO_ASSOC, MICRO_NONASSOC
 from comparison.sweep import GridError, cells, load_grid, parse_grid
+from comparison.sweep.plan import wall_points
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -147,3 +150,91 @@ def test_missing_grid_file_and_bad_options(tmp_path: Path, capsys: pytest.Captur
     blocker.write_text("")
     assert main(["sweep", str(good), "--out", str(blocker / "out")]) == 2
     assert "--out: cannot write to" in capsys.readouterr().err
+
+
+def test_a_grid_above_the_cell_limit_is_refused_before_it_is_built(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Issue 31, item 2: 10,000 x 10,000 walls were planned in memory (5 GB, then a MemoryError traceback);
+    the grid is now counted, not built, and refused in one line with exit 2."""
+    from comparison.sweep.grid import MAX_CELLS, cell_count
+
+    path = tmp_path / "huge.toml"
+    path.write_text(
+        "[axes]\nt = { from = 1, to = 2, num = 10000 }\nm = { from = 0.1, to = 1, num = 10000 }\nrows = 12\n"
+        'f = 0.6\n[[method]]\nkind = "macro"\n'
+    )
+    with pytest.raises(GridError, match=r"100,000,000 cells \(10,000 t x 10,000 m walls, 1 per wall\), more than "
+                       r"the 100,000 a sweep may have"):
+        load_grid(path)
+    assert main(["sweep", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("xcheck: error: grid ") and "split it" in err, err
+    assert not (tmp_path / "out").exists()
+    # the count is every wall times one per macro method and one per bond of each micro method; at the
+    # limit a grid is still read
+    small = parse_grid(GOOD)
+    assert cell_count(small) == len(cells(small)) == 2 * 2 * 3 * 2 * (1 + 2 + 2)
+    per_t = 2 * 3 * 2 * 5  # cells per value of t
+    most = GOOD.replace("t = [1.0, 2.0]", f"t = {{ from = 1, to = 2, num = {MAX_CELLS // per_t} }}")
+    assert cell_count(parse_grid(most)) == MAX_CELLS // per_t * per_t <= MAX_CELLS
+    with pytest.raises(GridError, match="more than the 100,000"):
+        parse_grid(GOOD.replace("t = [1.0, 2.0]", f"t = {{ from = 1, to = 2, num = {MAX_CELLS // per_t + 1} }}"))
+
+
+@pytest.mark.parametrize(
+    "address",
+    ["tcp://127.0.0.1:abc", "http://127.0.0.1:8786", "tcp://:8786", "tcp://127.0.0.1:99999", "tcp://127.0.0.1"],
+)
+def test_a_bad_scheduler_address_is_refused_before_connecting(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], address: str
+) -> None:
+    """Issue 31, item 3: these waited for the connection's time-out (about 40 s), then a traceback and exit 1."""
+    from comparison.cli.sweep import scheduler_address
+
+    good = tmp_path / "g.toml"
+    good.write_text(GOOD)
+    assert main(["sweep", str(good), "--out", str(tmp_path / "o"), "--scheduler", address]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--scheduler must be an address SCHEME://HOST:PORT" in err and address in err
+    assert scheduler_address(" tcp://127.0.0.1:8786 ") == "tcp://127.0.0.1:8786"
+    assert scheduler_address("tls://scheduler.example:8786") == "tls://scheduler.example:8786"
+
+
+def test_more_workers_than_cpus_are_capped_with_a_warning(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Issue 31, item 6: ``--workers 100000`` split the memory 100,000 ways and every micro cell was refused
+    (``exceeds a worker's 0 GB``); it is capped at the CPU count, with a warning."""
+    monkeypatch.setattr("os.cpu_count", lambda: 2)
+    seen: list[int | None] = []
+
+    def fake_make_executor(workers: int | None, scheduler: str | None, memory: int | None) -> object:
+        seen.append(workers)
+        raise KeyboardInterrupt  # stop before any work
+
+    monkeypatch.setattr("comparison.runner.executor.make_executor", fake_make_executor)
+    grid = ROOT / "examples" / "sweeps" / "tiny.toml"
+    for workers in ("100000", "2", "1"):
+        argv = ["sweep", str(grid), "--out", str(tmp_path / "o"), "--cache", str(tmp_path / "c"), "--workers", workers]
+        assert main(argv) == 130
+        err = capsys.readouterr().err
+        assert ("xcheck: warning: --workers 100000: this machine has 2 CPUs; using 2 workers" in err) is (
+            workers == "100000"
+        ), err
+    assert seen == [2, 2, 1]
+
+
+def test_the_tiny_grid_is_what_its_comment_says() -> None:
+    """Issue 31, item 12: the comment described walls (one of 12 rows) that the grid does not build."""
+    path = ROOT / "examples" / "sweeps" / "tiny.toml"
+    comment = " ".join(line.lstrip("# ") for line in path.read_text().splitlines() if line.startswith("#"))
+    grid = load_grid(path)
+    walls = wall_points(grid)
+    match = re.search(r"(\d+) walls of (\d+) rows in one storey \(t = ([\d., ]+) times m = ([\d/, ]+)\)", comment)
+    assert match, comment
+    assert int(match[1]) == len(walls) and {int(match[2])} == {w.rows for w in walls} == set(grid.axes["rows"])
+    assert {w.storeys for w in walls} == {1}
+    assert [float(x) for x in match[3].split(", ")] == list(grid.axes["t"])
+    assert [float(Fraction(x)) for x in match[4].split(", ")] == list(grid.axes["m"])
+    assert f"{len(cells(grid))} cells" in comment

@@ -1,0 +1,110 @@
+"""The global search's MIP solved by SCIP instead of HiGHS (optional: ``pip install xcheck-masonry[global]``).
+
+The model is the big-M MIP of :mod:`micro.nonassociative.global_model`, read
+column by column from the HiGHS model that :func:`~micro.nonassociative.global_model.build_mip`
+assembles, so both solvers see the same rows, bounds and start. SCIP's answer
+goes through the same rebuild and check as HiGHS' (:mod:`micro.nonassociative.global_search`).
+Measured against HiGHS in ``docs/global-minimum.md``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from micro.backends import highs_mip as gh
+
+FloatArray = NDArray[np.float64]
+
+#: SCIP statuses in HiGHS' words (what :mod:`micro.nonassociative.global_search` reads).
+_STATUS = {"optimal": "Optimal", "gaplimit": "Optimal", "infeasible": "Infeasible", "nodelimit": "Node limit reached",
+           "totalnodelimit": "Node limit reached", "timelimit": "Time limit reached"}
+
+
+def available() -> bool:
+    """True when ``pyscipopt`` is installed (the optional extra ``global``)."""
+    try:
+        import pyscipopt  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def from_highs(h: gh.Model) -> tuple[Any, list[Any]]:
+    """The model held by ``h`` (costs, bounds, rows, integrality) as a SCIP model.
+
+    Returns:
+        ``(pyscipopt.Model, its variables in HiGHS' column order)``.
+    """
+    import pyscipopt as ps
+
+    lp = h.getLp()
+    inf = h.getInfinity()
+    n = int(lp.num_col_)
+    kinds = list(lp.integrality_) if len(lp.integrality_) else []
+    m = ps.Model()
+    m.hideOutput(True)
+
+    def bound(x: float) -> float | None:
+        return None if abs(x) >= inf else float(x)
+
+    xs = []
+    for j in range(n):
+        integer = bool(kinds) and kinds[j] != gh.highspy.HighsVarType.kContinuous
+        xs.append(m.addVar(lb=bound(lp.col_lower_[j]), ub=bound(lp.col_upper_[j]), obj=float(lp.col_cost_[j]),
+                           vtype="I" if integer else "C"))
+    a = lp.a_matrix_
+    start, index, value = np.asarray(a.start_), np.asarray(a.index_), np.asarray(a.value_)
+    rows: list[list[tuple[int, float]]] = [[] for _ in range(int(lp.num_row_))]
+    for j in range(n):
+        for k in range(start[j], start[j + 1]):
+            rows[index[k]].append((j, float(value[k])))
+    for i, terms in enumerate(rows):
+        lo, up = bound(lp.row_lower_[i]), bound(lp.row_upper_[i])
+        expr = ps.quicksum(c * xs[j] for j, c in terms)
+        if lo is not None and up is not None:
+            m.addCons(expr == lo if lo == up else lo <= (expr <= up))
+        elif up is not None:
+            m.addCons(expr <= up)
+        elif lo is not None:
+            m.addCons(expr >= lo)
+    return m, xs
+
+
+def set_start(m: Any, xs: list[Any], x: FloatArray) -> bool:
+    """Hand SCIP a feasible point (all columns) as its first solution; True when accepted."""
+    sol = m.createSol()
+    for var, val in zip(xs, np.asarray(x, dtype=float), strict=True):
+        m.setSolVal(sol, var, float(val))
+    return bool(m.addSol(sol, free=True))
+
+
+def run(m: Any, xs: list[Any], *, node_limit: int | None, time_limit: float | None, mip_gap: float,
+        abs_gap: float, feasibility: float, seed: int = 0, log: bool = False) -> gh.Outcome:
+    """Solve; the outcome in the shape of :func:`micro.backends.highs_mip.run`'s.
+
+    Raises:
+        KeyboardInterrupt: Ctrl-C (SCIP's own handler stops it within a node).
+    """
+    m.hideOutput(not log)
+    if node_limit is not None:
+        m.setParam("limits/nodes", int(node_limit))
+    if time_limit is not None:
+        m.setParam("limits/time", float(time_limit))
+    m.setParam("limits/gap", float(mip_gap))
+    m.setParam("limits/absgap", float(abs_gap))
+    m.setParam("numerics/feastol", float(feasibility))
+    m.setParam("randomization/randomseedshift", int(seed))
+    t0 = time.perf_counter()
+    m.optimize()
+    secs = time.perf_counter() - t0
+    status = str(m.getStatus())
+    if status == "userinterrupt":
+        raise KeyboardInterrupt
+    x = np.array([m.getVal(v) for v in xs]) if m.getNSols() > 0 else None
+    obj = float(m.getObjVal()) if x is not None else math.nan
+    return gh.Outcome(_STATUS.get(status, status), x, obj, float(m.getDualbound()), int(m.getNNodes()), secs)
