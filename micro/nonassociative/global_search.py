@@ -130,7 +130,7 @@ def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts
     if opts.solver == "scip":
         from micro.nonassociative import global_scip
 
-        m, xs = global_scip.from_highs(h)
+        m, xs = global_scip.from_model(h)
         if start is not None:
             global_scip.set_start(m, xs, start)
         return global_scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.time_limit, mip_gap=opts.mip_gap,
