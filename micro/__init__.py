@@ -13,8 +13,8 @@ with :func:`solve_associative`::
 and with non-associative (zero-dilatancy) friction by the iterated LP of
 Gilbert, Casapulla & Ahmed (2006) with :func:`solve_nonassociative`::
 
-    result = micro.solve_nonassociative(wall)
-    result.lowest_load_factor, result.load_factor, result.status, result.history
+    result = micro.solve_nonassociative(wall)   # the report's method
+    result.load_factor, result.status, result.lowest_load_factor, result.history
 
 Every result has a flat, JSON-ready record (``result.to_record()``).
 
@@ -25,7 +25,7 @@ value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, glo
 """
 
 from micro.associative import solve_associative
-from micro.backends import SOLVERS, Outcome, Status, make_backend
+from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backend
 from micro.geometry import BlockWall, build_wall, estimate_bytes
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
@@ -35,6 +35,7 @@ from micro.nonassociative import (
     NonAssociativeOptions,
     NonAssociativeResult,
     SequenceDiagnostics,
+    Tuning,
     solve_nonassociative,
     verify_collapse_state,
 )
@@ -42,6 +43,7 @@ from micro.records import AssociativeRecord, MicroRecord, NonAssociativeRecord
 from micro.results import DirectionResult, LimitResult
 
 __all__ = [
+    "DEFAULT_SOLVER",
     "SCHEMES",
     "SOLVERS",
     "AssociativeRecord",
@@ -58,6 +60,7 @@ __all__ = [
     "Outcome",
     "SequenceDiagnostics",
     "Status",
+    "Tuning",
     "assemble",
     "build_wall",
     "estimate_bytes",

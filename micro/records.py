@@ -183,8 +183,9 @@ class NonAssociativeRecord(MicroRecord):
         last_load_factor: ``lambda`` of the last successful iterate.
         associative_load_factor: smallest associative ``lambda`` over the
             directions solved.
-        cold_load_factor: the final iterate re-solved cold.
-        warm_cold_rel_diff: ``|warm - cold| / |cold|``.
+        cold_load_factor: the final iterate re-solved cold (NaN unless the
+            sequence stopped exactly, not by the certificate).
+        warm_cold_rel_diff: ``|warm - cold| / |cold|`` (NaN likewise).
         coulomb_residual: ``max(|s| - mu n, 0) / max n`` of the final forces.
         dilatancy_residual: largest opening rate at sliding points in
             contact, relative to the largest slip rate.
@@ -206,6 +207,9 @@ class NonAssociativeRecord(MicroRecord):
         lowest_moves: moves between mechanisms that led to it.
         lowest_lps, lowest_seconds: cost of the descent over the directions.
         lowest_status: ``""`` (not run), ``"found"`` or ``"failed"``.
+        lowest_stop: ``""`` (not run), ``"finished"`` (every direction's
+            descent ended by its own rules) or ``"budget"`` (one spent its
+            budget of LPs: the lowest state found so far).
         global_load_factor: best collapse state of the global search
             (:mod:`micro.nonassociative.global_mip`; NaN when not run).
         global_lower_bound: its proven lower bound of every collapse load factor.
@@ -245,6 +249,7 @@ class NonAssociativeRecord(MicroRecord):
     lowest_lps: int = 0
     lowest_seconds: float = 0.0
     lowest_status: str = ""
+    lowest_stop: str = ""
     global_load_factor: float = math.nan
     global_lower_bound: float = math.nan
     global_gap: float = math.nan

@@ -35,7 +35,7 @@ STOP_SECONDS = 10.0
 
 
 @dataclass(frozen=True, eq=False)
-class Outcome:
+class MipOutcome:
     """What one HiGHS run returned.
 
     Attributes:
@@ -150,7 +150,7 @@ def set_start(h: highspy.Highs, x: FloatArray) -> None:
     h.setSolution(sol)
 
 
-def run(h: highspy.Highs, *, mip: bool = False) -> Outcome:
+def run(h: highspy.Highs, *, mip: bool = False) -> MipOutcome:
     """Run ``h`` and collect the outcome.
 
     Args:
@@ -158,7 +158,7 @@ def run(h: highspy.Highs, *, mip: bool = False) -> Outcome:
         mip: the model has integer columns (read the dual bound and nodes).
 
     Returns:
-        The :class:`Outcome`.
+        The :class:`MipOutcome`.
 
     Raises:
         KeyboardInterrupt: Ctrl-C during a MIP: HiGHS is stopped (by its
@@ -176,7 +176,7 @@ def run(h: highspy.Highs, *, mip: bool = False) -> Outcome:
     obj = float(info.objective_function_value) if x is not None else math.nan
     bound = float(info.mip_dual_bound) if mip else obj
     nodes = int(info.mip_node_count) if mip else 0
-    return Outcome(status, x, obj, bound, nodes, float(h.getRunTime()))
+    return MipOutcome(status, x, obj, bound, nodes, float(h.getRunTime()))
 
 
 def _run_interruptible(h: highspy.Highs) -> None:

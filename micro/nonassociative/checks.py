@@ -11,10 +11,27 @@ from numpy.typing import NDArray
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.options import CONTACT_FORCE, TINY
+from micro.nonassociative.tuning import CONTACT_FORCE, TINY
 from micro.results import DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
+
+#: The stops after which the final iterate is re-solved cold (:func:`cold_check`): the exact
+#: stops, whose state is the warm LP's own vertex. A certified state
+#: (``"certified"``) is not the warm vertex's: the certificate's interior-point
+#: LPs, which start from no basis, found it for the iterate's mechanism at its
+#: ``lambda``, and it passes the collapse conditions whatever the warm run's
+#: objective; a sequence that did not converge returns no state. The re-solve
+#: took 14-26 % of the iterated LP's CPU time on Table 7's walls and Set 5 and
+#: 19 % on Table 5's reference wall, all certified
+#: (docs/research/2026-11-25-nonassociative-profile.md).
+COLD_CHECKED_STOPS = ("lambda_and_forces", "lambda_and_coulomb")
+
+
+def cold_check_due(stop: str) -> bool:
+    """Whether a sequence that stopped for ``stop`` re-solves its final iterate
+    cold (:data:`COLD_CHECKED_STOPS`)."""
+    return stop in COLD_CHECKED_STOPS
 
 
 def coulomb_residual(lp: LimitLP, n: FloatArray, s: FloatArray) -> float:

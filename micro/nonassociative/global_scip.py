@@ -74,7 +74,7 @@ def set_start(m: Any, xs: list[Any], x: FloatArray) -> bool:
 
 
 def run(m: Any, xs: list[Any], *, node_limit: int | None, time_limit: float | None, mip_gap: float,
-        abs_gap: float, feasibility: float, seed: int = 0, log: bool = False) -> gh.Outcome:
+        abs_gap: float, feasibility: float, seed: int = 0, log: bool = False) -> gh.MipOutcome:
     """Solve; the outcome in the shape of :func:`micro.backends.highs_mip.run`'s.
 
     Raises:
@@ -97,4 +97,4 @@ def run(m: Any, xs: list[Any], *, node_limit: int | None, time_limit: float | No
         raise KeyboardInterrupt
     x = np.array([m.getVal(v) for v in xs]) if m.getNSols() > 0 else None
     obj = float(m.getObjVal()) if x is not None else math.nan
-    return gh.Outcome(_STATUS.get(status, status), x, obj, float(m.getDualbound()), int(m.getNNodes()), secs)
+    return gh.MipOutcome(_STATUS.get(status, status), x, obj, float(m.getDualbound()), int(m.getNNodes()), secs)

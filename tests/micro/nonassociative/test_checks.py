@@ -6,7 +6,7 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import CYCLING, solve_nonassociative
+from micro.nonassociative import CYCLING, Tuning, solve_nonassociative
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
 #: 12 rows, f = 0.75: (t, m, lambda).
@@ -26,7 +26,7 @@ def test_converged_states_are_collapse_states(kw: dict, relaxation: float) -> No
     from micro.nonassociative import verify_collapse_state
 
     w = wall(**kw)
-    r = solve_nonassociative(w, relaxation=relaxation)
+    r = solve_nonassociative(w, tuning=Tuning(relaxation=relaxation))
     assert r.converged, r.message
     lp = micro.assemble(w)
     for d in r.directions:
@@ -46,7 +46,7 @@ def test_not_converged_state_violates_yield() -> None:
     from micro.nonassociative import verify_collapse_state
 
     w = wall(1.0, 1.0)
-    r = solve_nonassociative(w, relaxation=1.0, certify=False)
+    r = solve_nonassociative(w, tuning=Tuning(relaxation=1.0, certify=False, selection="vertex"))
     assert r.status == CYCLING
     v = verify_collapse_state(micro.assemble(w), r.governing)
     assert v["slip_off_yield"] > 1e-3 or v["coulomb"] > 1e-3
@@ -78,3 +78,32 @@ def test_pattern_check_and_state_check_agree() -> None:
     assert a["energy"] <= 1e-6 and b["energy"] <= 1e-6 and b["live_work"] > 0
     bad = collapse_residuals(lp, sign, n, s * 1.01 + 1e-3 * np.sign(s), lam, v)
     assert bad["equilibrium"] > 1e-4 and bad["coulomb"] > 1e-4
+
+
+def test_cold_resolve_only_after_an_exact_stop(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The final iterate is re-solved cold after an exact stop only: not when
+    the certificate found the state, nor when the sequence did not converge."""
+    import math
+
+    from micro.nonassociative import checks
+    from micro.nonassociative.checks import COLD_CHECKED_STOPS, cold_check_due
+
+    assert cold_check_due("lambda_and_forces") and cold_check_due("lambda_and_coulomb")
+    assert not any(cold_check_due(s) for s in ("certified", "oscillating", "repeating", "max_iterations"))
+    calls: list[float] = []
+    real = checks.cold_check
+
+    def counted(*args: object, **kwargs: object) -> checks.ColdCheck:
+        out = real(*args, **kwargs)  # type: ignore[arg-type]
+        calls.append(out.rel_diff)
+        return out
+
+    monkeypatch.setattr(checks, "cold_check", counted)
+    w = wall(1.0, 1 / 3)  # Table 7's Set 12
+    certified = solve_nonassociative(w, lowest=False)
+    assert certified.stop_reason == "certified" and not calls and math.isnan(certified.warm_cold_rel_diff)
+    cycling = solve_nonassociative(wall(1.0, 1.0), relaxation=1.0, certify=False, lowest=False)
+    assert cycling.status == CYCLING and not calls
+    exact = solve_nonassociative(w, certify=False, lowest=False)
+    assert exact.stop_reason in COLD_CHECKED_STOPS and len(calls) == 1
+    assert exact.warm_cold_rel_diff == calls[0] <= 1e-6
