@@ -127,9 +127,10 @@ def test_a_failed_run_prints_the_line_the_readme_documents(capsys: pytest.Captur
             rx = rx.replace(re.escape(token), sub)
         patterns.append(rx)
     runs = [(["--time-limit", "1e-9"], patterns[0]),
-            (["--friction", "nonassociative", "--max-iterations", "2", "--no-lowest"], patterns[1]),
-            (["--t", "0.5", "--f", "0.4", "--friction", "nonassociative", "--scheme", "b", "--no-certify",
-              "--no-lowest"], patterns[1])]
+            (["--friction", "nonassociative", "--max-iterations", "2", "--tuning", "selection=vertex", "--no-lowest"],
+             patterns[1]),
+            (["--t", "0.5", "--f", "0.4", "--friction", "nonassociative", "--tuning", "scheme=b",
+              "--tuning", "certify=false", "--no-lowest"], patterns[1])]
     for extra, pattern in runs:
         argv = ["micro", *WALL, *extra]
         assert cli.main([*argv, "-q"]) == 1
