@@ -15,7 +15,7 @@ alike, and within the physical bounds of :func:`macro.checks.wall_bounds`
 (sizes where double precision is exact enough, a wall at least one block
 long). The mapping of the paper's parameters onto a dimensional wall is
 :func:`macro.paper.paper_walls` (block height 1, ``H = o``, ``L = o/t``,
-``l = 1/m``, ``q = p H`` on every floor; see that module and the README for the
+``l = 1/m``, ``q = p H`` on every floor; see that module and ``docs/macro.md`` for the
 reading of ``p``). The load factor is independent of the unit of length and of
 ``unit_weight``.
 """

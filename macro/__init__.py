@@ -2,7 +2,8 @@
 
 The in-plane rocking-sliding mechanism of a multi-storey dry-joint wall with
 frictional resistances reduced by the crack angle (Eqs. 1-12 of the paper),
-minimised globally over the crack angle and the hinge storey.
+minimised globally over the crack angle and the hinge storey. The model as
+implemented and where it departs from the paper: ``docs/macro.md``.
 
 Example:
     >>> import macro

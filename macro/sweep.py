@@ -58,7 +58,12 @@ def sweep(
     """Macro-block load factors of many walls at once.
 
     Args:
-        t, m, rows, f, p: the paper's parameters, broadcast together.
+        t: the wall shape ratio H/L (the paper's parameters ``t, m, rows, f, p``
+            are broadcast together).
+        m: the unit shape ratio b/l.
+        rows: the number of rows o.
+        f: the friction coefficient.
+        p: the overloading ratio.
         storeys: number of storeys ``N`` of every wall.
         p_height: ``"wall"`` or ``"storey"``, the reading of ``p``
             (see :mod:`macro.paper`).

@@ -20,7 +20,8 @@ Every result has a flat, JSON-ready record (``result.to_record()``).
 
 Layout: ``geometry`` (the wall), ``lp`` (the LP), ``backends`` (the solvers),
 ``mechanism``, ``results`` and ``records`` (what comes out), ``associative``
-and ``nonassociative`` (the two analyses), ``plot``.
+and ``nonassociative`` (the two analyses), ``plot``. The method, its options and which
+value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, global-search).
 """
 
 from micro.associative import solve_associative

@@ -15,7 +15,7 @@ otherwise the last block of each course is CUT, to a length in ``(0, l/2)``
 in one course type and in ``(l/2, l)`` in the other. Only the last block of
 a course is cut; a sliver is kept however thin (it did
 not hurt the LP's conditioning, and merging it into its neighbour made the
-load factor jump with ``L``; see ``docs/micro-geometry.md``).
+load factor jump with ``L``; see ``docs/micro/walls.md``).
 
 Conventions
 -----------

@@ -29,7 +29,8 @@ def draw_mechanism(
     Each block is drawn displaced by its velocity ``(u, v, omega)`` (a
     virtual displacement, amplified so that the largest one is
     :data:`LARGEST_DISPLACEMENT` of the wall height, unless ``amplification``
-    is given) and coloured by the magnitude of its translational velocity; the
+    is given) and coloured by the magnitude of its translational velocity relative to the
+    fastest block's (0 to 1); the
     undeformed outline is drawn in grey. The x label gives the amplification;
     when ``direction`` is given, an arrow shows the live load.
 
@@ -67,10 +68,14 @@ def draw_mechanism(
     outline = [np.column_stack(q) for q in zip(corners_x, corners_y, strict=True)]
     ax.add_collection(PolyCollection(outline, facecolors="none", edgecolors="0.8", linewidths=0.3))
     moved = [np.column_stack(q) for q in zip(X, Y, strict=True)]
-    pc = PolyCollection(moved, array=np.hypot(u, v), cmap="viridis", edgecolors="k", linewidths=0.2)
+    speed = np.hypot(u, v)
+    top = float(np.max(speed, initial=0.0))
+    relative = speed / top if top > 0 else speed
+    pc = PolyCollection(moved, array=relative, cmap="viridis", edgecolors="k", linewidths=0.2)
+    pc.set_clim(0.0, 1.0)
     ax.add_collection(pc)
     if fig is not None:
-        fig.colorbar(pc, ax=ax, label="block speed |(u, v)|, normalised", shrink=0.8)
+        fig.colorbar(pc, ax=ax, label="block speed |(u, v)| / speed of the fastest block", shrink=0.8)
     if direction is not None:
         _load_arrow(ax, wall.length / ls, height, direction)
     ax.autoscale_view()

@@ -124,7 +124,8 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], tables_dir: Path) -
     ]
     for tb in tables.values():
         tb.write_csv(out / f"{tb.name}.csv")
-    error_map, error_numbers = errormap.write(out, committed_table(tables_dir, ERRORMAP))
+    error_map, error_numbers = errormap.write(out, committed_table(tables_dir, ERRORMAP), number=len(figure_list) + 1)
+    lowest_number = len(figure_list) + (2 if error_numbers else 1)
     bond_text, bond_rows = bond.section(committed_table(tables_dir, BOND))
     tables_json = {k: v.records() for k, v in tables.items()}
     (out / "report.json").write_text(json.dumps(
@@ -133,6 +134,6 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], tables_dir: Path) -
     ))
     path = out / "REPORT.md"
     text = document(res, tables, findings(res), figure_list, meta)
-    lowest_text = lowest.section(committed_table(tables_dir, LOWEST))
+    lowest_text = lowest.section(committed_table(tables_dir, LOWEST), out=out, number_=lowest_number)
     path.write_text(text + "\n" + error_map + "\n" + bond_text + "\n" + lowest_text)
     return path

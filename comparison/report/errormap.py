@@ -210,10 +210,17 @@ def nonassoc_stops(path: Path) -> dict[str, int]:
     return stops
 
 
-def section(cells: Sequence[MapCell], figure_name: str, source: str, stops: dict[str, int] | None = None) -> str:
-    """The report's error-map section: headline numbers, the figure, the worst cells.
+def section(
+    cells: Sequence[MapCell],
+    figure_name: str,
+    source: str,
+    stops: dict[str, int] | None = None,
+    number: int | None = None,
+) -> str:
+    """The report's error-map section: headline numbers, the figure with its caption, the worst cells.
 
-    ``stops`` (see :func:`nonassoc_stops`) says why the iterated LP gave no reference where it did not.
+    ``stops`` (see :func:`nonassoc_stops`) says why the iterated LP gave no reference where it did not;
+    ``number`` is the figure's number in the report.
     """
     s = summary(cells)
     a, na, asc = s["all"], s["nonassoc"], s["assoc"]
@@ -237,7 +244,9 @@ def section(cells: Sequence[MapCell], figure_name: str, source: str, stops: dict
             else []
         ),
         "",
-        f"![Error map]({figure_name})",
+        f"![{_label(number)}]({figure_name})",
+        "",
+        f"**{_label(number)}.** {caption(cells)}",
         "",
         "| storeys, rows | walls | unsafe | > +10 % | agree | median | worst |",
         "|---|---|---|---|---|---|---|",
@@ -257,6 +266,24 @@ def section(cells: Sequence[MapCell], figure_name: str, source: str, stops: dict
     return "\n".join(lines) + "\n"
 
 
+def _label(number: int | None) -> str:
+    return "Error map" if number is None else f"Figure {number}"
+
+
+def caption(cells: Sequence[MapCell]) -> str:
+    """What the error map draws."""
+    storeys = " and ".join(str(n) for n in sorted({c.storeys for c in cells}))
+    rows = ", ".join(str(o) for o in sorted({c.rows for c in cells}))
+    walls = ", ".join(f"{k} = {' / '.join(sorted({f'{getattr(c, k):g}' for c in cells}))}" for k in ("f", "p"))
+    return (
+        f"(λ_macro − λ_micro)/λ_micro in per cent over t = H/L (columns) and m = b/l (rows of each panel), one panel "
+        f"per number of storeys ({storeys}) and rows o ({rows}); {walls}. Red: the macro model above the micro "
+        "reference (unsafe), blue: below; the black line: where it turns unsafe. The reference is the converged "
+        "iterated LP, or (marked *) the associative LP; grey cells: no micro result (above the block limit). "
+        "Data: `reports/sweeps/errormap.csv`."
+    )
+
+
 def _stops(stops: dict[str, int]) -> str:
     why = {"max_iterations": "its cap of LPs reached"}
     return "; ".join(f"{n} `{status}`" + (f" ({why[status]})" if status in why else "") for status, n in stops.items())
@@ -266,11 +293,11 @@ def _share(part: dict[str, Any]) -> str:
     return f"{100 * part['unsafe'] / part['walls']:.0f} %" if part["walls"] else "no wall"
 
 
-def write(out: Path, table: Path | None) -> tuple[str, dict[str, Any]]:
+def write(out: Path, table: Path | None, number: int | None = None) -> tuple[str, dict[str, Any]]:
     """Draw ``errormap.png`` into ``out``; the section's markdown and its numbers (for ``report.json``).
 
     Without the committed table (``None``: :func:`~comparison.report.committed.committed_table` warned)
-    the section says so and nothing is drawn.
+    the section says so and nothing is drawn. ``number``: the figure's number in the report.
     """
     if table is None or not table.exists():
         return "## Error map\n\nThe sweep table `reports/sweeps/errormap.csv` is missing.\n", {}
@@ -278,4 +305,5 @@ def write(out: Path, table: Path | None) -> tuple[str, dict[str, Any]]:
     name = figure(cells, out / "errormap.png").name
     numbers = {"summary": summary(cells), "worst": [c.__dict__ | {"error": c.error} for c in worst(cells)]}
     stops = nonassoc_stops(table)
-    return section(cells, name, "reports/sweeps/errormap.csv", stops), {**numbers, "nonassoc_stops": stops}
+    text = section(cells, name, "reports/sweeps/errormap.csv", stops, number)
+    return text, {**numbers, "nonassoc_stops": stops}

@@ -32,6 +32,9 @@ PARAMETERS = {
     "p": "p (floor load ratio)",
 }
 
+#: Errors below this are drawn at it, hollow (the speed-accuracy chart's reference itself: error 0).
+SPEED_FLOOR = 1e-7
+
 #: Marker per series, so that overlapping series stay apart without colour.
 MARKERS = "osD^v<>phX*"
 
@@ -107,24 +110,36 @@ def _legend_entries(axes: Any) -> dict[str, Any]:
 
 def speed_accuracy(points: Sequence[SpeedPoint], reference: str, path: Path) -> Path:
     """Time (log) against relative error in λ, one marker per family joined by rows; each wall resolution
-    labelled once."""
+    labelled once. A point of error below :data:`SPEED_FLOOR` (the reference itself, error 0) is drawn
+    hollow at the axis floor, off its family's line, and named; the macro point is named too."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 5.2), dpi=110)
-    floor = 1e-7
+    floor = SPEED_FLOOR
     shown = [p for p in points if math.isfinite(p.error) and math.isfinite(p.seconds)]
+    exact = [p for p in shown if p.error < floor]
     for i, (fam, mk) in enumerate(zip(sorted({p.family for p in shown}), MARKERS, strict=False)):
-        pts = sorted((p for p in shown if p.family == fam), key=lambda p: p.rows)
-        xy = [max(p.error, floor) for p in pts], [max(p.seconds, 1e-5) for p in pts]
+        pts = sorted((p for p in shown if p.family == fam and p.error >= floor), key=lambda p: p.rows)
+        xy = [p.error for p in pts], [max(p.seconds, 1e-5) for p in pts]
         ax.plot(*xy, marker=mk, ms=7, lw=0.7, color=f"C{i}", label=fam, alpha=0.85)
+        for p in (q for q in exact if q.family == fam):
+            ax.plot([floor], [max(p.seconds, 1e-5)], marker=mk, ms=9, mfc="none", mew=1.5, color=f"C{i}", ls="")
+            what = "the reference (error 0)" if p.error == 0 else f"error {p.error:.0e}"
+            ax.annotate(f"{fam}, {p.label}: {what}, drawn at {floor:g}", (floor, max(p.seconds, 1e-5)),
+                        fontsize=7, xytext=(8, -3), textcoords="offset points", ha="left", va="top")
+        for p in (q for q in pts if fam == "macro"):
+            ax.annotate(f"macro model, {p.label}", (p.error, max(p.seconds, 1e-5)), fontsize=7, xytext=(-8, 0),
+                        textcoords="offset points", ha="right", va="center")
     ax.set_xscale("log")
     ax.set_yscale("log")
     texts = [
         ax.annotate(label.rstrip("\u200b"), (x, y), fontsize=7, xytext=(0, 7), textcoords="offset points",
                     ha="center", bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
-        for label, (x, y) in _cluster_labels([p for p in shown if p.family != "macro"], floor).items()
+        for label, (x, y) in _cluster_labels([p for p in shown if p.family != "macro" and p.error >= floor],
+                                             floor).items()
     ]  # fmt: skip
     _dodge(fig, texts)
-    ax.set_xlabel(f"|Δλ| / λ against {reference} (errors below {floor:g} drawn at {floor:g})")
+    ax.set_xlim(left=floor / 2)
+    ax.set_xlabel(f"|Δλ| / λ against {reference} (hollow: the reference itself, error 0, drawn at {floor:g})")
     ax.set_ylabel("time [s]")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), title="method", title_fontsize=8)

@@ -3,8 +3,9 @@
 Reads the committed study table ``lowest.csv`` of the report's tables directory
 (:mod:`comparison.report.committed`; written by ``xcheck stability --lowest --out
 reports``; the report does not recompute it: the descent and the global
-search take minutes) and renders the rows of Table 7's walls beside Orduña's
-load factors (:func:`comparison.stability.lowest_render.table7_lines`).
+search take minutes), renders the rows of Table 7's walls beside Orduña's
+load factors (:func:`comparison.stability.lowest_render.table7_lines`) and
+draws the study's figure from the same table (:func:`comparison.stability.lowest_render.chart`).
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from comparison.stability.lowest_render import table7_lines
+from comparison.stability.lowest_render import GROUPS, chart, table7_lines
 from comparison.sweep.table import number, read_table
 
 #: Its columns that hold numbers.
@@ -30,12 +31,42 @@ def load(path: Path) -> list[dict[str, Any]]:
     return rows
 
 
-def section(path: Path | None) -> str:
-    """The report's markdown section (says so when the table is missing; ``None``:
-    :func:`~comparison.report.committed.committed_table` warned)."""
+def figure(rows: list[dict[str, Any]], path: Path) -> Path:
+    """Draw ``lowest.png`` from the study's rows: the iterated LP's excess over the global minimum (where the
+    search closed) and over the lowest certified state, per group."""
+    over_global = [number(r["iterated_over_global"]) for r in rows if r["global_status"] == "optimal"]
+    over_lowest = {g: [number(r["iterated_over_lowest"]) for r in rows if r["group"] == g] for g in GROUPS}
+    return chart(over_global, over_lowest, path)
+
+
+def section(path: Path | None, out: Path | None = None, number_: int | None = None) -> str:
+    """The report's markdown section (says so when the table is missing).
+
+    Args:
+        path: the study's table (``None``: :func:`~comparison.report.committed.committed_table` warned).
+        out: where to draw ``lowest.png`` (``None``: no figure).
+        number_: the figure's number in the report.
+    """
     if path is None or not path.exists():
         return "## Table 7: the lowest collapse load\n\nThe study table `reports/lowest.csv` is missing.\n"
-    lines = table7_lines(load(path))
+    rows = load(path)
+    lines = table7_lines(rows)
+    fig: list[str] = []
+    if out is not None:
+        name = figure(rows, out / "lowest.png").name
+        label = f"Figure {number_}" if number_ is not None else "Figure"
+        closed = sum(1 for r in rows if r["global_status"] == "optimal")
+        groups = "; ".join(f"{GROUPS[g]}: {sum(1 for r in rows if r['group'] == g)}" for g in GROUPS)
+        fig = [
+            "",
+            f"![{label}]({name})",
+            "",
+            f"**{label}.** The iterated LP's load factor against the lowest known collapse load, over every wall "
+            f"of the study ({groups}), in bins of 1 %. Left: its excess over the global minimum on the {closed} "
+            "walls where the global search closed. Right: its excess "
+            "over the lowest certified state, stacked by group: a lower bound of its excess over the global "
+            "minimum. Data: `lowest.csv`.",
+        ]
     return "\n".join([
         *lines[:2],
         "The iterated LP's fixed point (`load_factor`) is one collapse state among many; the descent's lowest "
@@ -45,4 +76,5 @@ def section(path: Path | None) -> str:
         "(`xcheck stability --lowest`; full study in `reports/lowest.md`).",
         "",
         *lines[2:],
+        *fig,
     ]) + "\n"

@@ -35,20 +35,30 @@ def mechanism_figures(res: Results, out: Path) -> list[Figure]:
         ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, frameon=False)
         name = f"mechanism_{c.case.lower()}.png"
         save_figure(fig, out / name)
-        which = "" if rec.method == res.plan.reference else f" (the {res.plan.reference.kind} did not converge)"
+        which = "" if rec.method == res.plan.reference else _why_not(res, c)
         figures.append(
             Figure(
                 name,
                 f"{c.label} (t = {c.t:g}, m = {c.m:.3g}, o = {c.rows}, p = {c.p:g}, f = {c.f:g}, {c.storeys} "
                 f"storey{'s' if c.storeys > 1 else ''}): the collapse mechanism of the {rec.method.label}{which} "
                 f"for the live load in {mech.direction} (arrow), λ = {rec.load_factor:.4f}. Blocks are drawn "
-                f"displaced by their virtual velocities × {amplification:.3g} and coloured by speed, the wall "
+                f"displaced by their virtual velocities × {amplification:.3g} and coloured by their speed relative to "
+                f"the fastest block, the wall "
                 f"undeformed in grey; axes in block heights. Red: the macro model's crack through the hinge "
                 f"(α_c = {r.alpha_c_deg:.1f}°, dashed) and its stepped crack (α_c* = {r.alpha_c_star_deg:.1f}°), "
                 f"hinge at the base of storey {r.hinge_storey}, macro λ = {r.load_factor:.4f}.",
             )
         )
     return figures
+
+
+def _why_not(res: Results, case: Any) -> str:
+    """Why the caption shows another method's mechanism than the reference's: not run, or no state."""
+    ref = res.record(case.spec(), res.plan.reference)
+    kind = res.plan.reference.kind
+    if ref.status == "not_run":
+        return f" (the {kind}: not run on this wall, see the status legend)"
+    return f" (the {kind} ended `{ref.status}`: no collapse state)"
 
 
 def _draw_macro_crack(ax: Any, r: macro.MacroResult, direction: str) -> None:

@@ -25,7 +25,7 @@ NONASSOC_MAX_BLOCKS = 2000
 #: ... and on the paper's walls of at most this many: Set 10 (3,630 blocks)
 #: runs fused with the continuation (:data:`micro.nonassociative.tuning.FUSE_BLOCKS`,
 #: 475 s); the 7,575-block Table 9 walls stay out (their first LPs take minutes
-#: and no method here has settled on them, see the README).
+#: and no method here has settled on them, see ``docs/micro/nonassociative.md``).
 NONASSOC_MAX_BLOCKS_CASES = 4000
 
 #: Base walls of the sensitivity sweeps and of the speed-accuracy study.
@@ -35,7 +35,7 @@ BASE_QUICK: Mapping[str, float] = {"t": 1.0, "m": 1 / 3, "rows": 12, "f": 0.75, 
 #: The values of each parameter in the sensitivity sweeps.
 SWEEPS_FULL: Mapping[str, tuple[float, ...]] = {
     "f": (0.4, 0.5, 0.6, 0.7, 0.8),
-    "t": (0.5, 1.0, 1.25, 2.0, 2.5),
+    "t": (0.5, 1.0, 1.25, 2.0, 2.5, 3.0),
     "m": (0.25, 1 / 3, 0.5, 1.0),
     "rows": (12, 24, 36, 45, 60),
     "p": (0.0, 1.0, 2.0, 4.0, 8.0),
@@ -51,7 +51,7 @@ SWEEPS_QUICK: Mapping[str, tuple[float, ...]] = {
 
 def micro_methods() -> tuple[Method, ...]:
     """The micro methods of the report: the associative LP by the library's
-    default back end (:data:`micro.DEFAULT_SOLVER`, docs/micro-associative.md)
+    default back end (:data:`micro.DEFAULT_SOLVER`, ``docs/micro/associative.md``)
     and the iterated non-associative LP."""
     return (MICRO_ASSOC, MICRO_NONASSOC)
 

@@ -46,7 +46,8 @@ python3 -m venv .venv && .venv/bin/pip install -e .
 .venv/bin/xcheck references --out comparison/pytest_plugin/references.json   # the plugin's references
 ```
 
-`--no-cache` recomputes everything (see the README for the cache). Versions of this run: {versions}.
+`--no-cache` recomputes everything (the cache: [docs/cli.md](../docs/cli.md#the-report-command-and-its-cache)).
+Versions of this run: {versions}.
 The machine and the run times are in [timings.md](timings.md). Every number in the tables is
 independent of the machine but for the timings: the iterated LP decides on iteration and LP counts,
 never on seconds.

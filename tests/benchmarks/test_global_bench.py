@@ -6,7 +6,7 @@ the timed call) and is stopped by a NODE limit, so that the numbers it
 asserts are the same on every machine: the best state is the lower end of
 the start mechanism's band, rebuilt exactly, and the proven lower bound is
 still 0 (the LP relaxation of the complementarity is weak; see
-``docs/global-minimum.md``). ``benchmark.extra_info`` records the binaries,
+``docs/micro/global-search.md``). ``benchmark.extra_info`` records the binaries,
 nodes, bound and gap.
 """
 

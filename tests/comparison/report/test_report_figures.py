@@ -70,3 +70,99 @@ def test_mechanism_drawn_in_block_heights_with_arrow() -> None:
     assert arrow.xy[0] < 0 < arrow.xy[1] < 60  # pointing right, at the wall's left
     assert ax.dataLim.y1 == pytest.approx(60, abs=1)  # the top course, not 6.0
     plt.close(fig)
+
+
+def test_mechanism_colour_bar_says_what_it_is_normalised_to() -> None:
+    """Colours are block speeds over the fastest block's (0 to 1), and the colour bar says so."""
+    from matplotlib.collections import PolyCollection
+
+    from micro import build_wall
+    from micro.plot import draw_mechanism
+
+    wall = build_wall(length=12, block_length=3, block_height=1, rows=(4,), thickness=(1,), overload=(0,),
+                      unit_weight=1, friction=0.75)  # fmt: skip
+    vel = np.zeros((len(wall.xc), 3))
+    vel[:, 0] = 0.002 * wall.yc  # speeds in the LP's units, far below 1
+    plt = pyplot()
+    fig, ax = plt.subplots()
+    draw_mechanism(ax, wall, vel, fig=fig)
+    (moved,) = [c for c in ax.collections if isinstance(c, PolyCollection) and c.get_array() is not None]
+    assert float(np.max(moved.get_array())) == pytest.approx(1.0)
+    assert moved.get_clim() == (0.0, 1.0)
+    assert "fastest block" in fig.axes[-1].get_ylabel()
+    plt.close(fig)
+
+
+def test_speed_reference_point_is_marked_at_the_floor_off_the_line(tmp_path: Path, monkeypatch) -> None:
+    """The exact reference (error 0) is a hollow marker at the axis floor, named, not a line across the chart;
+    the macro point is named."""
+    import comparison.report.figures as figures
+
+    kept = []
+    monkeypatch.setattr(figures, "save_figure", lambda fig, path: kept.append(fig) or path)
+    pts = [SpeedPoint(f"{r} rows", "nonassoc", s, e, r) for r, s, e in ((12, 0.1, 0.2), (24, 0.5, 0.08), (60, 5, 0))]
+    pts.append(SpeedPoint("60 rows", "macro", 1e-3, 0.24, 60))
+    speed_accuracy(pts, "nonassoc, 60 rows", tmp_path / "s.png")
+    (fig,) = kept
+    ax = fig.axes[0]
+    (line,) = [ln for ln in ax.get_lines() if ln.get_label() == "nonassoc"]
+    assert list(line.get_xdata()) == [0.2, 0.08]  # the reference is not on its family's line
+    floor = [ln for ln in ax.get_lines() if list(ln.get_xdata()) == [figures.SPEED_FLOOR]]
+    assert len(floor) == 1 and floor[0].get_markerfacecolor() == "none"
+    texts = [t.get_text() for t in ax.texts]
+    assert any("the reference (error 0)" in t for t in texts)
+    assert any(t.startswith("macro model") for t in texts)
+    pyplot().close(fig)
+
+
+def test_lowest_chart_one_bin_width_readable_groups_both_axes_labelled() -> None:
+    from comparison.stability.lowest_render import BIN_WIDTH, GROUPS, chart_figure
+
+    fig = chart_figure([0.0, -1e-10, 0.1, 0.31], {"grid": [0.0, 0.02, 0.09], "tiny": [0.45], "table7": [0.01]})
+    widths = {round(p.get_width(), 9) for ax in fig.axes for p in ax.patches if p.get_height() > 0}
+    assert widths == {BIN_WIDTH}
+    left, right = fig.axes[:2]
+    assert left.get_ylabel() == right.get_ylabel() == "walls"
+    assert sum(p.get_height() for p in left.patches) == 4  # the rounding excess (-1e-10) counts at 0
+    labels = [t.get_text() for t in right.get_legend().get_texts()]
+    assert labels == [f"{GROUPS[g]} ({n})" for g, n in (("grid", 3), ("tiny", 1), ("table7", 1))]
+    assert not any(name in ("grid", "tiny", "table7") for name in labels)
+    pyplot().close(fig)
+
+
+def test_quick_report_numbers_the_error_map_and_the_lowest_figure(quick_report_dir: Path) -> None:
+    """Every figure of REPORT.md is numbered in order with its caption, the error map and lowest.png too."""
+    import re
+
+    text = (quick_report_dir / "REPORT.md").read_text()
+    images = re.findall(r"!\[([^\]]*)\]\(([^)]+)\)", text)
+    assert [label for label, _ in images] == [f"Figure {i}" for i in range(1, len(images) + 1)]
+    names = [name for _, name in images]
+    assert names[-2:] == ["errormap.png", "lowest.png"]
+    for i in range(1, len(images) + 1):
+        assert f"**Figure {i}.** " in text
+    assert (quick_report_dir / "lowest.png").stat().st_size > 0
+    assert "README" not in text
+
+
+def test_mechanism_caption_says_not_run_where_the_reference_was_not_run() -> None:
+    from types import SimpleNamespace
+
+    from comparison.report.mechanisms import _why_not
+
+    case = SimpleNamespace(spec=lambda: "wall")
+    for status, words in (("not_run", "not run on this wall"), ("cycling", "ended `cycling`")):
+        res = SimpleNamespace(
+            record=lambda spec, method, s=status: SimpleNamespace(status=s),
+            plan=SimpleNamespace(reference=SimpleNamespace(kind="micro-nonassoc")),
+        )
+        text = _why_not(res, case)  # type: ignore[arg-type]
+        assert words in text and "did not converge" not in text
+
+
+def test_full_sensitivity_sweep_reaches_the_papers_widest_wall() -> None:
+    """The t sweep reaches t = 3 (Table 5's Set 8), so its curves reach the paper's point."""
+    from comparison.cases import cases_in_table
+    from comparison.report.plan import SWEEPS_FULL
+
+    assert max(SWEEPS_FULL["t"]) >= max(c.t for c in cases_in_table("5"))

@@ -65,7 +65,8 @@ def test_the_mechanism_is_in_the_shared_convention() -> None:
 
 
 def test_settings_are_pinned() -> None:
-    """The measured choices (docs/micro-associative.md); change them only with new measurements."""
+    """The measured choices (docs/research/2026-11-23-associative-lp-measured.md); change them only with new
+    measurements."""
     measured = nipm.NormalIpmSettings(
         gap_tol=1e-8, primal_tol=1e-7, dual_tol=1e-9, step_fraction=0.99, regularization=1e-14, refine_steps=1,
         refine_tol=1e-10, max_iter=100, correctors=2, projections=2, divergence=1e12)

@@ -1,0 +1,185 @@
+"""The examples of README.md and docs/ run as written.
+
+Every fenced ``sh`` block is a list of ``xcheck`` commands, each run in a temporary folder (with a copy
+of ``examples/`` and of the report's committed tables) by the ``xcheck`` of this environment
+(``python -m comparison.cli``); it fails on an exit code other than 0 or a run over :data:`TIMEOUT`
+seconds. Every fenced ``python`` block is run as a script in such a folder. A block preceded by an HTML
+comment is marked:
+
+* ``<!-- skip-example: REASON -->``: not run (synopses with placeholders, installs, long runs);
+* ``<!-- expect-exit: N -->``: its commands must exit with ``N``.
+
+A command written on several pages runs once (the first page, in the order README.md, docs/ sorted);
+its other blocks run only their other commands.
+
+``text``, ``toml`` and unlabelled blocks are not examples. The dated pages of ``docs/research/`` are a log
+kept as it was measured (their commands are those of their date) and are not collected.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+#: Longest run of one example, seconds.
+TIMEOUT = 120
+#: Fence languages that hold commands, and those that hold Python.
+SHELL = {"sh", "bash", "console", "shell"}
+PYTHON = {"python", "py"}
+MARK = re.compile(r"<!--\s*(skip-example|expect-exit)\s*:\s*(.*?)\s*-->")
+FENCE = re.compile(r"^```(\w*)\s*$")
+
+
+@dataclass(frozen=True)
+class Example:
+    """One fenced block of a page."""
+
+    page: str
+    line: int
+    language: str
+    text: str
+    skip: str | None = None
+    exit_code: int = 0
+
+    @property
+    def id(self) -> str:
+        return f"{self.page}:{self.line}"
+
+
+def pages() -> list[Path]:
+    """README.md and every page of docs/ but the research log."""
+    docs = sorted(p for p in (ROOT / "docs").rglob("*.md") if "research" not in p.relative_to(ROOT / "docs").parts)
+    return [ROOT / "README.md", *docs]
+
+
+def blocks(path: Path) -> list[Example]:
+    """The fenced blocks of ``path`` with their marks."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    out: list[Example] = []
+    i = 0
+    while i < len(lines):
+        m = FENCE.match(lines[i])
+        if not m:
+            i += 1
+            continue
+        j = i + 1
+        while j < len(lines) and not lines[j].startswith("```"):
+            j += 1
+        prev = next((lines[k] for k in range(i - 1, -1, -1) if lines[k].strip()), "")
+        mark = MARK.search(prev)
+        skip = mark.group(2) if mark and mark.group(1) == "skip-example" else None
+        code = int(mark.group(2)) if mark and mark.group(1) == "expect-exit" else 0
+        out.append(Example(str(path.relative_to(ROOT)), i + 1, m.group(1), "\n".join(lines[i + 1 : j]), skip, code))
+        i = j + 1
+    return out
+
+
+def commands(text: str) -> list[list[str]]:
+    """The commands of a shell block: lines joined at a trailing backslash, ``$ `` prompts and comments
+    dropped."""
+    joined = re.sub(r"\\\n\s*", " ", text)
+    out = []
+    for line in joined.splitlines():
+        line = line.strip().removeprefix("$ ")
+        if line and not line.startswith("#"):
+            out.append(shlex.split(line, comments=True))
+    return out
+
+
+ALL = [b for p in pages() for b in blocks(p)]
+SHELL_BLOCKS = [b for b in ALL if b.language in SHELL]
+PYTHON_BLOCKS = [b for b in ALL if b.language in PYTHON]
+
+
+def _xcheck(argv: list[str]) -> list[str] | None:
+    """The command to run for ``argv`` when it is an ``xcheck`` command, else ``None``."""
+    if argv and Path(argv[0]).name == "xcheck":
+        return [sys.executable, "-m", "comparison.cli", *argv[1:]]
+    return None
+
+
+def _first_seen() -> dict[tuple[str, ...], str]:
+    """Each command of an unmarked shell block, with the block that runs it (the first one)."""
+    seen: dict[tuple[str, ...], str] = {}
+    for b in SHELL_BLOCKS:
+        if not b.skip:
+            for argv in commands(b.text):
+                seen.setdefault((*argv, f"exit {b.exit_code}"), b.id)
+    return seen
+
+
+FIRST = _first_seen()
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """One result cache for every example (so that ``report --quick`` and ``references`` share)."""
+    return tmp_path_factory.mktemp("xcheck-cache")
+
+
+def _folder(tmp_path: Path) -> Path:
+    """A working folder like a clone's: ``examples/`` and the report's committed tables."""
+    shutil.copytree(ROOT / "examples", tmp_path / "examples", ignore=shutil.ignore_patterns(".venv", "__pycache__"))
+    shutil.copytree(ROOT / "reports" / "sweeps", tmp_path / "reports" / "sweeps")
+    shutil.copy2(ROOT / "reports" / "lowest.csv", tmp_path / "reports" / "lowest.csv")
+    return tmp_path
+
+
+def test_examples_are_collected() -> None:
+    """The collector sees the README's commands and Python, and every page's blocks are marked or runnable."""
+    readme = [b for b in SHELL_BLOCKS if b.page == "README.md" and not b.skip]
+    assert sum(len(commands(b.text)) for b in readme) >= 4
+    assert any(b.page == "README.md" and not b.skip for b in PYTHON_BLOCKS)
+    # an unmarked shell block holds xcheck commands only: nothing is silently left out
+    for b in SHELL_BLOCKS:
+        if not b.skip:
+            for argv in commands(b.text):
+                assert _xcheck(argv), f"{b.id}: {shlex.join(argv)} is not an xcheck command; mark the block"
+    # every skip says why
+    assert all(b.skip.strip() for b in ALL if b.skip is not None)
+
+
+@pytest.mark.parametrize("block", SHELL_BLOCKS, ids=[b.id for b in SHELL_BLOCKS])
+def test_shell_example(block: Example, tmp_path: Path, cache: Path) -> None:
+    if block.skip:
+        pytest.skip(block.skip)
+    folder = _folder(tmp_path)
+    env = {**os.environ, "XCHECK_CACHE": str(cache), "MPLBACKEND": "Agg"}
+    for argv in commands(block.text):
+        if FIRST[(*argv, f"exit {block.exit_code}")] != block.id:
+            continue  # run where it is first written
+        cmd = _xcheck(argv)
+        assert cmd is not None, f"{block.id}: not an xcheck command: {shlex.join(argv)}"
+        try:
+            run = subprocess.run(cmd, cwd=folder, env=env, capture_output=True, text=True, timeout=TIMEOUT)
+        except subprocess.TimeoutExpired:
+            pytest.fail(f"{block.id}: `{shlex.join(argv)}` ran over {TIMEOUT} s")
+        assert run.returncode == block.exit_code, (
+            f"{block.id}: `{shlex.join(argv)}` exited with {run.returncode}, expected {block.exit_code}\n"
+            f"stdout: {run.stdout[-2000:]}\nstderr: {run.stderr[-2000:]}"
+        )
+
+
+@pytest.mark.parametrize("block", PYTHON_BLOCKS, ids=[b.id for b in PYTHON_BLOCKS])
+def test_python_example(block: Example, tmp_path: Path, cache: Path) -> None:
+    if block.skip:
+        pytest.skip(block.skip)
+    folder = _folder(tmp_path)
+    script = folder / "example.py"
+    script.write_text(block.text + "\n", encoding="utf-8")
+    env = {**os.environ, "XCHECK_CACHE": str(cache), "MPLBACKEND": "Agg"}
+    try:
+        run = subprocess.run([sys.executable, str(script)], cwd=folder, env=env, capture_output=True, text=True,
+                             timeout=TIMEOUT)  # fmt: skip
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"{block.id}: ran over {TIMEOUT} s")
+    assert run.returncode == block.exit_code, f"{block.id}: exited with {run.returncode}\n{run.stderr[-3000:]}"
