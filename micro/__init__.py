@@ -7,14 +7,14 @@ with :func:`solve_associative`::
     import micro
     wall = micro.build_wall(length=12, block_length=3, block_height=1, rows=(12,),
                             thickness=(1,), overload=(0,), unit_weight=1, friction=0.75)
-    result = micro.solve_associative(wall, solver="highs")
+    result = micro.solve_associative(wall)
     result.load_factor, result.direction, result.status
 
 and with non-associative (zero-dilatancy) friction by the iterated LP of
 Gilbert, Casapulla & Ahmed (2006) with :func:`solve_nonassociative`::
 
-    result = micro.solve_nonassociative(wall, scheme="a")
-    result.load_factor, result.status, result.iterations, result.history
+    result = micro.solve_nonassociative(wall)   # the report's method
+    result.load_factor, result.status, result.lowest_load_factor, result.history
 
 Every result has a flat, JSON-ready record (``result.to_record()``).
 
@@ -24,7 +24,7 @@ and ``nonassociative`` (the two analyses), ``plot``.
 """
 
 from micro.associative import solve_associative
-from micro.backends import SOLVERS, Outcome, Status, make_backend
+from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backend
 from micro.geometry import BlockWall, build_wall, estimate_bytes
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
@@ -34,6 +34,7 @@ from micro.nonassociative import (
     NonAssociativeOptions,
     NonAssociativeResult,
     SequenceDiagnostics,
+    Tuning,
     solve_nonassociative,
     verify_collapse_state,
 )
@@ -41,6 +42,7 @@ from micro.records import AssociativeRecord, MicroRecord, NonAssociativeRecord
 from micro.results import DirectionResult, LimitResult
 
 __all__ = [
+    "DEFAULT_SOLVER",
     "SCHEMES",
     "SOLVERS",
     "AssociativeRecord",
@@ -57,6 +59,7 @@ __all__ = [
     "Outcome",
     "SequenceDiagnostics",
     "Status",
+    "Tuning",
     "assemble",
     "build_wall",
     "estimate_bytes",

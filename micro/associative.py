@@ -10,7 +10,8 @@ from __future__ import annotations
 import math
 import time
 
-from micro.backends.base import Outcome, Status, check_time_limit, make_backend
+from micro.backends.base import Outcome, Status, check_time_limit
+from micro.backends.registry import DEFAULT_SOLVER, make_backend
 from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.mechanism import mechanism_from_duals
@@ -26,7 +27,7 @@ _FAILURE_MESSAGE = {
 def solve_associative(
     wall: BlockWall,
     *,
-    solver: str = "highs",
+    solver: str = DEFAULT_SOLVER,
     directions: Directions = "auto",
     time_limit: float | None = None,
 ) -> LimitResult:
@@ -34,8 +35,9 @@ def solve_associative(
 
     Args:
         wall: the block assemblage (:func:`micro.build_wall`).
-        solver: back end, one of :data:`micro.SOLVERS` (default ``"highs"``:
-            HiGHS interior point without crossover).
+        solver: back end, one of :data:`micro.SOLVERS` (default
+            :data:`micro.DEFAULT_SOLVER`, ``"normal-ipm"``: the suite's interior
+            point on the normal equations, the report's back end).
         directions: ``"auto"`` (both, unless the wall is mirror-symmetric),
             ``"both"``, ``"+x"`` or ``"-x"``.
         time_limit: seconds per solve (``None``: unlimited).

@@ -9,7 +9,7 @@ block heights, forces in reference block weights) and normalised so that the
 live load does unit work; the dead load then does work ``-lambda`` and, with
 associative friction, the dissipation is zero (virtual work balances).
 
-Interior-point back ends (``highs`` IPM without crossover, ``clarabel``,
+Interior-point back ends (``normal-ipm``, ``highs-ipm`` without crossover, ``clarabel``,
 ``cvxpy``) return a maximally complementary dual: when several collapse
 mechanisms share the optimal load factor it is a blend of them, with many
 contacts moving slightly. ``highs-simplex`` returns a vertex (one mechanism).

@@ -207,6 +207,9 @@ class NonAssociativeRecord(MicroRecord):
         lowest_moves: moves between mechanisms that led to it.
         lowest_lps, lowest_seconds: cost of the descent over the directions.
         lowest_status: ``""`` (not run), ``"found"`` or ``"failed"``.
+        lowest_stop: ``""`` (not run), ``"finished"`` (every direction's
+            descent ended by its own rules) or ``"budget"`` (one spent its
+            budget of LPs: the lowest state found so far).
         global_load_factor: best collapse state of the global search
             (:mod:`micro.nonassociative.global_mip`; NaN when not run).
         global_lower_bound: its proven lower bound of every collapse load factor.
@@ -246,6 +249,7 @@ class NonAssociativeRecord(MicroRecord):
     lowest_lps: int = 0
     lowest_seconds: float = 0.0
     lowest_status: str = ""
+    lowest_stop: str = ""
     global_load_factor: float = math.nan
     global_lower_bound: float = math.nan
     global_gap: float = math.nan

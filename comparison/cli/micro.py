@@ -2,8 +2,9 @@
 
 Example::
 
-    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction associative --solver highs --json
-    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --scheme a --json
+    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction associative --solver clarabel --json
+    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --json
+    xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --tuning scheme=b --tuning relaxation=0.5
     xcheck micro --t 2 --m 1/3 --rows 6 --f 0.6 --friction nonassociative --global --time-limit 60 --json
 """
 
@@ -12,12 +13,15 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
+import typing
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.wall import WallSpec
-    from micro import BlockWall, LimitResult, NonAssociativeResult
+    from micro import BlockWall, LimitResult, NonAssociativeResult, Tuning
+    from micro.nonassociative import LPProgress
 
 from comparison.cli.options import (
     EXIT_FAILED,
@@ -54,13 +58,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--friction",
         default="associative",
         metavar="LAW",
-        help="friction law: associative (default) or nonassociative (iterated LP, HiGHS)",
+        help="friction law: associative (default) or nonassociative (the iterated LP; -v streams its LPs)",
     )
     g.add_argument(
         "--solver",
-        default="highs",
+        default=None,
         metavar="NAME",
-        help=f"LP back end: {', '.join(SOLVERS)} (default highs = HiGHS interior point, no crossover)",
+        help=f"LP back end of --friction associative: {', '.join(SOLVERS)} (default: micro.solve_associative's)",
     )
     g.add_argument(
         "--first-course",
@@ -79,61 +83,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "default 300)")
     g.add_argument("--json", action="store_true", help="print one JSON object")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
-    # ---- non-associative friction (issue 4)
-    na = p.add_argument_group("non-associative friction (--friction nonassociative)")
-    na.add_argument(
-        "--scheme",
-        default="a",
-        metavar="a|b",
-        help="rebuilt yield condition of the iterated LP: a (|s| <= mu nbar, default) or "
-        "b (line of slope -alpha through (nbar, mu nbar))",
-    )
-    na.add_argument(
-        "--selection",
-        default="vertex",
-        metavar="vertex|lazy|proximal|vertex+lazy|vertex+proximal",
-        help="which forces scheme a's iterates go on from: vertex (the simplex's, default), lazy (each LP's "
-        "optimal forces closest to nbar), proximal (nbar moved towards the field closest to it that carries "
-        "the LP's load; reaches a state where vertices cycle, e.g. Sets 2 and 9), or vertex+lazy, "
-        "vertex+proximal (vertex, then the other where it cycles or hits its cap; vertex+proximal is what "
-        "xcheck report runs)",
-    )
-    na.add_argument(
-        "--relaxation",
-        default=None,
-        metavar="BETA",
-        help="nbar = BETA n_k + (1 - BETA) n_(k-1), BETA in (0, 1] (default 0.6)",
-    )
-    na.add_argument("--max-iterations", default="100", metavar="N", help="cap on the LPs per direction (default 100)")
-    na.add_argument(
-        "--no-certify",
-        action="store_true",
-        help="stop only when an LP's own forces satisfy Coulomb (the plain iterated LP); by default a "
-        "settled iterate whose mechanism admits an exact collapse state ends the sequence",
-    )
-    na.add_argument(
-        "--fuse",
-        action="store_true",
-        help="run the iterated LP on the fused wall: the blocks that the associative mechanism moves as one "
-        "rigid body are one body; a state counts only when the certificate of the whole wall extends it to "
-        "every block",
-    )
-    na.add_argument(
-        "--continuation",
-        action="store_true",
-        help="reach scheme a by continuation from associative friction (the vertex sequence's first 31 LPs "
-        "bound the shear by lines of falling slope through (nbar, mu nbar)); scheme a only",
-    )
-    na.add_argument(
-        "--no-fused-retry",
-        action="store_true",
-        help="with --selection vertex+lazy or vertex+proximal: where both sequences end cycling or at their "
-        "caps, do not run the fused wall with the continuation after them",
-    )
+    # ---- non-associative friction: the report's method; research knobs only through --tuning
+    na = p.add_argument_group("non-associative friction (--friction nonassociative; the report's method)")
+    na.add_argument("--max-iterations", default=None, metavar="N",
+                    help="cap on the LPs of a direction's first sequence (default: the library's, 100)")
     na.add_argument(
         "--no-lowest",
         action="store_true",
-        help="skip the descent to the lowest certified collapse state (lowest_load_factor)",
+        help="skip the descent to the lowest certified collapse state (lowest_load_factor; on by default, "
+        "bounded by a budget of LPs)",
     )
     na.add_argument(
         "--global",
@@ -150,6 +108,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="with --global: branch-and-bound nodes per direction (the same answer on every machine, unlike "
         "--time-limit)",
     )
+    na.add_argument(
+        "--tuning",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="change a research knob of the method (repeatable; e.g. scheme=b, selection=vertex, relaxation=0.5, "
+        "certify=false, fuse=true; the knobs: micro.Tuning, docs/micro-nonassociative-options.md)",
+    )
     p.set_defaults(handler=run)
 
 
@@ -159,7 +125,8 @@ def run(args: argparse.Namespace) -> int:
     from micro import SOLVERS
 
     choice("--friction", args.friction, FRICTION_LAWS)
-    choice("--solver", args.solver, SOLVERS)
+    if args.solver is not None:
+        choice("--solver", args.solver, SOLVERS)
     choice("--first-course", args.first_course, ("full", "half"))
     choice("--head-joints", args.head_joints, ("frictional", "frictionless"))
     time_limit = in_range("--time-limit", args.time_limit, "a positive number of seconds", math.inf)
@@ -172,7 +139,12 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(str(exc)) from None
     if args.friction == "nonassociative":
         return _run_nonassociative(args, spec, wall, time_limit)
-    result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
+    if args.tuning:
+        raise UsageError("--tuning applies to --friction nonassociative only")
+    if args.solver is None:  # the library's default back end
+        result = micro.solve_associative(wall, time_limit=time_limit)
+    else:
+        result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
     if args.plot is not None and result.ok:
         from micro.plot import plot_mechanism
 
@@ -230,40 +202,75 @@ def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, 
     return json.dumps(summary)
 
 
-def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWall, time_limit: float | None) -> int:
-    """``--friction nonassociative``: the iterated LP (HiGHS only)."""
-    import micro
-    from micro.nonassociative import SCHEMES, SELECTIONS, continuation_allowed
+def parse_tuning(items: list[str]) -> Tuning:
+    """The :class:`micro.Tuning` of ``--tuning KEY=VALUE`` items (values read by the knob's type:
+    ``true``/``false``, numbers, ``none`` where a knob may be unset).
 
-    choice("--scheme", args.scheme, SCHEMES)
-    choice("--selection", args.selection, SELECTIONS)
-    if args.selection != "vertex" and args.scheme != "a":
-        raise UsageError(f"--selection {args.selection} needs --scheme a")
-    if args.continuation and not continuation_allowed(args.scheme, args.selection):
-        raise UsageError("--continuation needs --scheme a and a vertex sequence (--selection vertex, vertex+lazy "
-                         "or vertex+proximal)")
-    if args.solver not in ("highs", "highs-simplex", "highs-ipm"):
-        raise UsageError(f"--friction nonassociative needs a HiGHS solver (warm-started simplex), got {args.solver!r}")
-    relaxation = in_range("--relaxation", args.relaxation, "a number in (0, 1]", 1.0)
-    max_it = int_option("--max-iterations", args.max_iterations, minimum=2)
-    # with --global, --time-limit also limits each direction's branch and bound
-    global_limit: dict[str, Any] = {} if time_limit is None else {"global_time_limit": time_limit}
+    Raises:
+        UsageError: one line naming the key (an unknown key lists the knobs).
+    """
+    import micro
+    from micro.nonassociative import TUNING_KNOBS
+
+    hints = typing.get_type_hints(micro.Tuning)
+    values: dict[str, Any] = {}
+    for item in items:
+        key, eq, text = item.partition("=")
+        key = key.strip().replace("-", "_")
+        if not eq or not key:
+            raise UsageError(f"--tuning must be KEY=VALUE, got {item!r}")
+        if key not in TUNING_KNOBS:
+            raise UsageError(f"--tuning {key}: unknown knob; the knobs are {', '.join(TUNING_KNOBS)}")
+        values[key] = _knob_value(key, text.strip(), str(hints[key]))
+    try:
+        return micro.Tuning(**values)
+    except ValueError as exc:
+        raise UsageError(f"--tuning {exc}") from None
+
+
+def _knob_value(key: str, text: str, kind: str) -> Any:
+    """``text`` read as the knob ``key`` of type ``kind`` (its annotation)."""
+    if text.lower() in ("none", "auto") and "None" in kind:
+        return None
+    if "bool" in kind:
+        flags = {**dict.fromkeys(("true", "yes", "on", "1"), True), **dict.fromkeys(("false", "no", "off", "0"), False)}
+        if text.lower() not in flags:
+            raise UsageError(f"--tuning {key} must be true or false, got {text!r}")
+        return flags[text.lower()]
+    for name, read, what in (("int", int, "an integer"), ("float", float, "a number")):
+        if name in kind:
+            try:
+                return read(text)
+            except ValueError:
+                raise UsageError(f"--tuning {key} must be {what}, got {text!r}") from None
+    return text
+
+
+def _progress_line(event: LPProgress) -> None:
+    """One line on stderr per LP (``-v``), written as it happens."""
+    lam = f"{event.load_factor:.6f}" if math.isfinite(event.load_factor) else "-"
+    step = f"{event.step:.2e}" if math.isfinite(event.step) else "-"
+    print(f"  {event.direction} {event.stage} LP {event.lp}: lambda {lam}, step {step}, {event.algorithm}, "
+          f"{event.seconds:.2f} s", file=sys.stderr, flush=True)
+
+
+def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWall, time_limit: float | None) -> int:
+    """``--friction nonassociative``: :func:`micro.solve_nonassociative`, the report's method."""
+    import micro
+
+    if args.solver is not None:
+        raise UsageError("--solver applies to --friction associative only (the iterated LP runs HiGHS' simplex "
+                         "and Clarabel's interior point)")
+    tuning = parse_tuning(args.tuning)
+    # the options given; the others are the library's defaults
+    given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit, "global_time_limit": time_limit}
+    if args.max_iterations is not None:
+        given["max_iterations"] = int_option("--max-iterations", args.max_iterations, minimum=2)
     if args.node_limit is not None:
-        global_limit["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
+        given["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
     result = micro.solve_nonassociative(
-        wall,
-        scheme=args.scheme,
-        selection=args.selection,
-        relaxation=relaxation,
-        max_iterations=max_it,
-        time_limit=time_limit,
-        certify=not args.no_certify,
-        lowest=not args.no_lowest,
-        global_=args.global_,
-        fuse=args.fuse,
-        continuation=args.continuation,
-        fused_retry=not args.no_fused_retry,
-        **global_limit,
+        wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
+        lowest=not args.no_lowest, global_=args.global_, **given,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:
@@ -278,8 +285,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             args.plot,
         )
     if args.json:
-        solver = "clarabel (start, certificate) + highs-simplex (warm) + highs-ipm (cold check)"
-        print(_json(result.summary(), args, spec, plotted=mechanism is not None, solver=solver))
+        print(_json(result.summary(), args, spec, plotted=mechanism is not None))
     else:
         _print_nonassociative(result, args.verbosity)
         if args.plot is not None and mechanism is None:
@@ -332,8 +338,8 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
 
 
 def _print_retry(result: NonAssociativeResult) -> None:
-    """With ``--selection vertex+lazy`` or ``vertex+proximal``: the line saying the second sequence ran,
-    and how the vertex one ended."""
+    """Where the vertex sequence failed and the proximal (or lazy) one ran: the line saying so, and how
+    the vertex one ended."""
     first = result.sequence.vertex_attempt
     if first is None:
         return
@@ -344,8 +350,8 @@ def _print_retry(result: NonAssociativeResult) -> None:
 
 
 def _print_fusion(result: NonAssociativeResult) -> None:
-    """With ``--fuse`` (or after the wall's own sequences failed, ``fused_retry``): the size of the fused
-    wall, and whether the wall's certificate took its state."""
+    """On a fused wall (walls of more than 2,000 blocks, ``--tuning fuse=true``, or after the wall's own
+    sequences failed): the size of the fused wall, and whether the wall's certificate took its state."""
     f = result.sequence.fusion
     if f is None:
         return
@@ -365,8 +371,9 @@ def _print_lowest(result: NonAssociativeResult) -> None:
     if low is not None:
         n = len(low.moves)
         moves = f", {n} move{'s' if n > 1 else ''}" if n else ""
+        spent = "; its budget of LPs spent: the lowest found so far" if low.stop == "budget" else ""
         print(f"  lowest certified collapse state: lambda = {low.load_factor:.6f} ({low.direction}; "
-              f"{low.origin}{moves}; {low.lps} LPs, {low.seconds:.3f} s)")
+              f"{low.origin}{moves}; {low.lps} LPs, {low.seconds:.3f} s{spent})")
     elif result.lowest:
         print(f"  lowest certified collapse state: none ({'; '.join(x.message for x in result.lowest if x.message)})")
     g = result.global_search

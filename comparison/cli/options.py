@@ -190,10 +190,11 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
         raise UsageError(f"missing {', '.join(missing)} (or give --scene FILE.toml)")
     given = {k: str(getattr(args, k)) for k in WALL_OPTIONS if getattr(args, k) is not None}
     texts = {"p": "0", "storeys": "1"} | given
-    values: dict[str, float | int] = {k: parse_fraction(k, texts[k]) for k in ("t", "m", "f", "p")}
-    values |= {k: int_option(k, texts[k]) for k in ("rows", "storeys")}
+    t, m, f, p = (parse_fraction(k, texts[k]) for k in ("t", "m", "f", "p"))
+    rows, storeys = (int_option(k, texts[k]) for k in ("rows", "storeys"))
+    values: dict[str, float | int] = {"t": t, "m": m, "f": f, "p": p, "rows": rows, "storeys": storeys}
     try:
-        return WallSpec.from_paper(**values)  # type: ignore[arg-type]
+        return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=p, storeys=storeys)
     except ValueError as exc:
         raise UsageError(echo_input(str(exc), texts, values)) from None
 

@@ -23,7 +23,7 @@ from comparison.wall import WallSpec
 #: :data:`comparison.runner.NONASSOC_MAX_LPS`) ...
 NONASSOC_MAX_BLOCKS = 2000
 #: ... and on the paper's walls of at most this many: Set 10 (3,630 blocks)
-#: runs fused with the continuation (:data:`comparison.runner.NONASSOC_FUSE_BLOCKS`,
+#: runs fused with the continuation (:data:`micro.nonassociative.tuning.FUSE_BLOCKS`,
 #: 475 s); the 7,575-block Table 9 walls stay out (their first LPs take minutes
 #: and no method here has settled on them, see the README).
 NONASSOC_MAX_BLOCKS_CASES = 4000
@@ -50,12 +50,10 @@ SWEEPS_QUICK: Mapping[str, tuple[float, ...]] = {
 
 
 def micro_methods() -> tuple[Method, ...]:
-    """The micro methods of the report: the associative LP by the suite's own
-    interior point on the normal equations (``normal-ipm``, the fastest
-    accurate back end: 2.4-4.3 times faster than Clarabel on 1,230-7,575
-    blocks, README "Speed (micro, associative)") and the iterated
-    non-associative LP."""
-    return (replace(MICRO_ASSOC, solver="normal-ipm"), MICRO_NONASSOC)
+    """The micro methods of the report: the associative LP by the library's
+    default back end (:data:`micro.DEFAULT_SOLVER`, docs/micro-associative.md)
+    and the iterated non-associative LP."""
+    return (MICRO_ASSOC, MICRO_NONASSOC)
 
 
 def bond_variants(method: Method) -> tuple[Method, Method, Method]:
@@ -173,6 +171,6 @@ def build_plan(quick: bool = False) -> Plan:
         base=BASE_QUICK if quick else BASE_FULL,
         sweeps=SWEEPS_QUICK if quick else SWEEPS_FULL,
         resolutions=(3, 6, 9, 12) if quick else (12, 24, 36, 60, 102, 150),
-        solvers=(("highs", "clarabel", "normal-ipm", "cvxpy", "highs-simplex") if quick
-                 else ("highs", "clarabel", "normal-ipm", "cvxpy")),
+        solvers=(("highs-ipm", "clarabel", "normal-ipm", "cvxpy", "highs-simplex") if quick
+                 else ("highs-ipm", "clarabel", "normal-ipm", "cvxpy")),
     )

@@ -18,11 +18,8 @@ from comparison.runner.methods import (
     MACRO,
     MICRO_ASSOC,
     MICRO_NONASSOC,
-    NONASSOC_FUSE_BLOCKS,
-    NONASSOC_LOWEST_MAX_BLOCKS,
     NONASSOC_MAX_LPS,
     NONASSOC_RETRY_LPS,
-    NONASSOC_SELECTION,
     Method,
 )
 from comparison.runner.pool import Prefetched, approximate_blocks, prefetch
@@ -33,11 +30,8 @@ __all__ = [
     "MACRO",
     "MICRO_ASSOC",
     "MICRO_NONASSOC",
-    "NONASSOC_FUSE_BLOCKS",
-    "NONASSOC_LOWEST_MAX_BLOCKS",
     "NONASSOC_MAX_LPS",
     "NONASSOC_RETRY_LPS",
-    "NONASSOC_SELECTION",
     "Mechanism",
     "Method",
     "Prefetched",

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 from comparison.progress import Progress
 from comparison.runner.cache import ResultCache
-from comparison.runner.executor import Executor, Outcome, Task
+from comparison.runner.executor import Executor, Task, TaskOutcome
 from comparison.runner.methods import Method
 from comparison.runner.records import Mechanism, Record
 from comparison.runner.runner import compute, summary_line
@@ -51,7 +51,7 @@ class Prefetched:
     """
 
     computed: int = 0
-    failures: dict[Item, Outcome] = field(default_factory=dict)
+    failures: dict[Item, TaskOutcome] = field(default_factory=dict)
     unstored: dict[Item, Entry] = field(default_factory=dict)
 
 
@@ -63,7 +63,7 @@ def prefetch(
     A failure is kept in the result, never raised: the other items go on.
     """
     computed = 0
-    failures: dict[Item, Outcome] = {}
+    failures: dict[Item, TaskOutcome] = {}
     unstored: dict[Item, Entry] = {}
     for outcome in executor.run([compute_task(spec, method) for spec, method in items]):
         key: Item = outcome.task.key  # type: ignore[assignment]

@@ -100,7 +100,8 @@ class Record:
     @classmethod
     def from_dict(cls, d: dict[str, Any], *, cached: bool = False) -> Record:
         """The record :meth:`to_dict` wrote."""
-        method = Method(**d["method"])
+        m = d["method"]
+        method = Method(**{**m, "tuning": tuple(tuple(pair) for pair in m.get("tuning", ()))})
         result = None if d["result"] is None else RESULT_TYPES[method.kind].from_dict(d["result"])
         failure = None if d["failure"] is None else FailureMode.from_dict(d["failure"])
         return cls(d["wall"], method, d["seconds"], result, failure, d["skipped"], d["message"], cached)

@@ -17,7 +17,7 @@ import numpy as np
 
 from comparison.failure import FailureMode, failure_mode
 from comparison.runner.cache import ResultCache
-from comparison.runner.methods import NONASSOC_MAX_LPS, NONASSOC_RETRY_LPS, Method
+from comparison.runner.methods import Method
 from comparison.runner.records import Mechanism, Record
 from comparison.wall import WallSpec
 from micro.records import AssociativeRecord, NonAssociativeRecord
@@ -50,18 +50,7 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         if res.velocities is not None and res.direction:
             mechanism = Mechanism(np.asarray(res.velocities), res.direction)
     else:
-        allowed = micro.nonassociative.continuation_allowed(method.scheme, method.nonassoc_selection)
-        large = wall.n_blocks > method.fuse_min_blocks and allowed
-        nres = micro.solve_nonassociative(
-            wall,
-            scheme=method.scheme,
-            selection=method.nonassoc_selection,
-            max_iterations=NONASSOC_MAX_LPS,
-            retry_iterations=NONASSOC_RETRY_LPS,
-            lowest=wall.n_blocks <= method.lowest_max_blocks,
-            fuse=large,
-            continuation=large,
-        )
+        nres = micro.solve_nonassociative(wall, tuning=method.nonassoc_tuning() if method.tuning else None)
         record = nres.to_record()
         gov = next((d for d in nres.directions if d.direction == nres.direction), None)
         if gov is not None and gov.mechanism is not None:

@@ -19,7 +19,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from comparison.cases import cases_in_table
 from comparison.runner.executor import LocalExecutor, Task
@@ -45,7 +45,7 @@ TABLE7_NODES = 20
 #: Big-M policy of every search: one LP for the bound on the normal forces
 #: (per-point bounds cost one LP per contact point, minutes on Table 7's
 #: walls, and closed no search that the uniform bound did not).
-GLOBAL_BOUNDS = "uniform"
+GLOBAL_BOUNDS: Literal["per_point", "uniform"] = "uniform"
 #: (first_course, head_joints) of Table 7's walls in the study.
 TABLE7_BONDS = (("full", "frictional"), ("half", "frictional"), ("full", "frictionless"), ("half", "frictionless"))
 #: A lowest state within this relative distance of the proven global minimum counts as global.
@@ -226,8 +226,8 @@ def run_case(case: LowestCase) -> LowestRun:
     wall = case.wall.spec().to_micro(first_course=case.first_course, head_joints=case.head_joints)
     nan = math.nan
     try:
-        r = micro.solve_nonassociative(wall, global_=case.nodes > 0, global_node_limit=case.nodes or None,
-                                       global_time_limit=None, global_bounds=GLOBAL_BOUNDS)
+        r = micro.solve_nonassociative(wall, tuning=micro.Tuning(global_bounds=GLOBAL_BOUNDS), global_=case.nodes > 0,
+                                       global_node_limit=case.nodes or None, global_time_limit=None)
     except Exception as exc:  # noqa: BLE001 - recorded as the run's status
         return _failed(case, wall.n_blocks, f"error: {type(exc).__name__}: {exc}")
     rec, g = r.to_record(), r.global_search

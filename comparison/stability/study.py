@@ -228,15 +228,11 @@ def _run_one(args: tuple[WallCase, tuple[Setting, ...], int]) -> list[StudyRun]:
     for s in settings:
         t0 = time.perf_counter()
         try:
-            r = micro.solve_nonassociative(
-                wall,
-                scheme=s.scheme,
-                relaxation=s.relaxation,
-                max_iterations=max_iterations,
-                max_simplex_iterations=MAX_SIMPLEX_ITERATIONS,
-                certify=s.certify,
-                lowest=False,  # the iterated LP's own convergence; the descent: `xcheck stability --lowest`
-            )
+            # the plain vertex sequence under each setting (the study's subject), not the report's method
+            tuning = micro.Tuning(scheme=s.scheme, relaxation=s.relaxation, certify=s.certify, selection="vertex",
+                                  max_simplex_iterations=MAX_SIMPLEX_ITERATIONS)
+            # lowest=False: the iterated LP's own convergence; the descent: `xcheck stability --lowest`
+            r = micro.solve_nonassociative(wall, tuning=tuning, max_iterations=max_iterations, lowest=False)
             record, err = r.to_record(), ""
         except Exception as exc:  # noqa: BLE001 - recorded as a failure of the setting
             record, err = None, f"{type(exc).__name__}: {exc}"

@@ -24,7 +24,7 @@ Format (see ``examples/sweeps/``)::
 
     [[method]]
     kind = "micro-assoc"
-    solver = "clarabel"                # a micro back end (default "highs")
+    solver = "clarabel"                # a micro back end (default "normal-ipm", the library's)
 
     [[method]]
     kind = "micro-nonassoc"
@@ -47,7 +47,7 @@ import math
 import re
 import tomllib
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -310,17 +310,19 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
     if kind == "macro":
         return GridMethod(MACRO)
     options: dict[str, Any] = {}
-    for key, choices, default in (("solver", micro.SOLVERS, "highs"), ("scheme", SCHEMES, "a"),
-                                  ("selection", micro.nonassociative.SELECTIONS, None)):
-        if key in METHOD_KEYS[kind] and (key != "selection" or key in entry):  # no selection: the scheme's
+    for key, choices in (("solver", micro.SOLVERS), ("scheme", SCHEMES),
+                         ("selection", micro.nonassociative.SELECTIONS)):
+        if key in METHOD_KEYS[kind] and key in entry:
             try:
-                options[key] = checks.choice(f"method.{key}", entry.get(key, default), choices)
+                options[key] = checks.choice(f"method.{key}", entry[key], choices)
             except ValueError as exc:
                 raise src.error(str(exc), "method", key, index) from None
-    method = replace(Method(kind), **options)
-    if kind == "micro-nonassoc":
-        try:  # the options' own check of the pair (a lazy selection needs scheme a)
-            micro.nonassociative.NonAssociativeOptions(scheme=method.scheme, selection=method.nonassoc_selection)
-        except ValueError as exc:
-            raise src.error(f"method.{exc}", "method", "selection", index) from None
+    solver = options.pop("solver", micro.DEFAULT_SOLVER)
+    if kind != "micro-nonassoc":
+        return GridMethod(Method(kind, solver=solver), _max_blocks(entry, "method", index, src))
+    try:  # the tuning's own check of the pair (a lazy selection needs scheme a)
+        changed = micro.Tuning(**options).changed()
+    except ValueError as exc:
+        raise src.error(f"method.{exc}", "method", "selection", index) from None
+    method = Method(kind, tuning=tuple(changed.items()))
     return GridMethod(method, _max_blocks(entry, "method", index, src))

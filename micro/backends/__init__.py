@@ -1,8 +1,9 @@
 """Back ends of the limit-analysis LP: one module per back end behind one small interface.
 
-``base``      :class:`Status`, :class:`Outcome`, the independent re-check, :func:`make_backend`;
+``base``      :class:`Status`, :class:`Outcome`, the independent re-check (imports no back end);
+``registry``  :func:`make_backend`, the back ends by name (:data:`SOLVERS`, :data:`DEFAULT_SOLVER`);
 ``highs``     :class:`HighsBackend` and the :class:`PersistentHighsModel` it (and the iterated LP) runs on;
-``clarabel``  :class:`ClarabelBackend` (the static form, ``clarabel-static``) and its settings;
+``clarabel``  :class:`ClarabelBackend` (the static form, the ``clarabel-static`` experiment) and its settings;
 ``clarabel_kinematic``  :class:`ClarabelKinematicBackend` (the kinematic form, ``clarabel``);
 ``normal_ipm``  :class:`NormalIpmBackend` (``normal-ipm``), the suite's interior point on the normal
               equations, over ``normal_matrix`` (:class:`NormalMatrix`, CHOLMOD);
@@ -10,7 +11,7 @@
 ``cvxpy_``    :class:`CvxpyBackend`, the readable reference formulation.
 """
 
-from micro.backends.base import ALL_SOLVERS, MAX_RESIDUAL, SOLVERS, Backend, Outcome, Status, make_backend, recheck
+from micro.backends.base import MAX_RESIDUAL, Backend, Outcome, Status, recheck
 from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT, ClarabelBackend
 from micro.backends.clarabel_kinematic import CLARABEL_KINEMATIC, POLISH, ClarabelKinematicBackend
 from micro.backends.cvxpy_ import CvxpyBackend
@@ -18,12 +19,14 @@ from micro.backends.highs import HighsBackend, PersistentHighsModel
 from micro.backends.normal_ipm import NORMAL_IPM, NormalIpmBackend, NormalIpmSettings
 from micro.backends.normal_matrix import NormalMatrix
 from micro.backends.polish import POLISH_MAX_LOAD_FACTOR_CHANGE
+from micro.backends.registry import DEFAULT_SOLVER, EXPERIMENTS, SOLVERS, make_backend
 
 __all__ = [
-    "ALL_SOLVERS",
     "CLARABEL_KINEMATIC",
     "CLARABEL_RETRY",
     "CLARABEL_TIGHT",
+    "DEFAULT_SOLVER",
+    "EXPERIMENTS",
     "MAX_RESIDUAL",
     "NORMAL_IPM",
     "POLISH",

@@ -1,29 +1,9 @@
-"""What every back end shares: the status, the outcome, the independent re-check, the registry.
+"""What every back end shares: the status, the outcome, the independent re-check, the argument checks.
 
 Modelled on cvxpy's solver layer: one module per back end, each a class with a
 ``STATUS_MAP`` from its native statuses onto :class:`Status`, and one
-:class:`Outcome` type for success and failure. Back ends (names accepted by
-:func:`make_backend`, see :data:`SOLVERS`):
-
-``highs``          HiGHS interior point (IPX) without crossover, HiGHS's
-                   fastest accurate algorithm on these LPs (default of
-                   :func:`micro.solve_associative`);
-``highs-ipm``      the same, named explicitly;
-``highs-simplex``  HiGHS dual simplex with 1e-10 feasibility tolerances
-                   (cold, it is slow on large walls);
-``clarabel``       Clarabel (interior point) on the kinematic (dual) form of
-                   the LP (:mod:`micro.backends.clarabel_kinematic`), the
-                   fastest and most accurate interior point measured on every
-                   wall size (docs/micro-associative.md);
-``normal-ipm``     the suite's own interior point on the normal equations
-                   (:mod:`micro.backends.normal_ipm`, CHOLMOD through
-                   cvxopt), 2.4-4.3 times faster than ``clarabel`` on walls
-                   of 1,230-7,575 blocks; the report's associative back end;
-``clarabel-static`` Clarabel's direct API on the static form, with tightened
-                   tolerances (:data:`micro.backends.clarabel.CLARABEL_TIGHT`);
-``cvxpy``          the readable reference formulation in cvxpy expressions,
-                   solved by Clarabel (``cvxpy`` / ``cvxpy-clarabel``) or by
-                   HiGHS (``cvxpy-highs``) through cvxpy.
+:class:`Outcome` type for success and failure. The back ends by name are in
+:mod:`micro.backends.registry`; this module imports none of them.
 """
 
 from __future__ import annotations
@@ -154,14 +134,6 @@ class Backend(Protocol):
         ...
 
 
-#: Names accepted by :func:`make_backend` (and the CLI's ``--solver``).
-SOLVERS = ("highs", "highs-simplex", "highs-ipm", "clarabel", "normal-ipm", "cvxpy")
-#: Every name :func:`make_backend` accepts, the variants included.
-ALL_SOLVERS = (
-    *SOLVERS, "clarabel-static", "cvxpy-clarabel", "cvxpy-highs", "clarabel-default", "cvxpy-clarabel-default"
-)
-
-
 def check_time_limit(time_limit: float | None) -> float | None:
     """``None`` (no limit) or a positive finite number of seconds.
 
@@ -194,34 +166,3 @@ def check_integer(name: str, value: Any, minimum: int) -> None:
     """
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-
-
-def make_backend(lp: LimitLP, solver: str = "highs", *, time_limit: float | None = None) -> Backend:
-    """Make the back end called ``solver`` for ``lp``.
-
-    Raises:
-        ValueError: an unknown solver name (the message lists the valid ones),
-            or a time limit that is not a positive number of seconds.
-    """
-    time_limit = check_time_limit(time_limit)
-    from micro.backends.clarabel import ClarabelBackend
-    from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
-    from micro.backends.cvxpy_ import CvxpyBackend
-    from micro.backends.highs import HighsBackend
-    from micro.backends.normal_ipm import NormalIpmBackend
-
-    if solver in ("highs", "highs-ipm"):
-        return HighsBackend(lp, algorithm="ipm", time_limit=time_limit)
-    if solver == "highs-simplex":
-        return HighsBackend(lp, algorithm="simplex", time_limit=time_limit)
-    if solver == "normal-ipm":
-        return NormalIpmBackend(lp, time_limit=time_limit)
-    if solver == "clarabel":
-        return ClarabelKinematicBackend(lp, time_limit=time_limit)
-    if solver in ("clarabel-static", "clarabel-default"):
-        return ClarabelBackend(lp, tight=solver == "clarabel-static", time_limit=time_limit)
-    if solver in ("cvxpy", "cvxpy-clarabel", "cvxpy-clarabel-default"):
-        return CvxpyBackend(lp, solver="CLARABEL", tight=not solver.endswith("-default"))
-    if solver == "cvxpy-highs":
-        return CvxpyBackend(lp, solver="HIGHS")
-    raise ValueError(f"solver must be one of {', '.join(ALL_SOLVERS)}; got {solver!r}")

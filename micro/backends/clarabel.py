@@ -1,4 +1,4 @@
-"""Clarabel's direct API (interior point) on the static form: the ``clarabel-static`` back end.
+"""Clarabel's direct API (interior point) on the static form: the ``clarabel-static`` experiment.
 
 The iterated non-associative LP solves its start and certificate LPs with
 :class:`ClarabelBackend`; the associative ``clarabel`` back end is the

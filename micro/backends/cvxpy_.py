@@ -80,7 +80,8 @@ class CvxpyBackend:
         if solver not in ("CLARABEL", "HIGHS"):
             raise ValueError(f"cvxpy solver must be CLARABEL or HIGHS, got {solver!r}")
         self.solver = solver
-        self.name = f"cvxpy-{solver.lower()}" + ("" if tight or solver != "CLARABEL" else "-default")
+        # the registry's names: cvxpy (Clarabel, tight), cvxpy-clarabel-default, cvxpy-highs
+        self.name = "cvxpy-highs" if solver == "HIGHS" else "cvxpy" if tight else "cvxpy-clarabel-default"
         Bn, Bs = lp.equilibrium_matrix()
         self.n = cp.Variable(lp.n_points, nonneg=True, name="n")
         self.s = cp.Variable(lp.n_points, name="s")

@@ -35,7 +35,7 @@ STOP_SECONDS = 10.0
 
 
 @dataclass(frozen=True, eq=False)
-class Outcome:
+class MipOutcome:
     """What one HiGHS run returned.
 
     Attributes:
@@ -111,6 +111,30 @@ def build(
     return h
 
 
+def read_model(h: highspy.Highs) -> tuple[FloatArray, sp.csc_matrix, tuple[FloatArray, FloatArray],
+                                          tuple[FloatArray, FloatArray], NDArray[np.bool_]]:
+    """The model ``h`` holds, as :func:`build` takes it (``+-inf`` for HiGHS' infinity).
+
+    Returns:
+        ``(cost, A, (row lower, row upper), (col lower, col upper), integer columns mask)``.
+    """
+    lp = h.getLp()
+    inf = h.getInfinity()
+    a = lp.a_matrix_
+    A = sp.csc_matrix((np.asarray(a.value_), np.asarray(a.index_), np.asarray(a.start_)),
+                      shape=(int(lp.num_row_), int(lp.num_col_)))
+
+    def bounds(x: object) -> FloatArray:
+        b = np.asarray(x, dtype=np.float64)
+        return np.where(b >= inf, np.inf, np.where(b <= -inf, -np.inf, b))
+
+    kinds = list(lp.integrality_)
+    integer = np.array([k != highspy.HighsVarType.kContinuous for k in kinds], dtype=bool) if kinds else \
+        np.zeros(int(lp.num_col_), dtype=bool)
+    return (np.asarray(lp.col_cost_, dtype=np.float64), A, (bounds(lp.row_lower_), bounds(lp.row_upper_)),
+            (bounds(lp.col_lower_), bounds(lp.col_upper_)), integer)
+
+
 def tight_lp(h: highspy.Highs) -> highspy.Highs:
     """Set the tolerances of a small LP (:data:`LP_TOLERANCE`) and return ``h``."""
     h.setOptionValue("primal_feasibility_tolerance", LP_TOLERANCE)
@@ -126,7 +150,7 @@ def set_start(h: highspy.Highs, x: FloatArray) -> None:
     h.setSolution(sol)
 
 
-def run(h: highspy.Highs, *, mip: bool = False) -> Outcome:
+def run(h: highspy.Highs, *, mip: bool = False) -> MipOutcome:
     """Run ``h`` and collect the outcome.
 
     Args:
@@ -134,7 +158,7 @@ def run(h: highspy.Highs, *, mip: bool = False) -> Outcome:
         mip: the model has integer columns (read the dual bound and nodes).
 
     Returns:
-        The :class:`Outcome`.
+        The :class:`MipOutcome`.
 
     Raises:
         KeyboardInterrupt: Ctrl-C during a MIP: HiGHS is stopped (by its
@@ -152,7 +176,7 @@ def run(h: highspy.Highs, *, mip: bool = False) -> Outcome:
     obj = float(info.objective_function_value) if x is not None else math.nan
     bound = float(info.mip_dual_bound) if mip else obj
     nodes = int(info.mip_node_count) if mip else 0
-    return Outcome(status, x, obj, bound, nodes, float(h.getRunTime()))
+    return MipOutcome(status, x, obj, bound, nodes, float(h.getRunTime()))
 
 
 def _run_interruptible(h: highspy.Highs) -> None:

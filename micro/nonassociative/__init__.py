@@ -29,15 +29,18 @@ relaxation the plain sequence converged on 50 of the 104 walls of
 
 Modules, one concept each:
 
-``options``      :class:`NonAssociativeOptions` and the policy constants;
+``options``      :class:`NonAssociativeOptions`, what a user sets;
+``tuning``       :class:`Tuning`, the research knobs, and the policy constants;
+``recipe``       :class:`Recipe`, both resolved for one wall (what the modules read);
 ``model``        the persistent HiGHS model of one direction and its updates;
 ``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
-``direction``    which sequences run on a direction (the selection, the retry) and their joint result;
+``pipeline``     one direction: which sequences run (the vertex one, the lazy or proximal retry, the fused wall);
+``selections``   the selections (vertex, lazy, proximal, continuation), one object each behind one interface;
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
 ``convergence``  the exact stop, the settle test, cycle detection;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
 ``results``      :class:`IterationRecord`, :class:`SequenceDiagnostics`, :class:`NonAssociativeResult`;
-``fusion``       the blocks that move as one rigid body fused into one (``options.fuse``);
+``fusion``       the blocks that move as one rigid body fused into one, and the fused state on the wall;
 ``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
 ``lowest``       the descent to the lowest certified collapse state (``options.lowest``);
 ``global_mip``   the mixed-integer search for the global minimum (``options.global_``), with
@@ -71,16 +74,11 @@ from micro.geometry import BlockWall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.convergence import detect_cycle
-from micro.nonassociative.fusion import solve_chain
 from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
 from micro.nonassociative.lowest import LowestDirection, lowest_state
-from micro.nonassociative.options import (
-    DEFAULT_RELAXATION,
-    SCHEMES,
-    SELECTIONS,
-    NonAssociativeOptions,
-    continuation_allowed,
-)
+from micro.nonassociative.options import LOWEST_BUDGET, LOWEST_ROW_LPS, NonAssociativeOptions
+from micro.nonassociative.pipeline import solve_chain
+from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
 from micro.nonassociative.results import (
     CONVERGED,
     CYCLING,
@@ -93,12 +91,22 @@ from micro.nonassociative.results import (
     NonAssociativeResult,
     SequenceDiagnostics,
 )
+from micro.nonassociative.tuning import (
+    DEFAULT_RELAXATION,
+    FUSE_BLOCKS,
+    SCHEMES,
+    SELECTIONS,
+    TUNING_KNOBS,
+    Tuning,
+    continuation_allowed,
+)
 from micro.results import DirectionResult, direction_sign, load_directions
 
 __all__ = [
     "CONVERGED",
     "CYCLING",
     "DEFAULT_RELAXATION",
+    "FUSE_BLOCKS",
     "MAX_ITERATIONS",
     "SCHEMES",
     "SELECTIONS",
@@ -109,13 +117,21 @@ __all__ = [
     "GlobalOptions",
     "GlobalResult",
     "IterationRecord",
+    "LOWEST_BUDGET",
+    "LOWEST_ROW_LPS",
+    "LPProgress",
     "LowestDirection",
     "NonAssociativeOptions",
     "NonAssociativeResult",
+    "Progress",
+    "Recipe",
     "SequenceDiagnostics",
+    "TUNING_KNOBS",
+    "Tuning",
     "continuation_allowed",
     "detect_cycle",
     "lowest_state",
+    "recipe_for",
     "solve_global",
     "solve_nonassociative",
     "verify_collapse_state",
@@ -123,13 +139,24 @@ __all__ = [
 
 
 def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None = None,
+                         tuning: Tuning | None = None, *, progress: Progress | None = None,
                          **overrides: Any) -> NonAssociativeResult:
     """Collapse load factor of ``wall`` with non-associative (zero-dilatancy) friction.
 
+    With no options this is the method of ``xcheck report`` on every wall:
+    scheme (a), the vertex sequence and the proximal one where it cycles, the
+    fused wall with the continuation where both fail (and from the start on
+    walls of more than :data:`~micro.nonassociative.tuning.FUSE_BLOCKS`
+    blocks), the certificate, and a bounded descent to the lowest certified
+    state.
+
     Args:
         wall: the block assemblage (:func:`micro.build_wall`).
-        options: the options (``None``: the defaults).
-        **overrides: option fields to change, e.g. ``scheme="b", max_seconds=20``.
+        options: what a user sets (``None``: the defaults).
+        tuning: the research knobs (``None``: the report's method;
+            ``docs/micro-nonassociative-options.md``).
+        progress: called with one :class:`LPProgress` per LP as it finishes.
+        **overrides: option fields to change, e.g. ``lowest=False, time_limit=20``.
 
     Returns:
         The :class:`NonAssociativeResult`; a sequence that did not converge
@@ -140,30 +167,32 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         TypeError: an unknown option name.
     """
     o = (options or NonAssociativeOptions()).with_overrides(**overrides)
+    t = tuning or Tuning()
+    r = recipe_for(wall.n_blocks, o, t, progress)
     t0 = time.perf_counter()
     lp = assemble(wall)
     build = time.perf_counter() - t0
-    results = tuple(solve_chain(lp, d, o) for d in load_directions(o.directions, wall.mirror_symmetric))
-    lowest = tuple(lowest_state(lp, r, o) for r in results if r.converged) if o.lowest else ()
-    glob = _global_search(lp, results, lowest, o) if o.global_ else None
+    results = tuple(solve_chain(lp, d, r) for d in load_directions(r.directions, wall.mirror_symmetric))
+    lowest = tuple(lowest_state(lp, res, r) for res in results if res.converged) if r.lowest else ()
+    glob = _global_search(lp, results, lowest, r) if r.global_ else None
     solve_secs = time.perf_counter() - t0 - build
-    failing = [r for r in results if not r.converged]
+    failing = [res for res in results if not res.converged]
     if failing:
         g = failing[0]
         lam, direction, status, msg = float("nan"), "", g.status, f"{g.direction}: {g.message}"
     else:
-        g = min(results, key=lambda r: r.load_factor)
+        g = min(results, key=lambda res: res.load_factor)
         lam, direction, status, msg = g.load_factor, g.direction, CONVERGED, ""
     return NonAssociativeResult(
-        load_factor=lam, direction=direction, status=status, scheme=o.scheme, relaxation=o.beta,
+        load_factor=lam, direction=direction, status=status, scheme=r.scheme, relaxation=r.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
-        directions=results, options=o, message=msg, lowest=lowest, global_search=glob,
+        directions=results, recipe=r, message=msg, lowest=lowest, global_search=glob,
     )
 
 
 def _global_search(lp: LimitLP, results: tuple[DirectionResult, ...], lowest: tuple[LowestDirection, ...],
-                   o: NonAssociativeOptions) -> GlobalResult:
+                   o: Recipe) -> GlobalResult:
     """The branch and bound over the directions solved, each started from the
     lowest certified state (else the iterated LP's converged state)."""
     starts = [StartState.from_iterated(lp, low.state) for low in lowest if low.state is not None]

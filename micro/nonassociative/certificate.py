@@ -19,7 +19,7 @@ fields, not only the LP's optimal ones.
 The load factors of these states form an interval, the MECHANISM BAND: its
 ends are two LPs (min and max ``lambda``), solved by an interior point, no
 basis. An iterate's ``lambda`` is certified when it lies in the band
-(relative slack :data:`~micro.nonassociative.options.BAND_SLACK`), and the
+(relative slack :data:`~micro.nonassociative.tuning.BAND_SLACK`), and the
 state at ``lambda`` is the convex combination of the two end states
 (equilibrium is linear). A feasibility LP at fixed ``lambda`` would be one LP
 instead of two, but HiGHS' interior point stopped with "Solve error" when
@@ -43,19 +43,20 @@ from micro.backends.clarabel import ClarabelBackend
 from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
-from micro.nonassociative.options import (
+from micro.nonassociative.recipe import Recipe
+from micro.nonassociative.states import point_states
+from micro.nonassociative.tuning import (
     BAND_SLACK,
     INTERPENETRATION,
     STATE_CLARABEL,
     STATE_IPM_ITERATIONS,
     STATE_RESIDUAL,
     TINY,
-    NonAssociativeOptions,
 )
-from micro.nonassociative.states import point_states
 
 FloatArray = NDArray[np.float64]
-State = tuple[FloatArray, FloatArray, float]
+#: ``(n, s, lambda)`` of a state found by a certificate LP.
+StateTriple = tuple[FloatArray, FloatArray, float]
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,7 +87,7 @@ class Certificate:
         options: the options (``scheme``, ``state_solver``, ``time_limit``).
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions) -> None:
+    def __init__(self, lp: LimitLP, direction: int, options: Recipe) -> None:
         self.lp, self.d, self.o = lp, direction, options
         self._state: PersistentHighsModel | None = None
 
@@ -115,7 +116,7 @@ class Certificate:
         up_m = np.where(opening | slip_neg, 0.0, np.inf)  # g- carries s = -mu n
         return up_p, up_m
 
-    def state_lp(self, v: FloatArray, sense: float, time_limit: float = math.inf) -> tuple[State | None, Outcome]:
+    def state_lp(self, v: FloatArray, sense: float, time_limit: float = math.inf) -> tuple[StateTriple | None, Outcome]:
         """Minimise ``sense * lambda`` over the collapse states compatible
         with the mechanism ``v`` (the generator columns of :meth:`pattern`),
         by an interior point capped at :data:`STATE_IPM_ITERATIONS`
@@ -147,7 +148,7 @@ class Certificate:
         return (n, s, lam), out
 
     def _state_lp_clarabel(self, up_p: FloatArray, up_m: FloatArray, sense: float,
-                           time_limit: float) -> tuple[State | None, Outcome]:
+                           time_limit: float) -> tuple[StateTriple | None, Outcome]:
         """:meth:`state_lp` by Clarabel: the generator LP with the excluded
         columns left out (its own residual check)."""
         lp, d = self.lp, self.d

@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.options import CONTACT_FORCE, TINY
+from micro.nonassociative.tuning import CONTACT_FORCE, TINY
 from micro.results import DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]

@@ -13,13 +13,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from micro.nonassociative.options import NO_PROGRESS, PERIODS, TINY, NonAssociativeOptions
+from micro.nonassociative.recipe import Recipe
+from micro.nonassociative.tuning import FORCE_TOL, NO_PROGRESS, PERIODS, TINY
 
 Band = tuple[float, float]
 
 
 def exact_stop(k: int, alpha_done: bool, dlam: float, dn: float, coulomb: float, coulomb_tol: float,
-               options: NonAssociativeOptions) -> str | None:
+               options: Recipe) -> str | None:
     """The exact stop: after at least two non-associative iterates (for
     scheme (b) once ``alpha`` has reached ``alpha_min``), the relative change
     of ``lambda`` is below ``lambda_tol`` and the iterate satisfies Coulomb
@@ -27,14 +28,14 @@ def exact_stop(k: int, alpha_done: bool, dlam: float, dn: float, coulomb: float,
 
     Returns:
         ``"lambda_and_forces"`` (the normal forces settled too, within
-        ``force_tol``), ``"lambda_and_coulomb"``, or ``None``.
+        :data:`~micro.nonassociative.tuning.FORCE_TOL`), ``"lambda_and_coulomb"``, or ``None``.
     """
     if k >= 2 and alpha_done and dlam <= options.lambda_tol and coulomb <= coulomb_tol:
-        return "lambda_and_forces" if dn <= options.force_tol else "lambda_and_coulomb"
+        return "lambda_and_forces" if dn <= FORCE_TOL else "lambda_and_coulomb"
     return None
 
 
-def settled(lams: list[float], k: int, last_try: int, options: NonAssociativeOptions) -> bool:
+def settled(lams: list[float], k: int, last_try: int, options: Recipe) -> bool:
     """Time for a certificate try: ``lambda``'s spread over the last
     ``settle_window`` iterates is at most ``settle_tol`` relative, and the
     last try is at least a window ago (on large walls a try costs a few LPs)."""

@@ -37,38 +37,14 @@ the mechanisms the sequence can reach: a state it finds is one of the wall's
 (non-unique) collapse states, not necessarily the one the unfused sequence
 would reach.
 
-Measured (2026-11-23; single runs on one core, the other busy),
-``vertex+proximal``, bodies from Clarabel's associative mechanism at
-:data:`~micro.nonassociative.options.FUSE_RIGID_TOL`, on the paper's walls of
-up to 2,000 blocks (Table 5 and Table 7):
+Measurements on the paper's walls (fused against unfused runs, Sets 2, 3,
+9, 10 and 15): ``docs/research/2026-11-25-nonassociative-recipe.md``.
 
-* 13 of 14 fused runs are certified on the wall, each inside the mechanism
-  band of the unfused run's state, from -0.63 % to +1.62 % of its value
-  (Ref and Sets 1-9: -0.29 % to +0.24 %). Set 4 ends at the cap (40
-  proximal LPs after the vertex sequence) where the unfused run converges;
-* the fused LPs have 58-85 % of the points (Sets 7, 8 and 14: 43 %, 24 %
-  and 38 %), and the 14 runs took 250 s against 457 s, but not every wall
-  gains: Set 9 71 s against 335 s, Set 2 35 s against 77 s, Set 3 84 s
-  against 12 s (its fused vertex sequence cycles);
-* Set 10 (3,630 blocks; 1,106 bodies, 6,692 of 21,420 points): the fused
-  LPs take 0.5-15 s instead of 24-283 s, but the sequence still does not
-  settle (proximal, ``beta`` 0.3: stagnation after 45 LPs, lambda in
-  [0.2446, 0.2615]); with the continuation (``continuation=True``) it is
-  certified on the wall after 54 LPs, 475 s: lambda = 0.2537577;
-* Set 15 (7,575 blocks): Clarabel's associative mechanism moves nearly every
-  block a little (median contact rate 9e-5 of the largest), so 33,262 of the
-  wall's points stay, and the first fused LP ran over 17 minutes (the
-  unfused one takes 63-96 s): no use there. Nor is a sparser seed (README,
-  "The fused wall"): the vertex of scheme (a)'s first LP still keeps 29,472
-  points, and fusing the slow parts as well leaves the fused LP without a
-  mechanism (16 of 24 models tried) or raises its associative lambda by
-  25-37 %: the upper 60 % of that wall deforms in every mechanism found.
-
-The option ``fuse`` is off by default, and ``xcheck report`` runs the wall
-itself up to 2,000 blocks. :func:`solve_chain` also runs the fused wall, with
-the continuation, after the wall's own ``vertex+proximal`` (or
-``vertex+lazy``) sequences have failed on a direction (``fused_retry``, on by
-default).
+By default (``Tuning.fuse`` left ``None``) walls of more than
+:data:`~micro.nonassociative.tuning.FUSE_BLOCKS` blocks run fused with the
+continuation, smaller ones on the wall itself; the fused wall with the
+continuation also runs after the wall's own ``vertex+proximal`` (or
+``vertex+lazy``) sequences have failed on a direction (``fused_retry``).
 """
 
 from __future__ import annotations
@@ -83,14 +59,15 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.sparse.csgraph import connected_components
 
+from micro.backends.base import Outcome
 from micro.backends.clarabel import ClarabelBackend
 from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
-from micro.nonassociative.direction import joined, solve_direction
-from micro.nonassociative.options import EQUILIBRIUM_RESIDUAL, FUSE_RIGID_TOL, RETRY_STATUSES, NonAssociativeOptions
+from micro.nonassociative.recipe import Recipe
 from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
+from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL, FUSE_RIGID_TOL
 from micro.results import DirectionResult
 
 FloatArray = NDArray[np.float64]
@@ -205,30 +182,41 @@ def fuse(lp: LimitLP, body: IntArray, n_bodies: int) -> FusedLP:
     return FusedLP(fused, R, points, body, n_bodies)
 
 
-def solve_fused(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> DirectionResult:
-    """The iterated LP of one direction on the fused wall (module docstring).
+def fused_wall(lp: LimitLP, direction: int, options: Recipe) -> tuple[FusedLP, Outcome] | None:
+    """The fused wall of one direction: the associative LP of the whole wall
+    (Clarabel) gives the mechanism whose rigid bodies are fused.
 
-    The associative LP of the whole wall (Clarabel) gives the mechanism whose
-    rigid bodies are fused; the sequence (``options.selection``) runs on
-    their LP; a converged state is accepted only when the certificate of the
-    whole wall finds a field for the bodies' mechanism at its ``lambda``. The
-    result is the wall's: forces at all its points, the mechanism of all its
-    blocks. Where the associative LP fails, or nothing moves, the unfused
-    sequence runs instead.
+    Returns:
+        ``(the fused LP, the associative outcome)``, or ``None`` where the
+        associative LP fails or nothing moves (the wall itself must run).
     """
-    t0 = time.perf_counter()
-    unfused = dataclasses.replace(options, fuse=False)
     assoc = ClarabelBackend(lp, time_limit=options.time_limit).solve(direction)
     if not assoc.ok or assoc.duals is None:
-        return solve_direction(lp, direction, unfused)
+        return None
     body, n_bodies = rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]))
     if n_bodies == 0:
-        return solve_direction(lp, direction, unfused)
-    fused = fuse(lp, body, n_bodies)
-    t_fuse = time.perf_counter() - t0
-    # the continuation starts from the wall's associative forces at the points kept
-    start = np.maximum(np.asarray(assoc.n)[fused.points], 0.0) if options.continuation and assoc.n is not None else None
-    r = solve_direction(fused.lp, direction, unfused, start=start)
+        return None
+    return fuse(lp, body, n_bodies), assoc
+
+
+def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: DirectionResult,
+                options: Recipe, t0: float, t_fuse: float) -> DirectionResult:
+    """The fused wall's result ``r`` as the wall's (module docstring): a
+    converged state is accepted only when the certificate of the whole wall
+    finds a field for the bodies' mechanism at its ``lambda``; the result has
+    forces at all the wall's points and the mechanism of all its blocks.
+
+    Args:
+        lp: the wall's LP.
+        direction: ``+1`` or ``-1``.
+        fused: the fused wall (:func:`fused_wall`).
+        assoc: the wall's associative outcome whose mechanism was fused.
+        r: the sequences' result on ``fused.lp``.
+        options: the recipe.
+        t0: when the fusing started (``time.perf_counter()``).
+        t_fuse: the seconds of the associative LP and the fusion.
+    """
+    n_bodies = fused.n_bodies
     assert r.sequence is not None
     seq = r.sequence
     lam = seq.last_load_factor
@@ -281,36 +269,3 @@ def solve_fused(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> 
         mechanism=state.mechanism, seconds=time.perf_counter() - t0, message=message, sequence=seq)
 
 
-def solve_chain(lp: LimitLP, direction: int, options: NonAssociativeOptions) -> DirectionResult:
-    """One load direction as ``options`` ask: the fused wall (``fuse``), or
-    the wall's own sequences (:func:`solve_direction`) and, where those of
-    ``"vertex+lazy"`` or ``"vertex+proximal"`` (scheme (a)) both end
-    ``cycling`` or ``max_iterations``, the fused wall with the continuation
-    (``fused_retry``).
-
-    Measured (2026-11-23): the two error-map walls on which the vertex and
-    the proximal sequences fail (t = 1 and 2/3, m = 2/3, 36 rows: 882 and
-    1,314 blocks; the vertex sequence oscillating after 40 LPs, the proximal
-    one at its cap of 40; 97 s and 252 s in the sweep) are certified by it
-    at 0.3477748 and 0.3484541 (inside the last window of the first's
-    proximal sequence, 0.04 % above the second's), after 84 and 74 more
-    LPs, 24.5 s and 22.5 s (one core, the other busy). The continuation on
-    the wall itself left the 882-block wall at its cap of 100 LPs (336 s),
-    lambda in [0.3454, 0.3488].
-
-    A certified third run is returned with the wall's sequences in
-    ``sequence.unfused_attempt``; a failed one leaves the wall's result,
-    its message extended. Either way the LPs and seconds of all runs count.
-    """
-    if options.fuse:
-        return solve_fused(lp, direction, options)
-    first = solve_direction(lp, direction, options)
-    if (not options.fused_retry or options.continuation or options.scheme != "a"
-            or not options.selection.startswith("vertex+") or first.status not in RETRY_STATUSES):
-        return first
-    third = solve_fused(lp, direction, dataclasses.replace(options, fuse=True, continuation=True))
-    assert first.sequence is not None and third.sequence is not None
-    if not third.converged:
-        return joined(first, third, first,
-                      message=f"{first.message}; the fused wall with the continuation: {third.message}")
-    return joined(first, third, third, sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence))

@@ -34,38 +34,28 @@ def available() -> bool:
     return True
 
 
-def from_highs(h: gh.Model) -> tuple[Any, list[Any]]:
+def from_model(h: gh.Model) -> tuple[Any, list[Any]]:
     """The model held by ``h`` (costs, bounds, rows, integrality) as a SCIP model.
 
     Returns:
-        ``(pyscipopt.Model, its variables in HiGHS' column order)``.
+        ``(pyscipopt.Model, its variables in the HiGHS model's column order)``.
     """
     import pyscipopt as ps
 
-    lp = h.getLp()
-    inf = h.getInfinity()
-    n = int(lp.num_col_)
-    kinds = list(lp.integrality_) if len(lp.integrality_) else []
+    cost, A, (row_lo, row_up), (col_lo, col_up), integer = gh.read_model(h)
     m = ps.Model()
     m.hideOutput(True)
 
     def bound(x: float) -> float | None:
-        return None if abs(x) >= inf else float(x)
+        return float(x) if math.isfinite(x) else None
 
-    xs = []
-    for j in range(n):
-        integer = bool(kinds) and kinds[j] != gh.highspy.HighsVarType.kContinuous
-        xs.append(m.addVar(lb=bound(lp.col_lower_[j]), ub=bound(lp.col_upper_[j]), obj=float(lp.col_cost_[j]),
-                           vtype="I" if integer else "C"))
-    a = lp.a_matrix_
-    start, index, value = np.asarray(a.start_), np.asarray(a.index_), np.asarray(a.value_)
-    rows: list[list[tuple[int, float]]] = [[] for _ in range(int(lp.num_row_))]
-    for j in range(n):
-        for k in range(start[j], start[j + 1]):
-            rows[index[k]].append((j, float(value[k])))
-    for i, terms in enumerate(rows):
-        lo, up = bound(lp.row_lower_[i]), bound(lp.row_upper_[i])
-        expr = ps.quicksum(c * xs[j] for j, c in terms)
+    xs = [m.addVar(lb=bound(col_lo[j]), ub=bound(col_up[j]), obj=float(cost[j]), vtype="I" if integer[j] else "C")
+          for j in range(A.shape[1])]
+    R = A.tocsr()
+    for i in range(A.shape[0]):
+        cols, vals = R.indices[R.indptr[i]:R.indptr[i + 1]], R.data[R.indptr[i]:R.indptr[i + 1]]
+        expr = ps.quicksum(float(c) * xs[j] for j, c in zip(cols, vals, strict=True))
+        lo, up = bound(row_lo[i]), bound(row_up[i])
         if lo is not None and up is not None:
             m.addCons(expr == lo if lo == up else lo <= (expr <= up))
         elif up is not None:
@@ -84,7 +74,7 @@ def set_start(m: Any, xs: list[Any], x: FloatArray) -> bool:
 
 
 def run(m: Any, xs: list[Any], *, node_limit: int | None, time_limit: float | None, mip_gap: float,
-        abs_gap: float, feasibility: float, seed: int = 0, log: bool = False) -> gh.Outcome:
+        abs_gap: float, feasibility: float, seed: int = 0, log: bool = False) -> gh.MipOutcome:
     """Solve; the outcome in the shape of :func:`micro.backends.highs_mip.run`'s.
 
     Raises:
@@ -107,4 +97,4 @@ def run(m: Any, xs: list[Any], *, node_limit: int | None, time_limit: float | No
         raise KeyboardInterrupt
     x = np.array([m.getVal(v) for v in xs]) if m.getNSols() > 0 else None
     obj = float(m.getObjVal()) if x is not None else math.nan
-    return gh.Outcome(_STATUS.get(status, status), x, obj, float(m.getDualbound()), int(m.getNNodes()), secs)
+    return gh.MipOutcome(_STATUS.get(status, status), x, obj, float(m.getDualbound()), int(m.getNNodes()), secs)

@@ -124,13 +124,13 @@ def _configure(h: gh.Model, opts: GlobalOptions) -> None:
         h.setOptionValue("mip_max_nodes", int(opts.node_limit))
 
 
-def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts: GlobalOptions) -> gh.Outcome:
+def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts: GlobalOptions) -> gh.MipOutcome:
     """The branch and bound by HiGHS, or by SCIP on the same model (``opts.solver``)."""
     start = None if inc is None else solution_vector(lp, layout, inc.pattern, inc.n, inc.s, inc.load_factor, inc.v)
     if opts.solver == "scip":
         from micro.nonassociative import global_scip
 
-        m, xs = global_scip.from_highs(h)
+        m, xs = global_scip.from_model(h)
         if start is not None:
             global_scip.set_start(m, xs, start)
         return global_scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.time_limit, mip_gap=opts.mip_gap,
@@ -183,7 +183,7 @@ def search_direction(lp: LimitLP, direction: int, opts: GlobalOptions, inc: Incu
                          message=msg)
 
 
-def _status(out: gh.Outcome, best: Incumbent | None, found: Incumbent | None, bound: float,
+def _status(out: gh.MipOutcome, best: Incumbent | None, found: Incumbent | None, bound: float,
             opts: GlobalOptions) -> tuple[str, str]:
     """Status and message from HiGHS' outcome and the rebuilt states."""
     if out.status in _LIMITS:

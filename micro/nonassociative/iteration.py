@@ -1,6 +1,6 @@
 """The iterated LP for one load direction: the start, the loop and its warm/cold policy, the finish.
 
-Iterate 0 is the associative LP (:meth:`Sequence._start`); its normal forces
+Iterate 0 is the associative LP (:meth:`LPSequence._start`); its normal forces
 give the first ``nbar``. Iterate ``k >= 1`` rebuilds every point's yield
 condition from ``nbar = beta n_(k-1) + (1 - beta) n_(k-2)`` (the proximal
 selection: ``nbar`` moved by ``beta`` towards its projection,
@@ -8,20 +8,19 @@ selection: ``nbar`` moved by ``beta`` towards its projection,
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
-simplex iterations (:data:`~micro.nonassociative.options.COLD_SWITCH_PIVOTS`).
+simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`).
 Every decision counts work (iterations, LPs), never seconds: the path and its
 numbers are the same on a loaded or slower machine; only the optional user
 stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
 stop has status ``time_limit``. A failed run is
-recovered (:meth:`Sequence._recover`); each iterate is then tested for the
+recovered (:meth:`LPSequence._recover`); each iterate is then tested for the
 stops of :mod:`micro.nonassociative.convergence`. The final iterate is
-checked (:mod:`micro.nonassociative.checks`). Which sequences run on a
-direction is :mod:`micro.nonassociative.direction`'s. With
-``continuation`` the vertex sequence's LPs hold scheme (b)'s friction rows
-with a positive slope ``gamma mu`` falling to 0 (``CONT_*`` in
-:mod:`~micro.nonassociative.options`), ``nbar`` moves by ``beta`` towards
-each LP's forces, warm runs are uncapped and never switched to cold, and
-from ``gamma = 0`` the certificate is tried at every LP with no cycle test.
+checked (:mod:`micro.nonassociative.checks`). How an iterate goes on (the
+next ``nbar`` and slope, whether it may go cold, when the certificate is due,
+which no-progress test applies) is its selection's
+(:mod:`micro.nonassociative.selections`: vertex, lazy, proximal,
+continuation); which sequences run on a direction is
+:mod:`micro.nonassociative.pipeline`'s.
 """
 
 from __future__ import annotations
@@ -39,21 +38,7 @@ from micro.lp import LimitLP
 from micro.nonassociative import checks, convergence
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.options import (
-    COLD_STREAK,
-    COLD_SWITCH_PIVOTS,
-    CONT_COHESION,
-    CONT_FACTOR,
-    CONT_GAMMA0,
-    CONT_GAMMA_MIN,
-    EQUILIBRIUM_RESIDUAL,
-    MIN_WARM_LIMIT,
-    TINY,
-    WARM_LIMIT_PIVOTS,
-    WARM_UNLIMITED,
-    NonAssociativeOptions,
-)
-from micro.nonassociative.proximal import Projection
+from micro.nonassociative.recipe import LPProgress, Recipe
 from micro.nonassociative.results import (
     CONVERGED,
     CONVERGED_STOPS,
@@ -65,6 +50,17 @@ from micro.nonassociative.results import (
     IterationRecord,
     SequenceDiagnostics,
 )
+from micro.nonassociative.selections import selection_for
+from micro.nonassociative.tuning import (
+    COLD_STREAK,
+    COLD_SWITCH_PIVOTS,
+    COLD_TOL,
+    COULOMB_TOL,
+    EQUILIBRIUM_RESIDUAL,
+    MIN_WARM_LIMIT,
+    TINY,
+    WARM_LIMIT_PIVOTS,
+)
 from micro.results import DIR_NAME, DirectionResult
 
 FloatArray = NDArray[np.float64]
@@ -72,7 +68,7 @@ NAN = math.nan
 COLD = "ipm+crossover+simplex"
 
 
-class Sequence:
+class LPSequence:
     """The iterated LP for one load direction (module docstring).
 
     Args:
@@ -88,7 +84,7 @@ class Sequence:
             solved again; ``None``: solve it.
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions,
+    def __init__(self, lp: LimitLP, direction: int, options: Recipe,
                  start: FloatArray | None = None,
                  iterate0: tuple[Outcome, str, FloatArray | None] | None = None) -> None:
         self.lp, self.d, self.o, self.start = lp, direction, options, start
@@ -109,16 +105,11 @@ class Sequence:
         self.streak_length = COLD_STREAK
         self.last_try = -(10**9)
         self.model: IterationModel | None = None
-        # the proximal selection's QP and its steps |n - nbar|_1 / |nbar|_1
-        self.projection = Projection(lp, direction, options.user_limit) if options.selection == "proximal" else None
-        self.steps: list[float] = []
-        self.step = NAN
-        # the continuation: scheme (a)'s vertex sequence reached from associative
-        # friction through friction rows of slope gamma mu (scheme (b)'s rows)
-        self.continuation = options.continuation and options.selection == "vertex"
-        self.rows = options.scheme == "b" or self.continuation  # friction as rows, not bounds
-        if self.continuation:  # its warm runs are not cut short: the path must not depend on a cap
-            self.warm_limit = WARM_UNLIMITED
+        # how an iterate goes on (vertex, lazy, proximal, continuation)
+        self.rule = selection_for(options, lp, direction)
+        self.warm_limit = self.rule.warm_limit(self.warm_limit)
+        fused = lp.n_eq != 3 * lp.wall.n_blocks  # the LP of a fused wall (fewer bodies than blocks)
+        self.stage = ("fused " if fused else "") + self.rule.name
 
     # ------------------------------------------------------------ iterate 0
     def _start(self) -> tuple[Outcome, str, FloatArray | None]:
@@ -159,9 +150,7 @@ class Sequence:
                               t_start, NAN)
         lam_assoc = float(x[2 * self.lp.n_points]) * self.d
         n0, s0 = x[: self.lp.n_points], x[self.lp.n_points : 2 * self.lp.n_points]
-        n0 = np.maximum(n0, 0.0)
-        # scheme (b)'s cohesion, relative to the largest associative normal force
-        self.c0 = self.o.cohesion * max(float(np.max(n0, initial=0.0)), TINY)
+        n0 = assoc_n0 = np.maximum(n0, 0.0)
         self._record(0, lam_assoc, NAN, NAN, checks.coulomb_residual(self.lp, n0, s0), 0.0, out, algo0)
         if self.start is not None:
             n0 = np.maximum(self.start, 0.0)
@@ -169,11 +158,9 @@ class Sequence:
             return self._fail("associative_failed", "equilibrium needs a live load in the opposite direction",
                               t_start, lam_assoc)
         t_b = time.perf_counter()
-        if self.continuation:  # its cohesion from the forces it starts from
-            self.c0 = CONT_COHESION * max(float(np.max(n0, initial=0.0)), TINY)
-        alpha = self.o.alpha0 if self.o.scheme == "b" else -CONT_GAMMA0 if self.continuation else 0.0
-        model = IterationModel(self.lp, self.d, "b" if self.rows else self.o.scheme, alpha,
-                               lazy=self.o.selection == "lazy")
+        self.c0 = self.rule.cohesion(assoc_n0, n0)  # of the friction rows, relative to the force level
+        alpha = self.rule.first_alpha()
+        model = IterationModel(self.lp, self.d, "b" if self.rule.rows else "a", alpha, lazy=self.rule.lazy_model)
         self.model = model
         model.set_capacity(n0, alpha, alpha, self.c0)
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
@@ -199,13 +186,8 @@ class Sequence:
             t_it = time.perf_counter()
             new_alpha = alpha
             if k > 1:
-                if self.projection is not None:
-                    nbar = self._proximal_nbar(model.nbar, lam_prev, n_prev, n_prev2)
-                elif self.continuation:  # nbar follows the forces as gamma falls
-                    nbar = model.nbar + o.beta * (n_prev - model.nbar)
-                else:
-                    nbar = o.beta * n_prev + (1.0 - o.beta) * n_prev2
-                new_alpha = self._next_alpha(alpha)
+                nbar = self.rule.next_nbar(model.nbar, lam_prev, n_prev, n_prev2)
+                new_alpha = self.rule.next_alpha(alpha)
                 model.set_capacity(nbar, new_alpha, alpha, self.c0)
             alpha = new_alpha
             t_upd = time.perf_counter() - t_it + (t_build if k == 1 else 0.0)
@@ -227,28 +209,6 @@ class Sequence:
                 return "time_budget", convergence.window_band(self.lams, o.window), None
         return "max_iterations", convergence.window_band(self.lams, o.window), None
 
-    def _next_alpha(self, alpha: float) -> float:
-        """The next LP's slope: scheme (b)'s halved down to ``alpha_min``; the
-        continuation's ``-gamma`` times :data:`CONT_FACTOR`, and 0 (scheme
-        (a)) once ``gamma`` would fall to :data:`CONT_GAMMA_MIN`; else 0."""
-        if self.o.scheme == "b":
-            return max(self.o.alpha_min, alpha * self.o.alpha_factor)
-        if self.continuation:
-            return alpha * CONT_FACTOR if -alpha * CONT_FACTOR > CONT_GAMMA_MIN else 0.0
-        return 0.0
-
-    def _proximal_nbar(self, nbar: FloatArray, lam: float, n_prev: FloatArray, n_prev2: FloatArray) -> FloatArray:
-        """The proximal selection's next ``nbar``: ``nbar`` moved by ``beta``
-        towards its projection at the LP's ``lam``; where Clarabel does not
-        solve the QP, the vertex rule for this step."""
-        assert self.projection is not None
-        proj = self.projection.project(nbar, lam)
-        self.step = proj.step
-        if proj.normal is None:
-            return self.o.beta * n_prev + (1.0 - self.o.beta) * n_prev2
-        self.steps.append(proj.step)
-        return nbar + self.o.beta * (proj.normal - nbar)
-
     # ------------------------------------------------- warm / cold policy
     def _solve(self, model: IterationModel, k: int, n_prev: FloatArray, alpha: float) -> tuple[Outcome, str]:
         """Solve iterate ``k``: the first LP, and later ones in cold mode, by
@@ -263,7 +223,7 @@ class Sequence:
         ones of 40-65 s). A run stopped by the user's ``time_limit`` is
         returned as it is (the sequence ends)."""
         user = self.o.time_limit
-        cold = k == 1 or (self.o.scheme == "a" and not self.continuation and self.warm_pivots > self.cold_switch
+        cold = k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
                           and self.cold_streak < self.streak_length)
         if cold:
             model.model.limit_next_run(user)
@@ -338,41 +298,25 @@ class Sequence:
         self.dns.append(dn)
         v = out.duals[: self.lp.n_eq]
         self.final = (v, n, s, lam)
-        alpha_done = alpha == 0.0 if self.continuation else o.scheme == "a" or alpha <= o.alpha_min
-        coul_tol = o.coulomb_tol + (self.c0 / nscale if self.rows else 0.0)
-        # a lazy iterate's mechanism is perturbed by the selection's cost: only the certificate ends it
-        exact = None if o.selection == "lazy" else convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
+        alpha_done = self.rule.alpha_done(alpha)
+        coul_tol = COULOMB_TOL + (self.c0 / nscale if self.rule.rows else 0.0)
+        exact = convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o) if self.rule.exact_stop else None
         if exact is not None:
             return exact, None, None
-        # the proximal sequence asks at every iterate: its lambda need not settle before its state does
-        due = (k >= 2 if self.projection is not None or self.continuation
-               else convergence.settled(self.lams, k, self.last_try, o))
+        due = self.rule.certificate_due(self.lams, k, self.last_try)
         if o.certify and alpha_done and algo != "fallback-a" and due and self._try_certificate(k, v, lam):
             return "certified", None, None
-        if self.projection is not None:
-            stall = convergence.detect_stall(self.steps, self.lams, o.window)
-            if stall is not None:
-                return stall[0], stall[1], None
-        elif alpha_done and not self.continuation:  # the continuation ends certified or at its cap
-            cyc = convergence.detect_cycle(self.lams, self.dns, o.lambda_tol, o.window)
-            if cyc is not None:
-                return cyc[0], cyc[1], None
-        return None
+        stop = self.rule.no_progress(self.lams, self.dns, alpha_done)
+        return None if stop is None else (stop[0], stop[1], None)
 
     def _try_certificate(self, k: int, v: FloatArray, lam: float) -> bool:
-        """Try the certificate on iterate ``k`` (``lambda`` has settled): is it
-        an exact collapse state with other forces than the LP's vertex?
-
-        With the lazy selection the mechanism and ``lambda`` tried are those
-        of the plain LP at the same ``nbar`` (the selection's cost switched
-        off, a warm run from the iterate's basis); a certified sequence ends
-        with that LP in the model (for the cold check), otherwise the cost
-        is switched on again."""
-        if self.o.selection == "lazy":
-            plain = self._plain_run()
-            if plain is None:
-                return False
-            v, lam = plain
+        """Try the certificate on iterate ``k``: is the mechanism the selection
+        names (the iterate's, or the lazy selection's plain LP's) an exact
+        collapse state with other forces than the LP's vertex?"""
+        tried = self.rule.mechanism_to_certify(self, v, lam)
+        if tried is None:
+            return False
+        v, lam = tried
         cert = self.certificate.certify(v, lam, time_limit=self.o.user_limit)
         self.last_try = k
         rec = self.history[-1]
@@ -384,33 +328,20 @@ class Sequence:
         )
         if cert.forces is None:
             if self.model is not None:
-                self.model.set_lazy(True)
+                self.rule.rejected(self.model)
             return False
         self.final = (v, cert.forces[0], cert.forces[1], lam)
         self.mechanism_band = cert.band
         return True
-
-    def _plain_run(self) -> tuple[FloatArray, float] | None:
-        """The lazy selection's plain LP at the current ``nbar``: ``(v, lambda)``,
-        or ``None`` (the cost switched on again) when the run fails."""
-        model = self.model
-        assert model is not None
-        model.set_lazy(False)
-        out = model.warm(self.o.time_limit, self.warm_limit)
-        self.pivots += int(out.simplex_iterations)
-        if out.x is None or out.duals is None:
-            model.set_lazy(True)
-            return None
-        return out.duals[: self.lp.n_eq], model.load_factor(out.x)
 
     def _record(self, k: int, lam: float, dlam: float, dn: float, coul: float, alpha: float, out: Outcome,
                 algo: str) -> None:
         self.history.append(IterationRecord(
             iteration=k, load_factor=lam, lambda_change=dlam, max_dn=dn, coulomb_residual=coul, alpha=alpha,
             simplex_iterations=int(out.simplex_iterations), ipm_iterations=int(out.ipm_iterations),
-            seconds=float(out.seconds), algorithm=algo, status=out.status.value, proximal_step=self.step,
+            seconds=float(out.seconds), algorithm=algo, status=out.status.value, proximal_step=self.rule.take_step(),
         ))
-        self.step = NAN
+        self.o.tell(LPProgress(DIR_NAME[self.d], self.stage, k, lam, dn, algo, float(out.seconds)))
 
     # ------------------------------------------------------------ finish
     def _fail(self, reason: str, msg: str, t_start: float, lam_assoc: float,
@@ -434,10 +365,10 @@ class Sequence:
         status = (CONVERGED if stop in CONVERGED_STOPS else TIME_LIMIT if stop == "time_budget"
                   else MAX_ITERATIONS if stop in ("max_iterations", "work_budget") else CYCLING)
         state = checks.final_state(lp, self.d, v, n, s, lam)
-        check_cold = o.cold_check and checks.cold_check_due(stop)
-        cold = checks.cold_check(model, lam, o.cold_tol) if check_cold else checks.ColdCheck(NAN, NAN, "", "")
+        check_cold = checks.cold_check_due(stop)
+        cold = checks.cold_check(model, lam, COLD_TOL) if check_cold else checks.ColdCheck(NAN, NAN, "", "")
         msg = cold_note = ""
-        if check_cold and (not math.isfinite(cold.rel_diff) or cold.rel_diff > o.cold_tol):
+        if check_cold and (not math.isfinite(cold.rel_diff) or cold.rel_diff > COLD_TOL):
             cold_note = (f"the final iterate re-solved cold gives lambda = {cold.load_factor:.9g} against "
                          f"{lam:.9g} warm (HiGHS hot start; status {cold.native_status})")
             if status == CONVERGED:

@@ -37,6 +37,17 @@ shrinks to a point. Every distinct mechanism of the steps is polished into an
 exact state; the lowest is accepted when it is strictly lower. The descent
 stops when no proposal is (a relative decrease below :data:`LOWEST_TOL`
 counts as none) or after :data:`LOWEST_MAX_MOVES` accepted proposals.
+
+THE BUDGET. A descent may solve at most
+``(LOWEST_ROW_LPS + lowest_budget x (the direction's iterated LPs)) / rows``
+LPs
+(:mod:`micro.nonassociative.options`; then one more for the band of the
+state it returns). It counts LPs, not seconds, so it stops at the same state
+on every machine; one that spends its budget returns the lowest certified
+state found so far with ``stop="budget"`` (``"finished"``: it ended by its
+own rules). On large walls a descent LP costs as much as an iterate and the
+proposals multiply them: unbounded, the descent ran 14 minutes on the
+1,230-block wall of Table 5 (measurements: ``docs/research/2026-11-25-nonassociative-recipe.md``).
 Releasing the bed joints, random halves of the head joints or the head joints
 of one part of the wall (left, right, top, bottom, moving blocks) was tried on
 the walls of ``xcheck stability`` and found lower states on 3 of 16 walls,
@@ -60,12 +71,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.backends.base import Outcome
 from micro.geometry import HEAD
 from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.model import IterationModel
-from micro.nonassociative.options import NonAssociativeOptions
+from micro.nonassociative.options import LOWEST_ROW_LPS
+from micro.nonassociative.recipe import LPProgress, Recipe
 from micro.nonassociative.states import ForceField, ForceLP, MechanismLP, PersistentRuns, restricted_columns
 from micro.records import json_number
 from micro.results import DIR_NAME, DirectionResult, direction_sign
@@ -89,10 +102,12 @@ RELEASED_KINDS = (HEAD,)
 EXACT_TOL = 1e-6
 #: Values of :attr:`LowestDirection.status`.
 FOUND, FAILED = "found", "failed"
+#: Values of :attr:`LowestDirection.stop`.
+FINISHED, BUDGET = "finished", "budget"
 
 
 @dataclass(frozen=True, eq=False)
-class State:
+class CollapseState:
     """An exact collapse state of one direction (scaled units).
 
     Attributes:
@@ -125,6 +140,9 @@ class LowestDirection:
             after the polish (when lower) and after every accepted move.
         moves: the accepted proposals (their origin).
         lps: LPs solved by the descent.
+        budget: the most LPs it could solve (module docstring).
+        stop: ``"finished"`` (it ended by its own rules) or ``"budget"`` (it
+            spent its budget: the lowest state found so far).
         seconds: its wall time.
         state: the state as a direction result (dimensional forces, mechanism,
             contact states; ``None`` when failed).
@@ -140,6 +158,8 @@ class LowestDirection:
     path: tuple[float, ...]
     moves: tuple[str, ...]
     lps: int
+    budget: int
+    stop: str
     seconds: float
     state: DirectionResult | None = field(repr=False)
     residuals: dict[str, float] = field(repr=False)
@@ -158,16 +178,38 @@ class Descent:
     Args:
         lp: the wall's LP.
         direction: ``+1`` or ``-1``.
-        options: the options (``relaxation`` of the proposals' steps,
-            ``time_limit`` per LP).
+        options: the recipe (``relaxation`` of the proposals' steps,
+            ``time_limit`` per LP, the progress callback).
+        budget: the most LPs the descent may solve (``None``: no limit).
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: NonAssociativeOptions) -> None:
-        self.lp, self.d, self.o = lp, direction, options
+    def __init__(self, lp: LimitLP, direction: int, options: Recipe, budget: int | None = None) -> None:
+        self.lp, self.d, self.o, self.budget = lp, direction, options, budget
         self.forces = ForceLP(lp, direction, options.user_limit)
         self.mechanisms = MechanismLP(lp, direction, options.user_limit)
+        self.forces.report = self.mechanisms.report = self._progress
+        self.forces.gate = self.mechanisms.gate = self.may_run
         self.gilbert: tuple[IterationModel, PersistentRuns] | None = None
         self.seen: set[bytes] = set()
+        self.out_of_budget = False
+
+    def may_run(self) -> bool:
+        """Whether one more LP fits in the budget (the runners' gate: a refused
+        LP fails, and the step that asked for it finds nothing); a refusal is
+        remembered in :attr:`out_of_budget`."""
+        if self.budget is not None and self.lps >= self.budget:
+            self.out_of_budget = True
+            return False
+        return True
+
+    def spent(self) -> bool:
+        """Whether the budget is spent (:meth:`may_run` refuses)."""
+        return not self.may_run()
+
+    def _progress(self, out: Outcome, algorithm: str) -> None:
+        """Tell the recipe's progress callback about one LP of the descent."""
+        self.o.tell(LPProgress(DIR_NAME[self.d], "lowest", self.lps + 1, math.nan, math.nan, algorithm,
+                               float(out.seconds)))
 
     @property
     def lps(self) -> int:
@@ -175,20 +217,20 @@ class Descent:
         return self.forces.lps + self.mechanisms.lps + (self.gilbert[1].lps if self.gilbert is not None else 0)
 
     # ------------------------------------------------------------ checks
-    def as_result(self, state: State) -> DirectionResult:
+    def as_result(self, state: CollapseState) -> DirectionResult:
         """``state`` as a :class:`~micro.results.DirectionResult` (dimensional forces)."""
         fs = self.lp.force_scale
         return DirectionResult(direction=DIR_NAME[self.d], status=FOUND, load_factor=state.load_factor,
                                iterations=0, seconds=0.0, normal=state.n * fs, shear=state.s * fs,
                                mechanism=mechanism_from_duals(self.lp, state.v, self.d))
 
-    def exact(self, state: State) -> bool:
+    def exact(self, state: CollapseState) -> bool:
         """Every residual of :func:`verify_collapse_state` is at most :data:`EXACT_TOL`."""
         res = verify_collapse_state(self.lp, self.as_result(state))
         return all(v <= EXACT_TOL for k, v in res.items() if k != "slipping_points")
 
     # ------------------------------------------------------------ polish
-    def settle(self, f: ForceField, v: FloatArray, origin: str) -> State | None:
+    def settle(self, f: ForceField, v: FloatArray, origin: str) -> CollapseState | None:
         """The field ``f`` (the lower end of ``v``'s pattern) with a mechanism
         exactly compatible with it, or else with ``v`` itself; ``None``
         unless the state passes :meth:`exact`.
@@ -200,7 +242,7 @@ class Descent:
         :data:`EXACT_TOL`."""
         clean = self.mechanisms.compatible(f)
         for mech in (clean, v) if clean is not None else (v,):
-            state = State(f.load_factor, f.n, f.s, mech, origin)
+            state = CollapseState(f.load_factor, f.n, f.s, mech, origin)
             if self.exact(state):
                 return state
         return None
@@ -210,7 +252,7 @@ class Descent:
         restricted = restricted_columns(self.lp, v)
         return None if restricted is None else self.forces.solve(restricted)
 
-    def polish(self, v: FloatArray, origin: str) -> State | None:
+    def polish(self, v: FloatArray, origin: str) -> CollapseState | None:
         """The lower end of ``v``'s band, then the convex-concave rounds
         (module docstring) until no compatible mechanism lowers it.
 
@@ -220,7 +262,7 @@ class Descent:
         f = self.lower_end(v)
         state = self.settle(f, v, origin) if f is not None else None
         for _ in range(POLISH_ROUNDS):
-            if state is None:
+            if state is None or self.spent():
                 break
             f = self.lower_end(state.v)
             if f is None or f.load_factor >= state.load_factor * (1.0 - LOWEST_TOL):
@@ -236,18 +278,22 @@ class Descent:
         """The points whose friction a proposal releases (:data:`RELEASED_KINDS`)."""
         return np.isin(np.repeat(self.lp.wall.contact_kind, 2), RELEASED_KINDS) & (self.lp.mu > 0.0)
 
-    def propose(self, state: State, released: BoolArray) -> State | None:
+    def propose(self, state: CollapseState, released: BoolArray) -> CollapseState | None:
         """Relaxed Gilbert steps from ``state``'s normal forces with the
         friction of the ``released`` points set to zero; the lowest polished
         exact state of the steps' distinct mechanisms (``None`` if none)."""
         if self.gilbert is None:
             model = IterationModel(self.lp, self.d, "a", self.o.alpha0)
             self.gilbert = (model, PersistentRuns(model.model, self.o.user_limit))
+            self.gilbert[1].report = self._progress
+            self.gilbert[1].gate = self.may_run
         model, runs = self.gilbert
         beta = self.o.beta
         n_prev = n_prev2 = state.n
-        best: State | None = None
+        best: CollapseState | None = None
         for k in range(PROPOSAL_STEPS):
+            if self.spent():
+                break
             nbar = beta * n_prev + (1.0 - beta) * n_prev2 if k else state.n
             model.set_capacity(np.where(released, 0.0, nbar), 0.0, 0.0, 0.0)
             out = runs.run()
@@ -272,7 +318,7 @@ class Descent:
         fs = self.lp.force_scale
         v0 = np.asarray(start.mechanism.velocities, dtype=float).ravel()
         lam0 = start.sequence.last_load_factor if start.sequence is not None else start.load_factor
-        it = State(lam0, start.normal / fs, start.shear / fs, v0, "iterated")
+        it = CollapseState(lam0, start.normal / fs, start.shear / fs, v0, "iterated")
         best = it if self.exact(it) else None
         path = [] if best is None else [best.load_factor]
         lower = self.polish(v0, "lower end")
@@ -281,7 +327,7 @@ class Descent:
             path.append(best.load_factor)
         moves: list[str] = []
         released = self.released()
-        while best is not None and released.any() and len(moves) < LOWEST_MAX_MOVES:
+        while best is not None and released.any() and len(moves) < LOWEST_MAX_MOVES and not self.spent():
             new = self.propose(best, released)
             if new is None or new.load_factor >= best.load_factor * (1.0 - LOWEST_TOL):
                 break
@@ -290,30 +336,33 @@ class Descent:
             path.append(new.load_factor)
         return self._finish(best, tuple(path), tuple(moves), t0)
 
-    def _finish(self, best: State | None, path: tuple[float, ...], moves: tuple[str, ...],
+    def _finish(self, best: CollapseState | None, path: tuple[float, ...], moves: tuple[str, ...],
                 t0: float) -> LowestDirection:
         """The band of the lowest state's mechanism and the result."""
         name = DIR_NAME[self.d]
+        budget = -1 if self.budget is None else self.budget
+        stop = BUDGET if self.out_of_budget else FINISHED
         if best is None:
-            return LowestDirection(name, FAILED, math.nan, None, path, moves, self.lps, time.perf_counter() - t0,
-                                   None, {}, message="no collapse state passed the check, the iterated LP's "
-                                                     "included")
+            return LowestDirection(name, FAILED, math.nan, None, path, moves, self.lps, budget, stop,
+                                   time.perf_counter() - t0, None, {},
+                                   message="no collapse state passed the check, the iterated LP's included")
         restricted = restricted_columns(self.lp, best.v)
+        self.budget = None  # the band of the state returned: one LP beyond the budget
         top = self.forces.solve(restricted, sense=-1.0) if restricted is not None else None
         band = (best.load_factor, top.load_factor if top is not None else math.nan)
         result = self.as_result(best)
-        return LowestDirection(name, FOUND, best.load_factor, band, path, moves, self.lps,
+        return LowestDirection(name, FOUND, best.load_factor, band, path, moves, self.lps, budget, stop,
                                time.perf_counter() - t0, result, verify_collapse_state(self.lp, result),
                                origin=best.origin)
 
 
-def lowest_state(lp: LimitLP, start: DirectionResult, options: NonAssociativeOptions) -> LowestDirection:
+def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe) -> LowestDirection:
     """The lowest certified state reached from a converged direction of the iterated LP.
 
     Args:
         lp: the wall's LP.
         start: a converged direction (its final forces and mechanism).
-        options: the options of the iterated LP.
+        options: the recipe of the iterated LP (its ``lowest_budget``).
 
     Returns:
         The :class:`LowestDirection`.
@@ -323,7 +372,8 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: NonAssociativeOpt
     """
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
-    return Descent(lp, direction_sign(start.direction), options).run(start)
+    budget = math.ceil((LOWEST_ROW_LPS + options.lowest_budget * start.iterations) / lp.n_eq)
+    return Descent(lp, direction_sign(start.direction), options, budget).run(start)
 
 
 def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirection, ...]) -> dict[str, Any]:
@@ -336,11 +386,13 @@ def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirecti
     Returns:
         ``lowest_load_factor``, ``lowest_direction``, ``lowest_band``,
         ``lowest_moves`` (accepted proposals of the governing direction),
-        ``lowest_lps`` and ``lowest_seconds`` (summed over the directions) and
+        ``lowest_lps`` and ``lowest_seconds`` (summed over the directions),
         ``lowest_status`` (``""`` when it did not run, ``"found"``, or
-        ``"failed"`` when some direction has no state).
+        ``"failed"`` when some direction has no state) and ``lowest_stop``
+        (``""``, ``"finished"``, or ``"budget"`` when some direction spent its budget).
     """
     status = "" if not lowest else FOUND if governing is not None else FAILED
+    stop = "" if not lowest else BUDGET if any(low.stop == BUDGET for low in lowest) else FINISHED
     return {
         "lowest_load_factor": governing.load_factor if governing is not None else math.nan,
         "lowest_direction": governing.direction if governing is not None else "",
@@ -349,6 +401,7 @@ def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirecti
         "lowest_lps": sum(low.lps for low in lowest),
         "lowest_seconds": sum(low.seconds for low in lowest),
         "lowest_status": status,
+        "lowest_stop": stop,
     }
 
 
@@ -359,7 +412,8 @@ def lowest_summary(low: LowestDirection) -> dict[str, Any]:
     return {
         "direction": low.direction, "status": low.status, "load_factor": num(low.load_factor),
         "band": None if low.band is None else [num(x) for x in low.band], "path": [num(x) for x in low.path],
-        "moves": list(low.moves), "origin": low.origin, "lps": low.lps, "seconds": low.seconds,
+        "moves": list(low.moves), "origin": low.origin, "lps": low.lps, "budget": low.budget,
+        "stop": low.stop, "seconds": low.seconds,
         "contact_states": mech.state_counts() if mech is not None else None,
         "residuals": {k: num(v) for k, v in low.residuals.items()}, "message": low.message,
     }

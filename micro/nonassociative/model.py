@@ -4,7 +4,7 @@ Columns ``[n (P), s (P), lambda]`` over the equilibrium rows (plus, for
 scheme (b), ``2P`` friction rows). The lazy selection's model has columns
 ``[p (P), m (P), s (P), lambda]`` instead, with ``n = nbar + p - m``,
 ``0 <= m <= nbar`` (so ``n >= 0``), the cost
-:data:`~micro.nonassociative.options.LAZY_WEIGHT` on ``p + m``, and the
+:data:`~micro.nonassociative.tuning.LAZY_WEIGHT` on ``p + m``, and the
 equilibrium rows' right-hand side moved by ``-B_n nbar``: the same LP as
 rows ``n - p + m = nbar`` beside the ``n`` columns, whose interior point took
 5.2-5.4 s against 3.0-3.4 s for this one on Set 2 (1,230 blocks; the same
@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from micro.backends.base import Outcome, Status
 from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
-from micro.nonassociative.options import LAZY_WEIGHT
+from micro.nonassociative.tuning import LAZY_WEIGHT
 
 FloatArray = NDArray[np.float64]
 
@@ -44,7 +44,7 @@ class IterationModel:
         alpha0: the first slope of scheme (b).
         lazy: the lazy selection's model (module docstring; scheme (a) only):
             among the LP's optimal fields it picks the one closest to
-            ``nbar`` in the 1-norm (see :data:`~micro.nonassociative.options.LAZY_WEIGHT`).
+            ``nbar`` in the 1-norm (see :data:`~micro.nonassociative.tuning.LAZY_WEIGHT`).
     """
 
     def __init__(self, lp: LimitLP, direction: int, scheme: str, alpha0: float, *, lazy: bool = False) -> None:

@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 
 from micro.backends.clarabel import clarabel_settings
 from micro.lp import LimitLP
-from micro.nonassociative.options import PROX_CLARABEL, PROX_MARGIN
+from micro.nonassociative.tuning import PROX_CLARABEL, PROX_MARGIN
 
 FloatArray = NDArray[np.float64]
 

@@ -8,7 +8,7 @@ from typing import Any
 
 from micro.nonassociative.global_mip import GlobalResult, global_fields, global_summary
 from micro.nonassociative.lowest import LowestDirection, lowest_fields, lowest_summary
-from micro.nonassociative.options import NonAssociativeOptions
+from micro.nonassociative.recipe import Recipe
 from micro.records import NonAssociativeRecord, check_success, json_number
 from micro.results import DirectionResult, record_fields
 
@@ -209,12 +209,13 @@ class NonAssociativeResult:
         solve_seconds: all sequences, incl. cold checks.
         mirror_symmetric: one direction solved.
         directions: per-direction results (each with its ``sequence``).
-        options: the options used.
+        recipe: what ran: the options and the tuning, resolved for the wall
+            (:class:`~micro.nonassociative.recipe.Recipe`).
         message: explanation when not converged.
         lowest: the lowest certified state of every converged direction
-            (``options.lowest``; :mod:`micro.nonassociative.lowest`).
+            (``lowest``; :mod:`micro.nonassociative.lowest`).
         global_search: the branch and bound for the global minimum
-            (``options.global_``; :mod:`micro.nonassociative.global_mip`), or ``None``.
+            (``global_``; :mod:`micro.nonassociative.global_mip`), or ``None``.
     """
 
     load_factor: float
@@ -232,7 +233,7 @@ class NonAssociativeResult:
     solve_seconds: float
     mirror_symmetric: bool
     directions: tuple[DirectionResult, ...] = field(repr=False)
-    options: NonAssociativeOptions = field(repr=False)
+    recipe: Recipe = field(repr=False)
     message: str = ""
     lowest: tuple[LowestDirection, ...] = field(default=(), repr=False)
     global_search: GlobalResult | None = field(default=None, repr=False)
@@ -347,7 +348,7 @@ class NonAssociativeResult:
         """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
         q = self.sequence
         return NonAssociativeRecord(
-            solver=solver_description(self.options), **record_fields(self, self.governing.mechanism),
+            solver=solver_description(self.recipe), **record_fields(self, self.governing.mechanism),
             scheme=self.scheme, relaxation=self.relaxation, converged=self.converged, stop_reason=q.stop_reason,
             lambda_band=q.lambda_band, mechanism_band=q.mechanism_band, last_load_factor=q.last_load_factor,
             associative_load_factor=self.associative_load_factor, cold_load_factor=q.cold_load_factor,
@@ -375,7 +376,7 @@ class NonAssociativeResult:
             **record.to_dict(),
             "lowest": [lowest_summary(low) for low in self.lowest],
             **({} if self.global_search is None else global_summary(self.global_search)),
-            "options": self.options.as_dict(),
+            "options": self.recipe.as_dict(),
             "history": [r.as_dict() for r in self.history],
             "directions": {
                 d.direction: {
@@ -392,15 +393,14 @@ class NonAssociativeResult:
         }
 
 
-def solver_description(options: NonAssociativeOptions) -> str:
+def solver_description(options: Recipe) -> str:
     """Which solver does what in the iterated LP, e.g. ``"clarabel (start,
     certificate) + highs-simplex (iterated) + highs-ipm (cold check)"``."""
     roles = [("clarabel" if options.start == "interior" else "highs-ipm+crossover", "start")]
     if options.certify or options.mechanism_band:
         roles.append(("clarabel" if options.state_solver == "clarabel" else "highs-ipm", "certificate"))
     roles.append(("highs-simplex", "iterated" + (", fused" if options.fuse else "")))
-    if options.cold_check:
-        roles.append(("highs-ipm", "cold check"))
+    roles.append(("highs-ipm", "cold check"))
     by_solver: dict[str, list[str]] = {}
     for solver, role in roles:
         by_solver.setdefault(solver, []).append(role)

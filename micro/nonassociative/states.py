@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -45,7 +46,7 @@ from micro.backends.base import Outcome, Status
 from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
-from micro.nonassociative.options import INTERPENETRATION, STATE_RESIDUAL, TINY
+from micro.nonassociative.tuning import INTERPENETRATION, STATE_RESIDUAL, TINY
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -101,11 +102,11 @@ def point_states(dn: FloatArray, ds: FloatArray, max_noise: float) -> tuple[Bool
 def restricted_columns(lp: LimitLP, v: FloatArray) -> BoolArray | None:
     """The generator columns (``[g+ (P), g- (P)]``) the mechanism ``v`` forbids
     (rates read by :func:`point_states`, closing rates up to
-    :data:`~micro.nonassociative.options.INTERPENETRATION` as noise).
+    :data:`~micro.nonassociative.tuning.INTERPENETRATION` as noise).
 
     Returns:
         The ``(2P,)`` mask, or ``None`` when ``v`` makes points interpenetrate
-        beyond :data:`~micro.nonassociative.options.INTERPENETRATION` or
+        beyond :data:`~micro.nonassociative.tuning.INTERPENETRATION` or
         does no live-load work.
     """
     dn = lp.Bn.T @ v
@@ -196,16 +197,23 @@ class PersistentRuns:
         self.cold = True
         self.lps = 0
         self.seconds = 0.0
+        #: called with every run's outcome and algorithm (a progress display; ``None``: nobody)
+        self.report: Callable[[Outcome, str], None] | None = None
+        #: asked before every run whether it may run (a budget; ``None``: always)
+        self.gate: Callable[[], bool] | None = None
 
     def run(self) -> Outcome:
-        """Run the model (class docstring)."""
+        """Run the model (class docstring); a run its :attr:`gate` refuses fails
+        at once (status ``ITERATION_LIMIT``, nothing solved)."""
+        if self.gate is not None and not self.gate():
+            return Outcome(Status.ITERATION_LIMIT, "budget spent")
         out = None
         if not self.cold:
             out = self._capped()
             if out.status in (Status.OPTIMAL, Status.INFEASIBLE):
-                return self._book(out)
+                return self._book(out, "simplex-warm")
         first = self._cold()
-        return self._book(first if out is None else first.plus_seconds(out.seconds))
+        return self._book(first if out is None else first.plus_seconds(out.seconds), "ipm+crossover+simplex")
 
     def _capped(self) -> Outcome:
         """A warm dual-simplex run capped at :attr:`cap` iterations."""
@@ -233,7 +241,9 @@ class PersistentRuns:
             return first
         return self._capped().plus_seconds(first.seconds)
 
-    def _book(self, out: Outcome) -> Outcome:
+    def _book(self, out: Outcome, algorithm: str) -> Outcome:
+        if self.report is not None:
+            self.report(out, algorithm)
         self.cold = out.status not in (Status.OPTIMAL, Status.INFEASIBLE)
         self.lps += 1
         self.seconds += out.seconds
@@ -259,7 +269,7 @@ class ForceLP(PersistentRuns):
         """The field of least (``sense=+1``) or greatest (``-1``) ``lambda``
         that uses no restricted column; ``None`` when there is none (or the
         LP failed, or its field misses equilibrium by more than
-        :data:`~micro.nonassociative.options.STATE_RESIDUAL`)."""
+        :data:`~micro.nonassociative.tuning.STATE_RESIDUAL`)."""
         lp, P = self.lp, self.lp.n_points
         upper = np.where(restricted, 0.0, lp.col_upper[: 2 * P])
         self.model.set_col_bounds(self._cols, np.zeros(2 * P), upper)

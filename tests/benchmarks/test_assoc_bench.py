@@ -16,7 +16,13 @@ asserts the load factor it timed against the pinned reference of
   ``normal-ipm``'s projected (:meth:`micro.backends.normal_ipm.NormalIpm.run`);
   no vertex reference exists: the (lower-bound) load factor is asserted
   within 1e-8 below Clarabel's kinematic objective, within 1e-7 of its own.
-  ``slow``, one round.
+  ``slow``, one round;
+* ``assoc-cli-7575``: the whole process of ``xcheck micro`` on Set 15 with no
+  ``--solver`` (the library default, :data:`micro.DEFAULT_SOLVER`), asserting
+  the back end it ran and lambda within 2e-6 of the reference (issue 30's
+  target: at most 20 s). ``slow``, one round.
+
+The choice of the default back end: docs/research/2026-11-25-associative-default.md.
 
 Run on one core, as measured for the notes::
 
@@ -28,6 +34,8 @@ Run on one core, as measured for the notes::
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -101,3 +109,18 @@ def test_assoc_set17(benchmark: Any, solver: str) -> None:
         assert d.info["primal_residual"] <= 1e-9
         assert result.load_factor == pytest.approx(d.info["kinematic_load_factor"], rel=1e-7)
         assert result.load_factor == pytest.approx(SET17_CLARABEL, rel=1e-6)
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark(group="assoc-cli-7575")
+def test_assoc_cli_7575(benchmark: Any) -> None:
+    entry = REFERENCE["w7575 full frictional"]
+    argv = [sys.executable, "-m", "comparison.cli", "micro", "--storeys", "5", "--rows", "150", "--t", "1",
+            "--m", "1/3", "--f", "0.75", "--friction", "associative", "--json"]
+    done = benchmark.pedantic(subprocess.run, args=(argv,), kwargs={"capture_output": True, "text": True},
+                              rounds=1, iterations=1, warmup_rounds=0)
+    out = json.loads(done.stdout)
+    benchmark.extra_info.update(solver=out["solver"], load_factor=out["load_factor"],
+                                solve_seconds=out["solve_seconds"], build_seconds=out["build_seconds"])
+    assert done.returncode == 0 and out["solver"] == micro.DEFAULT_SOLVER and out["blocks"] == entry["blocks"]
+    assert out["load_factor"] == pytest.approx(entry["directions"]["1"]["load_factor"], rel=2e-6)

@@ -16,7 +16,6 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import NonAssociativeOptions
 from micro.nonassociative.lowest import EXACT_TOL, lowest_state
 
 #: Table 7 set, (t, m), blocks, the iterated LP's load factor and the lowest certified one (+x, defaults).
@@ -52,9 +51,8 @@ def test_bench_descent(benchmark, name: str, tm: tuple[float, float], blocks: in
     benchmark.group = f"lowest-{name}"
     w = _wall(tm)
     lp = micro.assemble(w)
-    o = NonAssociativeOptions(lowest=False)
-    it = micro.solve_nonassociative(w, o)
-    d = benchmark.pedantic(lowest_state, args=(lp, it.directions[0], o), rounds=5, iterations=1)
+    it = micro.solve_nonassociative(w, lowest=False)
+    d = benchmark.pedantic(lowest_state, args=(lp, it.directions[0], it.recipe), rounds=5, iterations=1)
     benchmark.extra_info.update(blocks=blocks, load_factor=d.load_factor, lps=d.lps, moves=len(d.moves),
                                 path=list(d.path))
     assert d.found and d.load_factor == pytest.approx(low, rel=1e-6)

@@ -75,7 +75,7 @@ def test_mirror_symmetric_wall_same_both_ways() -> None:
     assert lp == pytest.approx(lm, rel=1e-7)
 
 
-@pytest.mark.parametrize("solver", ["highs", "clarabel", "clarabel-static"])
+@pytest.mark.parametrize("solver", ["highs-ipm", "clarabel", "clarabel-static"])
 def test_mirrored_wall_swaps_direction(solver: str) -> None:
     kw = dict(length=13.5, block_length=3.0, block_height=1.0, rows=(8,), thickness=(1.0,), overload=(0.0,),
               unit_weight=1.0, friction=0.6)

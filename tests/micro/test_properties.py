@@ -25,7 +25,7 @@ def test_random_walls(n_half: int, rows: list[int], friction: float, overload: f
         overload=(overload,) * k, unit_weight=1.0, friction=friction, first_course=first,  # type: ignore[arg-type]
         head_joints=heads,  # type: ignore[arg-type]
     )
-    a = micro.solve_associative(wall, solver="highs", directions="both")
+    a = micro.solve_associative(wall, solver="highs-ipm", directions="both")
     b = micro.solve_associative(wall, solver="clarabel", directions="both")
     c = micro.solve_associative(wall, solver="normal-ipm", directions="both")
     assert a.ok and b.ok and c.ok, (a.message, b.message, c.message)

@@ -69,9 +69,9 @@ def test_failed_associative_record_round_trips_nan() -> None:
     assert math.isnan(back.load_factor) and _same(back, rec)
 
 
-@pytest.mark.parametrize("kw", [{}, {"relaxation": 1.0, "certify": False}])
+@pytest.mark.parametrize("kw", [{}, {"relaxation": 1.0, "certify": False, "selection": "vertex"}])
 def test_nonassociative_record(kw: dict) -> None:
-    r = micro.solve_nonassociative(table7_wall("set14"), **kw)
+    r = micro.solve_nonassociative(table7_wall("set14"), tuning=micro.Tuning(**kw))
     rec = r.to_record()
     assert isinstance(rec, micro.NonAssociativeRecord)
     assert rec.status == r.status and rec.converged == r.converged and rec.scheme == "a"

@@ -1,6 +1,6 @@
 """Executors: run tasks in worker processes, largest first, memory-bounded, interrupt-safe.
 
-* :mod:`~comparison.runner.executor.base`: :class:`Task`, :class:`Outcome`
+* :mod:`~comparison.runner.executor.base`: :class:`Task`, :class:`TaskOutcome`
   and the :class:`Executor` protocol;
 * :mod:`~comparison.runner.executor.local`: :class:`LocalExecutor`, local
   processes that ignore Ctrl-C (the parent ends them) and die with their parent;
@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 
-from comparison.runner.executor.base import Executor, Outcome, OutcomeKind, Task
+from comparison.runner.executor.base import Executor, OutcomeKind, Task, TaskOutcome
 from comparison.runner.executor.local import LocalExecutor
 
 
@@ -41,4 +41,4 @@ def make_executor(
     return LocalExecutor(workers or os.cpu_count() or 1, memory_per_worker)
 
 
-__all__ = ["Executor", "LocalExecutor", "Outcome", "OutcomeKind", "Task", "make_executor"]
+__all__ = ["Executor", "LocalExecutor", "TaskOutcome", "OutcomeKind", "Task", "make_executor"]

@@ -3,7 +3,7 @@
 A :class:`Task` is a module-level function with picklable arguments (a worker
 imports the function by name, so a Dask worker needs only this package
 installed), its cost (the order of the work: larger tasks go first) and its
-estimated peak memory. An executor yields one :class:`Outcome` per task, in the
+estimated peak memory. An executor yields one :class:`TaskOutcome` per task, in the
 order they finish; a task that raises, whose worker dies, or that would not fit
 in a worker's memory gives an outcome with that status, never an exception, so
 one bad cell never aborts a run.
@@ -45,7 +45,7 @@ class Task:
 
 
 @dataclass(frozen=True)
-class Outcome:
+class TaskOutcome:
     """How one task ended.
 
     Attributes:
@@ -81,7 +81,7 @@ class Executor(Protocol):
     memory_per_worker: int | None
     where: str
 
-    def run(self, tasks: Sequence[Task]) -> Iterator[Outcome]:
+    def run(self, tasks: Sequence[Task]) -> Iterator[TaskOutcome]:
         """Run ``tasks``; yield each outcome as it finishes (refused tasks first)."""
         ...
 
@@ -106,16 +106,16 @@ def describe(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {exc}{where}".replace("\n", " ")
 
 
-def ordered(tasks: Sequence[Task], memory_per_worker: int | None) -> tuple[list[Task], list[Outcome]]:
+def ordered(tasks: Sequence[Task], memory_per_worker: int | None) -> tuple[list[Task], list[TaskOutcome]]:
     """The tasks to run, largest first, and the outcomes of those refused for their memory."""
     runnable: list[Task] = []
-    refused: list[Outcome] = []
+    refused: list[TaskOutcome] = []
     for task in tasks:
         if memory_per_worker is not None and task.memory > memory_per_worker:
             error = (
                 f"estimated {task.memory / 1e9:.3g} GB exceeds a worker's {memory_per_worker / 1e9:.3g} GB: not run"
             )
-            refused.append(Outcome(task, "refused", error=error))
+            refused.append(TaskOutcome(task, "refused", error=error))
         else:
             runnable.append(task)
     runnable.sort(key=lambda t: t.cost, reverse=True)

@@ -17,7 +17,7 @@ import uuid
 from collections.abc import Iterator, Sequence
 from typing import Any
 
-from comparison.runner.executor.base import Outcome, Task, call, ordered
+from comparison.runner.executor.base import Task, TaskOutcome, call, ordered
 
 #: Seconds to wait for the scheduler to answer and for at least one worker.
 CONNECT_SECONDS = 20.0
@@ -71,7 +71,7 @@ class DaskExecutor:
     def __exit__(self, exc_type: object, *rest: object) -> None:
         self.close(kill=exc_type is not None)
 
-    def run(self, tasks: Sequence[Task]) -> Iterator[Outcome]:
+    def run(self, tasks: Sequence[Task]) -> Iterator[TaskOutcome]:
         """Run ``tasks`` on the cluster; yield each outcome as it finishes (refused tasks first)."""
         from distributed import as_completed
 
@@ -92,11 +92,11 @@ class DaskExecutor:
             try:
                 ok, value, error, seconds = future.result()
             except Exception as exc:  # noqa: BLE001 - KilledWorker and other losses are the task's outcome
-                yield Outcome(task, "lost", error=f"{type(exc).__name__}: {exc}")
+                yield TaskOutcome(task, "lost", error=f"{type(exc).__name__}: {exc}")
                 continue
             finally:
                 future.release()
-            yield Outcome(task, "done" if ok else "failed", value, error, seconds)
+            yield TaskOutcome(task, "done" if ok else "failed", value, error, seconds)
         self._futures.clear()
 
     def close(self, *, kill: bool = False) -> None:

@@ -34,7 +34,7 @@ from multiprocessing.connection import Connection, wait
 from multiprocessing.process import BaseProcess
 from typing import Any
 
-from comparison.runner.executor.base import Outcome, Task, call, describe, ordered
+from comparison.runner.executor.base import Task, TaskOutcome, call, describe, ordered
 
 #: How often a worker's watchdog looks whether its parent is still there (seconds).
 PARENT_POLL_SECONDS = 0.5
@@ -169,7 +169,7 @@ class LocalExecutor:
         worker.process.join(JOIN_SECONDS)
         self._pool.remove(worker)
 
-    def run(self, tasks: Sequence[Task]) -> Iterator[Outcome]:
+    def run(self, tasks: Sequence[Task]) -> Iterator[TaskOutcome]:
         """Run ``tasks``; yield each outcome as it finishes (refused tasks first)."""
         runnable, refused = ordered(tasks, self.memory_per_worker)
         yield from refused
@@ -197,7 +197,7 @@ class LocalExecutor:
             worker.conn.send((task.fn, task.args))
         worker.task = task
 
-    def _collect(self, worker: _Worker) -> Outcome:
+    def _collect(self, worker: _Worker) -> TaskOutcome:
         """The outcome of the task ``worker`` was running (a new worker replaces one that died)."""
         task = worker.task
         assert task is not None
@@ -209,8 +209,8 @@ class LocalExecutor:
             self._start()
             code = worker.process.exitcode
             why = f"killed by signal {-code}" if code is not None and code < 0 else f"exit code {code}"
-            return Outcome(task, "lost", error=f"worker process died ({why}; out of memory?)")
-        return Outcome(task, "done" if ok else "failed", value, error, seconds)
+            return TaskOutcome(task, "lost", error=f"worker process died ({why}; out of memory?)")
+        return TaskOutcome(task, "done" if ok else "failed", value, error, seconds)
 
     def close(self, *, kill: bool = False) -> None:
         """End the workers: ask them to stop, or kill them (``kill``) at once."""

@@ -46,7 +46,8 @@ def test_verbose_prints_more(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_failed_method_exits_1_and_prints_no_number(capsys: pytest.CaptureFixture[str]) -> None:
-    rc = main(["micro", *WALL, "--friction", "nonassociative", "--max-iterations", "2", "--quiet"])
+    rc = main(["micro", *WALL, "--friction", "nonassociative", "--max-iterations", "2", "--tuning", "selection=vertex",
+               "--quiet"])
     out = capsys.readouterr().out
     assert rc == EXIT_FAILED
     assert out.startswith("status max_iterations")

@@ -37,6 +37,15 @@ def test_json(capsys: pytest.CaptureFixture[str]) -> None:
     assert out["load_factor"] == pytest.approx(0.712047, abs=1e-5)
 
 
+def test_no_solver_named_runs_the_library_default(capsys: pytest.CaptureFixture[str]) -> None:
+    import micro
+
+    rc = cli.main(["micro", *WALL, "--friction", "associative", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0 and out["solver"] == micro.DEFAULT_SOLVER
+    assert out["load_factor"] == pytest.approx(0.712047, abs=1e-5)
+
+
 def test_text_and_plot(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:  # type: ignore[no-untyped-def]
     png = tmp_path / "m.png"
     rc = cli.main(["micro", *WALL, "--first-course", "half", "--head-joints", "frictionless", "--plot", str(png)])
@@ -96,7 +105,7 @@ def test_the_plot_title_names_the_friction_law(
     titles: list[str] = []
     monkeypatch.setattr(micro.plot, "plot_velocities", lambda *a, title, **k: titles.append(title))
     assert cli.main(["micro", *WALL, "--friction", friction, "--no-lowest" if friction == "nonassociative"
-                     else "--solver=highs", "--plot", str(tmp_path / "m.png")]) == 0
+                     else "--solver=highs-ipm", "--plot", str(tmp_path / "m.png")]) == 0
     capsys.readouterr()
     assert len(titles) == 1 and law in titles[0], titles
 

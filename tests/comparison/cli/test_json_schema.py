@@ -54,10 +54,11 @@ def test_macro_json_matches_schema(argv: list[str], capsys: pytest.CaptureFixtur
 @pytest.mark.parametrize(
     ("argv", "rc_expected", "status"),
     [
-        (["--friction", "associative", "--solver", "highs"], 0, "optimal"),
+        (["--friction", "associative", "--solver", "highs-ipm"], 0, "optimal"),
         (["--friction", "associative", "--solver", "clarabel", "--t", "0.5"], 0, "optimal"),
         (["--friction", "nonassociative"], 0, "converged"),
-        (["--friction", "nonassociative", "--max-iterations", "2"], 1, "max_iterations"),
+        (["--friction", "nonassociative", "--max-iterations", "2", "--tuning", "selection=vertex"], 1,
+         "max_iterations"),
     ],
     ids=["assoc-highs", "assoc-clarabel-set11", "nonassoc", "nonassoc-failed"],
 )
@@ -71,7 +72,8 @@ def test_micro_json_matches_schema(
 
 def test_schema_refuses_undocumented_keys_and_numbers_on_failure(capsys: pytest.CaptureFixture[str]) -> None:
     """The schemas can fail: an extra key, and a number beside a failure status, are refused."""
-    _, doc = _run(["micro", *WALL, "--friction", "nonassociative", "--max-iterations", "2", "--json"], capsys)
+    _, doc = _run(["micro", *WALL, "--friction", "nonassociative", "--max-iterations", "2", "--tuning",
+                   "selection=vertex", "--json"], capsys)
     micro = _validator("micro")
     assert _errors(micro, {**doc, "undocumented": 1})
     assert _errors(micro, {**doc, "load_factor": 0.71})
@@ -79,7 +81,8 @@ def test_schema_refuses_undocumented_keys_and_numbers_on_failure(capsys: pytest.
     assert _errors(_validator("macro"), {**mdoc, "undocumented": 1})
 
 
-CYCLING = ["--t", "0.5", "--m", "1/3", "--rows", "12", "--f", "0.4", "--scheme", "b", "--no-certify", "--no-lowest"]
+CYCLING = ["--t", "0.5", "--m", "1/3", "--rows", "12", "--f", "0.4", "--tuning", "scheme=b",
+           "--tuning", "certify=false", "--no-lowest"]
 
 
 @pytest.mark.parametrize(
@@ -88,7 +91,8 @@ CYCLING = ["--t", "0.5", "--m", "1/3", "--rows", "12", "--f", "0.4", "--scheme",
         ([*WALL, "--friction", "associative", "--time-limit", "1e-9"], "time_limit"),
         ([*WALL, "--friction", "associative", "--solver", "clarabel", "--time-limit", "1e-9"], "time_limit"),
         ([*WALL, "--friction", "nonassociative", "--time-limit", "1e-9"], "time_limit"),
-        ([*WALL, "--friction", "nonassociative", "--max-iterations", "2", "--no-lowest"], "max_iterations"),
+        ([*WALL, "--friction", "nonassociative", "--max-iterations", "2", "--tuning", "selection=vertex",
+          "--no-lowest"], "max_iterations"),
         ([*CYCLING, "--friction", "nonassociative"], "cycling"),
     ],
     ids=["assoc-time-limit", "assoc-clarabel-time-limit", "nonassoc-time-limit", "nonassoc-max-iterations",

@@ -119,7 +119,7 @@ def test_fuzz_macro_wall(kw: dict[str, object]) -> None:
     friction=mostly(st.floats(0.2, 1.0), st.sampled_from(EDGES)),
     rows=st.lists(st.integers(1, 4), min_size=1, max_size=3),
     overload=mostly(st.floats(0.0, 10.0), st.sampled_from(EDGES)),
-    solver=st.sampled_from(["highs", "clarabel", "highs-simplex"]),
+    solver=st.sampled_from(["highs-ipm", "clarabel", "highs-simplex"]),
 )
 def test_fuzz_micro_wall_and_lp(
     blocks: int, block_length: float, block_height: float, unit_weight: float, friction: float, rows: list[int],

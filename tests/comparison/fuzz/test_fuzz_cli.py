@@ -73,7 +73,7 @@ def micro_argv(draw: st.DrawFn) -> list[str]:
     argv += ["--f", draw(st.one_of(st.sampled_from(["0.6", "0.75", "0.4"]), number_text))]
     if draw(st.booleans()):
         argv += ["--p", draw(st.one_of(st.sampled_from(["0", "1", "4"]), number_text))]
-    argv += ["--solver", draw(st.sampled_from(["highs", "clarabel", "highs-simplex", "cvxpy", "gurobi"]))]
+    argv += ["--solver", draw(st.sampled_from(["highs-ipm", "clarabel", "highs-simplex", "cvxpy", "gurobi"]))]
     if draw(st.booleans()):
         argv += ["--first-course", draw(st.sampled_from(["full", "half", "middle"]))]
     if draw(st.booleans()):

@@ -60,3 +60,13 @@ def test_results_refuse_a_pair_outside_the_plan() -> None:
     res = Results(plan, {}, {}, {}, 0.0)
     with pytest.raises(KeyError):
         res.record(case("Ref").spec(), MICRO_ASSOC)
+
+
+def test_the_reports_associative_method_is_the_library_default() -> None:
+    """The report's associative records are what ``micro.solve_associative(wall)`` runs."""
+    import micro
+    from comparison.report.plan import micro_methods
+
+    assert MICRO_ASSOC.solver == micro.DEFAULT_SOLVER
+    assert micro_methods()[0] == MICRO_ASSOC
+    assert build_plan(quick=False).methods[0] == MICRO_ASSOC

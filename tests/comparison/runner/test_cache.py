@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 from comparison.runner import MICRO_ASSOC, ResultCache, Runner, prefetch
-from comparison.runner.executor import Outcome, Task
+from comparison.runner.executor import Task, TaskOutcome
 from comparison.wall import WallSpec
 
 SPEC = WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75, name="six rows")
@@ -67,7 +67,7 @@ WRITER_SCRIPT = """
 import sys, warnings
 warnings.simplefilter("error")
 from comparison.runner import MICRO_ASSOC, ResultCache, Runner, prefetch
-from comparison.runner.executor import Outcome, Task
+from comparison.runner.executor import TaskOutcome, Task
 from comparison.wall import WallSpec
 
 specs = [WallSpec.from_paper(t=1, m=1 / 3, rows=r, f=0.75) for r in (3, 6, 9)]
@@ -203,9 +203,9 @@ class _StoppedByTheClock:
     def __init__(self, stopped: object) -> None:
         self.stopped = stopped
 
-    def run(self, tasks: Sequence[Task]) -> Iterator[Outcome]:
+    def run(self, tasks: Sequence[Task]) -> Iterator[TaskOutcome]:
         for task in tasks:
-            yield Outcome(task, "done", self.stopped)
+            yield TaskOutcome(task, "done", self.stopped)
 
 
 def test_a_result_stopped_by_the_clock_is_used_by_its_run_but_not_stored(tmp_path: Path) -> None:

@@ -63,14 +63,37 @@ def test_cached_records_are_typed_and_equal_to_the_computed_ones(tmp_path: Path)
     assert macro_rec.alpha_c_star_deg < macro_rec.alpha_c_deg  # the stepped crack is steeper
 
 
-def test_a_scheme_b_method_built_in_code_runs_its_own_selection(tmp_path: Path) -> None:
-    """``replace(MICRO_NONASSOC, scheme="b")`` runs scheme (b) with the vertex selection (the report's
+def test_a_scheme_b_method_runs_its_own_selection(tmp_path: Path) -> None:
+    """A method with the tuning ``scheme="b"`` runs scheme (b) with the vertex selection (the report's
     ``vertex+proximal`` is scheme (a)'s) instead of failing on the pair."""
     spec = WallSpec.from_paper(t=1, m=1, rows=6, f=0.75, name="small")
-    rec = Runner(tmp_path).run(spec, replace(MICRO_NONASSOC, scheme="b"))
+    method = replace(MICRO_NONASSOC, tuning=(("scheme", "b"),))
+    rec = Runner(tmp_path).run(spec, method)
     assert rec.nonassoc is not None and rec.nonassoc.scheme == "b", rec.message
     assert rec.nonassoc.selection == "vertex" and rec.nonassoc.vertex_stop_reason == ""
     assert Record.from_dict(rec.to_dict()).method == rec.method
+
+
+def test_the_reports_method_is_the_librarys_default() -> None:
+    """The runner's non-associative record of a wall is ``micro.solve_nonassociative(wall)``'s, apart
+    from the seconds: the report runs the library's defaults, and its method carries no recipe knob."""
+    import dataclasses
+
+    import micro
+    from comparison.runner import compute
+
+    assert MICRO_NONASSOC.tuning == () and {f.name for f in dataclasses.fields(MICRO_NONASSOC)} == {
+        "kind", "solver", "first_course", "head_joints", "tuning"}
+    spec = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75, name="Set 12")
+    ran = compute(spec, MICRO_NONASSOC)[0].nonassoc
+    lib = micro.solve_nonassociative(spec.to_micro()).to_record()
+    assert ran is not None
+
+    def timeless(rec: NonAssociativeRecord) -> dict[str, object]:
+        return {k: v for k, v in rec.to_dict().items() if "seconds" not in k}
+
+    assert timeless(ran) == timeless(lib)
+    assert lib.selection == "vertex" and lib.lowest_status == "found" and lib.lowest_stop == "finished"
 
 
 def test_cache_entries_are_json_of_the_typed_record(tmp_path: Path) -> None:

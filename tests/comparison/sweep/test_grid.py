@@ -73,19 +73,20 @@ def test_the_example_grids_parse() -> None:
 
 
 def test_the_nonassociative_selection_of_a_sweep() -> None:
-    """A sweep's iterated LP runs the report's selection (vertex, then proximal where it cycles) unless the
-    grid names one; scheme b, which the lazy and proximal selections do not serve, runs vertex, also when
-    the method is built in code from the scheme (a) one."""
-    assert MICRO_NONASSOC.nonassoc_selection == "vertex+proximal"
+    """A sweep's iterated LP runs the library's method unless the grid names a scheme or a selection,
+    which become the method's tuning (only where they differ from the library's)."""
+    assert MICRO_NONASSOC.tuning == () and MICRO_NONASSOC.nonassoc_tuning().resolved_selection == "vertex+proximal"
     g = parse_grid(GOOD.replace("max_blocks = 50", 'selection = "vertex"'))
-    assert g.methods[-1].method == replace(MICRO_NONASSOC, selection="vertex")
+    assert g.methods[-1].method == replace(MICRO_NONASSOC, tuning=(("selection", "vertex"),))
+    g = parse_grid(GOOD.replace("max_blocks = 50", 'selection = "vertex+proximal"'))
+    assert g.methods[-1].method == MICRO_NONASSOC  # the library's own: the report's cache entries
     g = parse_grid(GOOD.replace("max_blocks = 50", 'scheme = "b"'))
-    scheme_b = replace(MICRO_NONASSOC, scheme="b")
-    assert g.methods[-1].method == scheme_b and scheme_b.nonassoc_selection == "vertex"
-    assert "selection" not in MICRO_ASSOC.key() and MICRO_NONASSOC.key()["selection"] == "vertex+proximal"
-    assert scheme_b.key()["selection"] == "vertex" == replace(scheme_b, selection="vertex").key()["selection"]
+    scheme_b = replace(MICRO_NONASSOC, tuning=(("scheme", "b"),))
+    assert g.methods[-1].method == scheme_b and scheme_b.nonassoc_tuning().resolved_selection == "vertex"
+    assert "tuning" not in MICRO_ASSOC.key() and MICRO_NONASSOC.key()["tuning"] == []
     assert MICRO_NONASSOC.label == "micro-nonassoc (scheme a)" and scheme_b.label == "micro-nonassoc (scheme b)"
-    assert replace(MICRO_NONASSOC, selection="lazy").label == "micro-nonassoc (scheme a, lazy selection)"
+    lazy = replace(MICRO_NONASSOC, tuning=(("selection", "lazy"),))
+    assert lazy.label == "micro-nonassoc (scheme a, lazy selection)"
 
 
 def test_a_range_by_count() -> None:

@@ -12,7 +12,7 @@ from micro_walls import TABLE7, table7_wall, three_storey_wall
 import micro
 from micro.backends import Status, make_backend
 
-BACKENDS = ["highs", "highs-simplex", "clarabel", "clarabel-static", "normal-ipm", "cvxpy", "cvxpy-highs"]
+BACKENDS = ["highs-ipm", "highs-simplex", "clarabel", "clarabel-static", "normal-ipm", "cvxpy", "cvxpy-highs"]
 REL = 1e-6
 
 
@@ -83,7 +83,7 @@ def test_time_limit_is_a_status_not_a_number() -> None:
         assert math.isnan(r.load_factor)
 
 
-@pytest.mark.parametrize("solver", ["highs", "clarabel", "clarabel-static", "normal-ipm", "cvxpy"])
+@pytest.mark.parametrize("solver", ["highs-ipm", "clarabel", "clarabel-static", "normal-ipm", "cvxpy"])
 def test_outcome_is_one_type_for_success_and_failure(solver: str) -> None:
     w = table7_wall("set12")
     lp = micro.assemble(w)

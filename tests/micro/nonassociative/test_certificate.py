@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import solve_nonassociative
+from micro.nonassociative import Tuning, solve_nonassociative
 from micro.nonassociative.certificate import Certificate
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
@@ -27,7 +29,7 @@ def test_scheme_b_certified_states_are_collapse_states(relaxation: float) -> Non
     from micro.nonassociative import verify_collapse_state
 
     w = wall(0.5, 1 / 3, rows=6, f=0.6)
-    r = solve_nonassociative(w, scheme="b", relaxation=relaxation)
+    r = solve_nonassociative(w, tuning=Tuning(scheme="b", relaxation=relaxation))
     lp = micro.assemble(w)
     for d in r.directions:
         if d.converged and d.sequence.stop_reason == "certified":
@@ -39,7 +41,7 @@ def test_scheme_b_certified_states_are_collapse_states(relaxation: float) -> Non
     a = solve_nonassociative(w)
     vel = np.asarray(a.governing.mechanism.velocities).ravel()
     for scheme in ("a", "b"):
-        cert = Certificate(lp, 1, a.options.with_overrides(scheme=scheme))
+        cert = Certificate(lp, 1, dataclasses.replace(a.recipe, scheme=scheme))
         assert cert.pattern(vel) is not None
         assert cert.pattern(-vel) is None
 
@@ -58,7 +60,7 @@ def test_certified_stop() -> None:
     assert lo <= r.load_factor <= hi
     assert hi <= r.associative_load_factor * (1 + 1e-7)
     # without the certificate the same sequence does not converge
-    assert not solve_nonassociative(w, certify=False).converged
+    assert not solve_nonassociative(w, tuning=Tuning(certify=False)).converged
 
 
 def test_certificate_rejects_wrong_load_factor() -> None:
@@ -66,7 +68,7 @@ def test_certificate_rejects_wrong_load_factor() -> None:
     w = wall(1.0, 1.0)
     r = solve_nonassociative(w)
     lp = micro.assemble(w)
-    cert = Certificate(lp, 1, r.options)
+    cert = Certificate(lp, 1, r.recipe)
     v = np.asarray(r.governing.mechanism.velocities).ravel()
     lo, hi = r.mechanism_band
     assert cert.certify(v, lo * 0.98, time_limit=60.0).forces is None
@@ -83,8 +85,8 @@ def test_certificate_agrees_between_interior_point_solvers() -> None:
     the interior points' accuracy (the ends are load factors of feasible
     states, so a band can only come out narrower)."""
     w = wall(1.0, 1 / 3)
-    a = solve_nonassociative(w, state_solver="clarabel")
-    b = solve_nonassociative(w, state_solver="highs")
+    a = solve_nonassociative(w, tuning=Tuning(state_solver="clarabel"))
+    b = solve_nonassociative(w, tuning=Tuning(state_solver="highs"))
     assert a.converged and b.converged
     assert a.load_factor == b.load_factor  # same warm-started LPs, same stop
     assert a.mechanism_band == pytest.approx(b.mechanism_band, rel=1e-4)
@@ -98,7 +100,7 @@ def test_certificate_only_ends_the_sequence_earlier() -> None:
     for t, m, _ in TABLE7:
         w = wall(t, m)
         cert = solve_nonassociative(w)
-        plain = solve_nonassociative(w, certify=False)
+        plain = solve_nonassociative(w, tuning=Tuning(certify=False, selection="vertex"))
         assert cert.converged
         assert plain.iterations >= cert.iterations
         k = cert.iterations

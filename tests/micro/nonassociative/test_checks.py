@@ -6,7 +6,7 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import CYCLING, solve_nonassociative
+from micro.nonassociative import CYCLING, Tuning, solve_nonassociative
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
 #: 12 rows, f = 0.75: (t, m, lambda).
@@ -26,7 +26,7 @@ def test_converged_states_are_collapse_states(kw: dict, relaxation: float) -> No
     from micro.nonassociative import verify_collapse_state
 
     w = wall(**kw)
-    r = solve_nonassociative(w, relaxation=relaxation)
+    r = solve_nonassociative(w, tuning=Tuning(relaxation=relaxation))
     assert r.converged, r.message
     lp = micro.assemble(w)
     for d in r.directions:
@@ -46,7 +46,7 @@ def test_not_converged_state_violates_yield() -> None:
     from micro.nonassociative import verify_collapse_state
 
     w = wall(1.0, 1.0)
-    r = solve_nonassociative(w, relaxation=1.0, certify=False)
+    r = solve_nonassociative(w, tuning=Tuning(relaxation=1.0, certify=False, selection="vertex"))
     assert r.status == CYCLING
     v = verify_collapse_state(micro.assemble(w), r.governing)
     assert v["slip_off_yield"] > 1e-3 or v["coulomb"] > 1e-3
@@ -102,8 +102,9 @@ def test_cold_resolve_only_after_an_exact_stop(monkeypatch: pytest.MonkeyPatch) 
     w = wall(1.0, 1 / 3)  # Table 7's Set 12
     certified = solve_nonassociative(w, lowest=False)
     assert certified.stop_reason == "certified" and not calls and math.isnan(certified.warm_cold_rel_diff)
-    cycling = solve_nonassociative(wall(1.0, 1.0), relaxation=1.0, certify=False, lowest=False)
+    cycling = solve_nonassociative(wall(1.0, 1.0), lowest=False,
+                                   tuning=Tuning(relaxation=1.0, certify=False, selection="vertex"))
     assert cycling.status == CYCLING and not calls
-    exact = solve_nonassociative(w, certify=False, lowest=False)
+    exact = solve_nonassociative(w, lowest=False, tuning=Tuning(certify=False, selection="vertex"))
     assert exact.stop_reason in COLD_CHECKED_STOPS and len(calls) == 1
     assert exact.warm_cold_rel_diff == calls[0] <= 1e-6

@@ -8,8 +8,8 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import NonAssociativeOptions, solve_nonassociative, verify_collapse_state
-from micro.nonassociative.options import CONT_FACTOR, CONT_GAMMA0, CONT_GAMMA_MIN, EQUILIBRIUM_RESIDUAL
+from micro.nonassociative import Tuning, solve_nonassociative, verify_collapse_state
+from micro.nonassociative.tuning import CONT_FACTOR, CONT_GAMMA0, CONT_GAMMA_MIN, EQUILIBRIUM_RESIDUAL
 
 EXACT = ("coulomb", "interpenetration", "dilatancy", "slip_off_yield")
 
@@ -26,7 +26,7 @@ def test_continuation_ends_in_exact_states(fuse: bool) -> None:
     by :data:`CONT_FACTOR` from :data:`CONT_GAMMA0`, then 0 from the first
     LP where it would reach :data:`CONT_GAMMA_MIN`."""
     w = wall()
-    r = solve_nonassociative(w, continuation=True, lowest=False, fuse=fuse)
+    r = solve_nonassociative(w, tuning=Tuning(continuation=True, fuse=fuse), lowest=False)
     assert r.converged, r.message
     lp = micro.assemble(w)
     n_cont = 1 + math.floor(math.log(CONT_GAMMA_MIN / CONT_GAMMA0) / math.log(CONT_FACTOR))
@@ -51,8 +51,8 @@ def test_continuation_ends_in_exact_states(fuse: bool) -> None:
 @pytest.mark.parametrize("kw", [{"scheme": "b"}, {"selection": "proximal"}, {"selection": "lazy"}])
 def test_continuation_needs_a_vertex_sequence_of_scheme_a(kw: dict[str, str]) -> None:
     with pytest.raises(ValueError, match="continuation needs scheme 'a'"):
-        NonAssociativeOptions(continuation=True, **kw)  # type: ignore[arg-type]
+        Tuning(continuation=True, **kw)  # type: ignore[arg-type]
 
 
 def test_continuation_is_a_flag() -> None:
-    assert NonAssociativeOptions(continuation=1, selection="vertex+proximal").continuation is True  # type: ignore[arg-type]
+    assert Tuning(continuation=1, selection="vertex+proximal").continuation is True  # type: ignore[arg-type]

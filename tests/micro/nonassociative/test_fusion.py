@@ -11,7 +11,14 @@ import pytest
 import micro
 from comparison.wall import WallSpec
 from micro.backends.clarabel import ClarabelBackend
-from micro.nonassociative import NonAssociativeOptions, fusion, solve_nonassociative, verify_collapse_state
+from micro.nonassociative import (
+    NonAssociativeOptions,
+    Tuning,
+    fusion,
+    pipeline,
+    solve_nonassociative,
+    verify_collapse_state,
+)
 from micro.nonassociative.certificate import Certificate, CertificateResult
 from micro.nonassociative.fusion import fuse, rigid_bodies
 
@@ -81,7 +88,7 @@ def test_fused_sequences_end_in_exact_states_of_the_wall(t: float, m: float) -> 
     wall's mechanism band and below the associative load; the record says
     it was fused."""
     w = wall(t, m)
-    r = solve_nonassociative(w, selection="vertex+proximal", lowest=False, fuse=True)
+    r = solve_nonassociative(w, tuning=Tuning(selection="vertex+proximal", fuse=True), lowest=False)
     assert r.converged, r.message
     lp = micro.assemble(w)
     for d in r.directions:
@@ -107,7 +114,7 @@ def test_a_state_the_wall_rejects_is_a_failure(monkeypatch: pytest.MonkeyPatch) 
             return CertificateResult(None, None, 0.0, 0)
 
     monkeypatch.setattr(fusion, "Certificate", Rejecting)  # the wall's certificate only
-    r = solve_nonassociative(wall(), lowest=False, fuse=True, directions="+x")
+    r = solve_nonassociative(wall(), tuning=Tuning(fuse=True), lowest=False, directions="+x")
     d = r.directions[0]
     assert not r.converged and math.isnan(r.load_factor) and d.normal is None
     assert d.status == "solver_failure" and d.sequence.stop_reason == "fused_state_rejected"
@@ -116,14 +123,14 @@ def test_a_state_the_wall_rejects_is_a_failure(monkeypatch: pytest.MonkeyPatch) 
 
 
 def test_fuse_option_is_a_flag() -> None:
-    assert NonAssociativeOptions(fuse=1).fuse is True  # type: ignore[arg-type]
-    assert dataclasses.replace(NonAssociativeOptions(), fuse=True).fuse
+    assert Tuning(fuse=1).fuse is True  # type: ignore[arg-type]
+    assert dataclasses.replace(Tuning(), fuse=True).fuse
 
 
 def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int) -> list[tuple[int, bool]]:
     """Cap the wall's own sequences (not the continuation) at ``cap`` LPs
     each, so that they end ``max_iterations``; returns the calls made."""
-    real = fusion.solve_direction
+    real = pipeline.solve_direction
     calls: list[tuple[int, bool]] = []
 
     def capped(lp: micro.LimitLP, d: int, o: NonAssociativeOptions, start: np.ndarray | None = None
@@ -133,7 +140,7 @@ def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int) -> list[tu
             o = dataclasses.replace(o, max_iterations=cap, retry_iterations=cap)
         return real(lp, d, o, start=start)
 
-    monkeypatch.setattr(fusion, "solve_direction", capped)
+    monkeypatch.setattr(pipeline, "solve_direction", capped)
     return calls
 
 
@@ -144,7 +151,7 @@ def test_fused_retry_certifies_where_the_walls_sequences_end_at_their_caps(monke
     wall's sequences are kept in ``unfused_attempt`` and every LP counts."""
     calls = _capped_wall_sequences(monkeypatch, 2)
     w = wall(0.5)
-    r = solve_nonassociative(w, selection="vertex+proximal", lowest=False, directions="+x")
+    r = solve_nonassociative(w, tuning=Tuning(selection="vertex+proximal"), lowest=False, directions="+x")
     lp = micro.assemble(w)
     d = r.directions[0]
     q = d.sequence
@@ -168,7 +175,7 @@ def test_no_fused_retry_when_off_or_with_one_sequence(monkeypatch: pytest.Monkey
     calls = _capped_wall_sequences(monkeypatch, 2)
     for opts in ({"selection": "vertex+proximal", "fused_retry": False}, {"selection": "vertex"}):
         calls.clear()
-        r = solve_nonassociative(wall(0.5), lowest=False, directions="+x", **opts)  # type: ignore[arg-type]
+        r = solve_nonassociative(wall(0.5), tuning=Tuning(**opts), lowest=False, directions="+x")  # type: ignore[arg-type]
         assert r.status == "max_iterations" and math.isnan(r.load_factor) and len(calls) == 1
         assert r.directions[0].sequence.unfused_attempt is None and r.to_record().unfused_stop_reason == ""
 
@@ -177,14 +184,14 @@ def test_a_failed_fused_retry_leaves_the_walls_result(monkeypatch: pytest.Monkey
     """A fused retry that fails too (its continuation capped at 2 LPs here)
     leaves the wall's status and band, with both runs' LPs and a message
     naming both."""
-    real = fusion.solve_direction
+    real = pipeline.solve_direction
 
     def capped(lp: micro.LimitLP, d: int, o: NonAssociativeOptions, start: np.ndarray | None = None
                ) -> micro.DirectionResult:
         return real(lp, d, dataclasses.replace(o, max_iterations=2, retry_iterations=2), start=start)
 
-    monkeypatch.setattr(fusion, "solve_direction", capped)
-    r = solve_nonassociative(wall(0.5), selection="vertex+proximal", lowest=False, directions="+x")
+    monkeypatch.setattr(pipeline, "solve_direction", capped)
+    r = solve_nonassociative(wall(0.5), tuning=Tuning(selection="vertex+proximal"), lowest=False, directions="+x")
     d = r.directions[0]
     assert d.status == "max_iterations" and d.sequence.lambda_band is not None
     assert "the fused wall with the continuation:" in d.message

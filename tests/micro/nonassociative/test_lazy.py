@@ -7,10 +7,16 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import NonAssociativeOptions, solve_nonassociative, verify_collapse_state
-from micro.nonassociative.iteration import Sequence
+from micro.nonassociative import (
+    NonAssociativeOptions,
+    Tuning,
+    recipe_for,
+    solve_nonassociative,
+    verify_collapse_state,
+)
+from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.options import LAZY_WEIGHT
+from micro.nonassociative.tuning import LAZY_WEIGHT
 
 
 def wall(t: float, m: float, rows: int = 12, f: float = 0.75) -> micro.BlockWall:
@@ -22,7 +28,7 @@ def test_lazy_sequences_end_in_exact_states(t: float, m: float) -> None:
     """A lazy sequence ends certified, in a state that passes every collapse
     condition, inside its mechanism band and below the associative load."""
     w = wall(t, m)
-    r = solve_nonassociative(w, selection="lazy", lowest=False)
+    r = solve_nonassociative(w, tuning=Tuning(selection="lazy"), lowest=False)
     assert r.converged, r.message
     lp = micro.assemble(w)
     for d in r.directions:
@@ -35,10 +41,11 @@ def test_lazy_sequences_end_in_exact_states(t: float, m: float) -> None:
         assert d.load_factor <= d.sequence.associative_load_factor + 1e-9
 
 
-def test_vertex_selection_is_unchanged_by_default() -> None:
-    """The default is Gilbert et al.'s vertex iteration (Set 12's pinned value)."""
-    assert NonAssociativeOptions().selection == "vertex"
+def test_vertex_sequence_first_by_default() -> None:
+    """The default runs Gilbert et al.'s vertex iteration first, which converges on Set 12 (its pinned value)."""
+    assert Tuning().resolved_selection == "vertex+proximal"
     r = solve_nonassociative(wall(1.0, 1 / 3), lowest=False)
+    assert r.sequence.selection == "vertex" and r.sequence.vertex_attempt is None
     assert r.load_factor == pytest.approx(0.708622, abs=2e-6)
 
 
@@ -85,9 +92,9 @@ def test_lazy_lp_trades_lambda_for_closeness() -> None:
 
 def test_lazy_needs_scheme_a() -> None:
     with pytest.raises(ValueError, match="selection 'lazy' needs scheme 'a'"):
-        NonAssociativeOptions(scheme="b", selection="lazy")
+        Tuning(scheme="b", selection="lazy")
     with pytest.raises(ValueError, match="selection must be one of vertex, lazy"):
-        NonAssociativeOptions(selection="closest")  # type: ignore[arg-type]
+        Tuning(selection="closest")  # type: ignore[arg-type]
 
 
 def test_vertex_then_lazy_retries_a_failed_direction() -> None:
@@ -97,15 +104,17 @@ def test_vertex_then_lazy_retries_a_failed_direction() -> None:
     and the LPs of both."""
     w = wall(1.0, 1 / 3)
     lp = micro.assemble(w)
-    r = solve_nonassociative(w, selection="vertex+lazy", max_iterations=4, lowest=False)
-    vertex = solve_nonassociative(w, max_iterations=4, lowest=False)
+    r = solve_nonassociative(w, tuning=Tuning(selection="vertex+lazy", retry_iterations=4), max_iterations=4,
+                             lowest=False)
+    vertex = solve_nonassociative(w, tuning=Tuning(selection="vertex"), max_iterations=4, lowest=False)
     assert vertex.status == "max_iterations" and vertex.governing.normal is not None
-    lazy_options = NonAssociativeOptions(selection="lazy", max_iterations=4, lowest=False)
-    lazy = Sequence(lp, 1, lazy_options, start=vertex.governing.normal / lp.force_scale).run()
+    lazy_options = recipe_for(w.n_blocks, NonAssociativeOptions(max_iterations=4, lowest=False),
+                              Tuning(selection="lazy"))
+    lazy = LPSequence(lp, 1, lazy_options, start=vertex.governing.normal / lp.force_scale).run()
     assert lazy.converged
     assert r.converged and r.load_factor == pytest.approx(lazy.load_factor, rel=1e-12)
     # not the lazy sequence from the associative forces (0.7117, measured), nearer the vertex one (0.7086)
-    assert solve_nonassociative(w, selection="lazy", lowest=False).load_factor > r.load_factor + 1e-3
+    assert solve_nonassociative(w, tuning=Tuning(selection="lazy"), lowest=False).load_factor > r.load_factor + 1e-3
     q = r.sequence
     assert q.selection == "lazy" and q.vertex_attempt is not None
     assert q.vertex_attempt.stop_reason == "max_iterations" and q.vertex_attempt.selection == "vertex"
@@ -122,7 +131,7 @@ def test_vertex_then_lazy_retries_a_failed_direction() -> None:
 def test_vertex_then_lazy_keeps_a_converged_vertex_sequence() -> None:
     """Where the vertex sequence converges, ``vertex+lazy`` is the vertex result (no lazy run)."""
     w = wall(1.0, 1 / 3)
-    r = solve_nonassociative(w, selection="vertex+lazy", lowest=False)
+    r = solve_nonassociative(w, tuning=Tuning(selection="vertex+lazy"), lowest=False)
     assert r.converged and r.load_factor == pytest.approx(0.708622, abs=1e-6)
     assert r.sequence.selection == "vertex" and r.sequence.vertex_attempt is None
     rec = r.to_record()
@@ -131,4 +140,4 @@ def test_vertex_then_lazy_keeps_a_converged_vertex_sequence() -> None:
 
 def test_vertex_then_lazy_needs_scheme_a() -> None:
     with pytest.raises(ValueError, match="selection 'vertex\\+lazy' needs scheme 'a'"):
-        NonAssociativeOptions(scheme="b", selection="vertex+lazy")
+        Tuning(scheme="b", selection="vertex+lazy")

@@ -9,7 +9,7 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import solve_nonassociative, verify_collapse_state
+from micro.nonassociative import Tuning, solve_nonassociative, verify_collapse_state
 from micro.nonassociative.lowest import EXACT_TOL, LOWEST_TOL, Descent, lowest_state
 from micro.nonassociative.model import IterationModel, restart
 from micro.nonassociative.states import ForceLP, refine, restricted_columns
@@ -53,6 +53,30 @@ def test_table7_lowest_states(name: str) -> None:
     check_states(w, r)
     assert r.lowest_load_factor <= r.mechanism_band[0] * (1 + 1e-9)
     assert r.lowest_load_factor == pytest.approx(lam, rel=1e-6)
+    # the default budget lets the descent finish here (the pinned values are unbounded descents)
+    low = r.lowest[0]
+    assert low.stop == "finished" and r.to_record().lowest_stop == "finished" and low.lps < low.budget
+
+
+def test_a_descent_that_spends_its_budget_keeps_its_best_state(monkeypatch: pytest.MonkeyPatch) -> None:
+    """With a budget of a few LPs the descent stops there (the same LPs on
+    every machine: it counts LPs, not seconds), says so, and returns the
+    lowest certified state it found so far: exact, at most the iterated LP's,
+    at least the unbounded descent's."""
+    from micro.nonassociative import lowest
+
+    (t, m), lam = TABLE7["set13"]
+    w = wall(t, m)
+    monkeypatch.setattr(lowest, "LOWEST_ROW_LPS", 0)
+    runs = [solve_nonassociative(w, lowest_budget=50) for _ in range(2)]
+    r = runs[0]
+    low = r.lowest[0]
+    assert low.stop == "budget" and r.to_record().lowest_stop == "budget"
+    assert low.budget == math.ceil(50 * r.directions[0].iterations / (3 * w.n_blocks)) < 37
+    assert low.lps <= low.budget + 1  # + the band
+    check_states(w, r)
+    assert lam * (1 - 1e-9) <= r.lowest_load_factor <= r.load_factor
+    assert [x.lowest[0].path for x in runs] == [low.path, low.path] and runs[1].lowest[0].lps == low.lps
 
 
 @pytest.mark.parametrize("kw", [dict(t=2.0, m=1 / 2, rows=6, f=0.6), dict(t=0.75, m=1 / 2, rows=6),
@@ -88,7 +112,7 @@ def test_polish_never_goes_up_and_keeps_exact_states() -> None:
     w = wall(1.0, 1 / 3, first_course="half")
     lp = micro.assemble(w)
     r = solve_nonassociative(w, lowest=False)
-    desc = Descent(lp, 1, r.options)
+    desc = Descent(lp, 1, r.recipe)
     state = desc.polish(r.governing.mechanism.velocities.ravel(), "lower end")
     assert state is not None and desc.exact(state)
     assert state.load_factor <= r.mechanism_band[0] * (1 + LOWEST_TOL)
@@ -150,10 +174,10 @@ def test_lowest_off_and_records() -> None:
 
 def test_lowest_state_needs_a_final_state() -> None:
     w = wall(1.0, 1.0)
-    r = solve_nonassociative(w, relaxation=1.0, certify=False, lowest=False)
+    r = solve_nonassociative(w, tuning=Tuning(relaxation=1.0, certify=False), lowest=False)
     assert not r.converged
     with pytest.raises(ValueError, match="has no final state"):
-        lowest_state(micro.assemble(w), micro.DirectionResult("+x", "cycling", math.nan, 0, 0.0), r.options)
+        lowest_state(micro.assemble(w), micro.DirectionResult("+x", "cycling", math.nan, 0, 0.0), r.recipe)
 
 
 @pytest.mark.parametrize("bad", [0, -1.0, math.inf, "10", True])
@@ -165,8 +189,9 @@ def test_global_time_limit_is_checked(bad: object) -> None:
 @pytest.mark.parametrize("name, bad, message", [
     ("global_node_limit", 0, "global_node_limit must be"),
     ("global_node_limit", 1.5, "global_node_limit must be"),
-    ("global_bounds", "tight", "global_bounds must be one of per_point, uniform"),
 ])
 def test_global_search_options_are_checked(name: str, bad: object, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         micro.NonAssociativeOptions(**{name: bad})
+    with pytest.raises(ValueError, match="global_bounds must be one of per_point, uniform"):
+        micro.Tuning(global_bounds="tight")  # type: ignore[arg-type]

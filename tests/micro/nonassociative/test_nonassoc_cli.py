@@ -15,7 +15,7 @@ TABLE7 = [(0.5, 1 / 3, 0.69), (1.0, 1 / 3, 0.68), (1.0, 1 / 2, 0.49), (1.0, 1.0,
 
 def test_cli_json(capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75",
-                 "--friction", "nonassociative", "--scheme", "a", "--json"])
+                 "--friction", "nonassociative", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert code == 0
     for key in ("iterations", "converged", "status", "history", "load_factor", "lambda_band"):
@@ -37,28 +37,64 @@ def test_cli_plot(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:  # type
 
 def test_cli_cycling_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["micro", "--t", "1", "--m", "1", "--rows", "12", "--f", "0.75",
-                 "--friction", "nonassociative", "--relaxation", "1", "--no-certify", "--json"])
+                 "--friction", "nonassociative", "--tuning", "relaxation=1", "--tuning", "certify=false",
+                 "--tuning", "selection=vertex", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert code == 1
     assert out["converged"] is False and out["status"] == "cycling" and out["load_factor"] is None
 
 
-@pytest.mark.parametrize("extra", [["--scheme", "c"], ["--relaxation", "0"], ["--max-iterations", "x"],
-                                   ["--solver", "clarabel"], ["--global", "--node-limit", "0"],
-                                   ["--selection", "closest"], ["--selection", "lazy", "--scheme", "b"],
-                                   ["--selection", "vertex+lazy", "--scheme", "b"],
-                                   ["--continuation", "--scheme", "b"], ["--continuation", "--selection", "proximal"]])
-def test_cli_bad_options(extra: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+@pytest.mark.parametrize(("extra", "word"), [
+    (["--tuning", "scheme=c"], "--tuning scheme"), (["--tuning", "relaxation=0"], "--tuning relaxation"),
+    (["--tuning", "relaxation=x"], "--tuning relaxation"), (["--max-iterations", "x"], "--max-iterations"),
+    (["--solver", "clarabel"], "--solver"), (["--global", "--node-limit", "0"], "--node-limit"),
+    (["--tuning", "selection=closest"], "--tuning selection"),
+    (["--tuning", "selection=lazy", "--tuning", "scheme=b"], "--tuning selection"),
+    (["--tuning", "selection=vertex+lazy", "--tuning", "scheme=b"], "--tuning selection"),
+    (["--tuning", "continuation=true", "--tuning", "scheme=b"], "--tuning continuation"),
+    (["--tuning", "continuation=true", "--tuning", "selection=proximal"], "--tuning continuation"),
+    (["--tuning", "certify=maybe"], "--tuning certify"), (["--tuning", "certify"], "--tuning"),
+    (["--tuning", "colour=red"], "--tuning colour: unknown knob; the knobs are scheme, selection"),
+])
+def test_cli_bad_options(extra: list[str], word: str, capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "6", "--f", "0.75",
                  "--friction", "nonassociative", *extra])
     assert code == 2
-    assert "xcheck: error:" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert err.startswith(f"xcheck: error: {word}") and err.count("\n") == 1, err
+
+
+def test_cli_help_shows_the_everyday_options_only(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["micro", "--help"]) == 0
+    out = capsys.readouterr().out
+    options = [line for line in out.splitlines() if line.lstrip().startswith("-")]
+    assert len(options) <= 22, options
+    for knob in ("--scheme", "--selection", "--relaxation", "--no-certify", "--fuse", "--continuation"):
+        assert knob not in out
+    assert "--tuning KEY=VALUE" in out
+
+
+def test_cli_verbose_streams_one_line_per_lp(capsys: pytest.CaptureFixture[str]) -> None:
+    """``-v`` writes one line per LP on stderr as it happens (here not a terminal), the iterated
+    LP's and the descent's, each with the direction, the LP, lambda, the step, the algorithm, seconds."""
+    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
+                 "-v", "--json"])
+    captured = capsys.readouterr()
+    rec = json.loads(captured.out)
+    lines = captured.err.splitlines()
+    assert code == 0
+    iterated = [line for line in lines if " vertex LP " in line]
+    lowest = [line for line in lines if " lowest LP " in line]
+    assert len(iterated) == len(rec["history"]) and len(lowest) == rec["lowest_lps"]
+    assert iterated[0].startswith("  +x vertex LP 0: lambda 0.712047, step -, clarabel, ")
+    assert iterated[1].startswith("  +x vertex LP 1: lambda ") and "e-0" in iterated[1]
+    assert all(line.endswith(" s") for line in lines)
 
 
 def test_cli_lazy_selection(capsys: pytest.CaptureFixture[str]) -> None:
-    """``--selection lazy`` reaches the options and ends certified (Table 7, Set 12)."""
+    """``--tuning selection=lazy`` reaches the tuning and ends certified (Table 7, Set 12)."""
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
-                 "--selection", "lazy", "--no-lowest", "--json"])
+                 "--tuning", "selection=lazy", "--no-lowest", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert code == 0
     assert out["options"]["selection"] == "lazy" and out["stop_reason"] == "certified"
@@ -66,10 +102,11 @@ def test_cli_lazy_selection(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_cli_vertex_then_lazy(capsys: pytest.CaptureFixture[str]) -> None:
-    """``--selection vertex+lazy`` says that the lazy sequence ran and how the vertex one ended; the JSON
+    """``--tuning selection=vertex+lazy`` says that the lazy sequence ran and how the vertex one ended; the JSON
     record carries the same."""
     args = ["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
-            "--selection", "vertex+lazy", "--max-iterations", "4", "--no-lowest"]
+            "--tuning", "selection=vertex+lazy", "--tuning", "retry_iterations=4", "--max-iterations", "4",
+            "--no-lowest"]
     assert main(args) == 0
     out = capsys.readouterr().out
     assert "converged in 7 LPs (certified)" in out
@@ -93,20 +130,20 @@ def test_cli_global_node_limit(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_cli_fuse_and_continuation(capsys: pytest.CaptureFixture[str]) -> None:
-    """``--fuse --continuation`` runs both and says how the wall was fused."""
+    """``--tuning fuse=true --tuning continuation=true`` runs both and says how the wall was fused."""
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
-                 "--fuse", "--continuation", "--no-lowest", "--json"])
+                 "--tuning", "fuse=true", "--tuning", "continuation=true", "--no-lowest", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and out["converged"] is True
     assert out["fused_bodies"] > 0 and out["fused_points"] > 0 and len(out["history"]) > 32
 
 
 def test_cli_no_fused_retry(capsys: pytest.CaptureFixture[str]) -> None:
-    """``--no-fused-retry`` reaches the options (on by default); a run that
+    """``--tuning fused_retry=false`` reaches the tuning (on by default); a run that
     needs no retry has no unfused attempt to report."""
     args = ["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
-            "--selection", "vertex+proximal", "--no-lowest", "--json"]
-    for extra, on in (([], True), (["--no-fused-retry"], False)):
+            "--no-lowest", "--json"]
+    for extra, on in (([], True), (["--tuning", "fused_retry=false"], False)):
         assert main([*args, *extra]) == 0
         out = json.loads(capsys.readouterr().out)
         assert out["options"]["fused_retry"] is on and out["unfused_stop_reason"] == ""

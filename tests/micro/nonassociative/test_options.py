@@ -6,7 +6,7 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import solve_nonassociative
+from micro.nonassociative import Tuning, solve_nonassociative
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
 #: 12 rows, f = 0.75: (t, m, lambda).
@@ -20,44 +20,79 @@ def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, 
 @pytest.mark.parametrize(
     "kw, word",
     [
-        (dict(scheme="c"), "scheme"),
-        (dict(relaxation=0.0), "relaxation"),
-        (dict(relaxation=1.5), "relaxation"),
-        (dict(relaxation=True), "relaxation"),
         (dict(max_iterations=1), "max_iterations"),
-        (dict(window=2), "window"),
         (dict(directions="up"), "directions"),
-        (dict(start="warm"), "start"),
-        (dict(lambda_tol=0.0), "lambda_tol"),
-        (dict(alpha0=1e-4, alpha_min=1e-3), "alpha_min"),
-        (dict(alpha_factor=2.0), "alpha_factor"),
         (dict(time_limit=-1.0), "time_limit"),
-        (dict(settle_tol=1.0), "settle_tol"),
-        (dict(settle_window=1), "settle_window"),
-        (dict(state_solver="gurobi"), "state_solver"),
+        (dict(max_seconds=0), "max_seconds"),
+        (dict(lowest_budget=-1.0), "lowest_budget"),
+        (dict(lowest_budget=float("inf")), "lowest_budget"),
+        (dict(global_node_limit=0), "global_node_limit"),
     ],
 )
-def test_bad_inputs(kw: dict, word: str) -> None:
+def test_bad_options(kw: dict, word: str) -> None:
     with pytest.raises(ValueError, match=word):
         solve_nonassociative(wall(1.0, 1 / 3, rows=6), **kw)
 
 
-def test_options_are_frozen_defaults_and_overrides() -> None:
+@pytest.mark.parametrize(
+    "kw, word",
+    [
+        (dict(scheme="c"), "scheme"),
+        (dict(relaxation=0.0), "relaxation"),
+        (dict(relaxation=1.5), "relaxation"),
+        (dict(relaxation=True), "relaxation"),
+        (dict(window=2), "window"),
+        (dict(start="warm"), "start"),
+        (dict(lambda_tol=0.0), "lambda_tol"),
+        (dict(alpha0=1e-4, alpha_min=1e-3), "alpha_min"),
+        (dict(alpha_factor=2.0), "alpha_factor"),
+        (dict(settle_tol=1.0), "settle_tol"),
+        (dict(settle_window=1), "settle_window"),
+        (dict(state_solver="gurobi"), "state_solver"),
+        (dict(retry_iterations=1), "retry_iterations"),
+        (dict(global_bounds="tight"), "global_bounds"),
+    ],
+)
+def test_bad_tuning(kw: dict, word: str) -> None:
+    with pytest.raises(ValueError, match=word):
+        Tuning(**kw)
+
+
+def test_options_and_tuning_are_frozen_defaults_and_overrides() -> None:
     import dataclasses
 
     o = micro.NonAssociativeOptions()
-    assert o.scheme == "a" and o.beta == 0.6 and o.relaxation is None and o.max_iterations == 100
+    assert o.max_iterations == 100 and o.lowest and o.time_limit is None
     with pytest.raises(dataclasses.FrozenInstanceError):
-        o.scheme = "b"  # type: ignore[misc]
-    b = o.with_overrides(scheme="b", max_seconds=20)
-    assert b.scheme == "b" and b.max_seconds == 20.0 and isinstance(b.max_seconds, float) and o.scheme == "a"
+        o.max_iterations = 3  # type: ignore[misc]
+    b = o.with_overrides(max_seconds=20)
+    assert b.max_seconds == 20.0 and isinstance(b.max_seconds, float) and o.max_seconds is None
     with pytest.raises(TypeError, match="unknown option"):
-        o.with_overrides(shceme="b")
-    with pytest.raises(ValueError, match="relaxation"):
-        micro.NonAssociativeOptions(relaxation=2.0)
+        o.with_overrides(max_iteration=3)
+    # a research knob is no option: it says where it lives
+    with pytest.raises(TypeError, match="tuning="):
+        solve_nonassociative(wall(1.0, 1 / 3, rows=6), scheme="b")
+    t = Tuning()
+    assert t.scheme == "a" and t.beta == 0.6 and t.relaxation is None and t.resolved_selection == "vertex+proximal"
+    assert Tuning(scheme="b").resolved_selection == "vertex" and t.changed() == {}
+    assert Tuning(scheme="b", relaxation=0.5).changed() == {"scheme": "b", "relaxation": 0.5}
+    with pytest.raises(TypeError, match="unknown tuning knob"):
+        t.with_overrides(shceme="b")
     # the options object and keyword overrides give the same run
     w = wall(1.0, 1 / 3, rows=6)
-    r1 = solve_nonassociative(w, micro.NonAssociativeOptions(scheme="b"), max_iterations=10)
-    r2 = solve_nonassociative(w, scheme="b", max_iterations=10)
+    r1 = solve_nonassociative(w, micro.NonAssociativeOptions(max_iterations=10), Tuning(scheme="b"))
+    r2 = solve_nonassociative(w, tuning=Tuning(scheme="b"), max_iterations=10)
     assert [h.load_factor for h in r1.history] == [h.load_factor for h in r2.history]
-    assert r1.options == r2.options and r1.summary()["options"]["relaxation"] == 0.6
+    assert r1.recipe == r2.recipe and r1.summary()["options"]["relaxation"] == 0.6
+
+
+def test_the_recipe_is_resolved_for_the_walls_size() -> None:
+    """With no tuning, walls of more than FUSE_BLOCKS blocks run fused with the
+    continuation; smaller ones do not; an explicit knob wins."""
+    from micro.nonassociative import FUSE_BLOCKS, recipe_for
+
+    small, large = recipe_for(FUSE_BLOCKS), recipe_for(FUSE_BLOCKS + 1)
+    assert small.selection == large.selection == "vertex+proximal" and small.retry_iterations == 40
+    assert not small.fuse and not small.continuation and large.fuse and large.continuation
+    assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(fuse=False, continuation=False)).fuse
+    assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(selection="lazy")).fuse  # no vertex sequence

@@ -9,12 +9,18 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import NonAssociativeOptions, solve_nonassociative, verify_collapse_state
+from micro.nonassociative import (
+    NonAssociativeOptions,
+    Tuning,
+    recipe_for,
+    solve_nonassociative,
+    verify_collapse_state,
+)
 from micro.nonassociative.convergence import detect_stall
-from micro.nonassociative.iteration import Sequence
+from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.options import PROX_MARGIN
 from micro.nonassociative.proximal import Projection
+from micro.nonassociative.tuning import PROX_MARGIN
 
 EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
 
@@ -29,7 +35,7 @@ def test_proximal_sequences_end_in_exact_states(t: float, m: float) -> None:
     collapse condition, inside its mechanism band and below the associative
     load; each LP after the first records the step that gave its ``nbar``."""
     w = wall(t, m)
-    r = solve_nonassociative(w, selection="proximal", lowest=False)
+    r = solve_nonassociative(w, tuning=Tuning(selection="proximal"), lowest=False)
     assert r.converged, r.message
     lp = micro.assemble(w)
     for d in r.directions:
@@ -118,11 +124,12 @@ def test_vertex_then_proximal_retries_a_failed_direction() -> None:
     result is that sequence's, exact, with the vertex attempt and the LPs of both."""
     w = wall(1.0, 1 / 3)
     lp = micro.assemble(w)
-    r = solve_nonassociative(w, selection="vertex+proximal", max_iterations=4, retry_iterations=20, lowest=False)
-    vertex = solve_nonassociative(w, max_iterations=4, lowest=False)
+    r = solve_nonassociative(w, tuning=Tuning(retry_iterations=20), max_iterations=4, lowest=False)
+    vertex = solve_nonassociative(w, tuning=Tuning(selection="vertex"), max_iterations=4, lowest=False)
     assert vertex.status == "max_iterations" and vertex.governing.normal is not None
-    options = NonAssociativeOptions(selection="proximal", max_iterations=20, lowest=False)
-    prox = Sequence(lp, 1, options, start=vertex.governing.normal / lp.force_scale).run()
+    options = recipe_for(w.n_blocks, NonAssociativeOptions(max_iterations=20, lowest=False),
+                         Tuning(selection="proximal"))
+    prox = LPSequence(lp, 1, options, start=vertex.governing.normal / lp.force_scale).run()
     assert prox.converged
     assert r.converged and r.load_factor == pytest.approx(prox.load_factor, rel=1e-9)
     q = r.sequence
@@ -138,4 +145,4 @@ def test_vertex_then_proximal_retries_a_failed_direction() -> None:
 def test_proximal_needs_scheme_a() -> None:
     for sel in ("proximal", "vertex+proximal"):
         with pytest.raises(ValueError, match=f"selection '{sel.replace('+', '.')}' needs scheme 'a'"):
-            NonAssociativeOptions(scheme="b", selection=sel)  # type: ignore[arg-type]
+            Tuning(scheme="b", selection=sel)  # type: ignore[arg-type]

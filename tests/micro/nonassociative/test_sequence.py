@@ -11,7 +11,7 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, TIME_LIMIT, solve_nonassociative
+from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, TIME_LIMIT, Tuning, solve_nonassociative
 from micro.nonassociative.checks import COLD_CHECKED_STOPS
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
@@ -64,7 +64,7 @@ def test_below_associative(table7_default: list, i: int) -> None:
 def test_below_associative_other_walls(scheme: str, kw: dict) -> None:
     """lambda_nonassoc <= lambda_assoc per direction, also on a wall that is not mirror-symmetric."""
     w = wall(**kw)
-    r = solve_nonassociative(w, scheme=scheme, directions="both")
+    r = solve_nonassociative(w, tuning=Tuning(scheme=scheme), directions="both")
     for d in r.directions:
         assoc = micro.solve_associative(w, directions=d.direction).load_factor
         assert d.sequence.associative_load_factor == pytest.approx(assoc, rel=1e-6)
@@ -96,7 +96,7 @@ def test_final_state_checks_scheme_a(table7_default: list, i: int) -> None:
 
 
 def test_scheme_b_converges_with_small_dilatancy() -> None:
-    r = solve_nonassociative(wall(1.0, 1 / 3), scheme="b")
+    r = solve_nonassociative(wall(1.0, 1 / 3), tuning=Tuning(scheme="b"))
     assert r.status == CONVERGED
     assert r.history[-1].alpha == pytest.approx(1e-3)
     assert r.dilatancy_residual <= 2 * 1e-3 * 0.75  # slope alpha mu of the last line
@@ -110,7 +110,7 @@ def test_naive_scheme_cycles_default_converges(t: float, m: float) -> None:
     """Regression: the plain iterated LP (scheme a, no relaxation, no certificate)
     cycles on these walls; the default converges."""
     w = wall(t, m)
-    naive = solve_nonassociative(w, scheme="a", relaxation=1.0, certify=False)
+    naive = solve_nonassociative(w, tuning=Tuning(scheme="a", relaxation=1.0, certify=False, selection="vertex"))
     assert naive.status == CYCLING
     assert not naive.converged and not naive.ok
     assert math.isnan(naive.load_factor)
@@ -122,7 +122,8 @@ def test_naive_scheme_cycles_default_converges(t: float, m: float) -> None:
 
 def test_cycling_band_on_set_14() -> None:
     """Set 14 (m = 1): the naive scheme oscillates by ~5 %; the band is reported."""
-    r = solve_nonassociative(wall(1.0, 1.0), scheme="a", relaxation=1.0, certify=False)
+    naive = Tuning(scheme="a", relaxation=1.0, certify=False, selection="vertex")
+    r = solve_nonassociative(wall(1.0, 1.0), tuning=naive)
     assert r.status == CYCLING
     lo, hi = r.lambda_band
     assert hi > lo * 1.01
@@ -131,7 +132,7 @@ def test_cycling_band_on_set_14() -> None:
 
 
 def test_max_iterations_is_not_converged() -> None:
-    r = solve_nonassociative(wall(1.0, 1 / 2), max_iterations=3)
+    r = solve_nonassociative(wall(1.0, 1 / 2), tuning=Tuning(selection="vertex"), max_iterations=3)
     assert r.status == MAX_ITERATIONS
     assert math.isnan(r.load_factor) and not r.converged
     assert r.iterations == 3 and len(r.history) == 4
@@ -159,7 +160,7 @@ def test_history_contents(table7_default: list) -> None:
 
 
 def test_vertex_start() -> None:
-    r = solve_nonassociative(wall(1.0, 1 / 3), start="vertex")
+    r = solve_nonassociative(wall(1.0, 1 / 3), tuning=Tuning(start="vertex"))
     assert r.history[0].algorithm == "ipm+crossover+simplex"
     assert r.last_load_factor <= r.associative_load_factor * (1 + 1e-7)
     assert abs(r.last_load_factor / 0.68 - 1) <= 0.05
@@ -167,7 +168,7 @@ def test_vertex_start() -> None:
 
 def test_time_budget_is_its_own_status() -> None:
     # a wall-clock stop is no final answer: status time_limit, never max_iterations
-    r = solve_nonassociative(wall(1.0, 1.0), relaxation=1.0, max_seconds=1e-3)
+    r = solve_nonassociative(wall(1.0, 1.0), tuning=Tuning(relaxation=1.0), max_seconds=1e-3)
     assert r.status == TIME_LIMIT and r.stop_reason == "time_budget"
     assert math.isnan(r.load_factor) and r.lambda_band is not None
     with pytest.raises(ValueError, match="max_seconds"):
@@ -181,14 +182,15 @@ def test_lp_time_limit_is_its_own_status() -> None:
 
 def test_work_budget_is_deterministic() -> None:
     # the work budget counts simplex iterations: the same LPs on every machine
-    runs = [solve_nonassociative(wall(1.0, 1.0), relaxation=1.0, max_simplex_iterations=300) for _ in range(2)]
+    tuning = Tuning(relaxation=1.0, max_simplex_iterations=300, selection="vertex")
+    runs = [solve_nonassociative(wall(1.0, 1.0), tuning=tuning) for _ in range(2)]
     for r in runs:
         assert r.status == MAX_ITERATIONS and r.stop_reason == "work_budget"
         assert sum(h.simplex_iterations for h in r.history[1:]) >= 300
         assert sum(h.simplex_iterations for h in r.history[1:-1]) < 300
     assert [h.load_factor for h in runs[0].history] == [h.load_factor for h in runs[1].history]
     with pytest.raises(ValueError, match="max_simplex_iterations"):
-        solve_nonassociative(wall(1.0, 1.0), max_simplex_iterations=0)
+        solve_nonassociative(wall(1.0, 1.0), tuning=Tuning(max_simplex_iterations=0))
 
 
 @pytest.mark.parametrize("scheme", ["a", "b"])
@@ -200,11 +202,11 @@ def test_slowed_clock_gives_the_same_path(monkeypatch: pytest.MonkeyPatch, schem
     load factor. (With the former rules, warm runs measured against the
     first LP's seconds, this clock switched the sequence to cold solves.)"""
     w = wall(1.0, 1 / 2)
-    ref = solve_nonassociative(w, scheme=scheme)
+    ref = solve_nonassociative(w, tuning=Tuning(scheme=scheme))
     real = time.perf_counter
     calls = iter(range(10**9))
     monkeypatch.setattr(time, "perf_counter", lambda: real() + float(next(calls)) ** 2)
-    slow = solve_nonassociative(w, scheme=scheme)
+    slow = solve_nonassociative(w, tuning=Tuning(scheme=scheme))
     monkeypatch.undo()
 
     def path(r: micro.NonAssociativeResult) -> list[tuple[object, ...]]:
@@ -231,7 +233,7 @@ def test_stalled_warm_runs_are_recovered_not_waited_for(monkeypatch: pytest.Monk
     assert IterationModel(micro.assemble(wall), 1, "b", 0.3).model.stall_guard is not None
     original = PersistentHighsModel.guard_stalls
     monkeypatch.setattr(PersistentHighsModel, "guard_stalls", lambda self, calls=1: original(self, calls=1))
-    r = solve_nonassociative(wall, scheme="b", lowest=False, max_iterations=6)
+    r = solve_nonassociative(wall, tuning=Tuning(scheme="b"), lowest=False, max_iterations=6)
     seq = r.directions[0].sequence
     assert seq is not None and len(seq.history) == 7
     assert all(h.algorithm == "ipm-restart" and h.status == "optimal" for h in seq.history[2:])
