@@ -23,7 +23,7 @@ FloatArray = NDArray[np.float64]
 #: ``lambda``, and it passes the collapse conditions whatever the warm run's
 #: objective; a sequence that did not converge returns no state. The re-solve
 #: took 14-26 % of the iterated LP's CPU time on Table 7's walls and Set 5 and
-#: 19 % on Table 5's reference wall, all certified
+#: 16 % on Table 5's reference wall, all certified
 #: (docs/research/2026-11-25-nonassociative-profile.md).
 COLD_CHECKED_STOPS = ("lambda_and_forces", "lambda_and_coulomb")
 

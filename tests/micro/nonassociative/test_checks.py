@@ -102,8 +102,9 @@ def test_cold_resolve_only_after_an_exact_stop(monkeypatch: pytest.MonkeyPatch) 
     w = wall(1.0, 1 / 3)  # Table 7's Set 12
     certified = solve_nonassociative(w, lowest=False)
     assert certified.stop_reason == "certified" and not calls and math.isnan(certified.warm_cold_rel_diff)
-    cycling = solve_nonassociative(wall(1.0, 1.0), relaxation=1.0, certify=False, lowest=False)
+    cycling = solve_nonassociative(wall(1.0, 1.0), lowest=False,
+                                   tuning=Tuning(relaxation=1.0, certify=False, selection="vertex"))
     assert cycling.status == CYCLING and not calls
-    exact = solve_nonassociative(w, certify=False, lowest=False)
+    exact = solve_nonassociative(w, lowest=False, tuning=Tuning(certify=False, selection="vertex"))
     assert exact.stop_reason in COLD_CHECKED_STOPS and len(calls) == 1
     assert exact.warm_cold_rel_diff == calls[0] <= 1e-6
