@@ -114,7 +114,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         default=[],
         metavar="KEY=VALUE",
         help="change a research knob of the method (repeatable; e.g. scheme=b, selection=vertex, relaxation=0.5, "
-        "certify=false, fuse=true; the knobs: micro.Tuning, docs/micro-nonassociative-options.md)",
+        "certify=false, fuse=true; the knobs: micro.Tuning, docs/micro/tuning.md)",
     )
     p.set_defaults(handler=run)
 

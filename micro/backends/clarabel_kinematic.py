@@ -31,11 +31,11 @@ bound. ``info`` then keeps the load factor read from the duals
 polish's corrections (``polish_steps``) and time (``polish_seconds``, also in
 ``seconds``). Forces that pass the re-check are returned as Clarabel gave them
 (the polish would move their load factor by ~1e-9 for 2-6 % of the solve's
-CPU time, docs/micro-associative.md).
+CPU time, docs/research/2026-11-23-associative-lp-measured.md).
 
 Why: Clarabel's KKT system is then ``n_eq + 2P`` square instead of
 ``2P + n_eq + 2P`` (the static form carries the ``g >= 0`` rows as well), and
-the answer is more accurate (docs/micro-associative.md: 1e-8 instead of 1e-6
+the answer is more accurate (docs/research/2026-11-23-associative-lp-measured.md: 1e-8 instead of 1e-6
 relative on 1,230 blocks).
 
 Scaling: the normalisation row is written ``f_L . u = d * S`` with ``S`` the
@@ -60,7 +60,7 @@ from micro.backends.polish import checked_outcome
 from micro.lp import LimitLP
 
 #: Clarabel settings of the kinematic back end (measurements in
-#: docs/micro-associative.md). Every one is set explicitly, so that a later
+#: docs/research/2026-11-23-associative-lp-measured.md). Every one is set explicitly, so that a later
 #: Clarabel with other defaults cannot silently pick a slower or looser path
 #: (``tests/micro/backends/test_clarabel_kinematic.py`` pins them):
 #:

@@ -22,7 +22,7 @@ Each iteration is one numeric Cholesky factorisation of ``M``
 Why: Clarabel (the ``clarabel`` back end) factorises a quasi-definite KKT
 system with a row per generator as well (~32,000 rows on the 1,230-block
 wall against ``M``'s 3,690), by QDLDL, which has no supernodes. Measured on
-one core (benchmark medians, docs/micro-associative.md): 1,230 blocks 0.257 s
+one core (benchmark medians, docs/research/2026-11-23-associative-lp-measured.md): 1,230 blocks 0.257 s
 against 0.609 s, 7,575 blocks 5.49 s against 19.6 s, with lambda within 1.7e-8
 of the vertex references.
 
@@ -103,7 +103,7 @@ class NormalIpmSettings:
 
 
 #: The settings of the ``normal-ipm`` back end (measurements in
-#: docs/micro-associative.md).
+#: docs/research/2026-11-23-associative-lp-measured.md).
 NORMAL_IPM = NormalIpmSettings()
 
 

@@ -154,7 +154,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         wall: the block assemblage (:func:`micro.build_wall`).
         options: what a user sets (``None``: the defaults).
         tuning: the research knobs (``None``: the report's method;
-            ``docs/micro-nonassociative-options.md``).
+            ``docs/micro/tuning.md``).
         progress: called with one :class:`LPProgress` per LP as it finishes.
         **overrides: option fields to change, e.g. ``lowest=False, time_limit=20``.
 

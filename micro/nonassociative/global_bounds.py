@@ -1,7 +1,7 @@
 """Big-M bounds of the global search, each one provable (no heuristic bound).
 
 Every collapse state of the non-associative problem (see
-``docs/global-minimum.md``) is in particular statically admissible for the
+``docs/micro/global-search.md``) is in particular statically admissible for the
 ASSOCIATIVE problem: equilibrium, ``n >= 0``, ``|s| <= mu n``. Hence
 
 * its load factor lies in the associative interval

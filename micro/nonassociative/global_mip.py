@@ -10,7 +10,7 @@ minimum of the non-associative problem (to the MIP gap). Every big-M bound is
 provable (:mod:`micro.nonassociative.global_bounds`), and every returned state is rebuilt by
 two LPs from its contact pattern and checked against the collapse conditions
 (:mod:`micro.nonassociative.global_pattern`) before it is reported. Derivation and figures:
-``docs/global-minimum.md``. A reference tool for small walls: the search
+``docs/micro/global-search.md``. A reference tool for small walls: the search
 closes on tens of blocks, not thousands.
 """
 

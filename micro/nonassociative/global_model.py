@@ -22,7 +22,7 @@ Rows::
     -f_D . v <= lambda_up (d f_L . v)             energy cut           (1, optional)
 
 The derivation, and why no bound cuts a collapse state off, is in
-``docs/global-minimum.md``.
+``docs/micro/global-search.md``.
 """
 
 from __future__ import annotations

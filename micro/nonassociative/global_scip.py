@@ -4,7 +4,7 @@ The model is the big-M MIP of :mod:`micro.nonassociative.global_model`, read
 column by column from the HiGHS model that :func:`~micro.nonassociative.global_model.build_mip`
 assembles, so both solvers see the same rows, bounds and start. SCIP's answer
 goes through the same rebuild and check as HiGHS' (:mod:`micro.nonassociative.global_search`).
-Measured against HiGHS in ``docs/global-minimum.md``.
+Measured against HiGHS in ``docs/micro/global-search.md``.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 The method itself (scheme, selections, fusing, tolerances) is not an option:
 its defaults are the report's method, and the research knobs live apart in
-:class:`~micro.nonassociative.tuning.Tuning` (``docs/micro-nonassociative-options.md``).
+:class:`~micro.nonassociative.tuning.Tuning` (``docs/micro/tuning.md``).
 """
 
 from __future__ import annotations

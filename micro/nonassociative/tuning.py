@@ -7,7 +7,7 @@ tolerances. Its defaults are the method of ``xcheck report`` (what
 them (the options a user sets are :class:`~micro.nonassociative.options.NonAssociativeOptions`).
 The module constants are the fixed policy of the iteration, each with the
 measurement that set it (longer logs: ``docs/research/2026-11-25-nonassociative-recipe.md``;
-every knob: ``docs/micro-nonassociative-options.md``).
+every knob: ``docs/micro/tuning.md``).
 """
 
 from __future__ import annotations
@@ -195,7 +195,7 @@ def continuation_allowed(scheme: str, selection: str) -> bool:
 class Tuning:
     """The research knobs of the iterated LP (validated on construction).
 
-    The defaults are the report's method; ``docs/micro-nonassociative-options.md``
+    The defaults are the report's method; ``docs/micro/tuning.md``
     describes each knob and what it was measured to do.
 
     Attributes:

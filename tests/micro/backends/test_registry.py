@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[3]
 
 
 def test_the_default_is_the_one_the_docs_name() -> None:
-    docs = (ROOT / "docs" / "micro-associative.md").read_text()
+    docs = (ROOT / "docs" / "micro" / "associative.md").read_text()
     named = re.findall(r"default back end \(`micro.DEFAULT_SOLVER`\) is `([a-z-]+)`", docs)
     assert named == [micro.DEFAULT_SOLVER] == ["normal-ipm"]
     assert inspect.signature(micro.solve_associative).parameters["solver"].default == micro.DEFAULT_SOLVER
