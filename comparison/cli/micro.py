@@ -16,6 +16,7 @@ import math
 import sys
 import typing
 from collections.abc import Callable
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
@@ -132,6 +133,8 @@ def run(args: argparse.Namespace) -> int:
     time_limit = in_range("--time-limit", args.time_limit, "a positive number of seconds", math.inf)
     if args.plot is not None and not args.plot.lower().endswith((".png", ".pdf", ".svg")):
         raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
+    if args.plot is not None and not Path(args.plot).parent.is_dir():  # before minutes of solving, not after
+        raise UsageError(f"--plot: the folder of {args.plot!r} does not exist")
     spec = wall_from_args(args)
     try:
         wall = spec.to_micro(first_course=args.first_course, head_joints=args.head_joints)

@@ -72,6 +72,24 @@ def test_bad_input_one_line_exit_2(extra: list[str], word: str, capsys: pytest.C
     assert err.startswith("xcheck: error:") and word in err and err.count("\n") == 1
 
 
+@pytest.mark.parametrize("friction", ["associative", "nonassociative"])
+def test_a_plot_into_a_missing_folder_is_refused_before_solving(
+    friction: str, tmp_path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]  # type: ignore[no-untyped-def]
+) -> None:
+    """The README's example once ran its minutes of LPs, then failed on ``--plot out/x.png`` without ``out/``."""
+    import micro
+
+    def never(*args: object, **kwargs: object) -> None:
+        raise AssertionError("solved before the bad --plot was refused")
+
+    monkeypatch.setattr(micro, "solve_associative", never)
+    monkeypatch.setattr(micro, "solve_nonassociative", never)
+    plot = str(tmp_path / "missing" / "mechanism.png")
+    rc = cli.main(["micro", *WALL, "--friction", friction, "--plot", plot])
+    err = capsys.readouterr().err
+    assert rc == 2 and "--plot" in err and "does not exist" in err and err.count("\n") == 1
+
+
 def test_bad_wall_one_line(capsys: pytest.CaptureFixture[str]) -> None:
     rc = cli.main(["micro", "--t", "30", "--m", "1", "--rows", "12", "--f", "0.75"])  # L = 0.4 < l = 1
     err = capsys.readouterr().err
