@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import macro
 from comparison.report.plan import Plan
-from comparison.runner import Mechanism, Method, Record, Runner
+from comparison.runner import MechanismRecord, Method, Record, Runner
 from comparison.wall import WallSpec
 
 #: Macro solves timed for the speed-accuracy table (their mean is shown).
@@ -30,7 +30,7 @@ class Results:
     plan: Plan
     macro: dict[WallSpec, macro.MacroResult]
     records: dict[tuple[WallSpec, Method], Record]
-    mechanisms: dict[tuple[WallSpec, Method], Mechanism]
+    mechanisms: dict[tuple[WallSpec, Method], MechanismRecord]
     macro_seconds: float
 
     def record(self, spec: WallSpec, method: Method) -> Record:
@@ -57,7 +57,7 @@ def compute(plan: Plan, runner: Runner) -> Results:
     """Run the plan: the macro model in this process, the micro records through ``runner``."""
     macro_results = {spec: macro.solve(spec.to_macro()) for spec in plan.macro_specs()}
     records: dict[tuple[WallSpec, Method], Record] = {}
-    mechanisms: dict[tuple[WallSpec, Method], Mechanism] = {}
+    mechanisms: dict[tuple[WallSpec, Method], MechanismRecord] = {}
     for item in plan.items():
         key = (item.spec, item.method)
         if item.skip:

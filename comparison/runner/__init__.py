@@ -23,7 +23,7 @@ from comparison.runner.methods import (
     Method,
 )
 from comparison.runner.pool import Prefetched, approximate_blocks, prefetch
-from comparison.runner.records import Mechanism, Record
+from comparison.runner.records import MechanismRecord, Record
 from comparison.runner.runner import Runner, compute
 
 __all__ = [
@@ -32,7 +32,7 @@ __all__ = [
     "MICRO_NONASSOC",
     "NONASSOC_MAX_LPS",
     "NONASSOC_RETRY_LPS",
-    "Mechanism",
+    "MechanismRecord",
     "Method",
     "Prefetched",
     "Record",

@@ -49,7 +49,7 @@ from typing import Any
 import numpy as np
 
 from comparison.runner.methods import PACKAGES, Method
-from comparison.runner.records import Mechanism, Record
+from comparison.runner.records import MechanismRecord, Record
 from comparison.wall import WallSpec
 
 #: Part of every key: bump it when the stored form of a record changes, so that
@@ -147,7 +147,7 @@ class ResultCache:
         """True when a readable entry (record and arrays) is stored."""
         return self.entry(*item) is not None
 
-    def entry(self, spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None] | None:
+    def entry(self, spec: WallSpec, method: Method) -> tuple[Record, MechanismRecord | None] | None:
         """The stored record and its mechanism, or ``None`` (missing, or unreadable: then warned).
 
         Warns:
@@ -167,12 +167,12 @@ class ResultCache:
         found = self.entry(spec, method)
         return None if found is None else found[0]
 
-    def mechanism(self, spec: WallSpec, method: Method) -> Mechanism | None:
+    def mechanism(self, spec: WallSpec, method: Method) -> MechanismRecord | None:
         """The stored mechanism of a micro record, or ``None`` (see :meth:`entry`)."""
         found = self.entry(spec, method)
         return None if found is None else found[1]
 
-    def store(self, spec: WallSpec, record: Record, mechanism: Mechanism | None) -> bool:
+    def store(self, spec: WallSpec, record: Record, mechanism: MechanismRecord | None) -> bool:
         """Store ``record`` (and its mechanism) as the entry of ``spec``, arrays first, record last.
 
         Returns:
@@ -195,7 +195,7 @@ class ResultCache:
         write_atomic(path, json.dumps(stored, indent=1).encode())
         return True
 
-    def _read(self, path: Path) -> tuple[Record, Mechanism | None]:
+    def _read(self, path: Path) -> tuple[Record, MechanismRecord | None]:
         """Read and check one entry.
 
         Raises:
@@ -218,7 +218,7 @@ class ResultCache:
         return record, self._arrays(path, ref)
 
     @staticmethod
-    def _arrays(path: Path, ref: Any) -> Mechanism:
+    def _arrays(path: Path, ref: Any) -> MechanismRecord:
         """The mechanism file a record names, checked against its hash."""
         try:
             npz = path.with_name(ref["file"])
@@ -228,4 +228,4 @@ class ResultCache:
         if hashlib.sha256(data).hexdigest() != ref.get("sha256"):
             raise _Corrupt(f"its mechanism file {npz.name} does not match the hash the record names")
         with np.load(io.BytesIO(data)) as arrays:
-            return Mechanism(np.array(arrays["velocities"]), str(arrays["direction"]))
+            return MechanismRecord(np.array(arrays["velocities"]), str(arrays["direction"]))

@@ -15,13 +15,13 @@ from comparison.progress import Progress
 from comparison.runner.cache import ResultCache
 from comparison.runner.executor import Executor, Task, TaskOutcome
 from comparison.runner.methods import Method
-from comparison.runner.records import Mechanism, Record
+from comparison.runner.records import MechanismRecord, Record
 from comparison.runner.runner import compute, summary_line
 from comparison.wall import WallSpec
 
 Item = tuple[WallSpec, Method]
 #: A computed record and its micro mechanism.
-Entry = tuple[Record, Mechanism | None]
+Entry = tuple[Record, MechanismRecord | None]
 
 
 def approximate_blocks(spec: WallSpec) -> int:

@@ -27,7 +27,7 @@ Skip = Literal["", "not_applicable", "not_run"]
 
 
 @dataclass(frozen=True)
-class Mechanism:
+class MechanismRecord:
     """The collapse mechanism of a micro record, for the figures.
 
     Attributes:

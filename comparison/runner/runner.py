@@ -18,12 +18,12 @@ import numpy as np
 from comparison.failure import FailureMode, failure_mode
 from comparison.runner.cache import ResultCache
 from comparison.runner.methods import Method
-from comparison.runner.records import Mechanism, Record
+from comparison.runner.records import MechanismRecord, Record
 from comparison.wall import WallSpec
 from micro.records import AssociativeRecord, NonAssociativeRecord
 
 
-def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
+def compute(spec: WallSpec, method: Method) -> tuple[Record, MechanismRecord | None]:
     """Run ``method`` on ``spec``: its record and, for a micro solve with a mechanism, the mechanism.
 
     A micro wall that cannot be built (e.g. a length that is not a whole number
@@ -48,13 +48,13 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
         res = micro.solve_associative(wall, solver=method.solver)
         record = res.to_record()
         if res.velocities is not None and res.direction:
-            mechanism = Mechanism(np.asarray(res.velocities), res.direction)
+            mechanism = MechanismRecord(np.asarray(res.velocities), res.direction)
     else:
         nres = micro.solve_nonassociative(wall, tuning=method.nonassoc_tuning() if method.tuning else None)
         record = nres.to_record()
         gov = next((d for d in nres.directions if d.direction == nres.direction), None)
         if gov is not None and gov.mechanism is not None:
-            mechanism = Mechanism(np.asarray(gov.mechanism.velocities), nres.direction)
+            mechanism = MechanismRecord(np.asarray(gov.mechanism.velocities), nres.direction)
     failure: FailureMode | None = None
     message = ""
     if mechanism is not None:
@@ -90,21 +90,21 @@ class Runner:
         self.progress = progress
         self.computed = 0
         self.hits = 0
-        self._memory: dict[tuple[WallSpec, Method], tuple[Record, Mechanism | None]] = {}
+        self._memory: dict[tuple[WallSpec, Method], tuple[Record, MechanismRecord | None]] = {}
 
     def run(self, spec: WallSpec, method: Method) -> Record:
         """The record of ``method`` on ``spec``: from memory, from the cache, or computed."""
         return self._entry(spec, method)[0]
 
-    def mechanism(self, spec: WallSpec, method: Method) -> Mechanism | None:
+    def mechanism(self, spec: WallSpec, method: Method) -> MechanismRecord | None:
         """The mechanism of the micro record of ``method`` on ``spec``, if it has one."""
         return self._entry(spec, method)[1]
 
-    def keep(self, entries: Mapping[tuple[WallSpec, Method], tuple[Record, Mechanism | None]]) -> None:
+    def keep(self, entries: Mapping[tuple[WallSpec, Method], tuple[Record, MechanismRecord | None]]) -> None:
         """Hold ``entries`` (computed elsewhere, not in the cache) for this runner's lifetime."""
         self._memory.update(entries)
 
-    def _entry(self, spec: WallSpec, method: Method) -> tuple[Record, Mechanism | None]:
+    def _entry(self, spec: WallSpec, method: Method) -> tuple[Record, MechanismRecord | None]:
         key = (spec, method)
         if key in self._memory:
             return self._memory[key]

@@ -62,8 +62,8 @@ def test_base_imports_no_back_end() -> None:
     assert not {m for m in mods if m.startswith("micro.backends")}
 
 
-#: Public classes that still share a name, and where that is being mended.
-SHARED_NAMES_KNOWN = {"Mechanism": "micro.mechanism and comparison.runner.records (issue 30, the runner's part)"}
+#: Public classes that still share a name, and where that is being mended (none).
+SHARED_NAMES_KNOWN: dict[str, str] = {}
 
 
 def test_no_two_public_classes_share_a_name() -> None:
