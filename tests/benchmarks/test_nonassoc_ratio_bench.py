@@ -93,21 +93,15 @@ def test_bench_ratio_ref(benchmark: Any, monkeypatch: pytest.MonkeyPatch) -> Non
 
 
 @pytest.mark.slow
-@pytest.mark.benchmark(group="ratio-1230")
-def test_bench_ratio_set2(benchmark: Any, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Set 2: the vertex sequence cycles, the proximal one certifies."""
-    _ratio(benchmark, monkeypatch, "2", 1)
-
-
-@pytest.mark.slow
-@pytest.mark.benchmark(group="ratio-1830")
-def test_bench_ratio_set9(benchmark: Any, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Set 9: the vertex sequence cycles, the proximal one certifies."""
-    _ratio(benchmark, monkeypatch, "9", 1)
-
-
-@pytest.mark.slow
-@pytest.mark.benchmark(group="ratio-3630")
-def test_bench_ratio_set10(benchmark: Any, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Set 10: the fused wall with the continuation."""
-    _ratio(benchmark, monkeypatch, "10", 1)
+@pytest.mark.parametrize(
+    "case",
+    [
+        pytest.param("2", marks=pytest.mark.benchmark(group="ratio-1230"), id="set2-vertex-cycles-proximal-certifies"),
+        pytest.param("9", marks=pytest.mark.benchmark(group="ratio-1830"), id="set9-vertex-cycles-proximal-certifies"),
+        pytest.param("10", marks=pytest.mark.benchmark(group="ratio-3630"), id="set10-fused-with-continuation"),
+    ],
+)
+def test_bench_ratio_slow(benchmark: Any, monkeypatch: pytest.MonkeyPatch, case: str) -> None:
+    """Sets 2 and 9 (the vertex sequence cycles, the proximal one certifies) and Set 10 (the fused
+    wall with the continuation), one round each."""
+    _ratio(benchmark, monkeypatch, case, 1)
