@@ -40,6 +40,8 @@ from comparison.cli.options import (
 
 #: Friction laws accepted by ``--friction``.
 FRICTION_LAWS = ("associative", "nonassociative")
+#: ``--lowest``: the value of ``micro.NonAssociativeOptions.lowest`` for each choice.
+LOWEST_CHOICES: dict[str, bool | None] = {"auto": None, "on": True, "off": False}
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -89,11 +91,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     na.add_argument("--max-iterations", default=None, metavar="N",
                     help="cap on the LPs of a direction's first sequence (default: the library's, 100)")
     na.add_argument(
-        "--no-lowest",
-        action="store_true",
-        help="skip the descent to the lowest certified collapse state (lowest_load_factor; on by default, "
-        "bounded by a budget of LPs)",
+        "--lowest",
+        choices=tuple(LOWEST_CHOICES),
+        default="auto",
+        metavar="auto|on|off",
+        help="the descent to the lowest certified collapse state (lowest_load_factor, bounded by a budget of "
+        "LPs): auto (default) on walls of at most 300 blocks, where it is cheap; on; off",
     )
+    na.add_argument("--no-lowest", dest="lowest", action="store_const", const="off", help=argparse.SUPPRESS)
     na.add_argument(
         "--global",
         dest="global_",
@@ -273,7 +278,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         given["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
     result = micro.solve_nonassociative(
         wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
-        lowest=not args.no_lowest, global_=args.global_, **given,
+        lowest=LOWEST_CHOICES[args.lowest], global_=args.global_, **given,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:

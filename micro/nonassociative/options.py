@@ -12,6 +12,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from micro.backends.base import check_integer
 from micro.results import Directions, check_directions
 
@@ -25,6 +27,16 @@ from micro.results import Directions, check_directions
 LOWEST_ROW_LPS = 20_000
 #: Default of :attr:`NonAssociativeOptions.lowest_budget` (LPs times rows per iterated LP).
 LOWEST_BUDGET = 500.0
+#: With ``lowest=None`` (the default) the descent runs on walls of at most this
+#: many blocks. Above it a descent LP is a cold interior point + crossover of
+#: 2-9 s on 1,230 blocks (against 0.3-0.6 s for a warm LP of the iterated LP),
+#: and the budget's few LPs cost several times the iterated LP: measured on
+#: main 2026-11-25 (CPU s, one process, iterated LP / with the descent): Set 5
+#: (450 blocks) 0.9 / 4.4, Set 8 (450) 4.5 / 29.3, Ref (1,230) 7.7 / 36.6,
+#: Set 9 (1,830) 326 / 634 and Set 10 (3,630) 491 / 970 (report's wall s);
+#: the full report went from 11 to over 45 minutes. Every wall of ``xcheck
+#: stability --lowest`` (up to 294 blocks) and of Table 7 is below it.
+LOWEST_AUTO_BLOCKS = 300
 
 
 @dataclass(frozen=True)
@@ -44,7 +56,9 @@ class NonAssociativeOptions:
             a sequence it stops has status ``time_limit``. No other decision
             depends on time: the same wall gives the same numbers everywhere.
         lowest: after a converged run, descend to the lowest certified
-            collapse state (``lowest_load_factor``; :mod:`micro.nonassociative.lowest`).
+            collapse state (``lowest_load_factor``; :mod:`micro.nonassociative.lowest`):
+            ``True`` always, ``False`` never, ``None`` (the default) on walls
+            of at most :data:`LOWEST_AUTO_BLOCKS` blocks.
         lowest_budget: the descent's budget per direction, in LPs times
             equilibrium rows per LP of the direction's iterated LP (plus
             :data:`LOWEST_ROW_LPS`; divided by the wall's rows it is a number
@@ -65,7 +79,7 @@ class NonAssociativeOptions:
     max_iterations: int = 100
     time_limit: float | None = None
     max_seconds: float | None = None
-    lowest: bool = True
+    lowest: bool | None = None
     lowest_budget: float = LOWEST_BUDGET
     global_: bool = False
     global_time_limit: float | None = 300.0
@@ -87,8 +101,15 @@ class NonAssociativeOptions:
         object.__setattr__(self, "lowest_budget", float(self.lowest_budget))
         if self.global_node_limit is not None:
             check_integer("global_node_limit", self.global_node_limit, 1)
-        for name in ("lowest", "global_"):
-            object.__setattr__(self, name, bool(getattr(self, name)))
+        object.__setattr__(self, "global_", bool(self.global_))
+        if self.lowest is not None and not isinstance(self.lowest, (bool, np.bool_)):
+            raise ValueError(f"lowest must be True, False or None (by the wall's size), got {self.lowest!r}")
+        if self.lowest is not None:
+            object.__setattr__(self, "lowest", bool(self.lowest))
+
+    def lowest_on(self, blocks: int) -> bool:
+        """Whether the descent runs on a wall of ``blocks`` blocks (:attr:`lowest`)."""
+        return self.lowest if self.lowest is not None else blocks <= LOWEST_AUTO_BLOCKS
 
     @property
     def user_limit(self) -> float:

@@ -147,3 +147,22 @@ def test_cli_no_fused_retry(capsys: pytest.CaptureFixture[str]) -> None:
         assert main([*args, *extra]) == 0
         out = json.loads(capsys.readouterr().out)
         assert out["options"]["fused_retry"] is on and out["unfused_stop_reason"] == ""
+
+
+@pytest.mark.parametrize("flags, runs", [([], True), (["--lowest", "off"], False), (["--no-lowest"], False),
+                                         (["--lowest", "on"], True), (["--lowest", "auto"], True)])
+def test_cli_lowest_auto_on_off(flags: list[str], runs: bool, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--lowest auto`` (the default) descends on this 54-block wall, ``off`` (or the old ``--no-lowest``)
+    does not; ``on`` does on any wall."""
+    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
+                 "--json", *flags])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and (out["lowest_load_factor"] is not None) is runs
+    assert (out["lowest_status"] == "found") is runs
+
+
+def test_cli_lowest_bad_choice(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["micro", "--rows", "12", "--t", "1", "--m", "1/3", "--f", "0.75", "--friction", "nonassociative",
+                 "--lowest", "sometimes"])
+    err = capsys.readouterr().err
+    assert code == 2 and "--lowest" in err and len(err.strip().splitlines()) == 1

@@ -27,6 +27,7 @@ def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, 
         (dict(lowest_budget=-1.0), "lowest_budget"),
         (dict(lowest_budget=float("inf")), "lowest_budget"),
         (dict(global_node_limit=0), "global_node_limit"),
+        (dict(lowest="yes"), "lowest"),
     ],
 )
 def test_bad_options(kw: dict, word: str) -> None:
@@ -62,7 +63,7 @@ def test_options_and_tuning_are_frozen_defaults_and_overrides() -> None:
     import dataclasses
 
     o = micro.NonAssociativeOptions()
-    assert o.max_iterations == 100 and o.lowest and o.time_limit is None
+    assert o.max_iterations == 100 and o.lowest is None and o.time_limit is None
     with pytest.raises(dataclasses.FrozenInstanceError):
         o.max_iterations = 3  # type: ignore[misc]
     b = o.with_overrides(max_seconds=20)
@@ -96,3 +97,14 @@ def test_the_recipe_is_resolved_for_the_walls_size() -> None:
     assert not small.fuse and not small.continuation and large.fuse and large.continuation
     assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(fuse=False, continuation=False)).fuse
     assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(selection="lazy")).fuse  # no vertex sequence
+
+
+def test_the_descent_runs_by_default_on_walls_up_to_its_size_limit() -> None:
+    """lowest=None (the default) descends on walls of at most LOWEST_AUTO_BLOCKS
+    blocks and not above; True and False hold on every size."""
+    from micro.nonassociative import recipe_for
+    from micro.nonassociative.options import LOWEST_AUTO_BLOCKS
+
+    assert recipe_for(LOWEST_AUTO_BLOCKS).lowest and not recipe_for(LOWEST_AUTO_BLOCKS + 1).lowest
+    on, off = micro.NonAssociativeOptions(lowest=True), micro.NonAssociativeOptions(lowest=False)
+    assert recipe_for(10 * LOWEST_AUTO_BLOCKS, on).lowest and not recipe_for(10, off).lowest
