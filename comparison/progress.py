@@ -11,13 +11,18 @@ verbosity the command line passes down:
   ETA), then the closing summary (e.g. the paths written);
 * ``VERBOSE`` (``--verbose``): the same, and one line per computation.
 
-The status lines are written as computations finish: a single computation that
-runs for minutes is not interrupted by one.
+While nothing finishes (one computation can run for minutes) a heartbeat
+thread keeps the display alive: off a terminal it writes the status line,
+marked ``still running``, once :data:`LOG_SECONDS` have passed without one;
+on a terminal it refreshes the bar (its elapsed time). Measured on
+2026-11-25: a full report's log had no line for 10 minutes while its two
+workers ran the non-associative LP of Sets 9 and 10.
 """
 
 from __future__ import annotations
 
 import sys
+import threading
 import time
 from collections.abc import Callable
 from typing import TextIO
@@ -30,6 +35,8 @@ QUIET, NORMAL, VERBOSE = -1, 0, 1
 LOG_STEP = 0.1
 #: ... or this many seconds have passed since the last line, whichever comes first.
 LOG_SECONDS = 30.0
+#: Real seconds between two looks of the heartbeat thread at the display.
+HEARTBEAT_SECONDS = 5.0
 
 
 def duration(seconds: float) -> str:
@@ -49,10 +56,13 @@ class Progress:
         verbosity: :data:`QUIET`, :data:`NORMAL` or :data:`VERBOSE`.
         stream: where to write (default ``sys.stderr``).
         clock: seconds, for the status lines (default ``time.monotonic``).
+        heartbeat: real seconds between the heartbeat thread's looks at the
+            display (module docstring); ``None``: no heartbeat.
     """
 
     def __init__(
-        self, verbosity: int = NORMAL, stream: TextIO | None = None, clock: Callable[[], float] = time.monotonic
+        self, verbosity: int = NORMAL, stream: TextIO | None = None, clock: Callable[[], float] = time.monotonic,
+        heartbeat: float | None = HEARTBEAT_SECONDS,
     ) -> None:
         self.stream = sys.stderr if stream is None else stream
         tty = bool(getattr(self.stream, "isatty", lambda: False)())
@@ -65,6 +75,10 @@ class Progress:
         self._what, self._total, self._done, self._cached = "", 0, 0, 0
         self._start = self._last = 0.0
         self._last_done = 0
+        self._heartbeat = heartbeat
+        self._lock = threading.RLock()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
 
     def __enter__(self) -> Progress:
         return self
@@ -76,10 +90,11 @@ class Progress:
         """A line of the plan or of the summary (shown unless quiet)."""
         if not self.show_text:
             return
-        if self._bar is not None:
-            self._bar.write(text, file=self.stream)
-        else:
-            print(text, file=self.stream, flush=True)
+        with self._lock:
+            if self._bar is not None:
+                self._bar.write(text, file=self.stream)
+            else:
+                print(text, file=self.stream, flush=True)
 
     def start(self, total: int, what: str, cached: int = 0) -> None:
         """Begin ``total`` steps labelled ``what`` (``cached``: the plan's entries already done, for the
@@ -90,9 +105,30 @@ class Progress:
         self._last_done = 0
         if self.show_bar and total > 0:
             self._bar = tqdm(total=total, desc=what, unit="run", file=self.stream, dynamic_ncols=True, smoothing=0.1)
+        if total > 0 and self._heartbeat is not None and (self.show_bar or self.show_status):
+            self._stop.clear()
+            self._thread = threading.Thread(target=self._beat, name="xcheck-progress", daemon=True)
+            self._thread.start()
+
+    def _beat(self) -> None:
+        """The heartbeat (module docstring): until :meth:`close`."""
+        assert self._heartbeat is not None
+        while not self._stop.wait(self._heartbeat):
+            with self._lock:
+                if self._bar is not None:
+                    self._bar.refresh()
+                elif self.show_status and self._done < self._total:
+                    now = self._clock()
+                    if now - self._last >= LOG_SECONDS:
+                        self.say(self.status(now) + "; still running")
+                        self._last = now
 
     def advance(self, line: str = "") -> None:
         """One step done; ``line`` says what (printed when verbose)."""
+        with self._lock:
+            self._advance(line)
+
+    def _advance(self, line: str) -> None:
         self._done += 1
         if self._bar is not None:
             self._bar.update(1)
@@ -116,7 +152,11 @@ class Progress:
                 f"{duration(elapsed)} elapsed, ETA {eta}")
 
     def close(self) -> None:
-        """Close the bar (it stays on the screen)."""
+        """Stop the heartbeat; close the bar (it stays on the screen)."""
+        if self._thread is not None:
+            self._stop.set()
+            self._thread.join()
+            self._thread = None
         if self._bar is not None:
             self._bar.close()
             self._bar = None

@@ -56,7 +56,7 @@ def test_a_log_gets_a_status_line_every_tenth_or_30_seconds() -> None:
     from comparison.progress import LOG_SECONDS
 
     stream, clock = io.StringIO(), Clock()
-    with Progress(NORMAL, stream, clock=clock) as p:
+    with Progress(NORMAL, stream, clock=clock, heartbeat=None) as p:
         p.say("plan: 100 computations")
         p.start(100, "micro", cached=40)
         for _ in range(25):  # 1 s each: a line at 10 and 20 done
@@ -93,3 +93,27 @@ def test_durations() -> None:
 
     assert [duration(s) for s in (0.4, 59.6, 65, 3599, 7380)] == ["0 s", "1 min 00 s", "1 min 05 s", "59 min 59 s",
                                                                      "2 h 03 min"]
+
+
+def test_a_log_gets_a_status_line_while_one_computation_runs_for_minutes() -> None:
+    """The heartbeat: with nothing finishing, a log still gets the status line, marked "still running",
+    once LOG_SECONDS have passed since the last line (a full report's log had no line for 10 minutes
+    while Sets 9 and 10 ran); nothing before that, and the thread ends with the display."""
+    import time
+
+    from comparison.progress import LOG_SECONDS
+
+    stream, clock = io.StringIO(), Clock()
+    with Progress(NORMAL, stream, clock=clock, heartbeat=0.01) as p:
+        p.start(4, "micro")
+        time.sleep(0.1)  # the heartbeat looked several times: less than LOG_SECONDS passed, no line
+        assert stream.getvalue() == ""
+        clock.now += LOG_SECONDS + 1
+        for _ in range(500):  # wait (up to 5 s) for the heartbeat to see the clock
+            if "still running" in stream.getvalue():
+                break
+            time.sleep(0.01)
+        thread = p._thread
+    lines = stream.getvalue().splitlines()
+    assert lines == ["micro: 0 of 4 done (0 %), 0 cached, 4 to go; 31 s elapsed, ETA unknown; still running"]
+    assert thread is not None and not thread.is_alive() and p._thread is None
