@@ -108,3 +108,19 @@ def test_the_descent_runs_by_default_on_walls_up_to_its_size_limit() -> None:
     assert recipe_for(LOWEST_AUTO_BLOCKS).lowest and not recipe_for(LOWEST_AUTO_BLOCKS + 1).lowest
     on, off = micro.NonAssociativeOptions(lowest=True), micro.NonAssociativeOptions(lowest=False)
     assert recipe_for(10 * LOWEST_AUTO_BLOCKS, on).lowest and not recipe_for(10, off).lowest
+
+
+def test_the_recipe_carries_every_option_and_knob() -> None:
+    """The flat Recipe mirrors NonAssociativeOptions and Tuning: a field added to either must reach it
+    (by the same name), and a changed value must come through recipe_for."""
+    import dataclasses
+
+    from micro.nonassociative import recipe_for
+    from micro.nonassociative.recipe import Recipe
+
+    recipe = {f.name for f in dataclasses.fields(Recipe)} - {"progress"}
+    options = {f.name for f in dataclasses.fields(micro.NonAssociativeOptions)}
+    knobs = {f.name for f in dataclasses.fields(Tuning)}
+    assert recipe == options | knobs
+    r = recipe_for(100, micro.NonAssociativeOptions(max_iterations=7), Tuning(window=9, alpha0=0.2))
+    assert (r.max_iterations, r.window, r.alpha0) == (7, 9, 0.2)
