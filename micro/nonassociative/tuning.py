@@ -62,6 +62,14 @@ PROX_CLARABEL: dict[str, Any] = {
     "tol_feas": 1e-8,
     "max_iter": 400,
 }
+#: Anderson acceleration of the proximal fixed-point iteration (``Tuning.anderson``,
+#: :class:`~micro.nonassociative.proximal.Anderson`): the history is dropped (a
+#: restart, then a plain relaxed step) when the residual ``|P(nbar) - nbar|_2``
+#: exceeds this factor times the previous iterate's ...
+ANDERSON_GROWTH = 1.0
+#: ... and singular values of the least-squares problem below this fraction of
+#: the largest are cut (``numpy.linalg.lstsq``'s ``rcond``).
+ANDERSON_RCOND = 1e-8
 
 # ------------------------------------------------------------ warm / cold policy
 # Every decision of the sequence is taken on deterministic work measures
@@ -238,6 +246,12 @@ class Tuning:
             (a), where both sequences fail on a direction, a third run on the
             fused wall with the continuation.
         global_bounds: the global search's big-M policy, ``"per_point"`` or ``"uniform"``.
+        anderson: depth ``m`` of Anderson acceleration (type II, restarted
+            when the residual grows, ``nbar`` clipped at 0) of the proximal
+            sequence's fixed-point iteration ``nbar <- nbar + beta (P(nbar) - nbar)``;
+            0: off (the plain relaxed step). Needs a proximal selection
+            (``"proximal"`` or ``"vertex+proximal"``). A research knob
+            (``docs/research/2026-11-25-anderson.md``).
 
     Raises:
         ValueError: a bad knob (the message names it).
@@ -263,6 +277,7 @@ class Tuning:
     continuation: bool | None = None
     fused_retry: bool = True
     global_bounds: Literal["per_point", "uniform"] = "per_point"
+    anderson: int = 0
 
     def __post_init__(self) -> None:
         self._check_method()
@@ -290,6 +305,10 @@ class Tuning:
             raise ValueError("continuation needs scheme 'a' and a vertex sequence (selection 'vertex', "
                              f"'vertex+lazy' or 'vertex+proximal'), got scheme {self.scheme!r}, "
                              f"selection {self.resolved_selection!r}")
+        if (not isinstance(self.anderson, bool) and isinstance(self.anderson, int) and self.anderson > 0
+                and self.resolved_selection not in ("proximal", "vertex+proximal")):
+            raise ValueError(f"anderson accelerates the proximal sequence: it needs selection 'proximal' or "
+                             f"'vertex+proximal', got {self.resolved_selection!r}")
         for name, allowed in (("start", ("interior", "vertex")), ("state_solver", ("clarabel", "highs")),
                               ("global_bounds", BIG_M_POLICIES)):
             if getattr(self, name) not in allowed:
@@ -314,6 +333,7 @@ class Tuning:
             check_integer("max_simplex_iterations", self.max_simplex_iterations, 1)
         check_integer("window", self.window, 3)
         check_integer("settle_window", self.settle_window, 2)
+        check_integer("anderson", self.anderson, 0)
 
     @property
     def resolved_selection(self) -> SelectionName:
