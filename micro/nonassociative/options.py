@@ -30,12 +30,14 @@ LOWEST_BUDGET = 500.0
 #: With ``lowest=None`` (the default) the descent runs on walls of at most this
 #: many blocks. Above it a descent LP is a cold interior point + crossover of
 #: 2-9 s on 1,230 blocks (against 0.3-0.6 s for a warm LP of the iterated LP),
-#: and the budget's few LPs cost several times the iterated LP: measured on
-#: main 2026-11-25 (CPU s, one process, iterated LP / with the descent): Set 5
-#: (450 blocks) 0.9 / 4.4, Set 8 (450) 4.5 / 29.3, Ref (1,230) 7.7 / 36.6,
-#: Set 9 (1,830) 326 / 634 and Set 10 (3,630) 491 / 970 (report's wall s);
-#: the full report went from 11 to over 45 minutes. Every wall of ``xcheck
-#: stability --lowest`` (up to 294 blocks) and of Table 7 is below it.
+#: and the budget's few LPs cost up to several times the iterated LP: measured
+#: on main 2026-11-25 (CPU s, one process, iterated LP / with the descent):
+#: Set 5 (450 blocks) 0.9 / 4.4, Set 8 (450) 4.5 / 29.3, Ref (1,230) 7.7 /
+#: 36.6; in two report runs on one host (wall s) Set 1 3.7 / 27.6, Set 9
+#: (1,830) 540 / 634, Set 10 (3,630) 752 / 970: about 530 CPU s more over the
+#: report (+26 %), and ratios to the associative solve of 60-90x instead of
+#: 10-20x on the 1,230-block walls that converge with vertices. Every wall of
+#: ``xcheck stability --lowest`` (up to 294 blocks) and of Table 7 is below it.
 LOWEST_AUTO_BLOCKS = 300
 
 
