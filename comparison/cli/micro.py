@@ -384,6 +384,12 @@ def _print_lowest(result: NonAssociativeResult) -> None:
               f"{low.origin}{moves}; {low.lps} LPs, {low.seconds:.3f} s{spent})")
     elif result.lowest:
         print(f"  lowest certified collapse state: none ({'; '.join(x.message for x in result.lowest if x.message)})")
+    elif result.converged and not result.recipe.lowest:
+        from micro.nonassociative.options import LOWEST_AUTO_BLOCKS
+
+        why = (f"by default only on walls of at most {LOWEST_AUTO_BLOCKS} blocks; --lowest on asks for it"
+               if result.blocks > LOWEST_AUTO_BLOCKS else "--lowest off")
+        print(f"  lowest certified collapse state: not searched ({why})")
     g = result.global_search
     if g is not None:
         print(f"  global search ({g.status}): best lambda = {g.load_factor:.6f}, proven lower bound "

@@ -166,3 +166,18 @@ def test_cli_lowest_bad_choice(capsys: pytest.CaptureFixture[str]) -> None:
                  "--lowest", "sometimes"])
     err = capsys.readouterr().err
     assert code == 2 and "--lowest" in err and len(err.strip().splitlines()) == 1
+
+
+def test_cli_says_when_the_descent_was_not_run(capsys: pytest.CaptureFixture[str],
+                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    """The words name why no lowest state is printed: ``--lowest off``, or a wall above the default's
+    size limit (here the limit lowered below the 54-block wall, so that the test stays fast)."""
+    args = ["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative"]
+    assert main([*args, "--lowest", "off"]) == 0
+    assert "lowest certified collapse state: not searched (--lowest off)" in capsys.readouterr().out
+    import micro.nonassociative.options as options
+
+    monkeypatch.setattr(options, "LOWEST_AUTO_BLOCKS", 50)
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "not searched (by default only on walls of at most 50 blocks; --lowest on asks for it)" in out
