@@ -47,9 +47,14 @@ from typing import Any
 
 import numpy as np
 
-from micro.backends.base import FloatArray, Outcome, Status, check_integer, check_number
+from micro.backends.base import FloatArray, Outcome, Status
 from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
-from micro.backends.normal_matrix import NormalMatrix, NotPositiveDefinite, one_blas_thread
+from micro.backends.normal_matrix import (
+    NormalMatrix,
+    NotPositiveDefinite,
+    check_interior_point_settings,
+    one_blas_thread,
+)
 from micro.backends.polish import checked_outcome
 from micro.lp import LimitLP
 
@@ -91,15 +96,8 @@ class NormalIpmSettings:
     divergence: float = 1e12
 
     def __post_init__(self) -> None:
-        for name in ("gap_tol", "primal_tol", "dual_tol", "refine_tol", "divergence"):
-            check_number(name, getattr(self, name))
-        r = self.regularization
-        if isinstance(r, bool) or not isinstance(r, (int, float)) or not math.isfinite(r) or r < 0:
-            raise ValueError(f"regularization must be a non-negative number, got {r!r}")
-        if not (isinstance(self.step_fraction, float) and 0.0 < self.step_fraction < 1.0):
-            raise ValueError(f"step_fraction must be in (0, 1), got {self.step_fraction!r}")
-        for name, least in (("refine_steps", 0), ("max_iter", 1), ("correctors", 0), ("projections", 0)):
-            check_integer(name, getattr(self, name), least)
+        check_interior_point_settings(self, ("gap_tol", "primal_tol", "dual_tol", "refine_tol", "divergence"),
+                                      (("refine_steps", 0), ("max_iter", 1), ("correctors", 0), ("projections", 0)))
 
 
 #: The settings of the ``normal-ipm`` back end (measurements in
@@ -186,17 +184,7 @@ class NormalIpm:
 
     def _factor(self, d: FloatArray) -> None:
         """Factorise ``M(d)``, raising the shift up to twice if a pivot fails."""
-        reg = self.settings.regularization
-        for k in range(3):
-            self.M.regularization = reg * 100.0**k
-            try:
-                self.M.factor(d)
-                return
-            except NotPositiveDefinite:
-                if k == 2:
-                    raise
-            finally:
-                self.M.regularization = reg
+        self.M.factor_raising(d)
 
     def bordered(self, h: FloatArray, rf: float, w: FloatArray | None = None) -> tuple[FloatArray, float, FloatArray]:
         """``(v, dlambda, w)`` with ``M v + f dlambda = h`` and ``f . v = rf``, through the

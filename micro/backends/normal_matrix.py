@@ -39,6 +39,7 @@ depend on the machine's core count (the benchmarks measured one thread).
 from __future__ import annotations
 
 import contextlib
+import math
 from collections.abc import Iterator
 from typing import Any
 
@@ -155,6 +156,26 @@ class NormalMatrix:
             raise NotPositiveDefinite(str(err)) from None
         self.factorizations += 1
 
+    def factor_raising(self, d: FloatArray, raises: int = 2) -> None:
+        """:meth:`factor`, raising the shift 100 times at most ``raises`` times
+        when a pivot fails (the shift is restored after).
+
+        Raises:
+            NotPositiveDefinite: the factorisation failed with the largest shift.
+        """
+        reg = self.regularization
+        try:
+            for k in range(raises + 1):
+                self.regularization = reg * 100.0**k
+                try:
+                    self.factor(d)
+                    return
+                except NotPositiveDefinite:
+                    if k == raises:
+                        raise
+        finally:
+            self.regularization = reg
+
     def product(self, v: FloatArray) -> FloatArray:
         """``M(d) v`` (one column or several) for the last ``d`` factorised, unshifted
         (the matrix of the refinement)."""
@@ -176,3 +197,25 @@ class NormalMatrix:
             v = v + np.array(X).reshape(rhs.shape)
             self.refinements += 1
         return v
+
+
+def check_interior_point_settings(settings: Any, numbers: tuple[str, ...],
+                                  integers: tuple[tuple[str, int], ...]) -> None:
+    """The checks shared by the settings of the normal-equations interior points:
+    ``numbers`` positive and finite, ``regularization`` non-negative, ``step_fraction``
+    in (0, 1), each of ``integers`` an integer of at least its minimum.
+
+    Raises:
+        ValueError: a bad setting (the message names it).
+    """
+    from micro.backends.base import check_integer, check_number
+
+    for name in numbers:
+        check_number(name, getattr(settings, name))
+    r = settings.regularization
+    if isinstance(r, bool) or not isinstance(r, (int, float)) or not math.isfinite(r) or r < 0:
+        raise ValueError(f"regularization must be a non-negative number, got {r!r}")
+    if not (isinstance(settings.step_fraction, float) and 0.0 < settings.step_fraction < 1.0):
+        raise ValueError(f"step_fraction must be in (0, 1), got {settings.step_fraction!r}")
+    for name, least in integers:
+        check_integer(name, getattr(settings, name), least)

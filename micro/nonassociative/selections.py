@@ -177,7 +177,7 @@ class Proximal(Selection):
 
     def __init__(self, options: Recipe, lp: LimitLP, direction: int) -> None:
         super().__init__(options, lp, direction)
-        self.projection = Projection(lp, direction, options.user_limit)
+        self.projection = Projection(lp, direction, options.user_limit, options.projection_solver)
         self.steps: list[float] = []
         self.step = NAN
         self.anderson = Anderson(options.anderson, self.beta) if options.anderson > 0 else None
@@ -185,7 +185,7 @@ class Proximal(Selection):
     def next_nbar(self, nbar: FloatArray, lam: float, n_prev: FloatArray, n_prev2: FloatArray) -> FloatArray:
         """``nbar`` moved by ``beta`` towards its projection at the LP's ``lam``
         (with ``anderson``: the accelerated step, :class:`~micro.nonassociative.proximal.Anderson`);
-        where Clarabel does not solve the QP, the vertex rule for this step
+        where the QP is not solved, the vertex rule for this step
         (and Anderson's history is dropped)."""
         proj = self.projection.project(nbar, lam)
         self.step = proj.step

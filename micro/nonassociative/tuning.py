@@ -252,6 +252,10 @@ class Tuning:
             0: off (the plain relaxed step). Needs a proximal selection
             (``"proximal"`` or ``"vertex+proximal"``). A research knob
             (``docs/research/2026-11-25-anderson.md``).
+        projection_solver: the proximal QP's solver: ``"normal-ipm"`` (the
+            suite's interior point on the normal equations, Clarabel where it
+            does not converge) or ``"clarabel"`` (the path before 2026-11-26;
+            ``docs/research/2026-11-26-proximal-projection.md``).
 
     Raises:
         ValueError: a bad knob (the message names it).
@@ -278,6 +282,7 @@ class Tuning:
     fused_retry: bool = True
     global_bounds: Literal["per_point", "uniform"] = "per_point"
     anderson: int = 0
+    projection_solver: Literal["normal-ipm", "clarabel"] = "normal-ipm"
 
     def __post_init__(self) -> None:
         self._check_method()
@@ -310,7 +315,7 @@ class Tuning:
             raise ValueError(f"anderson accelerates the proximal sequence: it needs selection 'proximal' or "
                              f"'vertex+proximal', got {self.resolved_selection!r}")
         for name, allowed in (("start", ("interior", "vertex")), ("state_solver", ("clarabel", "highs")),
-                              ("global_bounds", BIG_M_POLICIES)):
+                              ("global_bounds", BIG_M_POLICIES), ("projection_solver", ("normal-ipm", "clarabel"))):
             if getattr(self, name) not in allowed:
                 raise ValueError(f"{name} must be one of {', '.join(allowed)}, got {getattr(self, name)!r}")
 

@@ -64,12 +64,14 @@ def _first_iterate(w: micro.BlockWall) -> tuple[micro.LimitLP, np.ndarray, float
     return lp, nbar, m.load_factor(out.x)
 
 
-def test_projection_is_feasible() -> None:
+@pytest.mark.parametrize("solver, status", [("normal-ipm", "converged"), ("clarabel", "Solved")])
+def test_projection_is_feasible(solver: str, status: str) -> None:
     """The projection carries ``lambda* (1 - PROX_MARGIN)`` with ``|s| <= mu nbar``
     and ``n >= 0``, and its step is its 1-norm distance from ``nbar``."""
     lp, nbar, lam = _first_iterate(wall(1.0, 1 / 3))
-    proj = Projection(lp, 1).project(nbar, lam)
-    assert proj.normal is not None and proj.shear is not None and proj.status == "Solved"
+    proj = Projection(lp, 1, solver=solver).project(nbar, lam)
+    assert proj.normal is not None and proj.shear is not None and proj.status == status
+    assert proj.solver == solver
     n, s = proj.normal, proj.shear
     r = lp.Bn @ n + lp.Bs @ s + lam * (1.0 - PROX_MARGIN) * lp.live - lp.rhs
     assert float(np.max(np.abs(r))) <= 1e-6
@@ -95,6 +97,43 @@ def test_projection_is_no_farther_than_a_feasible_field() -> None:
     objective = 0.5 * float(np.sum((proj.normal - nbar) ** 2) + np.sum(proj.shear**2))
     assert objective <= 0.5 * float(np.sum(s_a**2)) * (1 + 1e-6) + 1e-9
     assert objective < 0.5 * float(np.sum(s_a**2))  # and the field moved: shear is traded for distance
+
+
+@pytest.mark.parametrize("t, m", [(1.0, 1 / 3), (1.0, 1.0)])
+def test_both_projection_solvers_find_the_same_field(t: float, m: float) -> None:
+    """The QP's answer is unique: the normal-equations interior point and Clarabel
+    agree to 1e-5 of the largest normal force (the feasible set is thin: it asks
+    for 1e-4 below the LP's optimum), with objectives within 1e-7; the interior
+    point's field holds equilibrium and the capacities to 1e-10 (Clarabel's may
+    exceed a capacity by its feasibility tolerance, 1e-8, and so end a little lower)."""
+    lp, nbar, lam = _first_iterate(wall(t, m))
+    ours = Projection(lp, 1, solver="normal-ipm").project(nbar, lam)
+    theirs = Projection(lp, 1, solver="clarabel").project(nbar, lam)
+    assert ours.normal is not None and ours.shear is not None
+    assert theirs.normal is not None and theirs.shear is not None
+    assert np.max(np.abs(ours.normal - theirs.normal)) <= 1e-5 * float(np.max(nbar))
+
+    def objective(n: np.ndarray, s: np.ndarray) -> float:
+        return 0.5 * float(np.sum((n - nbar) ** 2) + np.sum(s**2))
+
+    assert objective(ours.normal, ours.shear) == pytest.approx(objective(theirs.normal, theirs.shear), rel=1e-7)
+    r = lp.Bn @ ours.normal + lp.Bs @ ours.shear + lam * (1.0 - PROX_MARGIN) * lp.live - lp.rhs
+    assert float(np.max(np.abs(r))) <= 1e-10
+    assert float(np.max(np.abs(ours.shear) - lp.mu * nbar)) <= 1e-10 and float(np.min(ours.normal)) >= 0.0
+
+
+def test_a_projection_the_interior_point_misses_goes_to_clarabel() -> None:
+    """A QP with no feasible field (a load beyond any capacity): the normal-equations
+    run does not converge, Clarabel is asked, and the projection says it was not solved."""
+    lp, nbar, lam = _first_iterate(wall(1.0, 1 / 3))
+    proj = Projection(lp, 1)
+    out = proj.project(nbar, 50.0 * lam)
+    assert out.normal is None and proj.fallbacks == 1 and out.solver == "clarabel"
+
+
+def test_a_bad_projection_solver_is_refused() -> None:
+    with pytest.raises(ValueError, match="projection_solver"):
+        Tuning(projection_solver="osqp")  # type: ignore[arg-type]
 
 
 def test_updated_projection_equals_a_fresh_one() -> None:
