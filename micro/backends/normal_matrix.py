@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from micro.backends.base import FloatArray
+from micro.backends.base import FloatArray, check_integer, check_number
 
 
 @contextlib.contextmanager
@@ -208,8 +208,6 @@ def check_interior_point_settings(settings: Any, numbers: tuple[str, ...],
     Raises:
         ValueError: a bad setting (the message names it).
     """
-    from micro.backends.base import check_integer, check_number
-
     for name in numbers:
         check_number(name, getattr(settings, name))
     r = settings.regularization

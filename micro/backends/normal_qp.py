@@ -17,10 +17,10 @@ once per wall). Mehrotra's predictor-corrector, one step length for the
 primal and the dual (the Hessian couples them).
 
 Why: Clarabel factorises the quasi-definite KKT system with a row per
-variable and per bound (``5P + 3 n_blocks`` rows, ~45,000 on the 1,230-block
+variable and per bound (``5P + 3 n_blocks`` rows, 39,190 on the 1,230-block
 wall) where ``M`` has 3,690. Measured on the proximal QPs of Sets 2 and 9
-(1,230 and 1,830 blocks, docs/research/2026-11-26-proximal-projection.md): 0.27-0.46 s
-against Clarabel's 0.93-1.76 s on Set 2, 0.57-0.70 s against 1.7-2.2 s on
+(1,230 and 1,830 blocks, docs/research/2026-11-26-proximal-projection.md): 0.25-0.32 s
+against Clarabel's 0.76-1.07 s on Set 2, 0.43-0.62 s against 1.42-1.96 s on
 Set 9, with a lower objective than Clarabel's at its 1e-8 tolerances (the
 fields within 2e-6 of the largest normal force).
 

@@ -59,7 +59,9 @@ def test_the_committed_table_has_its_non_associative_values_below_the_associativ
     rows = bond.load(REPORTS / "sweeps" / "table9_bond.csv")
     assert {(r.p, r.rows) for r in rows} == {(p, o) for p in (0.0, 1.0, 8.0) for o in (30, 45, 60, 75)}
     unsettled = {(r.p, r.rows) for r in rows if r.nonassoc_status != "converged"}
-    assert unsettled == {(8.0, 60), (8.0, 75)}  # Set 17's shape: both sequences and the fused retry fail
+    # Set 17 at 75 rows: both sequences and the fused retry fail; at 60 rows it failed too until the
+    # proximal QP moved to the normal equations (2026-11-26: certified after 63 LPs)
+    assert unsettled == {(8.0, 75)}
     assert all(r.nonassoc_status == "max_iterations" for r in rows if (r.p, r.rows) in unsettled)
     for r in rows:
         assert math.isfinite(r.macro) and math.isfinite(r.assoc), (r.p, r.rows)
