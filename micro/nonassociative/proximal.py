@@ -105,25 +105,12 @@ class Projection:
         self.normal_qp: LeastDistanceQP | None = None
         #: projections the normal-equations interior point left to Clarabel
         self.fallbacks = 0
-        eye = sp.identity(P, format="csc")
-        zero = sp.csc_matrix((P, P))
-        # rows: equilibrium (zero cone), then -n <= 0, s <= mu nbar, -s <= mu nbar
-        self.A = sp.vstack([sp.hstack([lp.Bn, lp.Bs]), sp.hstack([-eye, zero]), sp.hstack([zero, eye]),
-                            sp.hstack([zero, -eye])], format="csc")
-        self.Pm = sp.identity(2 * P, format="csc")
-        self.cones = [clarabel.ZeroConeT(lp.n_eq), clarabel.NonnegativeConeT(3 * P)]
-        self.settings = clarabel_settings(PROX_CLARABEL)
-        self.settings.presolve_enable = False  # update() needs it off
-        if math.isfinite(time_limit):
-            self.settings.time_limit = float(time_limit)
-        self.solver: clarabel.DefaultSolver | None = None
+        self.time_limit = time_limit
+        self.solver: clarabel.DefaultSolver | None = None  # built on first use
 
-    def _data(self, nbar: FloatArray, lam: float) -> tuple[FloatArray, FloatArray]:
-        lp, P = self.lp, self.P
-        cap = lp.mu * nbar
-        b = np.concatenate([lp.rhs - (self.d * lam * (1.0 - PROX_MARGIN)) * lp.live, np.zeros(P), cap, cap])
-        q = np.concatenate([-nbar, np.zeros(P)])
-        return q, b
+    def _equilibrium_rhs(self, lam: float) -> FloatArray:
+        """The equilibrium rows' right-hand side at ``lam (1 - PROX_MARGIN)``."""
+        return self.lp.rhs - (self.d * lam * (1.0 - PROX_MARGIN)) * self.lp.live
 
     def project(self, nbar: FloatArray, lam: float) -> ProjectionResult:
         """The field closest to ``nbar`` that carries ``lam (1 - PROX_MARGIN)``
@@ -134,8 +121,7 @@ class Projection:
         if self.normal_qp is None:
             self.normal_qp = LeastDistanceQP(sp.hstack([lp.Bn, lp.Bs], format="csc"))
         cap = lp.mu * nbar
-        out = self.normal_qp.solve(np.concatenate([nbar, np.zeros(P)]),
-                                   lp.rhs - (self.d * lam * (1.0 - PROX_MARGIN)) * lp.live,
+        out = self.normal_qp.solve(np.concatenate([nbar, np.zeros(P)]), self._equilibrium_rhs(lam),
                                    np.concatenate([np.zeros(P), -cap]), np.concatenate([np.full(P, np.inf), cap]))
         if out.converged:
             return self._result(nbar, out.x, out.reason, out.iterations, out.seconds, "normal-ipm")
@@ -153,9 +139,22 @@ class Projection:
     def _clarabel(self, nbar: FloatArray, lam: float) -> ProjectionResult:
         """:meth:`project` by Clarabel."""
         t0 = time.perf_counter()
-        q, b = self._data(nbar, lam)
+        lp, P = self.lp, self.P
+        cap = lp.mu * nbar
+        b = np.concatenate([self._equilibrium_rhs(lam), np.zeros(P), cap, cap])
+        q = np.concatenate([-nbar, np.zeros(P)])
         if self.solver is None:
-            self.solver = clarabel.DefaultSolver(self.Pm, q, self.A, b, self.cones, self.settings)
+            eye = sp.identity(P, format="csc")
+            zero = sp.csc_matrix((P, P))
+            # rows: equilibrium (zero cone), then -n <= 0, s <= mu nbar, -s <= mu nbar
+            A = sp.vstack([sp.hstack([lp.Bn, lp.Bs]), sp.hstack([-eye, zero]), sp.hstack([zero, eye]),
+                           sp.hstack([zero, -eye])], format="csc")
+            cones = [clarabel.ZeroConeT(lp.n_eq), clarabel.NonnegativeConeT(3 * P)]
+            settings = clarabel_settings(PROX_CLARABEL)
+            settings.presolve_enable = False  # update() needs it off
+            if math.isfinite(self.time_limit):
+                settings.time_limit = float(self.time_limit)
+            self.solver = clarabel.DefaultSolver(sp.identity(2 * P, format="csc"), q, A, b, cones, settings)
         else:
             self.solver.update(q=q, b=b)
         sol = self.solver.solve()
