@@ -89,6 +89,7 @@ class Recipe:
     fused_retry: bool
     anderson: int = 0
     projection_solver: Literal["normal-ipm", "clarabel"] = "normal-ipm"
+    lp_route: Literal["simplex", "crossover"] = "simplex"
     progress: Progress | None = field(default=None, repr=False, compare=False)
 
     @property
@@ -128,5 +129,5 @@ def recipe_for(blocks: int, options: NonAssociativeOptions | None = None, tuning
         global_time_limit=o.global_time_limit, global_node_limit=o.global_node_limit, global_bounds=t.global_bounds,
         fuse=large if t.fuse is None else t.fuse, continuation=large if t.continuation is None else t.continuation,
         fused_retry=t.fused_retry, anderson=t.anderson, projection_solver=t.projection_solver,
-        progress=progress,
+        lp_route=t.route(blocks), progress=progress,
     )
