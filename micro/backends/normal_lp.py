@@ -19,13 +19,23 @@ analysed once per matrix), the free column by the bordered solve
 ``w = M^{-1} f``. Mehrotra's predictor-corrector with separate primal and
 dual step lengths.
 
+The same arithmetic on every CPU: the iterated LP's path through the
+vertices the crossover reaches is chaotic (Set 9's diverged at its fifth LP
+between two of OpenBLAS's kernels, Prescott and Haswell, with CHOLMOD's
+supernodal factorisation and numpy's BLAS dot products), so ``M`` is
+factorised by CHOLMOD's simplicial code, which calls no BLAS, and the scalar
+products are exact sums (:func:`_dot`): the first ten LPs of Set 9 then
+agree to the last digit under the Prescott, Haswell and Zen kernels. It costs
+1.4-1.9 s per LP on Set 9 against ~1 s supernodal.
+
 Why: the iterated LP needs a VERTEX of each LP (the vertex selection's next
 capacities are a basic solution's forces). HiGHS' warm dual simplex takes
-10-35 s per LP on Set 9 (1,830 blocks) and 4-67 s on the continuation's LPs
-of Set 10's fused wall, its interior point IPX 4-6 s and 13-15 s; this
-interior point gives a primal-dual pair near the optimum in about a second,
-from which HiGHS' crossover makes a basis (0.2-3 s) and a few dual-simplex
-pivots clean it up (:meth:`~micro.nonassociative.model.IterationModel.interior_vertex`).
+10-38 s per LP in the first LPs of Set 9 (1,830 blocks), its interior point
+IPX 4-6 s; this interior point gives a primal-dual pair near the optimum in
+1.4-1.9 s, from which HiGHS' crossover makes a basis (1-1.5 s) and a few
+dual-simplex pivots clean it up
+(:meth:`~micro.nonassociative.model.IterationModel.interior_vertex`,
+``docs/research/2026-11-26-crossover-route.md``).
 
 A run that does not reach its tolerances says so
 (:attr:`BoxLPResult.converged`); the caller then solves the LP another way.
@@ -69,7 +79,9 @@ class BoxLPSettings:
         max_iter: iterations at most.
         fix_width: a column whose box is at most this times the widest box
             is held at its middle while the interior point runs, and put at
-            the end its reduced cost points to in the answer (the
+            the end its reduced cost points to in the answer, as is any
+            column that ends within this times the widest box of the bound
+            its reduced cost points to (the
             continuation's ``|h| <= c0`` where ``nbar = 0``, 1e-9 of the
             largest force, made the normal equations too ill-conditioned to
             keep equilibrium; the proximal sequence's capacities that decay
@@ -194,11 +206,8 @@ class BoxLP:
             if not (math.isfinite(gap) and math.isfinite(primal) and math.isfinite(dual)):
                 return x, lam, y, "not finite", it, gap, primal, dual
             if gap <= st.gap_tol and primal <= st.primal_tol and dual <= st.dual_tol:
-                # a thin column goes to the end of its box its reduced cost points to
-                # (where a basis would put it), a move of at most its width
-                reduced = c - AT @ y
-                x = np.where(thin & (reduced > 0.0), lower0, np.where(thin & (reduced < 0.0), upper0, x))
-                return x, lam, y, "converged", it - 1, gap, primal, dual
+                return _snapped(x, c - AT @ y, lower0, upper0, thin, st.fix_width * widest), lam, y, \
+                    "converged", it - 1, gap, primal, dual
             mu = products / n_bounds
             H = np.where(free, zl / sl + np.where(up, zu / su, 0.0), 1.0)
             dinv = np.where(free, 1.0 / H, 0.0)
@@ -239,6 +248,18 @@ class BoxLP:
         dzl = np.where(fr.free, (rcl - fr.zl * dx) / fr.sl, 0.0)
         dzu = np.where(fr.up, (rcu + fr.zu * dx) / fr.su, 0.0)
         return dx, dl, dy, dzl, dzu
+
+
+def _snapped(x: FloatArray, reduced: FloatArray, lower: FloatArray, upper: FloatArray, thin: NDArray[np.bool_],
+             near: float) -> FloatArray:
+    """``x`` with each column whose reduced cost points to one of its bounds put on that
+    bound where it lies within ``near`` of it, and every thin column (``thin``) put on
+    the bound its reduced cost points to: where a basis would put them, a move of at
+    most ``near`` (a crossover from columns left just inside their boxes with non-zero
+    reduced costs ended in dual-simplex clean-ups of thousands of pivots)."""
+    to_lower = (reduced > 0.0) & (thin | (x - lower <= near))
+    to_upper = (reduced < 0.0) & np.isfinite(upper) & (thin | (upper - x <= near))
+    return np.where(to_lower, lower, np.where(to_upper, upper, x))
 
 
 def _dot(a: FloatArray, b: FloatArray) -> float:

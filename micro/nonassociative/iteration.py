@@ -9,10 +9,10 @@ selection: ``nbar`` moved by ``beta`` towards its projection,
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
 simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`);
-on the crossover route (``Recipe.lp_route``, walls of more than
-:data:`~micro.nonassociative.tuning.ROUTE_BLOCKS` blocks) every LP without a
-friction slope by the normal-equations interior point, HiGHS' crossover from
-its point and a dual-simplex clean-up instead, the policy above where that fails.
+on the crossover route (``Tuning.lp_route="crossover"``, a research knob)
+every LP without a friction slope by the normal-equations interior point,
+HiGHS' crossover from its point and a dual-simplex clean-up instead, the
+policy above where that fails.
 Every decision counts work (iterations, LPs), never seconds: the path and its
 numbers are the same on a loaded or slower machine; only the optional user
 stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they

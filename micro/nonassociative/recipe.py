@@ -129,5 +129,5 @@ def recipe_for(blocks: int, options: NonAssociativeOptions | None = None, tuning
         global_time_limit=o.global_time_limit, global_node_limit=o.global_node_limit, global_bounds=t.global_bounds,
         fuse=large if t.fuse is None else t.fuse, continuation=large if t.continuation is None else t.continuation,
         fused_retry=t.fused_retry, anderson=t.anderson, projection_solver=t.projection_solver,
-        lp_route=t.route(blocks), progress=progress,
+        lp_route=t.lp_route, progress=progress,
     )

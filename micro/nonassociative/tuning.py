@@ -174,12 +174,6 @@ RETRY_LPS = 40
 #: certified that way; the walls of up to 2,000 blocks keep the wall's own
 #: sequences.
 FUSE_BLOCKS = 2000
-#: Walls of more than this many blocks get their LPs' vertices by the crossover
-#: route (``Tuning.lp_route`` left ``None``): on Set 9 (1,830 blocks) a warm dual
-#: simplex run takes 5-35 s and the route 2-3.5 s; on the 1,230-block walls whose
-#: vertex sequences converge (Ref) a warm run takes 0.2-0.6 s and the route is
-#: no faster (docs/research/2026-11-26-crossover-route.md).
-ROUTE_BLOCKS = 1500
 #: Scheme (b)'s cohesion ``c0``, relative to the largest normal force of the
 #: associative solution (scale-free: one millionth of the force level).
 COHESION = 1e-6
@@ -276,9 +270,9 @@ class Tuning:
             on the normal equations, :mod:`micro.backends.normal_lp`, then
             HiGHS' crossover from its point and a dual-simplex clean-up; the
             ``"simplex"`` route where that fails). The two routes can reach
-            different vertices of one LP, so different paths. ``None``:
-            ``"crossover"`` on walls of more than :data:`ROUTE_BLOCKS` blocks
-            (``docs/research/2026-11-26-crossover-route.md``).
+            different vertices of one LP, so different paths: a research
+            knob (1.4-2.4 times faster on Set 9, slower on the walls whose
+            vertex sequences converge; ``docs/research/2026-11-26-crossover-route.md``).
 
     Raises:
         ValueError: a bad knob (the message names it).
@@ -306,7 +300,7 @@ class Tuning:
     global_bounds: Literal["per_point", "uniform"] = "per_point"
     anderson: int = 0
     projection_solver: Literal["normal-ipm", "clarabel"] = "normal-ipm"
-    lp_route: Literal["simplex", "crossover"] | None = None
+    lp_route: Literal["simplex", "crossover"] = "simplex"
 
     def __post_init__(self) -> None:
         self._check_method()
@@ -341,7 +335,7 @@ class Tuning:
         for name, allowed in (("start", ("interior", "vertex")), ("state_solver", ("clarabel", "highs")),
                               ("global_bounds", BIG_M_POLICIES), ("projection_solver", ("normal-ipm", "clarabel")),
                               ("lp_route", ("simplex", "crossover"))):
-            if getattr(self, name) not in allowed and not (name == "lp_route" and self.lp_route is None):
+            if getattr(self, name) not in allowed:
                 raise ValueError(f"{name} must be one of {', '.join(allowed)}, got {getattr(self, name)!r}")
 
     def _check_numbers(self) -> None:
@@ -382,12 +376,6 @@ class Tuning:
         wall of ``blocks`` blocks (more than :data:`FUSE_BLOCKS`, scheme (a),
         a vertex sequence)."""
         return blocks > FUSE_BLOCKS and continuation_allowed(self.scheme, self.resolved_selection)
-
-    def route(self, blocks: int) -> Literal["simplex", "crossover"]:
-        """``lp_route`` for a wall of ``blocks`` blocks (``None``: by :data:`ROUTE_BLOCKS`)."""
-        if self.lp_route is not None:
-            return self.lp_route
-        return "crossover" if blocks > ROUTE_BLOCKS else "simplex"
 
     def with_overrides(self, **overrides: Any) -> Tuning:
         """A copy with some knobs changed (validated again).
