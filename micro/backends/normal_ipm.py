@@ -50,9 +50,9 @@ import numpy as np
 from micro.backends.base import FloatArray, Outcome, Status
 from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
 from micro.backends.normal_matrix import (
+    InteriorPointSettings,
     NormalMatrix,
     NotPositiveDefinite,
-    check_interior_point_settings,
     one_blas_thread,
 )
 from micro.backends.polish import checked_outcome
@@ -60,21 +60,13 @@ from micro.lp import LimitLP
 
 
 @dataclass(frozen=True)
-class NormalIpmSettings:
-    """Tolerances and limits of the normal-equations interior point.
+class NormalIpmSettings(InteriorPointSettings):
+    """Tolerances and limits of the normal-equations interior point (the fields of
+    :class:`~micro.backends.normal_matrix.InteriorPointSettings`: the gap
+    ``|p - q| / (1 + |p|)``, the equilibrium residual relative to ``1 + max |r|``,
+    the dual one to ``1 + max z``).
 
     Attributes:
-        gap_tol: relative duality gap ``|p - q| / (1 + |p|)`` at which it stops.
-        primal_tol: largest equilibrium residual, relative to ``1 + max |r|``.
-        dual_tol: largest dual residual, relative to ``1 + max z``.
-        step_fraction: fraction of the step to the boundary taken.
-        regularization: relative shift of ``M``'s diagonal
-            (:class:`~micro.backends.normal_matrix.NormalMatrix`); raised 100
-            times, at most twice, when a factorisation fails.
-        refine_steps: refinement steps at most per solve with ``M``.
-        refine_tol: a solve is refined until its residual is below this
-            times its right-hand side.
-        max_iter: iterations at most.
         correctors: Gondzio's centrality correctors at most per iteration
             (each one solve with the factorisation of the iteration).
         projections: corrections of the converged primal onto equilibrium at
@@ -83,21 +75,16 @@ class NormalIpmSettings:
             mean an infeasible or unbounded LP.
     """
 
+    NUMBERS = (*InteriorPointSettings.NUMBERS, "divergence")
+    INTEGERS = (*InteriorPointSettings.INTEGERS, ("correctors", 0), ("projections", 0))
+
     gap_tol: float = 1e-8
     primal_tol: float = 1e-7
-    dual_tol: float = 1e-9
-    step_fraction: float = 0.99
-    regularization: float = 1e-14
     refine_steps: int = 1
     refine_tol: float = 1e-10
-    max_iter: int = 100
     correctors: int = 2
     projections: int = 2
     divergence: float = 1e12
-
-    def __post_init__(self) -> None:
-        check_interior_point_settings(self, ("gap_tol", "primal_tol", "dual_tol", "refine_tol", "divergence"),
-                                      (("refine_steps", 0), ("max_iter", 1), ("correctors", 0), ("projections", 0)))
 
 
 #: The settings of the ``normal-ipm`` back end (measurements in

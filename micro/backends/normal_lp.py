@@ -53,55 +53,41 @@ from numpy.typing import NDArray
 
 from micro.backends.base import FloatArray
 from micro.backends.normal_matrix import (
+    InteriorPointSettings,
     NormalMatrix,
     NotPositiveDefinite,
-    check_interior_point_settings,
     one_blas_thread,
 )
 
 
 @dataclass(frozen=True)
-class BoxLPSettings:
-    """Tolerances and limits of :class:`BoxLP`.
+class BoxLPSettings(InteriorPointSettings):
+    """Tolerances and limits of :class:`BoxLP` (the fields of
+    :class:`~micro.backends.normal_matrix.InteriorPointSettings`: the gap
+    ``|p - q| / (1 + |p|)``, the primal residual relative to ``1 + max |b|``,
+    1e-8 here: near the optimum of Set 9's LPs it stalls at 1-2e-9 while the gap
+    keeps falling, and the crossover's clean-up restores equilibrium; the dual
+    one relative to ``1 + max |y|``).
 
     Attributes:
-        gap_tol: relative duality gap ``|p - q| / (1 + |p|)`` at which it stops.
-        primal_tol: largest equality residual, relative to ``1 + max |b|``
-            (near the optimum of Set 9's LPs it stalls at 1-2e-9 while the
-            gap keeps falling: the crossover's clean-up restores equilibrium).
-        dual_tol: largest stationarity residual, relative to ``1 + max |y|``.
-        step_fraction: fraction of the step to the boundary taken.
-        regularization: relative shift of ``M``'s diagonal, raised 100 times
-            at most twice when a factorisation fails.
-        refine_steps: refinement steps at most per solve with ``M``.
-        refine_tol: a solve is refined until its residual is below this
-            times its right-hand side.
-        max_iter: iterations at most.
         fix_width: a column whose box is at most this times the widest box
             is held at its middle while the interior point runs, and put at
             the end its reduced cost points to in the answer, as is any
             column that ends within this times the widest box of the bound
-            its reduced cost points to (the
-            continuation's ``|h| <= c0`` where ``nbar = 0``, 1e-9 of the
-            largest force, made the normal equations too ill-conditioned to
-            keep equilibrium; the proximal sequence's capacities that decay
-            towards 0 gave the crossover points off their bounds with
-            non-zero reduced costs, and thousands of clean-up pivots).
+            its reduced cost points to (the continuation's ``|h| <= c0`` where
+            ``nbar = 0``, 1e-9 of the largest force, made the normal equations
+            too ill-conditioned to keep equilibrium; the proximal sequence's
+            capacities that decay towards 0 gave the crossover points off
+            their bounds with non-zero reduced costs, and thousands of
+            clean-up pivots).
     """
 
-    gap_tol: float = 1e-9
+    NUMBERS = (*InteriorPointSettings.NUMBERS, "fix_width")
+
     primal_tol: float = 1e-8
-    dual_tol: float = 1e-9
     step_fraction: float = 0.995
-    regularization: float = 1e-14
-    refine_steps: int = 2
-    refine_tol: float = 1e-12
     max_iter: int = 120
     fix_width: float = 1e-8
-
-    def __post_init__(self) -> None:
-        check_interior_point_settings(self, ("gap_tol", "primal_tol", "dual_tol", "refine_tol", "fix_width"),
-                                      (("refine_steps", 0), ("max_iter", 1)))
 
 
 #: The settings of the iterated LP's interior-point route.

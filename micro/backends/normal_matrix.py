@@ -41,7 +41,8 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Iterator
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, ClassVar
 
 import numpy as np
 import scipy.sparse as sp
@@ -197,6 +198,43 @@ class NormalMatrix:
             v = v + np.array(X).reshape(rhs.shape)
             self.refinements += 1
         return v
+
+
+@dataclass(frozen=True)
+class InteriorPointSettings:
+    """The tolerances and limits shared by the normal-equations interior points
+    (``normal-ipm``, the proximal QP's and the iterated LP's crossover route);
+    each subclass sets its own defaults and adds its own fields.
+
+    Attributes:
+        gap_tol: relative duality gap at which it stops.
+        primal_tol: largest equality residual (relative) at which it stops.
+        dual_tol: largest dual residual (relative) at which it stops.
+        step_fraction: fraction of the step to the boundary taken.
+        regularization: relative shift of ``M``'s diagonal
+            (:class:`NormalMatrix`); raised 100 times, at most twice, when a
+            factorisation fails.
+        refine_steps: refinement steps at most per solve with ``M``.
+        refine_tol: a solve is refined until its residual is below this
+            times its right-hand side.
+        max_iter: iterations at most.
+    """
+
+    #: fields checked as positive finite numbers, and as integers of at least a minimum
+    NUMBERS: ClassVar[tuple[str, ...]] = ("gap_tol", "primal_tol", "dual_tol", "refine_tol")
+    INTEGERS: ClassVar[tuple[tuple[str, int], ...]] = (("refine_steps", 0), ("max_iter", 1))
+
+    gap_tol: float = 1e-9
+    primal_tol: float = 1e-9
+    dual_tol: float = 1e-9
+    step_fraction: float = 0.99
+    regularization: float = 1e-14
+    refine_steps: int = 2
+    refine_tol: float = 1e-12
+    max_iter: int = 100
+
+    def __post_init__(self) -> None:
+        check_interior_point_settings(self, self.NUMBERS, self.INTEGERS)
 
 
 def check_interior_point_settings(settings: Any, numbers: tuple[str, ...],

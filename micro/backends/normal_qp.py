@@ -43,46 +43,28 @@ from numpy.typing import NDArray
 
 from micro.backends.base import FloatArray
 from micro.backends.normal_matrix import (
+    InteriorPointSettings,
     NormalMatrix,
     NotPositiveDefinite,
-    check_interior_point_settings,
     one_blas_thread,
 )
 
 
 @dataclass(frozen=True)
-class LeastDistanceSettings:
-    """Tolerances and limits of :class:`LeastDistanceQP`.
+class LeastDistanceSettings(InteriorPointSettings):
+    """Tolerances and limits of :class:`LeastDistanceQP` (the fields of
+    :class:`~micro.backends.normal_matrix.InteriorPointSettings`: the gap is the
+    sum of the complementarity products relative to ``1 +`` the objective, the
+    primal residual relative to ``1 + max |b|``, the dual one to ``1 + max |t|``).
 
     Attributes:
-        gap_tol: the sum of the complementarity products relative to ``1 +``
-            the objective at which it stops.
-        primal_tol: largest equality residual, relative to ``1 + max |b|``.
-        dual_tol: largest stationarity residual, relative to ``1 + max |t|``.
-        step_fraction: fraction of the step to the boundary taken.
-        regularization: relative shift of ``M``'s diagonal, raised 100 times
-            at most twice when a factorisation fails.
-        refine_steps: refinement steps at most per solve with ``M``.
-        refine_tol: a solve is refined until its residual is below this
-            times its right-hand side.
-        max_iter: iterations at most.
         start_floor: the starting ``x`` is at least this fraction of
             ``max |t|`` above its lower bound (an interior start).
     """
 
-    gap_tol: float = 1e-9
-    primal_tol: float = 1e-9
-    dual_tol: float = 1e-9
-    step_fraction: float = 0.99
-    regularization: float = 1e-14
-    refine_steps: int = 2
-    refine_tol: float = 1e-12
-    max_iter: int = 100
-    start_floor: float = 1e-2
+    NUMBERS = (*InteriorPointSettings.NUMBERS, "start_floor")
 
-    def __post_init__(self) -> None:
-        check_interior_point_settings(self, ("gap_tol", "primal_tol", "dual_tol", "refine_tol", "start_floor"),
-                                      (("refine_steps", 0), ("max_iter", 1)))
+    start_floor: float = 1e-2
 
 
 #: The settings of the proximal projection.

@@ -184,14 +184,15 @@ FORCE_TOL = 1e-6
 COULOMB_TOL = 1e-6
 #: Relative warm/cold difference of the final iterate beyond which the run is
 #: a ``solver_failure`` (the cold re-solve always runs).
+COLD_TOL = 1e-6
 #: The cost per unit normal force in the interior point of the crossover route
 #: (``Tuning.lp_route="crossover"``): without it the optimal face of a fused
 #: wall's LP is unbounded (self-equilibrated normal forces between bodies) and
 #: the interior point's forces grew without bound (to 1e22 on Set 10's bodies);
 #: 1e-10 lowers ``lambda`` there by ~1e-5, which the dual-simplex clean-up after
-#: the crossover restores.
+#: the crossover restores. It bounded the first LP of Set 10's bodies, not its
+#: continuation's later ones (the route then falls back to HiGHS' cold solve).
 ROUTE_NORMAL_COST = 1e-10
-COLD_TOL = 1e-6
 
 
 def _is_number(x: Any) -> bool:
