@@ -51,6 +51,7 @@ from micro.backends.base import FloatArray, Outcome, Status
 from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
 from micro.backends.normal_matrix import (
     InteriorPointSettings,
+    InteriorPointStop,
     NormalMatrix,
     NotPositiveDefinite,
     one_blas_thread,
@@ -93,31 +94,20 @@ NORMAL_IPM = NormalIpmSettings()
 
 
 @dataclass(frozen=True, eq=False)
-class IpmResult:
-    """Where the interior point stopped.
+class IpmResult(InteriorPointStop):
+    """Where the interior point stopped (the fields of
+    :class:`~micro.backends.normal_matrix.InteriorPointStop`, and the answer).
 
     Attributes:
-        reason: why it stopped (``"converged"``, ``"iteration limit"``, ...).
         g: the generators; ``lam``: the load-factor column; ``y``: the row duals.
-        iterations: iterations run; ``factorizations``, ``refinements``: of ``M``.
-        gap, primal, dual: the last relative gap and residuals.
+        factorizations, refinements: of ``M``.
     """
 
-    reason: str
     g: FloatArray
     lam: float
     y: FloatArray
-    iterations: int
     factorizations: int
     refinements: int
-    gap: float
-    primal: float
-    dual: float
-
-    @property
-    def converged(self) -> bool:
-        """The tolerances were met."""
-        return self.reason == "converged"
 
 
 def _max_step(v: FloatArray, dv: FloatArray) -> float:
@@ -275,8 +265,9 @@ class NormalIpm:
         if reason == "converged":
             x, lam, primal = self._project(x, lam, primal * b_scale)
             primal /= b_scale
-        return IpmResult(reason, x, lam, y, it, self.M.factorizations - factorizations,
-                         self.M.refinements - refinements, gap, primal, dual)
+        return IpmResult(reason=reason, iterations=it, gap=gap, primal=primal, dual=dual, g=x, lam=lam, y=y,
+                         factorizations=self.M.factorizations - factorizations,
+                         refinements=self.M.refinements - refinements)
 
     def _project(self, x: FloatArray, lam: float, residual: float) -> tuple[FloatArray, float, float]:
         """The converged primal ``(x, lambda)`` moved onto equilibrium: up to

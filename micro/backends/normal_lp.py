@@ -24,7 +24,7 @@ vertices the crossover reaches is chaotic (Set 9's diverged at its fifth LP
 between two of OpenBLAS's kernels, Prescott and Haswell, with CHOLMOD's
 supernodal factorisation and numpy's BLAS dot products), so ``M`` is
 factorised by CHOLMOD's simplicial code, which calls no BLAS, and the scalar
-products are exact sums (:func:`_dot`): the first ten LPs of Set 9 then
+products are exact sums (:func:`exact_dot`): the first ten LPs of Set 9 then
 agree to the last digit under the Prescott, Haswell and Zen kernels. It costs
 1.4-1.9 s per LP on Set 9 against ~1 s supernodal.
 
@@ -54,6 +54,7 @@ from numpy.typing import NDArray
 from micro.backends.base import FloatArray
 from micro.backends.normal_matrix import (
     InteriorPointSettings,
+    InteriorPointStop,
     NormalMatrix,
     NotPositiveDefinite,
     one_blas_thread,
@@ -95,34 +96,21 @@ BOX_LP = BoxLPSettings()
 
 
 @dataclass(frozen=True, eq=False)
-class BoxLPResult:
-    """Where the interior point stopped.
+class BoxLPResult(InteriorPointStop):
+    """Where the interior point stopped (the fields of
+    :class:`~micro.backends.normal_matrix.InteriorPointStop`, and the answer).
 
     Attributes:
         x: the columns' values.
         lam: the free column's value (``lambda``, not ``d lambda``).
         y: the equality rows' multipliers (``c - A^T y = z_l - z_u`` at the optimum).
-        reason: ``"converged"``, ``"iteration limit"``, ``"not positive definite"``
-            or ``"not finite"``.
-        iterations: iterations run.
-        gap, primal, dual: the last relative gap and residuals.
         seconds: wall time.
     """
 
     x: FloatArray
     lam: float
     y: FloatArray
-    reason: str
-    iterations: int
-    gap: float
-    primal: float
-    dual: float
     seconds: float
-
-    @property
-    def converged(self) -> bool:
-        """The tolerances were met."""
-        return self.reason == "converged"
 
 
 class BoxLP:
@@ -150,7 +138,9 @@ class BoxLP:
         with one_blas_thread(), np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             out = self._run(np.asarray(c, float), np.asarray(b, float), np.asarray(lower, float),
                             np.asarray(upper, float), float(direction))
-        return BoxLPResult(*out, seconds=time.perf_counter() - t0)
+        x, lam, y, reason, iterations, gap, primal, dual = out
+        return BoxLPResult(reason=reason, iterations=iterations, gap=gap, primal=primal, dual=dual, x=x, lam=lam,
+                           y=y, seconds=time.perf_counter() - t0)
 
     def _run(self, c: FloatArray, b: FloatArray, lower: FloatArray, upper: FloatArray,
              d: float) -> tuple[FloatArray, float, FloatArray, str, int, float, float, float]:
@@ -178,21 +168,22 @@ class BoxLP:
         for it in range(1, st.max_iter + 1):
             sl = np.where(free, x - lo, 1.0)
             su = np.where(up, hi - x, 1.0)
-            rd = np.where(free, c - AT @ y - zl + zu, 0.0)
-            rl = -d - _dot(f, y)
+            reduced = c - AT @ y
+            rd = np.where(free, reduced - zl + zu, 0.0)
+            rl = -d - exact_dot(f, y)
             rp = b - A @ x - f * lam
-            p_obj = _dot(c, x) - d * lam
+            p_obj = exact_dot(c, x) - d * lam
             # a fixed column's reduced cost is free in the dual: it adds its value times that cost
-            q_obj = (_dot(b, y) + _dot(lo[free], zl[free]) - _dot(hi[up], zu[up])
-                     + _dot((c - AT @ y)[~free], lower[~free]))
-            products = _dot(sl[free], zl[free]) + _dot(su[up], zu[up])
+            q_obj = (exact_dot(b, y) + exact_dot(lo[free], zl[free]) - exact_dot(hi[up], zu[up])
+                     + exact_dot(reduced[~free], lower[~free]))
+            products = exact_dot(sl[free], zl[free]) + exact_dot(su[up], zu[up])
             gap = abs(p_obj - q_obj) / (1.0 + abs(p_obj))
             primal = float(np.max(np.abs(rp), initial=0.0)) / b_scale
             dual = max(float(np.max(np.abs(rd), initial=0.0)), abs(rl)) / (1.0 + float(np.max(np.abs(y), initial=0.0)))
             if not (math.isfinite(gap) and math.isfinite(primal) and math.isfinite(dual)):
                 return x, lam, y, "not finite", it, gap, primal, dual
             if gap <= st.gap_tol and primal <= st.primal_tol and dual <= st.dual_tol:
-                return _snapped(x, c - AT @ y, lower0, upper0, thin, st.fix_width * widest), lam, y, \
+                return _snapped(x, reduced, lower0, upper0, thin, st.fix_width * widest), lam, y, \
                     "converged", it - 1, gap, primal, dual
             mu = products / n_bounds
             H = np.where(free, zl / sl + np.where(up, zu / su, 0.0), 1.0)
@@ -202,14 +193,14 @@ class BoxLP:
             except NotPositiveDefinite:
                 return x, lam, y, "not positive definite", it, gap, primal, dual
             w = self.M.solve(f)
-            fw = _dot(f, w)
+            fw = exact_dot(f, w)
             frame = _Frame(free, up, sl, su, zl, zu, rd, rl, rp, dinv, w, fw)
             # Mehrotra: the affine direction, then the centred and corrected one
             dx, dl, dy, dzl, dzu = self._direction(frame, np.where(free, -sl * zl, 0.0),
                                                    np.where(up, -su * zu, 0.0))
             ap, ad = frame.longest(dx, dzl, dzu)
-            mu_aff = (_dot((sl + ap * dx)[free], (zl + ad * dzl)[free])
-                      + _dot((su - ap * dx)[up], (zu + ad * dzu)[up])) / n_bounds
+            mu_aff = (exact_dot((sl + ap * dx)[free], (zl + ad * dzl)[free])
+                      + exact_dot((su - ap * dx)[up], (zu + ad * dzu)[up])) / n_bounds
             sigma = min((mu_aff / mu) ** 3, 1.0) if mu > 0 else 0.0
             rcl = np.where(free, sigma * mu - sl * zl - dx * dzl, 0.0)
             rcu = np.where(up, sigma * mu - su * zu + dx * dzu, 0.0)
@@ -228,7 +219,7 @@ class BoxLP:
         ``M dy + f dlambda = r_p + A H^{-1} r1``; ``f . dy = r_lambda`` closes it."""
         r1 = np.where(fr.free, fr.rd - rcl / fr.sl + np.where(fr.up, rcu / fr.su, 0.0), 0.0)
         u = self.M.solve(fr.rp + self.A @ (fr.dinv * r1))
-        dl = (_dot(self.f, u) - fr.rl) / fr.fw
+        dl = (exact_dot(self.f, u) - fr.rl) / fr.fw
         dy = u - dl * fr.w
         dx = fr.dinv * (self.AT @ dy - r1)
         dzl = np.where(fr.free, (rcl - fr.zl * dx) / fr.sl, 0.0)
@@ -248,9 +239,10 @@ def _snapped(x: FloatArray, reduced: FloatArray, lower: FloatArray, upper: Float
     return np.where(to_lower, lower, np.where(to_upper, upper, x))
 
 
-def _dot(a: FloatArray, b: FloatArray) -> float:
+def exact_dot(a: FloatArray, b: FloatArray) -> float:
     """``a . b`` summed exactly (``math.fsum``): numpy's ``@`` calls its BLAS,
-    whose kernels (and so the last bits) differ from CPU to CPU."""
+    whose kernels (and so the last bits) differ from CPU to CPU. Every scalar
+    product of the crossover route goes through it."""
     return math.fsum((a * b).tolist())
 
 

@@ -234,24 +234,42 @@ class InteriorPointSettings:
     max_iter: int = 100
 
     def __post_init__(self) -> None:
-        check_interior_point_settings(self, self.NUMBERS, self.INTEGERS)
+        """:attr:`NUMBERS` positive and finite, ``regularization`` non-negative,
+        ``step_fraction`` in (0, 1), each of :attr:`INTEGERS` an integer of at
+        least its minimum.
+
+        Raises:
+            ValueError: a bad setting (the message names it).
+        """
+        for name in self.NUMBERS:
+            check_number(name, getattr(self, name))
+        r = self.regularization
+        if isinstance(r, bool) or not isinstance(r, (int, float)) or not math.isfinite(r) or r < 0:
+            raise ValueError(f"regularization must be a non-negative number, got {r!r}")
+        if not (isinstance(self.step_fraction, float) and 0.0 < self.step_fraction < 1.0):
+            raise ValueError(f"step_fraction must be in (0, 1), got {self.step_fraction!r}")
+        for name, least in self.INTEGERS:
+            check_integer(name, getattr(self, name), least)
 
 
-def check_interior_point_settings(settings: Any, numbers: tuple[str, ...],
-                                  integers: tuple[tuple[str, int], ...]) -> None:
-    """The checks shared by the settings of the normal-equations interior points:
-    ``numbers`` positive and finite, ``regularization`` non-negative, ``step_fraction``
-    in (0, 1), each of ``integers`` an integer of at least its minimum.
+@dataclass(frozen=True, eq=False)
+class InteriorPointStop:
+    """Where a normal-equations interior point stopped (each solver's result adds its answer).
 
-    Raises:
-        ValueError: a bad setting (the message names it).
+    Attributes:
+        reason: ``"converged"``, ``"iteration limit"``, ``"not positive definite"``,
+            ``"not finite"`` (and ``normal-ipm``'s others).
+        iterations: iterations run.
+        gap, primal, dual: the last relative gap and residuals.
     """
-    for name in numbers:
-        check_number(name, getattr(settings, name))
-    r = settings.regularization
-    if isinstance(r, bool) or not isinstance(r, (int, float)) or not math.isfinite(r) or r < 0:
-        raise ValueError(f"regularization must be a non-negative number, got {r!r}")
-    if not (isinstance(settings.step_fraction, float) and 0.0 < settings.step_fraction < 1.0):
-        raise ValueError(f"step_fraction must be in (0, 1), got {settings.step_fraction!r}")
-    for name, least in integers:
-        check_integer(name, getattr(settings, name), least)
+
+    reason: str
+    iterations: int
+    gap: float
+    primal: float
+    dual: float
+
+    @property
+    def converged(self) -> bool:
+        """The tolerances were met."""
+        return self.reason == "converged"

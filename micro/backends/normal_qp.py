@@ -44,6 +44,7 @@ from numpy.typing import NDArray
 from micro.backends.base import FloatArray
 from micro.backends.normal_matrix import (
     InteriorPointSettings,
+    InteriorPointStop,
     NormalMatrix,
     NotPositiveDefinite,
     one_blas_thread,
@@ -72,30 +73,17 @@ LEAST_DISTANCE = LeastDistanceSettings()
 
 
 @dataclass(frozen=True, eq=False)
-class LeastDistanceResult:
-    """Where the interior point stopped.
+class LeastDistanceResult(InteriorPointStop):
+    """Where the interior point stopped (the fields of
+    :class:`~micro.backends.normal_matrix.InteriorPointStop`, and the answer).
 
     Attributes:
         x: the last iterate (the projection when :attr:`converged`).
-        reason: ``"converged"``, ``"iteration limit"``, ``"not positive definite"``
-            or ``"not finite"``.
-        iterations: iterations run.
-        gap, primal, dual: the last relative gap and residuals.
         seconds: wall time.
     """
 
     x: FloatArray
-    reason: str
-    iterations: int
-    gap: float
-    primal: float
-    dual: float
     seconds: float
-
-    @property
-    def converged(self) -> bool:
-        """The tolerances were met."""
-        return self.reason == "converged"
 
 
 class LeastDistanceQP:
@@ -127,7 +115,9 @@ class LeastDistanceQP:
         with one_blas_thread(), np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             out = self._run(np.asarray(t, float), np.asarray(b, float), np.asarray(lower, float),
                             np.asarray(upper, float))
-        return LeastDistanceResult(*out, seconds=time.perf_counter() - t0)
+        x, reason, iterations, gap, primal, dual = out
+        return LeastDistanceResult(reason=reason, iterations=iterations, gap=gap, primal=primal, dual=dual, x=x,
+                                   seconds=time.perf_counter() - t0)
 
     def _run(self, t: FloatArray, b: FloatArray, lower: FloatArray,
              upper: FloatArray) -> tuple[FloatArray, str, int, float, float, float]:

@@ -19,7 +19,6 @@ previous basis.
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Any
 
 import numpy as np
@@ -28,7 +27,7 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
 from micro.backends.highs import PersistentHighsModel
-from micro.backends.normal_lp import BoxLP
+from micro.backends.normal_lp import BoxLP, exact_dot
 from micro.lp import LimitLP
 from micro.nonassociative.tuning import LAZY_WEIGHT, ROUTE_NORMAL_COST
 
@@ -203,7 +202,7 @@ class IterationModel:
         qn, qs = lp.Bn.T @ y, lp.Bs.T @ y
         x = np.concatenate([n, s, [res.lam]])
         # HiGHS' signs: column duals = cost - A^T (row duals)
-        col_dual = np.concatenate([-qn, -qs, [-d - math.fsum((lp.live * y).tolist())]])
+        col_dual = np.concatenate([-qn, -qs, [-d - exact_dot(lp.live, y)]])
         row_value, row_dual = lp.Bn @ n + lp.Bs @ s + lp.live * res.lam, y
         if self.scheme == "b":  # s is free; its bounds are the rows +s <= R (dual wp) and -s <= R (wm)
             col_dual[P : 2 * P] = 0.0
