@@ -42,6 +42,13 @@ DUAL_SIGN = -1.0
 #: default 1e-7 gave "Optimal" with unscaled residuals of 1e-3.
 SIMPLEX_TOLERANCE = 1e-10
 ALGORITHMS = ("ipm", "simplex")
+#: HiGHS' ``simplex_strategy`` values: the dual simplex (its default) and the
+#: primal simplex (for a run from a basis that is primal feasible or nearly:
+#: from a basis mapped out of another LP's, the dual simplex took 13,073
+#: iterations where the primal took 906 on the 1,230-block wall).
+DUAL_STRATEGY, PRIMAL_STRATEGY = 1, 4
+#: ``HighsBasisStatus`` codes of :meth:`PersistentHighsModel.basis_arrays`.
+LOWER, BASIC, UPPER = 0, 1, 2
 #: HiGHS' default (no limit) of ``simplex_iteration_limit`` and ``ipm_iteration_limit``.
 _ITERATIONS_MAX = 2**31 - 1
 #: A guarded run (:meth:`PersistentHighsModel.guard_stalls`) is interrupted
@@ -287,13 +294,35 @@ class PersistentHighsModel:
         """Forget the basis and any solution: the next run starts cold."""
         self._highs.clearSolver()
 
-    def set_algorithm(self, algorithm: str, *, crossover: bool = False) -> None:
+    def basis_arrays(self) -> tuple[NDArray[np.int8], NDArray[np.int8]]:
+        """The current basis as ``HighsBasisStatus`` codes (:data:`LOWER`,
+        :data:`BASIC`, :data:`UPPER`, ...) of the columns and of the rows:
+        arrays another model's basis can be built from."""
+        b = self._highs.getBasis()
+        return (np.fromiter((int(c) for c in b.col_status), dtype=np.int8, count=len(b.col_status)),
+                np.fromiter((int(r) for r in b.row_status), dtype=np.int8, count=len(b.row_status)))
+
+    def set_basis_arrays(self, cols: NDArray[np.int8], rows: NDArray[np.int8]) -> None:
+        """Start the next run from the basis of these status codes (one per
+        column and row, as :meth:`basis_arrays` gives them); HiGHS repairs a
+        singular one with slack columns."""
+        status = self._hs.HighsBasisStatus
+        codes = {int(c): c for c in (status.kLower, status.kBasic, status.kUpper, status.kZero, status.kNonbasic)}
+        b = self._hs.HighsBasis()
+        b.col_status = [codes[c] for c in np.asarray(cols).tolist()]
+        b.row_status = [codes[r] for r in np.asarray(rows).tolist()]
+        b.valid = True
+        self._highs.setBasis(b)
+
+    def set_algorithm(self, algorithm: str, *, crossover: bool = False, primal: bool = False) -> None:
         """Switch between ``"ipm"`` (with or without crossover) and ``"simplex"``
-        for the next runs; the model and any basis are kept."""
+        (the dual simplex, or with ``primal`` the primal one) for the next
+        runs; the model and any basis are kept."""
         _check_algorithm(algorithm)
         h = self._highs
         h.setOptionValue("solver", algorithm)
         h.setOptionValue("run_crossover", "on" if crossover else "off")
+        h.setOptionValue("simplex_strategy", PRIMAL_STRATEGY if primal else DUAL_STRATEGY)
         if algorithm == "simplex":
             self._simplex_tolerances(h)
         self.algorithm = algorithm

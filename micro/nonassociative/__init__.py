@@ -76,7 +76,7 @@ from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.convergence import detect_cycle
 from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
 from micro.nonassociative.lowest import LowestDirection, lowest_state
-from micro.nonassociative.options import LOWEST_BUDGET, LOWEST_ROW_LPS, NonAssociativeOptions
+from micro.nonassociative.options import LOWEST_BUDGET, NonAssociativeOptions
 from micro.nonassociative.pipeline import solve_chain
 from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
 from micro.nonassociative.results import (
@@ -118,7 +118,6 @@ __all__ = [
     "GlobalResult",
     "IterationRecord",
     "LOWEST_BUDGET",
-    "LOWEST_ROW_LPS",
     "LPProgress",
     "LowestDirection",
     "NonAssociativeOptions",
@@ -172,8 +171,10 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     t0 = time.perf_counter()
     lp = assemble(wall)
     build = time.perf_counter() - t0
-    results = tuple(solve_chain(lp, d, r) for d in load_directions(r.directions, wall.mirror_symmetric))
-    lowest = tuple(lowest_state(lp, res, r) for res in results if res.converged) if r.lowest else ()
+    solved = [solve_chain(lp, d, r) for d in load_directions(r.directions, wall.mirror_symmetric)]
+    results = tuple(res for res, _ in solved)
+    lowest = tuple(lowest_state(lp, res, r, model) for res, model in solved if res.converged) if r.lowest else ()
+    del solved  # the models: the descent has taken over what it needs
     glob = _global_search(lp, results, lowest, r) if r.global_ else None
     solve_secs = time.perf_counter() - t0 - build
     failing = [res for res in results if not res.converged]

@@ -36,22 +36,32 @@ does not fix: they make the band wide, and with frictionless head joints it
 shrinks to a point. Every distinct mechanism of the steps is polished into an
 exact state; the lowest is accepted when it is strictly lower. The descent
 stops when no proposal is (a relative decrease below :data:`LOWEST_TOL`
-counts as none) or after :data:`LOWEST_MAX_MOVES` accepted proposals.
-
-THE BUDGET. A descent may solve at most
-``(LOWEST_ROW_LPS + lowest_budget x (the direction's iterated LPs)) / rows``
-LPs
-(:mod:`micro.nonassociative.options`; then one more for the band of the
-state it returns). It counts LPs, not seconds, so it stops at the same state
-on every machine; one that spends its budget returns the lowest certified
-state found so far with ``stop="budget"`` (``"finished"``: it ended by its
-own rules). On large walls a descent LP costs as much as an iterate and the
-proposals multiply them: unbounded, the descent ran 14 minutes on the
-1,230-block wall of Table 5 (measurements: ``docs/research/2026-11-25-nonassociative-recipe.md``).
+counts as none) or after :data:`LOWEST_MAX_MOVES` accepted proposal.
 Releasing the bed joints, random halves of the head joints or the head joints
 of one part of the wall (left, right, top, bottom, moving blocks) was tried on
 the walls of ``xcheck stability`` and found lower states on 3 of 16 walls,
 by 0.05 % at most but one (0.9 %), at three to four times the cost.
+
+WARM LPs. Every LP starts from a basis, none from scratch but where a warm
+one fails: the descent takes over the iterated LP's own model of the
+direction after its last LP (:func:`lowest_state`'s ``model``), so that the
+proposals' Gilbert steps are warm dual-simplex runs of it, and a force LP
+starts from the basis of the Gilbert LP whose mechanism it asks about,
+carried over to the generator columns
+(:meth:`~micro.nonassociative.model.IterationModel.generator_basis`): its
+vertex is near a field of the pattern, so a short primal simplex finishes
+it. The polish's later rounds and the band's upper end start from the last
+force LP's vertex, a field of their pattern. A proposal's force LP whose
+warm run fails is not redone cold (its candidate is dropped); the lower end
+of the iterated LP's state and the band are. Without the iterated LP's model
+(a fused wall) the descent solves one Gilbert LP cold at the start's forces.
+
+THE BUDGET. A descent may solve at most ``lowest_budget`` LPs per direction
+(:class:`~micro.nonassociative.options.NonAssociativeOptions`; then one more
+for the band of the state it returns). It counts LPs, not seconds, so it
+stops at the same state on every machine; one that spends its budget returns
+the lowest certified state found so far with ``stop="budget"``
+(``"finished"``: it ended by its own rules).
 
 Every state the descent keeps is checked by
 :func:`~micro.nonassociative.checks.verify_collapse_state` (every residual at
@@ -77,9 +87,15 @@ from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.model import IterationModel
-from micro.nonassociative.options import LOWEST_ROW_LPS
 from micro.nonassociative.recipe import LPProgress, Recipe
-from micro.nonassociative.states import ForceField, ForceLP, MechanismLP, PersistentRuns, restricted_columns
+from micro.nonassociative.states import (
+    Basis,
+    ForceField,
+    ForceLP,
+    MechanismLP,
+    PersistentRuns,
+    restricted_columns,
+)
 from micro.records import json_number
 from micro.results import DIR_NAME, DirectionResult, direction_sign
 
@@ -88,8 +104,11 @@ BoolArray = NDArray[np.bool_]
 
 #: A relative decrease of ``lambda`` below this counts as no decrease.
 LOWEST_TOL = 1e-6
-#: Cap on accepted proposals (moves between mechanisms) per direction.
-LOWEST_MAX_MOVES = 10
+#: Cap on accepted proposals (moves between mechanisms) per direction: on the
+#: 178 walls of ``xcheck stability --lowest`` no descent ever accepted a
+#: second one (the proposal after an accepted move found nothing lower on
+#: every wall), and it cost as much as the first.
+LOWEST_MAX_MOVES = 1
 #: Cap on polish rounds (force LP + mechanism LP) per start.
 POLISH_ROUNDS = 20
 #: Relaxed Gilbert steps per proposal (``nbar = beta n_k + (1 - beta) n_(k-1)``);
@@ -117,6 +136,8 @@ class CollapseState:
         origin: how it was found (``"iterated"``, ``"lower end"``,
             ``"release head joints, step 2"``, each ``", polish"`` when the
             polish lowered it).
+        basis: the force LP's basis at its field (``None`` for the iterated
+            LP's own state): the band's upper end starts from it.
     """
 
     load_factor: float
@@ -124,6 +145,7 @@ class CollapseState:
     s: FloatArray = field(repr=False)
     v: FloatArray = field(repr=False)
     origin: str
+    basis: Any = field(default=None, repr=False)
 
 
 @dataclass(frozen=True, eq=False)
@@ -181,17 +203,32 @@ class Descent:
         options: the recipe (``relaxation`` of the proposals' steps,
             ``time_limit`` per LP, the progress callback).
         budget: the most LPs the descent may solve (``None``: no limit).
+        model: the iterated LP's own model of this direction after its last
+            LP (scheme (a), on ``lp``), taken over with its basis: the
+            proposals' Gilbert steps run warm in it, and its basis, carried
+            over to the force LP, starts the first lower end. ``None``: a
+            model of its own, solved cold once.
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: Recipe, budget: int | None = None) -> None:
+    def __init__(self, lp: LimitLP, direction: int, options: Recipe, budget: int | None = None,
+                 model: IterationModel | None = None) -> None:
         self.lp, self.d, self.o, self.budget = lp, direction, options, budget
         self.forces = ForceLP(lp, direction, options.user_limit)
         self.mechanisms = MechanismLP(lp, direction, options.user_limit)
         self.forces.report = self.mechanisms.report = self._progress
         self.forces.gate = self.mechanisms.gate = self.may_run
         self.gilbert: tuple[IterationModel, PersistentRuns] | None = None
+        if model is not None and model.lp is lp and model.generator_basis() is not None:
+            self.gilbert = self._runs(model, warm=True)
         self.seen: set[bytes] = set()
         self.out_of_budget = False
+
+    def _runs(self, model: IterationModel, *, warm: bool) -> tuple[IterationModel, PersistentRuns]:
+        """``model`` with the runner of the proposals' steps (warm: from its basis)."""
+        runs = PersistentRuns(model.model, self.o.user_limit)
+        runs.cold = not warm
+        runs.report, runs.gate = self._progress, self.may_run
+        return model, runs
 
     def may_run(self) -> bool:
         """Whether one more LP fits in the budget (the runners' gate: a refused
@@ -242,29 +279,40 @@ class Descent:
         :data:`EXACT_TOL`."""
         clean = self.mechanisms.compatible(f)
         for mech in (clean, v) if clean is not None else (v,):
-            state = CollapseState(f.load_factor, f.n, f.s, mech, origin)
+            state = CollapseState(f.load_factor, f.n, f.s, mech, origin, f.basis)
             if self.exact(state):
                 return state
         return None
 
-    def lower_end(self, v: FloatArray) -> ForceField | None:
-        """The lower end of the band of ``v`` (``None`` if it has no state)."""
+    def lower_end(self, v: FloatArray, start: Basis | None = None, *, primal: bool = False,
+                  cold: bool = True) -> ForceField | None:
+        """The lower end of the band of ``v`` (``None`` if it has no state);
+        ``start``, ``primal``, ``cold``: how its LP runs (:meth:`ForceLP.solve`)."""
         restricted = restricted_columns(self.lp, v)
-        return None if restricted is None else self.forces.solve(restricted)
+        return None if restricted is None else self.forces.solve(restricted, start=start, primal=primal, cold=cold)
 
-    def polish(self, v: FloatArray, origin: str) -> CollapseState | None:
-        """The lower end of ``v``'s band, then the convex-concave rounds
-        (module docstring) until no compatible mechanism lowers it.
+    def polish(self, v: FloatArray, origin: str, start: Basis | None = None, *, cold: bool = True
+               ) -> CollapseState | None:
+        """The lower end of ``v``'s band (its LP from ``start``, the basis of
+        the Gilbert LP whose mechanism ``v`` is, carried over), then the
+        convex-concave rounds (module docstring) until no compatible
+        mechanism lowers it. A round's force LP starts from the last one's
+        vertex, a field of the new pattern (the compatible mechanism keeps
+        every column it carries), by the primal simplex. ``cold=False``: a
+        force LP whose warm run fails is not redone cold (a proposal's
+        candidate is dropped instead: on the 1,230-block wall such a run
+        was a pattern with no field twice in three).
 
         Returns:
             The last exact state, or ``None`` when ``v`` gave none.
         """
-        f = self.lower_end(v)
+        f = self.lower_end(v, start, cold=cold)
         state = self.settle(f, v, origin) if f is not None else None
         for _ in range(POLISH_ROUNDS):
-            if state is None or self.spent():
-                break
-            f = self.lower_end(state.v)
+            if state is None or state.v is v or self.spent():
+                break  # no compatible mechanism: the same pattern again would give the same field
+            v = state.v
+            f = self.lower_end(v, primal=True, cold=cold)
             if f is None or f.load_factor >= state.load_factor * (1.0 - LOWEST_TOL):
                 break
             better = self.settle(f, state.v, origin if origin.endswith("polish") else f"{origin}, polish")
@@ -278,16 +326,23 @@ class Descent:
         """The points whose friction a proposal releases (:data:`RELEASED_KINDS`)."""
         return np.isin(np.repeat(self.lp.wall.contact_kind, 2), RELEASED_KINDS) & (self.lp.mu > 0.0)
 
+    def gilbert_model(self, n: FloatArray) -> tuple[IterationModel, PersistentRuns]:
+        """The model of the proposals' Gilbert steps: the iterated LP's own
+        (taken over in the constructor), else one of the descent's own,
+        solved once cold at ``nbar = n`` so that it holds a basis."""
+        if self.gilbert is None:
+            self.gilbert = self._runs(IterationModel(self.lp, self.d, "a", self.o.alpha0), warm=False)
+            self.gilbert[0].set_capacity(n, 0.0, 0.0, 0.0)
+            self.gilbert[1].run()
+        return self.gilbert
+
     def propose(self, state: CollapseState, released: BoolArray) -> CollapseState | None:
         """Relaxed Gilbert steps from ``state``'s normal forces with the
-        friction of the ``released`` points set to zero; the lowest polished
-        exact state of the steps' distinct mechanisms (``None`` if none)."""
-        if self.gilbert is None:
-            model = IterationModel(self.lp, self.d, "a", self.o.alpha0)
-            self.gilbert = (model, PersistentRuns(model.model, self.o.user_limit))
-            self.gilbert[1].report = self._progress
-            self.gilbert[1].gate = self.may_run
-        model, runs = self.gilbert
+        friction of the ``released`` points set to zero (warm dual simplex
+        runs of one model); the lowest polished exact state of the steps'
+        distinct mechanisms, each lower end started from its step's basis
+        (``None`` if none)."""
+        model, runs = self.gilbert_model(state.n)
         beta = self.o.beta
         n_prev = n_prev2 = state.n
         best: CollapseState | None = None
@@ -305,7 +360,7 @@ class Descent:
             if restricted is None or restricted.tobytes() in self.seen:
                 continue
             self.seen.add(restricted.tobytes())
-            cand = self.polish(v, f"release head joints, step {k + 1}")
+            cand = self.polish(v, f"release head joints, step {k + 1}", model.generator_basis(), cold=False)
             if cand is not None and (best is None or cand.load_factor < best.load_factor):
                 best = cand
         return best
@@ -321,7 +376,8 @@ class Descent:
         it = CollapseState(lam0, start.normal / fs, start.shear / fs, v0, "iterated")
         best = it if self.exact(it) else None
         path = [] if best is None else [best.load_factor]
-        lower = self.polish(v0, "lower end")
+        model, _ = self.gilbert_model(it.n)
+        lower = self.polish(v0, "lower end", model.generator_basis())
         if lower is not None and (best is None or lower.load_factor < best.load_factor * (1.0 - LOWEST_TOL)):
             best = lower
             path.append(best.load_factor)
@@ -348,7 +404,11 @@ class Descent:
                                    message="no collapse state passed the check, the iterated LP's included")
         restricted = restricted_columns(self.lp, best.v)
         self.budget = None  # the band of the state returned: one LP beyond the budget
-        top = self.forces.solve(restricted, sense=-1.0) if restricted is not None else None
+        top = None
+        if restricted is not None:
+            if best.basis is not None:  # its lower end's vertex is a field of the pattern: the primal simplex
+                self.forces.model.set_basis(best.basis)
+            top = self.forces.solve(restricted, sense=-1.0, primal=best.basis is not None)
         band = (best.load_factor, top.load_factor if top is not None else math.nan)
         result = self.as_result(best)
         return LowestDirection(name, FOUND, best.load_factor, band, path, moves, self.lps, budget, stop,
@@ -356,13 +416,16 @@ class Descent:
                                origin=best.origin)
 
 
-def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe) -> LowestDirection:
+def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe,
+                 model: IterationModel | None = None) -> LowestDirection:
     """The lowest certified state reached from a converged direction of the iterated LP.
 
     Args:
         lp: the wall's LP.
         start: a converged direction (its final forces and mechanism).
         options: the recipe of the iterated LP (its ``lowest_budget``).
+        model: the iterated LP's model of the direction after its last LP,
+            taken over (:class:`Descent`); ``None``: the descent builds one.
 
     Returns:
         The :class:`LowestDirection`.
@@ -372,8 +435,7 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe) -> Lowest
     """
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
-    budget = math.ceil((LOWEST_ROW_LPS + options.lowest_budget * start.iterations) / lp.n_eq)
-    return Descent(lp, direction_sign(start.direction), options, budget).run(start)
+    return Descent(lp, direction_sign(start.direction), options, options.lowest_budget, model).run(start)
 
 
 def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirection, ...]) -> dict[str, Any]:

@@ -26,7 +26,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.highs import PersistentHighsModel
+from micro.backends.highs import BASIC, LOWER, PersistentHighsModel
 from micro.backends.normal_lp import BoxLP, exact_dot
 from micro.lp import LimitLP
 from micro.nonassociative.tuning import LAZY_WEIGHT, ROUTE_NORMAL_COST
@@ -222,6 +222,38 @@ class IterationModel:
         return dataclasses.replace(
             out, seconds=out.seconds + res.seconds + x_seconds, ipm_iterations=res.iterations,
             crossover_iterations=x_iterations, info=info)
+
+    def generator_basis(self) -> tuple[NDArray[np.int8], NDArray[np.int8]] | None:
+        """The current basis carried over to the generator LP of the same wall
+        (columns ``[g+, g-, lambda]``, ``n = g+ + g-``, ``s = mu (g+ - g-)``,
+        :mod:`micro.lp`): the start of a descent LP
+        (:class:`~micro.nonassociative.states.ForceLP`) without a cold solve.
+
+        Each point keeps its number of basic columns: ``n`` and ``s`` basic
+        (a sticking point) make both generators basic; one of them basic
+        makes the generator on the side of ``s`` basic (``g-`` where ``s``
+        sits at its lower bound ``-mu nbar`` with ``n`` basic, else ``g+``);
+        the ``lambda`` column and the rows keep their status. The vertex of
+        the mapped basis is near the iterate's field, so a primal simplex
+        from it is short (HiGHS repairs a singular basis).
+
+        Returns:
+            ``(column, row)`` status codes, or ``None`` for a model whose
+            columns or rows are not those of scheme (a)'s plain LP (the lazy
+            model, scheme (b)'s friction rows).
+        """
+        if self.lazy or self.scheme != "a":
+            return None
+        cols, rows = self.model.basis_arrays()
+        P, friction = self.P, self.lp.mu > 0.0
+        n_basic, s_basic = cols[:P] == BASIC, cols[P : 2 * P] == BASIC
+        both, one = n_basic & s_basic, n_basic ^ s_basic
+        minus = one & n_basic & (cols[P : 2 * P] == LOWER) & friction
+        gen = np.full(2 * P + 1, LOWER, dtype=np.int8)
+        gen[:P][both | (one & ~minus)] = BASIC
+        gen[P : 2 * P][both | minus] = BASIC
+        gen[2 * P] = cols[2 * P]
+        return gen, rows
 
     def keep_basis(self) -> None:
         """Remember the basis of a good scheme (b) iterate (for :meth:`fallback_a_step`)."""

@@ -17,28 +17,11 @@ import numpy as np
 from micro.backends.base import check_integer
 from micro.results import Directions, check_directions
 
-#: The descent to the lowest certified state may solve at most
-#: ``(LOWEST_ROW_LPS + lowest_budget * (the direction's iterated LPs)) / (equilibrium rows)``
-#: LPs per direction (:mod:`micro.nonassociative.lowest`): a work budget in LPs
-#: times rows, so many LPs on a small wall and few on a large one, whose LPs
-#: cost more. With 20,000 and 500 every descent of ``xcheck stability
-#: --lowest`` (178 walls, up to 294 blocks, up to 86 LPs) finishes, and the
-#: walls of Table 5 get 7 (1,230 blocks, 9 iterated LPs) to 17 LPs (Set 2, 82).
-LOWEST_ROW_LPS = 20_000
-#: Default of :attr:`NonAssociativeOptions.lowest_budget` (LPs times rows per iterated LP).
-LOWEST_BUDGET = 500.0
-#: With ``lowest=None`` (the default) the descent runs on walls of at most this
-#: many blocks. Above it a descent LP is a cold interior point + crossover of
-#: 2-9 s on 1,230 blocks (against 0.3-0.6 s for a warm LP of the iterated LP),
-#: and the budget's few LPs cost up to several times the iterated LP: measured
-#: on main 2026-11-25 (CPU s, one process, iterated LP / with the descent):
-#: Set 5 (450 blocks) 0.9 / 4.4, Set 8 (450) 4.5 / 29.3, Ref (1,230) 7.7 /
-#: 36.6; in two report runs on one host (wall s) Set 1 3.7 / 27.6, Set 9
-#: (1,830) 540 / 634, Set 10 (3,630) 752 / 970: about 530 CPU s more over the
-#: report (+26 %), and ratios to the associative solve of 60-90x instead of
-#: 10-20x on the 1,230-block walls that converge with vertices. Every wall of
-#: ``xcheck stability --lowest`` (up to 294 blocks) and of Table 7 is below it.
-LOWEST_AUTO_BLOCKS = 300
+#: Default of :attr:`NonAssociativeOptions.lowest_budget`: LPs per direction.
+#: The descent (its own rules end it after one accepted move) solved at most
+#: 46 LPs on the 178 walls of ``xcheck stability --lowest``; on the walls of
+#: Table 5 it solves 10-25.
+LOWEST_BUDGET = 100
 
 
 @dataclass(frozen=True)
@@ -58,14 +41,14 @@ class NonAssociativeOptions:
             a sequence it stops has status ``time_limit``. No other decision
             depends on time: the same wall gives the same numbers everywhere.
         lowest: after a converged run, descend to the lowest certified
-            collapse state (``lowest_load_factor``; :mod:`micro.nonassociative.lowest`):
-            ``True`` always, ``False`` never, ``None`` (the default) on walls
-            of at most :data:`LOWEST_AUTO_BLOCKS` blocks.
-        lowest_budget: the descent's budget per direction, in LPs times
-            equilibrium rows per LP of the direction's iterated LP (plus
-            :data:`LOWEST_ROW_LPS`; divided by the wall's rows it is a number
-            of LPs); a descent that spends it returns the lowest certified
-            state found so far (``lowest_stop="budget"``). No clock decides it.
+            collapse state (``lowest_load_factor``, the value to quote;
+            :mod:`micro.nonassociative.lowest`); ``False``: the iterated
+            LP's state only.
+        lowest_budget: the most LPs the descent may solve per direction
+            (one more gives the band of the state it returns); a descent
+            that spends it returns the lowest certified state found so far
+            (``lowest_stop="budget"``). It counts LPs, not seconds: the same
+            wall stops at the same state on every machine.
         global_: then search for the global minimum by branch and bound
             (:mod:`micro.nonassociative.global_mip`; walls of a few blocks).
         global_time_limit: seconds of branch and bound per direction
@@ -81,8 +64,8 @@ class NonAssociativeOptions:
     max_iterations: int = 100
     time_limit: float | None = None
     max_seconds: float | None = None
-    lowest: bool | None = None
-    lowest_budget: float = LOWEST_BUDGET
+    lowest: bool = True
+    lowest_budget: int = LOWEST_BUDGET
     global_: bool = False
     global_time_limit: float | None = 300.0
     global_node_limit: int | None = None
@@ -97,21 +80,13 @@ class NonAssociativeOptions:
                 raise ValueError(f"{name} must be a positive number of seconds, got {tl!r}")
             if tl is not None:
                 object.__setattr__(self, name, float(tl))
-        lb = self.lowest_budget
-        if isinstance(lb, bool) or not isinstance(lb, (int, float)) or not math.isfinite(lb) or lb < 0:
-            raise ValueError(f"lowest_budget must be a finite number >= 0, got {lb!r}")
-        object.__setattr__(self, "lowest_budget", float(self.lowest_budget))
+        check_integer("lowest_budget", self.lowest_budget, 0)
         if self.global_node_limit is not None:
             check_integer("global_node_limit", self.global_node_limit, 1)
         object.__setattr__(self, "global_", bool(self.global_))
-        if self.lowest is not None and not isinstance(self.lowest, (bool, np.bool_)):
-            raise ValueError(f"lowest must be True, False or None (by the wall's size), got {self.lowest!r}")
-        if self.lowest is not None:
-            object.__setattr__(self, "lowest", bool(self.lowest))
-
-    def lowest_on(self, blocks: int) -> bool:
-        """Whether the descent runs on a wall of ``blocks`` blocks (:attr:`lowest`)."""
-        return self.lowest if self.lowest is not None else blocks <= LOWEST_AUTO_BLOCKS
+        if not isinstance(self.lowest, (bool, np.bool_)):
+            raise ValueError(f"lowest must be True or False, got {self.lowest!r}")
+        object.__setattr__(self, "lowest", bool(self.lowest))
 
     @property
     def user_limit(self) -> float:

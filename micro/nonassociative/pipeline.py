@@ -22,15 +22,20 @@ from numpy.typing import NDArray
 from micro.lp import LimitLP
 from micro.nonassociative.fusion import fused_wall, on_the_wall
 from micro.nonassociative.iteration import LPSequence
+from micro.nonassociative.model import IterationModel
 from micro.nonassociative.recipe import Recipe
 from micro.nonassociative.tuning import RETRY_STATUSES, SelectionName
 from micro.results import DirectionResult
 
 FloatArray = NDArray[np.float64]
+#: A direction's result with the model of the sequence that gave it, after
+#: its last LP (``None`` where that model is not on the wall's own LP: the
+#: fused wall); the descent to the lowest state takes it over.
+Solved = tuple[DirectionResult, IterationModel | None]
 
 
 def solve_direction(lp: LimitLP, direction: int, options: Recipe,
-                    start: FloatArray | None = None) -> DirectionResult:
+                    start: FloatArray | None = None) -> Solved:
     """The iterated LP on one load direction with ``options.selection``.
 
     ``"vertex+lazy"`` (``"vertex+proximal"``) runs the vertex sequence, and
@@ -43,23 +48,28 @@ def solve_direction(lp: LimitLP, direction: int, options: Recipe,
     returned with the vertex sequence in ``sequence.vertex_attempt``, and
     the LPs and seconds of both. ``start``: normal forces to start the
     (first) sequence's ``nbar`` from (:class:`LPSequence`).
+
+    Returns:
+        The result and the model of the sequence that gave it (:data:`Solved`).
     """
     if not options.selection.startswith("vertex+"):
-        return LPSequence(lp, direction, options, start=start).run()
+        only = LPSequence(lp, direction, options, start=start)
+        return only.run(), only.model
     retry: SelectionName = "proximal" if options.selection == "vertex+proximal" else "lazy"
     vertex = LPSequence(lp, direction, dataclasses.replace(options, selection="vertex"), start=start)
     first = vertex.run()
     if first.status not in RETRY_STATUSES:
-        return first
+        return first, vertex.model
     cap = options.max_iterations if options.retry_iterations is None else options.retry_iterations
     start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
-    second = LPSequence(lp, direction, dataclasses.replace(options, selection=retry, max_iterations=cap,
-                                                         continuation=False),
-                      start=start, iterate0=vertex.iterate0).run()
+    again = LPSequence(lp, direction, dataclasses.replace(options, selection=retry, max_iterations=cap,
+                                                        continuation=False),
+                       start=start, iterate0=vertex.iterate0)
+    second = again.run()
     assert second.sequence is not None
     message = second.message if second.converged else f"{retry}: {second.message}; vertex: {first.message}"
     return joined(first, second, second, message=message,
-                  sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence))
+                  sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence)), again.model
 
 
 def joined(first: DirectionResult, second: DirectionResult, result: DirectionResult,
@@ -70,12 +80,13 @@ def joined(first: DirectionResult, second: DirectionResult, result: DirectionRes
                                seconds=first.seconds + second.seconds, **changes)
 
 
-def solve_fused(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult:
+def solve_fused(lp: LimitLP, direction: int, options: Recipe) -> Solved:
     """The iterated LP of one direction on the fused wall
     (:func:`~micro.nonassociative.fusion.fused_wall`): the sequences run on
     the bodies' LP, and :func:`~micro.nonassociative.fusion.on_the_wall` makes
     their state the wall's, or rejects it. Where the associative LP fails, or
-    nothing moves, the wall itself runs instead."""
+    nothing moves, the wall itself runs instead. The model of a fused run
+    is on the bodies' LP, not the wall's: none is handed on."""
     t0 = time.perf_counter()
     unfused = dataclasses.replace(options, fuse=False)
     made = fused_wall(lp, direction, options)
@@ -85,11 +96,11 @@ def solve_fused(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult
     t_fuse = time.perf_counter() - t0
     # the continuation starts from the wall's associative forces at the points kept
     start = np.maximum(np.asarray(assoc.n)[fused.points], 0.0) if options.continuation and assoc.n is not None else None
-    r = solve_direction(fused.lp, direction, unfused, start=start)
-    return on_the_wall(lp, direction, fused, assoc, r, options, t0, t_fuse)
+    r, _ = solve_direction(fused.lp, direction, unfused, start=start)
+    return on_the_wall(lp, direction, fused, assoc, r, options, t0, t_fuse), None
 
 
-def solve_chain(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult:
+def solve_chain(lp: LimitLP, direction: int, options: Recipe) -> Solved:
     """One load direction as ``options`` ask: the fused wall (``fuse``), or
     the wall's own sequences (:func:`solve_direction`) and, where those of
     ``"vertex+lazy"`` or ``"vertex+proximal"`` (scheme (a)) both end
@@ -103,16 +114,20 @@ def solve_chain(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult
     A certified third run is returned with the wall's sequences in
     ``sequence.unfused_attempt``; a failed one leaves the wall's result,
     its message extended. Either way the LPs and seconds of all runs count.
+
+    Returns:
+        The result and the model that gave it (:data:`Solved`).
     """
     if options.fuse:
         return solve_fused(lp, direction, options)
-    first = solve_direction(lp, direction, options)
+    first, model = solve_direction(lp, direction, options)
     if (not options.fused_retry or options.continuation or options.scheme != "a"
             or not options.selection.startswith("vertex+") or first.status not in RETRY_STATUSES):
-        return first
-    third = solve_fused(lp, direction, dataclasses.replace(options, fuse=True, continuation=True))
+        return first, model
+    third, _ = solve_fused(lp, direction, dataclasses.replace(options, fuse=True, continuation=True))
     assert first.sequence is not None and third.sequence is not None
     if not third.converged:
         return joined(first, third, first,
-                      message=f"{first.message}; the fused wall with the continuation: {third.message}")
-    return joined(first, third, third, sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence))
+                      message=f"{first.message}; the fused wall with the continuation: {third.message}"), model
+    return joined(first, third, third,
+                  sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence)), None

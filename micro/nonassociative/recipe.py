@@ -79,7 +79,7 @@ class Recipe:
     state_solver: Literal["clarabel", "highs"]
     time_limit: float | None
     lowest: bool
-    lowest_budget: float
+    lowest_budget: int
     global_: bool
     global_time_limit: float | None
     global_node_limit: int | None
@@ -125,7 +125,7 @@ def recipe_for(blocks: int, options: NonAssociativeOptions | None = None, tuning
         max_simplex_iterations=t.max_simplex_iterations, max_seconds=o.max_seconds, lambda_tol=t.lambda_tol,
         window=t.window, directions=o.directions, start=t.start, certify=t.certify, settle_tol=t.settle_tol,
         settle_window=t.settle_window, mechanism_band=t.mechanism_band, state_solver=t.state_solver,
-        time_limit=o.time_limit, lowest=o.lowest_on(blocks), lowest_budget=o.lowest_budget, global_=o.global_,
+        time_limit=o.time_limit, lowest=o.lowest, lowest_budget=o.lowest_budget, global_=o.global_,
         global_time_limit=o.global_time_limit, global_node_limit=o.global_node_limit, global_bounds=t.global_bounds,
         fuse=large if t.fuse is None else t.fuse, continuation=large if t.continuation is None else t.continuation,
         fused_retry=t.fused_retry, anderson=t.anderson, projection_solver=t.projection_solver,

@@ -36,6 +36,7 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -50,6 +51,9 @@ from micro.nonassociative.tuning import INTERPENETRATION, STATE_RESIDUAL, TINY
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
+#: A basis as status codes of the columns and the rows
+#: (:meth:`~micro.backends.highs.PersistentHighsModel.basis_arrays`).
+Basis = tuple[NDArray[np.int8], NDArray[np.int8]]
 
 #: A force (a generator, or ``n``) counts as zero below this fraction of the
 #: largest normal force when the mechanism LP reads a field's pattern.
@@ -63,6 +67,11 @@ REFINED = 1e-12
 #: iterations (1.6 s, against 0.34 s cold) on 150 blocks and more than eight
 #: minutes on the 1,230-block wall.
 WARM_ITERATIONS = 2
+#: Simplex iterations per row a primal run from a carried-over basis may
+#: take: on the 1,230-block wall those that solve took 0.2-0.36 per row
+#: (790-1,330), and those that did not ended "Unknown" after 0.46 or had
+#: not finished at 2.
+PRIMAL_ITERATIONS = 0.5
 #: Weight of every restricted column in the mechanism LP beside the
 #: reduced-cost weights (normalised to at most 1): among compatible
 #: mechanisms, prefer the one that restricts fewest columns.
@@ -131,6 +140,9 @@ class ForceField:
         load_factor: its ``lambda``.
         benefit: ``(2P,)`` how fast ``lambda`` would fall per unit of force
             in each column (minus its reduced cost where negative, else 0).
+        basis: the force LP's basis at this field (opaque,
+            :meth:`~micro.backends.highs.PersistentHighsModel.get_basis`): a
+            later LP of the same pattern starts from it.
     """
 
     g: FloatArray = field(repr=False)
@@ -138,6 +150,7 @@ class ForceField:
     s: FloatArray = field(repr=False)
     load_factor: float
     benefit: FloatArray = field(repr=False)
+    basis: Any = field(default=None, repr=False)
 
 
 def refine(lp: LimitLP, x: FloatArray) -> FloatArray:
@@ -193,6 +206,8 @@ class PersistentRuns:
 
     def __init__(self, model: PersistentHighsModel, time_limit: float) -> None:
         self.model, self.time_limit = model, time_limit
+        if model.stall_guard is None:
+            model.guard_stalls()  # a stalled run fails (and is recovered) instead of hanging
         self.cap = WARM_ITERATIONS * model.n_rows
         self.cold = True
         self.lps = 0
@@ -202,26 +217,49 @@ class PersistentRuns:
         #: asked before every run whether it may run (a budget; ``None``: always)
         self.gate: Callable[[], bool] | None = None
 
-    def run(self) -> Outcome:
+    def run(self, start: Basis | None = None, *, primal: bool = False, cold: bool = True) -> Outcome:
         """Run the model (class docstring); a run its :attr:`gate` refuses fails
-        at once (status ``ITERATION_LIMIT``, nothing solved)."""
+        at once (status ``ITERATION_LIMIT``, nothing solved).
+
+        Args:
+            start: a basis to start from (status codes of
+                :meth:`~micro.backends.highs.PersistentHighsModel.basis_arrays`,
+                e.g. carried over from the iterated LP's model); the run is then
+                a primal simplex from it, capped at :data:`PRIMAL_ITERATIONS`
+                per row.
+            primal: a primal simplex from the current basis (which the caller
+                knows to be primal feasible, or nearly) instead of the dual one.
+            cold: redo a warm or primal run that fails cold; ``False``: return
+                its failure (for an LP the caller can do without).
+        """
         if self.gate is not None and not self.gate():
             return Outcome(Status.ITERATION_LIMIT, "budget spent")
         out = None
-        if not self.cold:
-            out = self._capped()
+        if start is not None:
+            self.model.set_basis_arrays(*start)
+            primal = True
+        if start is not None or not self.cold:
+            out = self._capped(primal)
             if out.status in (Status.OPTIMAL, Status.INFEASIBLE):
-                return self._book(out, "simplex-warm")
+                return self._book(out, "simplex-primal" if primal else "simplex-warm")
+            if not cold:
+                self.model.clear_solver()  # nothing of a failed run is kept for the next one
+                return self._book(out, "simplex-primal" if primal else "simplex-warm")
         first = self._cold()
         return self._book(first if out is None else first.plus_seconds(out.seconds), "ipm+crossover+simplex")
 
-    def _capped(self) -> Outcome:
-        """A warm dual-simplex run capped at :attr:`cap` iterations."""
+    def _capped(self, primal: bool = False) -> Outcome:
+        """A warm simplex run, the dual one capped at :attr:`cap` iterations or
+        the primal one at :data:`PRIMAL_ITERATIONS` per row."""
         m = self.model
+        if primal:
+            m.set_algorithm("simplex", primal=True)
         m.limit_next_run(self.time_limit)
-        m.limit_iterations(self.cap)
+        m.limit_iterations(math.ceil(PRIMAL_ITERATIONS * m.n_rows) if primal else self.cap)
         out = m.run()
         m.limit_iterations(None)
+        if primal:
+            m.set_algorithm("simplex")
         return out
 
     def _cold(self) -> Outcome:
@@ -265,16 +303,18 @@ class ForceLP(PersistentRuns):
         self._cols = np.arange(2 * lp.n_points)
         self._gen = lp.A[:, : 2 * lp.n_points].tocsc()
 
-    def solve(self, restricted: BoolArray, sense: float = 1.0) -> ForceField | None:
+    def solve(self, restricted: BoolArray, sense: float = 1.0, *, start: Basis | None = None,
+              primal: bool = False, cold: bool = True) -> ForceField | None:
         """The field of least (``sense=+1``) or greatest (``-1``) ``lambda``
         that uses no restricted column; ``None`` when there is none (or the
         LP failed, or its field misses equilibrium by more than
-        :data:`~micro.nonassociative.tuning.STATE_RESIDUAL`)."""
+        :data:`~micro.nonassociative.tuning.STATE_RESIDUAL`). ``start``,
+        ``primal``, ``cold``: how it runs (:meth:`PersistentRuns.run`)."""
         lp, P = self.lp, self.lp.n_points
         upper = np.where(restricted, 0.0, lp.col_upper[: 2 * P])
         self.model.set_col_bounds(self._cols, np.zeros(2 * P), upper)
         self.model.set_cost(lp.lam_col, float(sense) * self.d)  # the column holds d * lambda
-        out = self.run()
+        out = self.run(start, primal=primal, cold=cold)
         if out.x is None or out.duals is None:
             return None
         x = refine(lp, out.x)
@@ -286,7 +326,7 @@ class ForceLP(PersistentRuns):
         # HiGHS: cost = A^T y + z with y = -duals (shared sign); generators cost nothing
         # (the benefit is read at the lower end only)
         benefit = np.maximum(-(self._gen.T @ out.duals), 0.0) if sense > 0 else np.zeros(2 * P)
-        return ForceField(g, n, s, lam, benefit)
+        return ForceField(g, n, s, lam, benefit, self.model.get_basis())
 
 
 class MechanismLP(PersistentRuns):
