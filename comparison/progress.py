@@ -14,9 +14,9 @@ verbosity the command line passes down:
 While nothing finishes (one computation can run for minutes) a heartbeat
 thread keeps the display alive: off a terminal it writes the status line,
 marked ``still running``, once :data:`LOG_SECONDS` have passed without one;
-on a terminal it refreshes the bar (its elapsed time). Measured on
-2026-11-25: a full report's log had no line for 10 minutes while its two
-workers ran the non-associative LP of Sets 9 and 10.
+on a terminal it refreshes the bar (its elapsed time): without it a full
+report's log stays silent for minutes while its workers run the
+non-associative LP of Sets 9 and 10.
 """
 
 from __future__ import annotations

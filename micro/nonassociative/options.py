@@ -52,8 +52,7 @@ class NonAssociativeOptions:
             sequence; a sequence that reaches it ends ``max_iterations``.
         time_limit: optional wall-clock limit per LP in seconds (``None``:
             none); an LP it stops ends the run with status ``time_limit``,
-            no final answer. With ``global_`` also the default of the
-            search's limit (``global_time_limit``).
+            no final answer.
         max_seconds: optional wall-clock stop per direction (``None``: none);
             a sequence it stops has status ``time_limit``. No other decision
             depends on time: the same wall gives the same numbers everywhere.

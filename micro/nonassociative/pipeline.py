@@ -30,7 +30,7 @@ mechanism spread to the blocks; any field it finds is an exact collapse
 state of the WALL, and nothing less is accepted. The fusion restricts the
 mechanisms the sequence can reach: the state is one of the wall's collapse
 states, not necessarily the one the unfused sequence would reach
-(measurements: ``docs/research/2026-11-24-fused-wall.md``).
+(``docs/micro/nonassociative.md``).
 """
 
 from __future__ import annotations
@@ -143,8 +143,7 @@ def solve_chain(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult
     (``fused_retry``).
 
     It certified the two error-map walls (882 and 1,314 blocks) on which the
-    vertex and the proximal sequences end at their caps (measurements:
-    ``docs/research/2026-11-25-nonassociative-recipe.md``).
+    vertex and the proximal sequences end at their caps.
 
     A certified third run is returned with the wall's sequences in
     ``sequence.unfused_attempt``; a failed one leaves the wall's result,

@@ -43,14 +43,30 @@ def test_base_wall_in_words() -> None:
     assert base_wall(base) == "t = 1, m = 1/3, o = 60, p = 0, f = 0.6, 3 storeys"
 
 
-def test_speed_labels_once_per_resolution_and_apart(tmp_path: Path) -> None:
+def test_speed_labels_once_per_resolution_and_apart(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each family is one line through its points; each wall resolution is labelled once, and no two
+    labels overlap on the drawn figure."""
+    import comparison.report.figures as figures
+
+    kept: list = []
+    monkeypatch.setattr(figures, "save_figure", lambda fig, path: kept.append(fig) or path)
     pts = [
         SpeedPoint(f"{r} rows", fam, s, e, r) for fam in ("a", "b") for r, s, e in ((3, 0.01, 0.05), (6, 0.02, 0.052))
     ]
     labels = _cluster_labels(pts, 1e-7)
     assert sorted(k.rstrip("\u200b") for k in labels) == ["3 rows", "6 rows"]
     speed_accuracy(pts, "ref", tmp_path / "s.png")
-    assert (tmp_path / "s.png").stat().st_size > 0
+    (fig,) = kept
+    ax = fig.axes[0]
+    lines = {ln.get_label(): (list(ln.get_xdata()), list(ln.get_ydata())) for ln in ax.get_lines()}
+    assert lines == {"a": ([0.05, 0.052], [0.01, 0.02]), "b": ([0.05, 0.052], [0.01, 0.02])}
+    texts = [t for t in ax.texts if t.get_text() in ("3 rows", "6 rows")]
+    assert sorted(t.get_text() for t in texts) == ["3 rows", "6 rows"]
+    renderer = fig.canvas.get_renderer()
+    a, b = (t.get_window_extent(renderer) for t in texts)
+    assert not a.overlaps(b)
+    assert ax.get_xscale() == ax.get_yscale() == "log" and ax.get_ylabel() == "time [s]"
+    pyplot().close(fig)
 
 
 def test_mechanism_drawn_in_block_heights_with_arrow() -> None:
@@ -141,8 +157,34 @@ def test_quick_report_numbers_the_error_map_and_the_lowest_figure(quick_report_d
     assert names[-2:] == ["errormap.png", "lowest.png"]
     for i in range(1, len(images) + 1):
         assert f"**Figure {i}.** " in text
-    assert (quick_report_dir / "lowest.png").stat().st_size > 0
     assert "README" not in text
+
+
+def test_the_lowest_figure_draws_the_committed_study(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """The report's ``lowest.png`` is drawn from ``reports/lowest.csv``: the left histogram counts the walls
+    where the global search closed, the right one every wall of each group, stacked; read back from the
+    figure the report draws."""
+    from comparison.report import lowest as report_lowest
+    from comparison.stability import lowest_render
+
+    kept: list = []
+
+    def keep(over_global, over_lowest, path):  # type: ignore[no-untyped-def]
+        kept.append(lowest_render.chart_figure(over_global, over_lowest))
+        return path
+
+    monkeypatch.setattr(report_lowest, "chart", keep)
+    rows = report_lowest.load(Path(__file__).parents[3] / "reports" / "lowest.csv")
+    report_lowest.figure(rows, tmp_path / "lowest.png")
+    (fig,) = kept
+    left, right = fig.axes[:2]
+    closed = sum(1 for r in rows if r["global_status"] == "optimal")
+    assert sum(p.get_height() for p in left.patches) == closed > 0
+    assert sum(p.get_height() for p in right.patches) == len(rows)
+    legend = [t.get_text() for t in right.get_legend().get_texts()]
+    assert legend == [f"{lowest_render.GROUPS[g]} ({sum(1 for r in rows if r['group'] == g)})"
+                      for g in lowest_render.GROUPS if any(r["group"] == g for r in rows)]
+    pyplot().close(fig)
 
 
 def test_mechanism_caption_says_not_run_where_the_reference_was_not_run() -> None:
