@@ -31,6 +31,7 @@ from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
 from micro.nonassociative import (
     SCHEMES,
+    GlobalOptions,
     IterationRecord,
     NonAssociativeOptions,
     NonAssociativeResult,
@@ -49,6 +50,7 @@ __all__ = [
     "AssociativeRecord",
     "BlockWall",
     "DirectionResult",
+    "GlobalOptions",
     "IterationRecord",
     "LimitLP",
     "LimitResult",

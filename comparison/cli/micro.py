@@ -271,14 +271,16 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
                          "and Clarabel's interior point)")
     tuning = parse_tuning(args.tuning)
     # the options given; the others are the library's defaults
-    given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit, "global_time_limit": time_limit}
+    given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit}
     if args.max_iterations is not None:
         given["max_iterations"] = int_option("--max-iterations", args.max_iterations, minimum=2)
-    if args.node_limit is not None:
-        given["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
+    nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, minimum=1)
+    if args.global_:  # the search's limits: --node-limit, and --time-limit as for every LP
+        limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes, "time_limit": time_limit}
+        given["global_"] = micro.GlobalOptions(**limits)
     result = micro.solve_nonassociative(
         wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
-        lowest=LOWEST_CHOICES[args.lowest], global_=args.global_, **given,
+        lowest=LOWEST_CHOICES[args.lowest], **given,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:

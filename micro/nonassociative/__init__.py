@@ -11,7 +11,7 @@ implemented:
          of the bounds of the ``s`` columns.
 ``"b"``  a line through ``(nbar, mu nbar)`` with a small negative slope,
          ``|s| <= c0 + (1 + alpha) mu nbar - alpha mu n``, ``alpha`` halved
-         every iteration from ``alpha0`` (0.3) down to ``alpha_min`` (1e-3), a
+         every iteration from 0.3 down to 1e-3 (``selections.ALPHA0``, ``ALPHA_MIN``), a
          tiny cohesion ``c0`` so that contacts with ``nbar = 0`` keep a
          feasible point. Two rows per point, ``+s + alpha mu n <= rhs`` and
          ``-s + alpha mu n <= rhs``; their right-hand sides change every
@@ -198,9 +198,9 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     t0 = time.perf_counter()
     lp = assemble(wall)
     build = time.perf_counter() - t0
-    results = tuple(solve_chain(lp, d, r) for d in load_directions(r.directions, wall.mirror_symmetric))
+    results = tuple(solve_chain(lp, d, r) for d in load_directions(o.directions, wall.mirror_symmetric))
     lowest = tuple(lowest_state(lp, res, r) for res in results if res.converged) if r.lowest else ()
-    glob = _global_search(lp, results, lowest, r) if r.global_ else None
+    glob = _global_search(lp, results, lowest, o.global_) if isinstance(o.global_, GlobalOptions) else None
     solve_secs = time.perf_counter() - t0 - build
     failing = [res for res in results if not res.converged]
     if failing:
@@ -210,7 +210,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         g = min(results, key=lambda res: res.load_factor)
         lam, direction, status, msg = g.load_factor, g.direction, CONVERGED, ""
     return NonAssociativeResult(
-        load_factor=lam, direction=direction, status=status, scheme=r.scheme, relaxation=r.beta,
+        load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
         directions=results, recipe=r, message=msg, lowest=lowest, global_search=glob,
@@ -218,13 +218,12 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
 
 
 def _global_search(lp: LimitLP, results: tuple[DirectionResult, ...], lowest: tuple[LowestDirection, ...],
-                   o: Recipe) -> GlobalResult:
+                   options: GlobalOptions) -> GlobalResult:
     """The branch and bound over the directions solved, each started from the
     lowest certified state (else the iterated LP's converged state)."""
     starts = [StartState.from_iterated(lp, low.state) for low in lowest if low.state is not None]
     have = {st.direction for st in starts}
     starts += [StartState.from_iterated(lp, r) for r in results
                if r.converged and direction_sign(r.direction) not in have]
-    opts = GlobalOptions(time_limit=o.global_time_limit, node_limit=o.global_node_limit, bounds=o.global_bounds)
     which: Literal[1, -1, "both"] = "both" if len(results) > 1 else 1 if results[0].direction == "+x" else -1
-    return solve_global(lp, which, opts, starts)
+    return solve_global(lp, which, options, starts)

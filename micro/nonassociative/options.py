@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from micro.backends.base import check_integer
+from micro.nonassociative.global_search.results import GlobalOptions
 from micro.results import Directions, check_directions
 
 #: The descent to the lowest certified state may solve at most
@@ -65,12 +66,13 @@ class NonAssociativeOptions:
             :data:`LOWEST_ROW_LPS`; divided by the wall's rows it is a number
             of LPs); a descent that spends it returns the lowest certified
             state found so far (``lowest_stop="budget"``). No clock decides it.
-        global_: then search for the global minimum by branch and bound
-            (:mod:`micro.nonassociative.global_search`; walls of a few blocks).
-        global_time_limit: seconds of branch and bound per direction
-            (``None``: none); a search it stops depends on the machine.
-        global_node_limit: branch-and-bound nodes per direction (``None``:
-            none); the same answer on every machine.
+        global_: the search for the global minimum by branch and bound
+            (:mod:`micro.nonassociative.global_search`; walls of a few
+            blocks): ``False`` (the default) none, ``True`` with the
+            defaults of :class:`~micro.nonassociative.GlobalOptions`, or a
+            ``GlobalOptions`` with every setting of the search (time and node
+            limits, gap, big-M policy, HiGHS or SCIP). Stored as the
+            ``GlobalOptions`` or ``None``.
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -82,14 +84,12 @@ class NonAssociativeOptions:
     max_seconds: float | None = None
     lowest: bool | None = None
     lowest_budget: float = LOWEST_BUDGET
-    global_: bool = False
-    global_time_limit: float | None = 300.0
-    global_node_limit: int | None = None
+    global_: GlobalOptions | bool | None = None
 
     def __post_init__(self) -> None:
         check_directions(self.directions)
         check_integer("max_iterations", self.max_iterations, 2)
-        for name in ("time_limit", "max_seconds", "global_time_limit"):
+        for name in ("time_limit", "max_seconds"):
             tl = getattr(self, name)
             if tl is not None and (isinstance(tl, bool) or not isinstance(tl, (int, float))
                                    or not math.isfinite(tl) or tl <= 0):
@@ -100,9 +100,10 @@ class NonAssociativeOptions:
         if isinstance(lb, bool) or not isinstance(lb, (int, float)) or not math.isfinite(lb) or lb < 0:
             raise ValueError(f"lowest_budget must be a finite number >= 0, got {lb!r}")
         object.__setattr__(self, "lowest_budget", float(self.lowest_budget))
-        if self.global_node_limit is not None:
-            check_integer("global_node_limit", self.global_node_limit, 1)
-        object.__setattr__(self, "global_", bool(self.global_))
+        g = self.global_
+        if not isinstance(g, (GlobalOptions, bool, np.bool_)) and g is not None:
+            raise ValueError(f"global_ must be True, False or a GlobalOptions, got {g!r}")
+        object.__setattr__(self, "global_", GlobalOptions() if g is True or g is np.True_ else g or None)
         if self.lowest is not None and not isinstance(self.lowest, (bool, np.bool_)):
             raise ValueError(f"lowest must be True, False or None (by the wall's size), got {self.lowest!r}")
         if self.lowest is not None:

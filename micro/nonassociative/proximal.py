@@ -87,7 +87,6 @@ PROX_CLARABEL: dict[str, Any] = {
 }
 
 
-
 @dataclass(frozen=True)
 class LeastDistanceSettings(InteriorPointSettings):
     """Tolerances and limits of :class:`LeastDistanceQP` (the fields of
@@ -244,6 +243,7 @@ class _Frame:
             if np.any(neg):
                 a = min(a, float(np.min(-v[neg] / dv[neg])))
         return a
+
 
 @dataclass(frozen=True)
 class ProjectionResult:

@@ -107,7 +107,7 @@ def test_summaries_hold_no_nan_at_any_depth() -> None:
 
     assert [json_number(x) for x in (0.5, 1, math.nan, math.inf, -math.inf)] == [0.5, 1.0, None, None, None]
     wall = WallSpec.from_paper(t=1, m=1, rows=2, f=0.6).to_micro()
-    r = micro.solve_nonassociative(wall, lowest=True, global_=True, global_node_limit=5)
+    r = micro.solve_nonassociative(wall, lowest=True, global_=micro.GlobalOptions(node_limit=5))
     assert r.converged and r.lowest and r.global_search is not None
     summary = r.summary()
     text = json.dumps(summary, allow_nan=False)  # raises on any NaN or infinity left

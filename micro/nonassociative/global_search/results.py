@@ -37,6 +37,7 @@ def scip_available() -> bool:
     """True when ``pyscipopt`` is installed (the optional extra ``global``)."""
     return importlib.util.find_spec("pyscipopt") is not None
 
+
 @dataclass(frozen=True)
 class GlobalOptions:
     """Options of the global search.
@@ -86,6 +87,7 @@ class GlobalOptions:
         if self.solver == "scip" and not scip_available():
             raise ValueError("solver 'scip' needs pyscipopt: pip install 'xcheck-masonry[global]'")
 
+
 @dataclass(frozen=True, eq=False)
 class StartState:
     """A known collapse state, given to the search as its first incumbent.
@@ -126,6 +128,7 @@ class StartState:
                    np.asarray(result.shear) / lp.force_scale, lam,
                    np.asarray(result.mechanism.velocities, dtype=float).ravel())
 
+
 @dataclass(frozen=True, eq=False)
 class BigM:
     """The bounds used by one global search (scaled units).
@@ -153,6 +156,7 @@ class BigM:
     lps: int
     seconds: float
 
+
 @dataclass(frozen=True, eq=False)
 class Pattern:
     """Which points may open and in which sense each interface may slip.
@@ -179,6 +183,7 @@ class Pattern:
         pick = np.where(np.abs(s2[:, 0]) >= np.abs(s2[:, 1]), s2[:, 0], s2[:, 1])
         slip = np.where(pick > tol, 1, np.where(pick < -tol, -1, 0)).astype(np.int64)
         return cls(np.asarray(opening_rate) > tol, slip)
+
 
 @dataclass(frozen=True, eq=False)
 class GlobalDirection:
@@ -260,6 +265,7 @@ def relative_gap(value: float, bound: float) -> float:
     if not (math.isfinite(value) and math.isfinite(bound)):
         return math.nan
     return max(value - bound, 0.0) / max(abs(value), 1e-12)
+
 
 def global_summary(result: GlobalResult) -> dict[str, Any]:
     """The JSON keys of the global search (NaN and infinities as ``None``).
