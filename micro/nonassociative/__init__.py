@@ -18,14 +18,11 @@ implemented:
          iterate and, while ``alpha`` changes, their ``n`` coefficients. The
          cap ``n <= nbar (1 + alpha)/alpha + c0/(alpha mu)`` that the line
          implies freezes points with ``nbar ~ 0``; the support can then
-         shrink until the LP is infeasible (seen on every Table 7 wall with
-         ``c0 = 1e-6``). Such an iterate is replaced by one scheme (a) step
-         from the last forces (``algorithm="fallback-a"``) and (b) goes on.
+         shrink until the LP is infeasible. Such an iterate is replaced by
+         one scheme (a) step from the last forces (``algorithm="fallback-a"``).
 
 Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
-``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none). Without
-relaxation the plain sequence converged on 60 of the 120 walls of
-``xcheck stability``, 76 with ``beta = 0.6``; with the certificate, 118 and 120.
+``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none).
 
 Modules, one concept each:
 
@@ -59,12 +56,8 @@ A sequence stops as ``converged`` (exactly, or certified), ``cycling``
 ``max_simplex_iterations``), ``time_limit`` (a user's wall-clock stop,
 ``max_seconds`` or ``time_limit``: no final answer), or ``solver_failure``
 (an LP failed warm and cold, or the final iterate re-solved cold disagrees
-with the warm one, HiGHS having open reports of wrong objectives after hot
-starts). The load factor of a sequence that did
-not converge is NaN; the last value and the band are reported beside it. A
-warm run that stalls (HiGHS' dual simplex on an infeasible scheme (b) LP) is
-interrupted by :class:`micro.backends.highs.StallGuard` and recovered like
-any failed iterate.
+with the warm one). The load factor of a sequence that did not converge is
+NaN; the last value and the band are reported beside it.
 """
 
 from __future__ import annotations
@@ -106,38 +99,12 @@ from micro.nonassociative.tuning import (
 from micro.results import DirectionResult, direction_sign, load_directions
 
 __all__ = [
-    "CONVERGED",
-    "CYCLING",
-    "DEFAULT_RELAXATION",
-    "FUSE_BLOCKS",
-    "MAX_ITERATIONS",
-    "SCHEMES",
-    "SELECTIONS",
-    "SOLVER_FAILURE",
-    "STATUSES",
-    "TIME_LIMIT",
-    "FusionDiagnostics",
-    "GlobalOptions",
-    "GlobalResult",
-    "IterationRecord",
-    "LOWEST_BUDGET",
-    "LOWEST_ROW_LPS",
-    "LPProgress",
-    "LowestDirection",
-    "NonAssociativeOptions",
-    "NonAssociativeResult",
-    "Progress",
-    "Recipe",
-    "SequenceDiagnostics",
-    "TUNING_KNOBS",
-    "Tuning",
-    "continuation_allowed",
-    "detect_cycle",
-    "lowest_state",
-    "recipe_for",
-    "solve_global",
-    "solve_nonassociative",
-    "verify_collapse_state",
+    "CONVERGED", "CYCLING", "DEFAULT_RELAXATION", "FUSE_BLOCKS", "MAX_ITERATIONS", "SCHEMES", "SELECTIONS",
+    "SOLVER_FAILURE", "STATUSES", "TIME_LIMIT", "FusionDiagnostics", "GlobalOptions", "GlobalResult",
+    "IterationRecord", "LOWEST_BUDGET", "LOWEST_ROW_LPS", "LPProgress", "LowestDirection", "NonAssociativeOptions",
+    "NonAssociativeResult", "Progress", "Recipe", "SequenceDiagnostics", "TUNING_KNOBS", "Tuning",
+    "continuation_allowed", "detect_cycle", "lowest_state", "recipe_for", "solve_global", "solve_nonassociative",
+    "verify_collapse_state"
 ]
 
 
