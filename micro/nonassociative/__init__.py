@@ -70,7 +70,7 @@ from __future__ import annotations
 import time
 from typing import Any, Literal
 
-from micro.geometry import BlockWall
+from micro.geometry import BlockWall, check_block_wall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.convergence import detect_cycle
@@ -164,8 +164,15 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
 
     Raises:
         ValueError: a bad option (the message names it).
-        TypeError: an unknown option name.
+        TypeError: an unknown option name; ``wall``, ``options``, ``tuning`` or ``progress`` of the wrong
+            type (``options="fast"``, ``progress="print"``), naming it.
     """
+    check_block_wall(wall)
+    for name, value, kind in (("options", options, NonAssociativeOptions), ("tuning", tuning, Tuning)):
+        if value is not None and not isinstance(value, kind):
+            raise TypeError(f"{name} must be a micro.{kind.__name__} or None, got {value!r} ({type(value).__name__})")
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be a function of one LPProgress or None, got {progress!r}")
     o = (options or NonAssociativeOptions()).with_overrides(**overrides)
     t = tuning or Tuning()
     r = recipe_for(wall.n_blocks, o, t, progress)

@@ -16,7 +16,9 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
-from micro.backends.base import check_integer, check_number
+import numpy as np
+
+from micro.backends.base import check_integer, check_number, finite_real
 from micro.backends.clarabel import CLARABEL_RETRY
 from micro.nonassociative.global_bounds import POLICIES as BIG_M_POLICIES
 
@@ -195,11 +197,6 @@ COLD_TOL = 1e-6
 ROUTE_NORMAL_COST = 1e-10
 
 
-def _is_number(x: Any) -> bool:
-    """An int or a float, not a bool."""
-    return not isinstance(x, bool) and isinstance(x, (int, float))
-
-
 def continuation_allowed(scheme: str, selection: str) -> bool:
     """Whether ``continuation`` can run: it needs scheme (a) and a vertex
     sequence (``"vertex"``, ``"vertex+lazy"`` or ``"vertex+proximal"``; the
@@ -310,11 +307,14 @@ class Tuning:
             object.__setattr__(self, name, float(getattr(self, name)))
         if self.relaxation is not None:
             object.__setattr__(self, "relaxation", float(self.relaxation))
-        for name in ("certify", "mechanism_band", "fused_retry"):
-            object.__setattr__(self, name, bool(getattr(self, name)))
-        for name in ("fuse", "continuation"):
-            if getattr(self, name) is not None:
-                object.__setattr__(self, name, bool(getattr(self, name)))
+        for name in ("certify", "mechanism_band", "fused_retry", "fuse", "continuation"):
+            value = getattr(self, name)
+            if value is None and name in ("fuse", "continuation"):
+                continue
+            if not isinstance(value, (bool, np.bool_)):  # certify="no" was read as True
+                may_be_none = " or None (by the wall's size)" if name in ("fuse", "continuation") else ""
+                raise ValueError(f"{name} must be True or False{may_be_none}, got {value!r}")
+            object.__setattr__(self, name, bool(value))
 
     def _check_method(self) -> None:
         """The scheme, the selection and the choices among names."""
@@ -342,16 +342,16 @@ class Tuning:
     def _check_numbers(self) -> None:
         """The numbers, each in its range."""
         beta = self.relaxation
-        if beta is not None and (not _is_number(beta) or not (0.0 < float(beta) <= 1.0)):
+        if beta is not None and ((x := finite_real(beta)) is None or not (0.0 < x <= 1.0)):
             raise ValueError(f"relaxation must be a number in (0, 1], got {beta!r}")
         for name in ("alpha0", "alpha_min", "lambda_tol"):
             check_number(name, getattr(self, name))
         if self.alpha_min > self.alpha0:
             raise ValueError(f"alpha_min ({self.alpha_min}) must not exceed alpha0 ({self.alpha0})")
         af, st = self.alpha_factor, self.settle_tol
-        if not _is_number(af) or not (0.0 < af <= 1.0):
+        if (x := finite_real(af)) is None or not (0.0 < x <= 1.0):
             raise ValueError(f"alpha_factor must be a number in (0, 1], got {af!r}")
-        if not _is_number(st) or not (0.0 <= st < 1.0):
+        if (x := finite_real(st)) is None or not (0.0 <= x < 1.0):
             raise ValueError(f"settle_tol must be a number in [0, 1), got {st!r}")
         check_integer("retry_iterations", self.retry_iterations, 2)
         if self.max_simplex_iterations is not None:
