@@ -63,8 +63,6 @@ def test_stability_table7_refuses_the_options_it_ignored(extra: list[str], tmp_p
 @pytest.mark.parametrize(("item", "key", "value"), [
     ("start=vertex", "start", "vertex"),
     ("global_bounds=uniform", "global_bounds", "uniform"),
-    ("projection_solver=clarabel", "projection_solver", "clarabel"),
-    ("lp_route=crossover", "lp_route", "crossover"),
     ("state_solver=highs", "state_solver", "highs"),
     ("selection=none", "selection", None),
     ("fuse=auto", "fuse", None),
