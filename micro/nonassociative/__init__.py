@@ -34,17 +34,19 @@ Modules, one concept each:
 ``recipe``       :class:`Recipe`, both resolved for one wall (what the modules read);
 ``model``        the persistent HiGHS model of one direction and its updates;
 ``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
-``pipeline``     one direction: which sequences run (the vertex one, the lazy or proximal retry, the fused wall);
-``selections``   the selections (vertex, lazy, proximal, continuation), one object each behind one interface;
+``pipeline``     one direction: which sequences run (the vertex one, the proximal retry), on the
+                 wall or on its fused bodies (the blocks that move as one rigid body);
+``selections``   the selections (vertex, proximal, continuation), one object each behind one
+                 interface, and the stops (the exact stop, the settle test, cycles);
+``proximal``     the proximal selection's projection, a QP, and its interior point;
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
-``convergence``  the exact stop, the settle test, cycle detection;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
-``results``      :class:`IterationRecord`, :class:`SequenceDiagnostics`, :class:`NonAssociativeResult`;
-``fusion``       the blocks that move as one rigid body fused into one, and the fused state on the wall;
+``results``      the types: :class:`IterationRecord`, :class:`SequenceDiagnostics`,
+                 :class:`LowestDirection`, :class:`NonAssociativeResult`;
 ``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
 ``lowest``       the descent to the lowest certified collapse state (``options.lowest``);
-``global_mip``   the mixed-integer search for the global minimum (``options.global_``), with
-                 ``global_bounds``, ``global_model``, ``global_pattern`` and ``global_search``.
+``global_search``  the mixed-integer search for the global minimum (``options.global_``): a
+                 subpackage (options and results, bounds, model, patterns, branch and bound, solvers).
 
 After a converged run, the descent (on by default) reports the lowest
 certified collapse state it reaches (``lowest_load_factor``) beside the
@@ -73,9 +75,8 @@ from typing import Any, Literal
 from micro.geometry import BlockWall, check_block_wall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.convergence import detect_cycle
-from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
-from micro.nonassociative.lowest import LowestDirection, lowest_state
+from micro.nonassociative.global_search import GlobalOptions, GlobalResult, StartState, solve_global
+from micro.nonassociative.lowest import lowest_state
 from micro.nonassociative.options import LOWEST_BUDGET, LOWEST_ROW_LPS, NonAssociativeOptions
 from micro.nonassociative.pipeline import solve_chain
 from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
@@ -88,9 +89,11 @@ from micro.nonassociative.results import (
     TIME_LIMIT,
     FusionDiagnostics,
     IterationRecord,
+    LowestDirection,
     NonAssociativeResult,
     SequenceDiagnostics,
 )
+from micro.nonassociative.selections import detect_cycle
 from micro.nonassociative.tuning import (
     DEFAULT_RELAXATION,
     FUSE_BLOCKS,

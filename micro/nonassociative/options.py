@@ -67,7 +67,7 @@ class NonAssociativeOptions:
             of LPs); a descent that spends it returns the lowest certified
             state found so far (``lowest_stop="budget"``). No clock decides it.
         global_: then search for the global minimum by branch and bound
-            (:mod:`micro.nonassociative.global_mip`; walls of a few blocks).
+            (:mod:`micro.nonassociative.global_search`; walls of a few blocks).
         global_time_limit: seconds of branch and bound per direction
             (``None``: none); a search it stops depends on the machine.
         global_node_limit: branch-and-bound nodes per direction (``None``:
