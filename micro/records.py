@@ -179,7 +179,8 @@ class NonAssociativeRecord(MicroRecord):
         lambda_band: ``(min, max)`` of ``lambda`` over the cycle or the last
             window (``None`` when converged).
         mechanism_band: ``(min, max)`` of ``lambda`` over the collapse states
-            with the final mechanism (``None`` when not computed).
+            with the final mechanism (``None`` when not computed, and when the
+            run did not converge: a failed run has no exact collapse state).
         last_load_factor: ``lambda`` of the last successful iterate.
         associative_load_factor: smallest associative ``lambda`` over the
             directions solved.

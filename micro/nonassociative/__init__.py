@@ -65,7 +65,7 @@ from __future__ import annotations
 import time
 from typing import Any, Literal
 
-from micro.geometry import BlockWall
+from micro.geometry import BlockWall, check_block_wall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.global_search import GlobalOptions, GlobalResult, StartState, solve_global
@@ -134,7 +134,8 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
 
     Raises:
         ValueError: a bad option (the message names it).
-        TypeError: an unknown option name.
+        TypeError: an unknown option name; ``wall``, ``options``, ``tuning`` or ``progress`` of the wrong
+            type (``options="fast"``, ``progress="print"``), naming it.
 
     Examples:
         >>> import micro
@@ -159,6 +160,12 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         >>> plain.stop_reason in ("lambda_and_forces", "lambda_and_coulomb", "repeating", "oscillating")
         True
     """
+    check_block_wall(wall)
+    for name, value, kind in (("options", options, NonAssociativeOptions), ("tuning", tuning, Tuning)):
+        if value is not None and not isinstance(value, kind):
+            raise TypeError(f"{name} must be a micro.{kind.__name__} or None, got {value!r} ({type(value).__name__})")
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be a function of one LPProgress or None, got {progress!r}")
     o = (options or NonAssociativeOptions()).with_overrides(**overrides)
     t = tuning or Tuning()
     r = recipe_for(wall.n_blocks, o, t, progress)

@@ -394,9 +394,10 @@ class LPSequence:
         msg = msg or self._message(status, stop, band)
         if cold_note:
             msg += f"; also, {cold_note}"
-        seq = SequenceDiagnostics(
+        seq = SequenceDiagnostics(  # a failed sequence's band is no band of exact collapse states
             stop_reason=stop, last_load_factor=lam, lambda_band=None if status == CONVERGED else band,
-            mechanism_band=self.mechanism_band, associative_load_factor=lam_assoc, history=tuple(self.history),
+            mechanism_band=self.mechanism_band if status == CONVERGED else None,
+            associative_load_factor=lam_assoc, history=tuple(self.history),
             cold_load_factor=cold.load_factor, warm_cold_rel_diff=cold.rel_diff, cold_algorithm=cold.algorithm,
             coulomb_residual=state.coulomb, dilatancy_residual=state.dilatancy,
             equilibrium_residual=state.equilibrium, sliding_points=state.sliding_points,

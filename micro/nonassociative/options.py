@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from micro.backends.base import check_integer
+from micro.backends.base import check_integer, finite_real
 from micro.nonassociative.global_search.results import GlobalOptions
 from micro.results import Directions, check_directions
 
@@ -91,13 +91,12 @@ class NonAssociativeOptions:
         check_integer("max_iterations", self.max_iterations, 2)
         for name in ("time_limit", "max_seconds"):
             tl = getattr(self, name)
-            if tl is not None and (isinstance(tl, bool) or not isinstance(tl, (int, float))
-                                   or not math.isfinite(tl) or tl <= 0):
+            if tl is not None and ((x := finite_real(tl)) is None or x <= 0):
                 raise ValueError(f"{name} must be a positive number of seconds, got {tl!r}")
             if tl is not None:
                 object.__setattr__(self, name, float(tl))
         lb = self.lowest_budget
-        if isinstance(lb, bool) or not isinstance(lb, (int, float)) or not math.isfinite(lb) or lb < 0:
+        if (x := finite_real(lb)) is None or x < 0:
             raise ValueError(f"lowest_budget must be a finite number >= 0, got {lb!r}")
         object.__setattr__(self, "lowest_budget", float(self.lowest_budget))
         g = self.global_

@@ -348,7 +348,7 @@ def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: 
     status, message = CONVERGED, ""
     if state.equilibrium > EQUILIBRIUM_RESIDUAL:
         status, message = SOLVER_FAILURE, f"equilibrium residual {state.equilibrium:.2e} block weights on the wall"
-        seq = dataclasses.replace(seq, stop_reason="equilibrium_residual")
+        seq = dataclasses.replace(seq, stop_reason="equilibrium_residual", mechanism_band=None)
     fs = lp.force_scale
     return dataclasses.replace(
         r, status=status, load_factor=lam if status == CONVERGED else math.nan, normal=n * fs, shear=s * fs,

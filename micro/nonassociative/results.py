@@ -120,7 +120,8 @@ class SequenceDiagnostics:
             the last window (``None`` when converged).
         mechanism_band: ``(min, max)`` of ``lambda`` over ALL collapse
             states with the final mechanism (certified runs, and converged
-            scheme (a) runs; ``None`` otherwise): the non-associative problem
+            scheme (a) runs; ``None`` otherwise, also when a certified state
+            then failed a final check): the non-associative problem
             has many solutions, and the same mechanism can form at any load
             factor in this band.
         associative_load_factor: ``lambda`` of the associative LP.

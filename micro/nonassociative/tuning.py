@@ -16,7 +16,9 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
-from micro.backends.base import check_integer
+import numpy as np
+
+from micro.backends.base import check_integer, finite_real
 
 #: Published rebuilt yield conditions implemented here.
 SCHEMES = ("a", "b")
@@ -52,11 +54,6 @@ STATE_RESIDUAL = 1e-7
 EQUILIBRIUM_RESIDUAL = 1e-6
 #: Floor of the scales that residuals are divided by.
 TINY = 1e-12
-
-
-def _is_number(x: Any) -> bool:
-    """An int or a float, not a bool."""
-    return not isinstance(x, bool) and isinstance(x, (int, float))
 
 
 def continuation_allowed(scheme: str, selection: str) -> bool:
@@ -136,18 +133,21 @@ class Tuning:
         if self.start not in ("interior", "vertex"):
             raise ValueError(f"start must be one of interior, vertex, got {self.start!r}")
         beta = self.relaxation
-        if beta is not None and (not _is_number(beta) or not (0.0 < float(beta) <= 1.0)):
+        if beta is not None and ((x := finite_real(beta)) is None or not (0.0 < x <= 1.0)):
             raise ValueError(f"relaxation must be a number in (0, 1], got {beta!r}")
         check_integer("retry_iterations", self.retry_iterations, 2)
         if self.max_simplex_iterations is not None:
             check_integer("max_simplex_iterations", self.max_simplex_iterations, 1)
         if beta is not None:
             object.__setattr__(self, "relaxation", float(beta))
-        for name in ("certify", "mechanism_band", "fused_retry"):
-            object.__setattr__(self, name, bool(getattr(self, name)))
-        for name in ("fuse", "continuation"):
-            if getattr(self, name) is not None:
-                object.__setattr__(self, name, bool(getattr(self, name)))
+        for name in ("certify", "mechanism_band", "fused_retry", "fuse", "continuation"):
+            value = getattr(self, name)
+            if value is None and name in ("fuse", "continuation"):
+                continue
+            if not isinstance(value, (bool, np.bool_)):  # certify="no" was read as True
+                may_be_none = " or None (by the wall's size)" if name in ("fuse", "continuation") else ""
+                raise ValueError(f"{name} must be True or False{may_be_none}, got {value!r}")
+            object.__setattr__(self, name, bool(value))
 
     @property
     def resolved_selection(self) -> SelectionName:

@@ -14,6 +14,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.backends.base import check_integer, finite_real
 from micro.lp import LimitLP
 from micro.mechanism import Mechanism
 from micro.records import json_number
@@ -70,13 +71,12 @@ class GlobalOptions:
 
     def __post_init__(self) -> None:
         t = self.time_limit
-        if t is not None and (isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t) or t <= 0):
+        if t is not None and ((x := finite_real(t)) is None or x <= 0):
             raise ValueError(f"time_limit must be a positive number, got {t!r}")
-        n = self.node_limit
-        if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n <= 0):
-            raise ValueError(f"node_limit must be a positive integer, got {n!r}")
+        if self.node_limit is not None:
+            check_integer("node_limit", self.node_limit, 1)
         g = self.mip_gap
-        if isinstance(g, bool) or not isinstance(g, (int, float)) or not (0.0 <= g < 1.0):
+        if (x := finite_real(g)) is None or not (0.0 <= x < 1.0):
             raise ValueError(f"mip_gap must be in [0, 1), got {g!r}")
         if self.bounds not in POLICIES:
             raise ValueError(f"bounds must be one of {', '.join(POLICIES)}, got {self.bounds!r}")
