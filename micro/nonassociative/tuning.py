@@ -1,4 +1,4 @@
-"""The research knobs of the iterated LP (:class:`Tuning`) and its policy constants.
+"""The research knobs of the iterated LP (:class:`Tuning`), their defaults, the tolerances several modules share.
 
 :class:`Tuning` holds what the method's developers vary: the rebuilt yield
 condition, the relaxation, the selections, fusing and the continuation,
