@@ -115,7 +115,8 @@ def test_a_log_gets_a_status_line_while_one_computation_runs_for_minutes() -> No
             time.sleep(0.01)
         thread = p._thread
     lines = stream.getvalue().splitlines()
-    assert lines == ["micro: 0 of 4 done (0 %), 0 cached, 4 to go; 31 s elapsed, ETA unknown; nothing finished for 31 s"]
+    assert lines == [
+        "micro: 0 of 4 done (0 %), 0 cached, 4 to go; 31 s elapsed, ETA unknown; nothing finished for 31 s"]
     assert thread is not None and not thread.is_alive() and p._thread is None
 
 
