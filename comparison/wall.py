@@ -169,6 +169,11 @@ class WallSpec:
         """Staggering length ``v = l/2``."""
         return 0.5 * self.block_length
 
+    def storey_base(self, storey: int) -> float:
+        """Height above the wall's base of the base of ``storey`` (1 = top): where the macro model's hinge of
+        that storey lies, and for every storey but the bottom one a floor level."""
+        return sum(s.rows for s in self.storeys[storey:]) * self.block_height
+
     # ----------------------------------------------------------------- models
     def dimensions(self) -> dict[str, Any]:
         """The wall in the keyword arguments both models take (``macro.MacroWall``, ``micro.build_wall``)."""
