@@ -8,11 +8,7 @@ selection: ``nbar`` moved by ``beta`` towards its projection,
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
-simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`);
-on the crossover route (``Tuning.lp_route="crossover"``, a research knob)
-every LP without a friction slope by the normal-equations interior point,
-HiGHS' crossover from its point and a dual-simplex clean-up instead, the
-policy above where that fails.
+simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`).
 Every decision counts work (iterations, LPs), never seconds: the path and its
 numbers are the same on a loaded or slower machine; only the optional user
 stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
@@ -70,8 +66,6 @@ from micro.results import DIR_NAME, DirectionResult
 FloatArray = NDArray[np.float64]
 NAN = math.nan
 COLD = "ipm+crossover+simplex"
-#: the ``lp_route="crossover"`` route: normal-equations interior point, HiGHS' crossover, clean-up
-CROSSOVER = "normal-lp+crossover+simplex"
 
 
 class LPSequence:
@@ -226,19 +220,10 @@ class LPSequence:
         doubled each time the warm run after a cold streak is slow again,
         or stopped at :attr:`warm_limit`: Set 10, 3,630 blocks, warm runs of
         102,000 and over 108,000 simplex iterations, 260-360 s, against cold
-        ones of 40-65 s). On the crossover route
-        (:meth:`~micro.nonassociative.model.IterationModel.interior_vertex`)
-        an LP it takes is solved that way; where it fails the LP goes cold.
-        A run stopped by the user's ``time_limit`` is returned as it is (the
+        ones of 40-65 s). A run stopped by the user's ``time_limit`` is returned as it is (the
         sequence ends)."""
         user = self.o.time_limit
-        routed_failed = False
-        if self.o.lp_route == "crossover" and model.route_applies:
-            routed = model.interior_vertex(user)
-            if routed is not None and (routed.ok or routed.status is Status.TIME_LIMIT):
-                return routed, CROSSOVER
-            routed_failed = True  # cold below (the model's basis may be gone)
-        cold = routed_failed or k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
+        cold = k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
                           and self.cold_streak < self.streak_length)
         if cold:
             model.model.limit_next_run(user)

@@ -27,9 +27,8 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
 from micro.backends.highs import PersistentHighsModel
-from micro.backends.normal_lp import BoxLP, exact_dot
 from micro.lp import LimitLP
-from micro.nonassociative.tuning import LAZY_WEIGHT, ROUTE_NORMAL_COST
+from micro.nonassociative.tuning import LAZY_WEIGHT
 
 FloatArray = NDArray[np.float64]
 
@@ -78,7 +77,6 @@ class IterationModel:
         self.in_fallback = False
         self.good_basis: Any = None
         self.alpha, self.c0 = alpha0, 0.0
-        self._box: BoxLP | None = None  # the interior point of interior_vertex (built on first use)
         if scheme == "b":
             # rows n_eq + 2p (+s) and n_eq + 2p + 1 (-s): +-s + alpha mu n <= rhs
             self.model.add_rows(self._friction_rows(alpha0 * lp.mu), np.full(2 * P, -np.inf),
@@ -157,71 +155,6 @@ class IterationModel:
         out = self.warm(seconds, simplex_iterations)
         self.in_fallback = True  # the model now holds a scheme (a) LP (for the cold check)
         return out
-
-    @property
-    def route_applies(self) -> bool:
-        """Whether :meth:`interior_vertex` takes the current LP (no lazy
-        model, no friction slope, not a scheme (a) step inside the (b) model)."""
-        return not self.lazy and not self.in_fallback and self.alpha == 0.0
-
-    def interior_vertex(self, seconds: float | None) -> Outcome | None:
-        """Solve the current LP by the normal-equations interior point
-        (:class:`~micro.backends.normal_lp.BoxLP`), then HiGHS' crossover from
-        its primal-dual point and a dual-simplex clean-up from that basis: a
-        vertex without the warm run's path through the previous basis.
-
-        The friction conditions are bounds of ``s``: scheme (a)'s ``|s| <= mu
-        nbar``, or the continuation's rows ``+-s <= c0 + mu nbar`` once its
-        slope is 0. With a slope ``-gamma`` the rows would be columns ``g+, g-
-        >= 0`` and ``|h| <= c0 + (1 - gamma) mu nbar`` (``n = g+ + g-``, ``s =
-        gamma mu (g+ - g-) + h``), but on Set 10's bodies that interior point
-        failed at ``gamma = 0.9`` and the clean-up after the crossover took
-        15,900-23,900 pivots (28-49 s) at ``gamma`` 0.1-0.5, against 1,940
-        (1.8 s) at 0: the route is taken at slope 0 only.
-
-        Returns:
-            The clean-up's outcome with the cost of all three steps, or
-            ``None`` where the route does not apply (the lazy model, a
-            non-zero slope, a scheme (a) step inside the (b) model) or the
-            interior point or the crossover failed (the model then holds no
-            basis).
-        """
-        if not self.route_applies:
-            return None
-        lp, P, mu, d = self.lp, self.P, self.lp.mu, float(self.d)
-        if self._box is None:
-            self._box = BoxLP(sp.hstack([lp.Bn, lp.Bs]), lp.live)
-        cap = mu * self.nbar + (self.c0 if self.scheme == "b" else 0.0)
-        lower = np.concatenate([np.zeros(P), -cap])
-        upper = np.concatenate([np.full(P, np.inf), cap])
-        cost = np.concatenate([np.full(P, ROUTE_NORMAL_COST), np.zeros(P)])
-        res = self._box.solve(cost, lp.rhs, lower, upper, self.d)
-        if not res.converged:
-            return None
-        y, n, s = res.y, res.x[:P], res.x[P:]
-        qn, qs = lp.Bn.T @ y, lp.Bs.T @ y
-        x = np.concatenate([n, s, [res.lam]])
-        # HiGHS' signs: column duals = cost - A^T (row duals)
-        col_dual = np.concatenate([-qn, -qs, [-d - exact_dot(lp.live, y)]])
-        row_value, row_dual = lp.Bn @ n + lp.Bs @ s + lp.live * res.lam, y
-        if self.scheme == "b":  # s is free; its bounds are the rows +s <= R (dual wp) and -s <= R (wm)
-            col_dual[P : 2 * P] = 0.0
-            rows, duals = np.empty(2 * P), np.empty(2 * P)
-            rows[0::2], rows[1::2] = s, -s
-            duals[0::2], duals[1::2] = -np.maximum(qs, 0.0), np.minimum(qs, 0.0)
-            row_value, row_dual = np.concatenate([row_value, rows]), np.concatenate([y, duals])
-        ok, x_seconds, x_iterations = self.model.crossover(x, col_dual, row_value, row_dual)
-        if not ok:
-            self.model.clear_solver()
-            return None
-        self.model.set_algorithm("simplex")
-        self.model.limit_next_run(seconds)
-        out = self.model.run()
-        info = {**out.info, "interior_seconds": res.seconds, "crossover_seconds": x_seconds,
-                "cleanup_seconds": out.seconds}
-        return dataclasses.replace(
-            out, seconds=out.seconds + res.seconds + x_seconds, ipm_iterations=res.iterations,
-            crossover_iterations=x_iterations, info=info)
 
     def keep_basis(self) -> None:
         """Remember the basis of a good scheme (b) iterate (for :meth:`fallback_a_step`)."""

@@ -23,16 +23,11 @@ are complementary). The iterate is converged only when the certificate
 finds an exact state with the LP's mechanism, as for the other selections.
 
 The QP is solved by the suite's interior point on the normal equations
-(:mod:`micro.backends.normal_qp`, ``Tuning.projection_solver="normal-ipm"``,
-3-4 times faster than Clarabel on Sets 2 and 9), and by Clarabel where that
-does not converge or with ``projection_solver="clarabel"`` (the path before
-2026-11-26). Both are built once per direction; only the right-hand side,
+(:mod:`micro.backends.normal_qp`, 3-4 times faster than Clarabel on Sets 2
+and 9), and by Clarabel where that does not converge. Both are built once
+per direction; only the right-hand side,
 the target and the bounds change between iterates (Clarabel's ``update``
 needs its presolve off).
-
-With ``Tuning.anderson = m > 0`` the relaxed step is replaced by Anderson
-acceleration of depth ``m`` (:class:`Anderson`) of the same fixed-point
-iteration, residual ``f(nbar) = P(nbar) - nbar``.
 """
 
 from __future__ import annotations
@@ -50,11 +45,11 @@ from numpy.typing import NDArray
 from micro.backends.clarabel import clarabel_settings
 from micro.backends.normal_qp import LeastDistanceQP
 from micro.lp import LimitLP
-from micro.nonassociative.tuning import ANDERSON_GROWTH, ANDERSON_RCOND, PROX_CLARABEL, PROX_MARGIN
+from micro.nonassociative.tuning import PROX_CLARABEL, PROX_MARGIN
 
 FloatArray = NDArray[np.float64]
 
-#: The solvers of the projection (``Tuning.projection_solver``).
+#: The solvers of the projection (:class:`Projection`'s ``solver``).
 PROJECTION_SOLVERS = ("normal-ipm", "clarabel")
 #: Clarabel statuses whose solution is taken as the projection.
 _SOLVED = ("Solved", "AlmostSolved")
@@ -164,60 +159,3 @@ class Projection:
             return ProjectionResult(None, None, float("nan"), status, int(sol.iterations), seconds)
         return self._result(nbar, np.asarray(sol.x), status, int(sol.iterations), seconds, "clarabel")
 
-
-class Anderson:
-    """Anderson acceleration (type II, Walker & Ni 2011) of the relaxed
-    fixed-point iteration ``x <- x + beta f(x)``, ``f(x) = g(x) - x``.
-
-    With the last ``depth + 1`` iterates ``x_i`` and residuals ``f_i`` kept,
-    ``dX`` and ``dF`` their consecutive differences:
-
-        gamma   = argmin |f_k - dF gamma|_2
-        x_(k+1) = max(x_k + beta f_k - (dX + beta dF) gamma, 0).
-
-    The safeguard: where ``|f_k|_2`` exceeds :data:`ANDERSON_GROWTH` times
-    ``|f_(k-1)|_2`` the history is dropped (a restart) and the step is the
-    plain relaxed one; so is the first step, and a step whose least-squares
-    problem is not finite.
-
-    Args:
-        depth: ``m >= 1``, the differences kept.
-        beta: the relaxation.
-    """
-
-    def __init__(self, depth: int, beta: float) -> None:
-        self.depth, self.beta = depth, beta
-        self.xs: list[FloatArray] = []
-        self.fs: list[FloatArray] = []
-        self.restarts = 0
-        self.accelerated = 0
-
-    def reset(self) -> None:
-        """Drop the history (the next step is a plain one)."""
-        self.xs.clear()
-        self.fs.clear()
-
-    def step(self, x: FloatArray, g: FloatArray) -> FloatArray:
-        """The next iterate from ``x`` and its map's value ``g = g(x)``."""
-        f = g - x
-        if self.fs and float(np.linalg.norm(f)) > ANDERSON_GROWTH * float(np.linalg.norm(self.fs[-1])):
-            self.reset()
-            self.restarts += 1
-        self.xs.append(np.array(x, dtype=float))
-        self.fs.append(f)
-        if len(self.fs) > self.depth + 1:
-            self.xs.pop(0)
-            self.fs.pop(0)
-        plain = np.maximum(x + self.beta * f, 0.0)
-        if len(self.fs) < 2:
-            return plain
-        dF = np.column_stack([b - a for a, b in zip(self.fs[:-1], self.fs[1:], strict=True)])
-        dX = np.column_stack([b - a for a, b in zip(self.xs[:-1], self.xs[1:], strict=True)])
-        gamma = np.linalg.lstsq(dF, f, rcond=ANDERSON_RCOND)[0]
-        nxt = x + self.beta * f - (dX + self.beta * dF) @ gamma
-        if not np.all(np.isfinite(nxt)):
-            self.reset()
-            self.restarts += 1
-            return plain
-        self.accelerated += 1
-        return np.maximum(nxt, 0.0)

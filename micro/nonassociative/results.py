@@ -400,8 +400,7 @@ def solver_description(options: Recipe) -> str:
     roles = [("clarabel" if options.start == "interior" else "highs-ipm+crossover", "start")]
     if options.certify or options.mechanism_band:
         roles.append(("clarabel" if options.state_solver == "clarabel" else "highs-ipm", "certificate"))
-    iterated = "normal-lp+highs-crossover" if options.lp_route == "crossover" else "highs-simplex"
-    roles.append((iterated, "iterated" + (", fused" if options.fuse else "")))
+    roles.append(("highs-simplex", "iterated" + (", fused" if options.fuse else "")))
     roles.append(("highs-ipm", "cold check"))
     by_solver: dict[str, list[str]] = {}
     for solver, role in roles:

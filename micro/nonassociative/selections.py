@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from micro.lp import LimitLP
 from micro.nonassociative import convergence
-from micro.nonassociative.proximal import Anderson, Projection
+from micro.nonassociative.proximal import Projection
 from micro.nonassociative.recipe import Recipe
 from micro.nonassociative.tuning import (
     COHESION,
@@ -177,25 +177,18 @@ class Proximal(Selection):
 
     def __init__(self, options: Recipe, lp: LimitLP, direction: int) -> None:
         super().__init__(options, lp, direction)
-        self.projection = Projection(lp, direction, options.user_limit, options.projection_solver)
+        self.projection = Projection(lp, direction, options.user_limit)
         self.steps: list[float] = []
         self.step = NAN
-        self.anderson = Anderson(options.anderson, self.beta) if options.anderson > 0 else None
 
     def next_nbar(self, nbar: FloatArray, lam: float, n_prev: FloatArray, n_prev2: FloatArray) -> FloatArray:
-        """``nbar`` moved by ``beta`` towards its projection at the LP's ``lam``
-        (with ``anderson``: the accelerated step, :class:`~micro.nonassociative.proximal.Anderson`);
-        where the QP is not solved, the vertex rule for this step
-        (and Anderson's history is dropped)."""
+        """``nbar`` moved by ``beta`` towards its projection at the LP's ``lam``;
+        where the QP is not solved, the vertex rule for this step."""
         proj = self.projection.project(nbar, lam)
         self.step = proj.step
         if proj.normal is None:
-            if self.anderson is not None:
-                self.anderson.reset()
             return super().next_nbar(nbar, lam, n_prev, n_prev2)
         self.steps.append(proj.step)
-        if self.anderson is not None:
-            return self.anderson.step(nbar, proj.normal)
         return nbar + self.beta * (proj.normal - nbar)
 
     def take_step(self) -> float:

@@ -62,14 +62,6 @@ PROX_CLARABEL: dict[str, Any] = {
     "tol_feas": 1e-8,
     "max_iter": 400,
 }
-#: Anderson acceleration of the proximal fixed-point iteration (``Tuning.anderson``,
-#: :class:`~micro.nonassociative.proximal.Anderson`): the history is dropped (a
-#: restart, then a plain relaxed step) when the residual ``|P(nbar) - nbar|_2``
-#: exceeds this factor times the previous iterate's ...
-ANDERSON_GROWTH = 1.0
-#: ... and singular values of the least-squares problem below this fraction of
-#: the largest are cut (``numpy.linalg.lstsq``'s ``rcond``).
-ANDERSON_RCOND = 1e-8
 
 # ------------------------------------------------------------ warm / cold policy
 # Every decision of the sequence is taken on deterministic work measures
@@ -185,14 +177,6 @@ COULOMB_TOL = 1e-6
 #: Relative warm/cold difference of the final iterate beyond which the run is
 #: a ``solver_failure`` (the cold re-solve always runs).
 COLD_TOL = 1e-6
-#: The cost per unit normal force in the interior point of the crossover route
-#: (``Tuning.lp_route="crossover"``): without it the optimal face of a fused
-#: wall's LP is unbounded (self-equilibrated normal forces between bodies) and
-#: the interior point's forces grew without bound (to 1e22 on Set 10's bodies);
-#: 1e-10 lowers ``lambda`` there by ~1e-5, which the dual-simplex clean-up after
-#: the crossover restores. It bounded the first LP of Set 10's bodies, not its
-#: continuation's later ones (the route then falls back to HiGHS' cold solve).
-ROUTE_NORMAL_COST = 1e-10
 
 
 def _is_number(x: Any) -> bool:
@@ -254,26 +238,6 @@ class Tuning:
             (a), where both sequences fail on a direction, a third run on the
             fused wall with the continuation.
         global_bounds: the global search's big-M policy, ``"per_point"`` or ``"uniform"``.
-        anderson: depth ``m`` of Anderson acceleration (type II, restarted
-            when the residual grows, ``nbar`` clipped at 0) of the proximal
-            sequence's fixed-point iteration ``nbar <- nbar + beta (P(nbar) - nbar)``;
-            0: off (the plain relaxed step). Needs a proximal selection
-            (``"proximal"`` or ``"vertex+proximal"``). A research knob
-            (``docs/research/2026-11-25-anderson.md``).
-        projection_solver: the proximal QP's solver: ``"normal-ipm"`` (the
-            suite's interior point on the normal equations, Clarabel where it
-            does not converge) or ``"clarabel"`` (the path before 2026-11-26;
-            ``docs/research/2026-11-26-proximal-projection.md``).
-        lp_route: how the iterated LP's LPs get their vertex: ``"simplex"``
-            (a warm dual simplex from the last basis, cold by HiGHS' interior
-            point and crossover where warm runs are slow) or ``"crossover"``
-            (every LP without a friction slope by the suite's interior point
-            on the normal equations, :mod:`micro.backends.normal_lp`, then
-            HiGHS' crossover from its point and a dual-simplex clean-up; the
-            ``"simplex"`` route where that fails). The two routes can reach
-            different vertices of one LP, so different paths: a research
-            knob (1.4-2.4 times faster on Set 9, slower on the walls whose
-            vertex sequences converge; ``docs/research/2026-11-26-crossover-route.md``).
 
     Raises:
         ValueError: a bad knob (the message names it).
@@ -299,9 +263,6 @@ class Tuning:
     continuation: bool | None = None
     fused_retry: bool = True
     global_bounds: Literal["per_point", "uniform"] = "per_point"
-    anderson: int = 0
-    projection_solver: Literal["normal-ipm", "clarabel"] = "normal-ipm"
-    lp_route: Literal["simplex", "crossover"] = "simplex"
 
     def __post_init__(self) -> None:
         self._check_method()
@@ -329,13 +290,8 @@ class Tuning:
             raise ValueError("continuation needs scheme 'a' and a vertex sequence (selection 'vertex', "
                              f"'vertex+lazy' or 'vertex+proximal'), got scheme {self.scheme!r}, "
                              f"selection {self.resolved_selection!r}")
-        if (not isinstance(self.anderson, bool) and isinstance(self.anderson, int) and self.anderson > 0
-                and self.resolved_selection not in ("proximal", "vertex+proximal")):
-            raise ValueError(f"anderson accelerates the proximal sequence: it needs selection 'proximal' or "
-                             f"'vertex+proximal', got {self.resolved_selection!r}")
         for name, allowed in (("start", ("interior", "vertex")), ("state_solver", ("clarabel", "highs")),
-                              ("global_bounds", BIG_M_POLICIES), ("projection_solver", ("normal-ipm", "clarabel")),
-                              ("lp_route", ("simplex", "crossover"))):
+                              ("global_bounds", BIG_M_POLICIES)):
             if getattr(self, name) not in allowed:
                 raise ValueError(f"{name} must be one of {', '.join(allowed)}, got {getattr(self, name)!r}")
 
@@ -358,7 +314,6 @@ class Tuning:
             check_integer("max_simplex_iterations", self.max_simplex_iterations, 1)
         check_integer("window", self.window, 3)
         check_integer("settle_window", self.settle_window, 2)
-        check_integer("anderson", self.anderson, 0)
 
     @property
     def resolved_selection(self) -> SelectionName:

@@ -52,11 +52,6 @@ def test_bad_options(kw: dict, word: str) -> None:
         (dict(state_solver="gurobi"), "state_solver"),
         (dict(retry_iterations=1), "retry_iterations"),
         (dict(global_bounds="tight"), "global_bounds"),
-        (dict(anderson=-1), "anderson"),
-        (dict(anderson=True), "anderson"),
-        (dict(anderson=2.0), "anderson"),
-        (dict(selection="vertex", anderson=3), "anderson"),
-        (dict(scheme="b", anderson=3), "anderson"),
     ],
 )
 def test_bad_tuning(kw: dict, word: str) -> None:
