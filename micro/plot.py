@@ -170,9 +170,10 @@ def plot_velocities(
     fig, ax = plt.subplots(figsize=(9, max(3.0, min(9.0, 9 * aspect + 1.5))), dpi=110)
     draw_mechanism(ax, wall, velocities, amplification=amplification, fig=fig, direction=direction, floors=floors,
                    hinge=hinge, hinge_label=hinge_label)  # fmt: skip
-    if ax.get_legend_handles_labels()[0]:  # below the x label, clear of the title
-        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
-    ax.set_title(title)
+    marks = len(ax.get_legend_handles_labels()[0])
+    if marks:  # one row over the axes, the title above it
+        ax.legend(fontsize=8, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=marks, frameon=False)
+    ax.set_title(title, pad=24 if marks else 6)
     out = Path(path)
     fig.savefig(out, bbox_inches="tight")
     plt.close(fig)
