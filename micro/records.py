@@ -213,9 +213,9 @@ class NonAssociativeRecord(MicroRecord):
         fallback_steps: scheme (b) LPs replaced by a scheme (a) step, over
             the directions solved.
         selection: how the governing sequence picked its forces
-            (``"vertex"`` or ``"lazy"``).
-        vertex_stop_reason, vertex_lambda_band: with ``"vertex+lazy"``, how
-            the vertex sequence ended before the lazy one ran (``""`` and
+            (``"vertex"`` or ``"proximal"``).
+        vertex_stop_reason, vertex_lambda_band: with ``"vertex+proximal"``, how
+            the vertex sequence ended before the proximal one ran (``""`` and
             ``None`` when it did not run).
         lowest_load_factor: the lowest certified collapse state over the
             directions (:mod:`micro.nonassociative.lowest`; NaN when not

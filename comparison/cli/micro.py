@@ -349,7 +349,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
 
 
 def _print_retry(result: NonAssociativeResult) -> None:
-    """Where the vertex sequence failed and the proximal (or lazy) one ran: the line saying so, and how
+    """Where the vertex sequence failed and the proximal one ran: the line saying so, and how
     the vertex one ended."""
     first = result.sequence.vertex_attempt
     if first is None:

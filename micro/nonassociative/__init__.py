@@ -34,8 +34,8 @@ Modules, one concept each:
 ``recipe``       :class:`Recipe`, both resolved for one wall (what the modules read);
 ``model``        the persistent HiGHS model of one direction and its updates;
 ``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
-``pipeline``     one direction: which sequences run (the vertex one, the lazy or proximal retry, the fused wall);
-``selections``   the selections (vertex, lazy, proximal, continuation), one object each behind one interface;
+``pipeline``     one direction: which sequences run (the vertex one, the proximal retry, the fused wall);
+``selections``   the selections (vertex, proximal, continuation), one object each behind one interface;
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
 ``convergence``  the exact stop, the settle test, cycle detection;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;

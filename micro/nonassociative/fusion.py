@@ -43,8 +43,8 @@ Measurements on the paper's walls (fused against unfused runs, Sets 2, 3,
 By default (``Tuning.fuse`` left ``None``) walls of more than
 :data:`~micro.nonassociative.tuning.FUSE_BLOCKS` blocks run fused with the
 continuation, smaller ones on the wall itself; the fused wall with the
-continuation also runs after the wall's own ``vertex+proximal`` (or
-``vertex+lazy``) sequences have failed on a direction (``fused_retry``).
+continuation also runs after the wall's own ``vertex+proximal`` sequences
+have failed on a direction (``fused_retry``).
 """
 
 from __future__ import annotations

@@ -18,8 +18,7 @@ stops of :mod:`micro.nonassociative.convergence`. The final iterate is
 checked (:mod:`micro.nonassociative.checks`). How an iterate goes on (the
 next ``nbar`` and slope, whether it may go cold, when the certificate is due,
 which no-progress test applies) is its selection's
-(:mod:`micro.nonassociative.selections`: vertex, lazy, proximal,
-continuation); which sequences run on a direction is
+(:mod:`micro.nonassociative.selections`: vertex, proximal, continuation); which sequences run on a direction is
 :mod:`micro.nonassociative.pipeline`'s.
 """
 
@@ -105,7 +104,7 @@ class LPSequence:
         self.streak_length = COLD_STREAK
         self.last_try = -(10**9)
         self.model: IterationModel | None = None
-        # how an iterate goes on (vertex, lazy, proximal, continuation)
+        # how an iterate goes on (vertex, proximal, continuation)
         self.rule = selection_for(options, lp, direction)
         self.warm_limit = self.rule.warm_limit(self.warm_limit)
         fused = lp.n_eq != 3 * lp.wall.n_blocks  # the LP of a fused wall (fewer bodies than blocks)
@@ -160,7 +159,7 @@ class LPSequence:
         t_b = time.perf_counter()
         self.c0 = self.rule.cohesion(assoc_n0, n0)  # of the friction rows, relative to the force level
         alpha = self.rule.first_alpha()
-        model = IterationModel(self.lp, self.d, "b" if self.rule.rows else "a", alpha, lazy=self.rule.lazy_model)
+        model = IterationModel(self.lp, self.d, "b" if self.rule.rows else "a", alpha)
         self.model = model
         model.set_capacity(n0, alpha, alpha, self.c0)
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
@@ -300,7 +299,7 @@ class LPSequence:
         self.final = (v, n, s, lam)
         alpha_done = self.rule.alpha_done(alpha)
         coul_tol = COULOMB_TOL + (self.c0 / nscale if self.rule.rows else 0.0)
-        exact = convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o) if self.rule.exact_stop else None
+        exact = convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
         if exact is not None:
             return exact, None, None
         due = self.rule.certificate_due(self.lams, k, self.last_try)
@@ -310,13 +309,8 @@ class LPSequence:
         return None if stop is None else (stop[0], stop[1], None)
 
     def _try_certificate(self, k: int, v: FloatArray, lam: float) -> bool:
-        """Try the certificate on iterate ``k``: is the mechanism the selection
-        names (the iterate's, or the lazy selection's plain LP's) an exact
+        """Try the certificate on iterate ``k``: is its mechanism an exact
         collapse state with other forces than the LP's vertex?"""
-        tried = self.rule.mechanism_to_certify(self, v, lam)
-        if tried is None:
-            return False
-        v, lam = tried
         cert = self.certificate.certify(v, lam, time_limit=self.o.user_limit)
         self.last_try = k
         rec = self.history[-1]
@@ -327,8 +321,6 @@ class LPSequence:
             coulomb_residual=coul if math.isfinite(coul) else rec.coulomb_residual,
         )
         if cert.forces is None:
-            if self.model is not None:
-                self.rule.rejected(self.model)
             return False
         self.final = (v, cert.forces[0], cert.forces[1], lam)
         self.mechanism_band = cert.band

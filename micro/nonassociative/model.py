@@ -1,19 +1,9 @@
 """The iteration model: the rebuilt yield conditions as changes of one persistent HiGHS model.
 
 Columns ``[n (P), s (P), lambda]`` over the equilibrium rows (plus, for
-scheme (b), ``2P`` friction rows). The lazy selection's model has columns
-``[p (P), m (P), s (P), lambda]`` instead, with ``n = nbar + p - m``,
-``0 <= m <= nbar`` (so ``n >= 0``), the cost
-:data:`~micro.nonassociative.tuning.LAZY_WEIGHT` on ``p + m``, and the
-equilibrium rows' right-hand side moved by ``-B_n nbar``: the same LP as
-rows ``n - p + m = nbar`` beside the ``n`` columns, whose interior point took
-5.2-5.4 s against 3.0-3.4 s for this one on Set 2 (1,230 blocks; the same
-``lambda`` and distance to ``nbar``). Without the associative generator
-columns each simplex iteration costs ~2/3 of what it did with them (1,230
-blocks: 0.21 ms against 0.32 ms). Every iterate changes bounds (scheme (a);
-the lazy model also its equilibrium right-hand side), or row bounds and
-coefficients (scheme (b)), only, so the dual simplex restarts from the
-previous basis.
+scheme (b), ``2P`` friction rows). Every iterate changes bounds (scheme (a)),
+or row bounds and coefficients (scheme (b)), only, so the dual simplex
+restarts from the previous basis.
 """
 
 from __future__ import annotations
@@ -28,7 +18,6 @@ from numpy.typing import NDArray
 from micro.backends.base import Outcome, Status
 from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
-from micro.nonassociative.tuning import LAZY_WEIGHT
 
 FloatArray = NDArray[np.float64]
 
@@ -42,36 +31,21 @@ class IterationModel:
         scheme: ``"a"`` (``|s| <= mu nbar`` as bounds of ``s``) or ``"b"``
             (the two friction rows ``+-s + alpha mu n <= c0 + (1 + alpha) mu nbar``).
         alpha0: the first slope of scheme (b).
-        lazy: the lazy selection's model (module docstring; scheme (a) only):
-            among the LP's optimal fields it picks the one closest to
-            ``nbar`` in the 1-norm (see :data:`~micro.nonassociative.tuning.LAZY_WEIGHT`).
     """
 
-    def __init__(self, lp: LimitLP, direction: int, scheme: str, alpha0: float, *, lazy: bool = False) -> None:
+    def __init__(self, lp: LimitLP, direction: int, scheme: str, alpha0: float) -> None:
         P = lp.n_points
-        self.lp, self.d, self.scheme, self.P, self.lazy = lp, direction, scheme, P, lazy
+        self.lp, self.d, self.scheme, self.P = lp, direction, scheme, P
         self.nbar = np.zeros(P)
         live = sp.csc_matrix(lp.live.reshape(-1, 1))
-        if lazy:
-            # columns [p, m, s, lambda], n = nbar + p - m: the equilibrium rows
-            # alone (their right-hand side moves with nbar); 0 <= m <= nbar
-            # keeps n >= 0 and lets n take any value >= 0
-            self.pm_cols = np.arange(2 * P)
-            self.s_cols = np.arange(2 * P, 3 * P)
-            self.lam_col = 3 * P
-            A = sp.hstack([lp.Bn, -lp.Bn, lp.Bs, live], format="csc")
-            cost = np.concatenate([np.full(2 * P, LAZY_WEIGHT), np.zeros(P), [-float(direction)]])
-            lower = np.concatenate([np.zeros(3 * P), [-np.inf]])
-            upper = np.concatenate([np.full(P, np.inf), np.zeros(2 * P), [np.inf]])
-        else:
-            self.n_cols = np.arange(P)
-            self.s_cols = np.arange(P, 2 * P)
-            self.lam_col = 2 * P
-            A = sp.hstack([lp.Bn, lp.Bs, live], format="csc")
-            cost = np.zeros(2 * P + 1)
-            cost[self.lam_col] = -float(direction)
-            lower = np.concatenate([np.zeros(2 * P), [-np.inf]])
-            upper = np.concatenate([np.full(P, np.inf), np.zeros(P), [np.inf]])
+        self.n_cols = np.arange(P)
+        self.s_cols = np.arange(P, 2 * P)
+        self.lam_col = 2 * P
+        A = sp.hstack([lp.Bn, lp.Bs, live], format="csc")
+        cost = np.zeros(2 * P + 1)
+        cost[self.lam_col] = -float(direction)
+        lower = np.concatenate([np.zeros(2 * P), [-np.inf]])
+        upper = np.concatenate([np.full(P, np.inf), np.zeros(P), [np.inf]])
         self.model = PersistentHighsModel(A, cost, lower, upper, lp.rhs.copy(), lp.rhs.copy(), algorithm="ipm")
         self.model.guard_stalls()  # a stalled warm run fails (and is recovered) instead of hanging
         self.in_fallback = False
@@ -97,11 +71,8 @@ class IterationModel:
 
     # ------------------------------------------------------------ reading
     def forces(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """``(n, s)`` of a solution (lazy: ``n = nbar + p - m`` at the last ``nbar``)."""
-        P = self.P
-        if self.lazy:
-            return np.maximum(self.nbar + x[:P] - x[P : 2 * P], 0.0), x[2 * P : 3 * P]
-        return x[:P], x[P : 2 * P]
+        """``(n, s)`` of a solution."""
+        return x[: self.P], x[self.P : 2 * self.P]
 
     def load_factor(self, x: FloatArray) -> float:
         """``lambda`` of a solution (the column holds ``d * lambda``)."""
@@ -110,7 +81,7 @@ class IterationModel:
     # ------------------------------------------------------------ updates
     def set_capacity(self, nbar: FloatArray, alpha: float, alpha_prev: float, c0: float) -> None:
         """Rebuild the yield condition of every point from ``nbar`` (bounds;
-        the lazy model's equilibrium right-hand side too; for scheme (b) row
+        for scheme (b) row
         bounds and, when ``alpha`` changed, coefficients: 9 ms for the 14,200
         coefficients of the 1,230-block wall against ~1 s for one warm
         simplex run)."""
@@ -120,10 +91,6 @@ class IterationModel:
         self.alpha, self.c0 = alpha, c0
         if self.scheme == "a":
             m.set_col_bounds(self.s_cols, -mu * nbar, mu * nbar)
-            if self.lazy:
-                m.set_col_bounds(self.pm_cols[P:], np.zeros(P), nbar)
-                rhs = self.lp.rhs - self.lp.Bn @ nbar
-                m.set_row_bounds(np.arange(self.lp.n_eq), rhs, rhs)
             return
         if self.in_fallback:
             m.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
@@ -132,13 +99,6 @@ class IterationModel:
             m.change_coeffs(self.f_rows, np.repeat(self.n_cols, 2), np.repeat(alpha * mu, 2))
         rhs = c0 + (1.0 + alpha) * mu * nbar
         m.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.repeat(rhs, 2))
-
-    def set_lazy(self, on: bool) -> None:
-        """Switch the lazy selection's cost on ``|n - nbar|`` on or off (costs
-        only, the basis is kept). Off, the model is Gilbert's LP at ``nbar``
-        itself: ``p`` and ``m`` are free to absorb ``n - nbar``."""
-        if self.lazy:
-            self.model.set_costs(self.pm_cols, np.full(2 * self.P, LAZY_WEIGHT if on else 0.0))
 
     def fallback_a_step(self, nbar: FloatArray, seconds: float | None, simplex_iterations: int) -> Outcome:
         """One LP of scheme (a) inside the scheme (b) model from the last good

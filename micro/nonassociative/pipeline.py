@@ -2,8 +2,8 @@
 
 :func:`solve_chain` is what :func:`micro.solve_nonassociative` runs on a
 direction: the fused wall (``fuse``), or the wall's own sequences
-(:func:`solve_direction`: the vertex sequence, and the lazy or proximal one
-where it fails) and, where those fail too, the fused wall with the
+(:func:`solve_direction`: the vertex sequence, and the proximal one where it
+fails) and, where those fail too, the fused wall with the
 continuation (``fused_retry``). One sequence is
 :class:`~micro.nonassociative.iteration.LPSequence` with its
 :mod:`~micro.nonassociative.selections` object; the fusing is
@@ -33,20 +33,18 @@ def solve_direction(lp: LimitLP, direction: int, options: Recipe,
                     start: FloatArray | None = None) -> DirectionResult:
     """The iterated LP on one load direction with ``options.selection``.
 
-    ``"vertex+lazy"`` (``"vertex+proximal"``) runs the vertex sequence, and
-    where it ends with a status of
-    :data:`~micro.nonassociative.tuning.RETRY_STATUSES` the lazy (proximal)
-    sequence (at most ``options.retry_iterations`` LPs), its ``nbar``
-    started from the vertex sequence's last normal forces rather than the
-    associative LP's: Set 2 (1,230 blocks) was certified after 17 lazy LPs
-    from there against 30 from the associative forces. The second result is
+    ``"vertex+proximal"`` runs the vertex sequence, and where it ends with a
+    status of :data:`~micro.nonassociative.tuning.RETRY_STATUSES` the
+    proximal sequence (at most ``options.retry_iterations`` LPs), its
+    ``nbar`` started from the vertex sequence's last normal forces rather
+    than the associative LP's. The second result is
     returned with the vertex sequence in ``sequence.vertex_attempt``, and
     the LPs and seconds of both. ``start``: normal forces to start the
     (first) sequence's ``nbar`` from (:class:`LPSequence`).
     """
     if not options.selection.startswith("vertex+"):
         return LPSequence(lp, direction, options, start=start).run()
-    retry: SelectionName = "proximal" if options.selection == "vertex+proximal" else "lazy"
+    retry: SelectionName = "proximal"
     vertex = LPSequence(lp, direction, dataclasses.replace(options, selection="vertex"), start=start)
     first = vertex.run()
     if first.status not in RETRY_STATUSES:
@@ -92,7 +90,7 @@ def solve_fused(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult
 def solve_chain(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult:
     """One load direction as ``options`` ask: the fused wall (``fuse``), or
     the wall's own sequences (:func:`solve_direction`) and, where those of
-    ``"vertex+lazy"`` or ``"vertex+proximal"`` (scheme (a)) both end
+    ``"vertex+proximal"`` (scheme (a)) both end
     ``cycling`` or ``max_iterations``, the fused wall with the continuation
     (``fused_retry``).
 

@@ -27,7 +27,7 @@ class LPProgress:
 
     Attributes:
         direction: ``"+x"`` or ``"-x"``.
-        stage: ``"vertex"``, ``"lazy"``, ``"proximal"``, ``"fused"`` (a
+        stage: ``"vertex"``, ``"proximal"``, ``"fused"`` (a
             sequence of the iterated LP) or ``"lowest"`` (the descent).
         lp: the LP's number in its stage (0: the associative LP).
         load_factor: its ``lambda`` (NaN when it failed or has none).

@@ -140,17 +140,17 @@ class SequenceDiagnostics:
         sliding_points: points of the final mechanism that slide while in contact.
         fallback_steps: scheme (b) LPs replaced by a scheme (a) step.
         selection: how this sequence's iterates picked their forces,
-            ``"vertex"`` or ``"lazy"``.
-        vertex_attempt: with ``selection="vertex+lazy"``, the vertex
-            sequence that ended cycling (or at its cap) before this lazy one
-            ran (``None`` otherwise); its LPs count in the direction's
+            ``"vertex"`` or ``"proximal"``.
+        vertex_attempt: with ``selection="vertex+proximal"``, the vertex
+            sequence that ended cycling (or at its cap) before this proximal
+            one ran (``None`` otherwise); its LPs count in the direction's
             ``iterations`` and ``seconds``.
         fusion: how the sequence ran on the fused wall (``options.fuse``;
             ``None``: on the wall itself). Its history is then the fused
             LP's; forces, residuals, the mechanism band and
             ``associative_load_factor`` (whose mechanism gave the bodies)
             are the wall's.
-        unfused_attempt: the wall's own sequences (vertex, then lazy or
+        unfused_attempt: the wall's own sequences (vertex, then
             proximal) that ended cycling or at their caps before this run
             on the fused wall with the continuation certified the direction
             (``options.fused_retry``; ``None`` otherwise); their LPs count

@@ -4,30 +4,26 @@ The loop of :class:`~micro.nonassociative.iteration.LPSequence` asks its
 selection the same few questions at every LP and holds no branch of its own:
 
 * the model: friction as bounds of ``s`` or as rows (:attr:`Selection.rows`),
-  the lazy model (:attr:`Selection.lazy_model`), the first slope and the
-  cohesion of the rows;
+  the first slope and the cohesion of the rows;
 * where the next ``nbar`` lies (:meth:`Selection.next_nbar`) and the next slope;
-* whether an iterate may be solved cold, whether the exact stop applies;
-* when the certificate is due, with which mechanism, and what a rejection undoes;
+* whether an iterate may be solved cold;
+* when the certificate is due;
 * which no-progress test ends the sequence (cycles, or the proximal steps' stall).
 
 ``Vertex``        Gilbert et al.'s iteration, scheme (a) or (b):
                   ``nbar = beta n_k + (1 - beta) n_(k-1)`` from the simplex's vertex;
-``Lazy``          among each LP's optimal fields the one closest to ``nbar``
-                  (:mod:`~micro.nonassociative.model`); only the certificate ends it;
 ``Proximal``      ``nbar`` moved by ``beta`` towards its projection onto the
                   fields that carry the LP's load (:mod:`~micro.nonassociative.proximal`);
 ``Continuation``  scheme (a) reached from associative friction: friction rows of
                   slope ``gamma mu`` falling to 0 (``CONT_*`` in :mod:`~micro.nonassociative.tuning`).
 
-Which sequences run on a direction (the vertex one, then the lazy or proximal
-one, then the fused wall) is :mod:`micro.nonassociative.pipeline`'s.
+Which sequences run on a direction (the vertex one, then the proximal one,
+then the fused wall) is :mod:`micro.nonassociative.pipeline`'s.
 """
 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -46,10 +42,6 @@ from micro.nonassociative.tuning import (
     WARM_UNLIMITED,
 )
 
-if TYPE_CHECKING:  # pragma: no cover - typing only
-    from micro.nonassociative.iteration import LPSequence
-    from micro.nonassociative.model import IterationModel
-
 FloatArray = NDArray[np.float64]
 Band = tuple[float, float]
 NAN = math.nan
@@ -66,10 +58,6 @@ class Selection:
 
     #: Its name in the records (``SequenceDiagnostics.selection``) and the progress lines.
     name = "vertex"
-    #: The lazy model (columns ``[p, m, s, lambda]``).
-    lazy_model = False
-    #: The exact stop (the LP's own forces satisfy Coulomb) may end the sequence.
-    exact_stop = True
 
     def __init__(self, options: Recipe, lp: LimitLP, direction: int) -> None:
         self.o = options
@@ -123,13 +111,6 @@ class Selection:
         """Whether to try the certificate at LP ``k``: once ``lambda`` has settled."""
         return convergence.settled(lams, k, last_try, self.o)
 
-    def mechanism_to_certify(self, seq: LPSequence, v: FloatArray, lam: float) -> tuple[FloatArray, float] | None:
-        """The mechanism and ``lambda`` the certificate tries: the iterate's own."""
-        return v, lam
-
-    def rejected(self, model: IterationModel) -> None:
-        """The certificate found no state (nothing to undo)."""
-
     def no_progress(self, lams: list[float], dns: list[float], alpha_done: bool) -> tuple[str, Band] | None:
         """The cycle tests of :func:`~micro.nonassociative.convergence.detect_cycle` once the slope is done."""
         return convergence.detect_cycle(lams, dns, self.o.lambda_tol, self.o.window) if alpha_done else None
@@ -137,35 +118,6 @@ class Selection:
 
 class Vertex(Selection):
     """Gilbert et al.'s vertex iteration, scheme (a) or (b) (the interface's own answers)."""
-
-
-class Lazy(Selection):
-    """The lazy selection (module docstring): its mechanism is perturbed by the
-    selection's cost, so the certificate asks the plain LP at the same ``nbar``,
-    and only the certificate ends it."""
-
-    name = "lazy"
-    lazy_model = True
-    exact_stop = False
-
-    def mechanism_to_certify(self, seq: LPSequence, v: FloatArray, lam: float) -> tuple[FloatArray, float] | None:
-        """The plain LP at the current ``nbar`` (the cost switched off, a warm run
-        from the iterate's basis): ``(v, lambda)``, or ``None`` when it fails (the
-        cost is switched on again). A certified sequence ends with that LP in
-        the model (for the cold check)."""
-        model = seq.model
-        assert model is not None
-        model.set_lazy(False)
-        out = model.warm(seq.o.time_limit, seq.warm_limit)
-        seq.pivots += int(out.simplex_iterations)
-        if out.x is None or out.duals is None:
-            model.set_lazy(True)
-            return None
-        return out.duals[: seq.lp.n_eq], model.load_factor(out.x)
-
-    def rejected(self, model: IterationModel) -> None:
-        """The selection's cost switched on again."""
-        model.set_lazy(True)
 
 
 class Proximal(Selection):
@@ -253,10 +205,8 @@ class Continuation(Selection):
 
 
 def selection_for(options: Recipe, lp: LimitLP, direction: int) -> Selection:
-    """The selection object of one sequence (``options.selection``: ``"vertex"``,
-    ``"lazy"`` or ``"proximal"``; ``"vertex"`` with ``options.continuation``: the continuation)."""
-    if options.selection == "lazy":
-        return Lazy(options, lp, direction)
+    """The selection object of one sequence (``options.selection``: ``"vertex"``
+    or ``"proximal"``; ``"vertex"`` with ``options.continuation``: the continuation)."""
     if options.selection == "proximal":
         return Proximal(options, lp, direction)
     if options.continuation and options.selection == "vertex":

@@ -24,27 +24,16 @@ from micro.nonassociative.global_bounds import POLICIES as BIG_M_POLICIES
 SCHEMES = ("a", "b")
 #: Default relaxation ``beta`` per scheme (``nbar = beta n_k + (1 - beta) n_(k-1)``).
 DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
-#: How an iterate picks its forces among the optimal fields of its LP, or
-#: (``"proximal"``) the next ``nbar`` near them (``"vertex+lazy"``,
-#: ``"vertex+proximal"``: the vertex sequence, and the other where it fails).
-SelectionName = Literal["vertex", "lazy", "proximal", "vertex+lazy", "vertex+proximal"]
+#: How the next ``nbar`` follows from an LP: its vertex's forces (``"vertex"``),
+#: or ``nbar`` moved towards the optimal field nearest to it (``"proximal"``);
+#: ``"vertex+proximal"``: the vertex sequence, and the proximal one where it fails.
+SelectionName = Literal["vertex", "proximal", "vertex+proximal"]
 SELECTIONS: tuple[str, ...] = get_args(SelectionName)
 
 
-#: ``"vertex+lazy"`` runs the lazy sequence on a direction whose vertex
+#: ``"vertex+proximal"`` runs the proximal sequence on a direction whose vertex
 #: sequence ended with one of these statuses.
 RETRY_STATUSES = ("cycling", "max_iterations")
-#: The lazy selection's cost per unit of ``|n - nbar|`` (scaled units: block
-#: weights, against a cost of 1 on ``lambda``). Small enough that the lazy
-#: LP's ``lambda`` lies below Gilbert's by at most ``LAZY_WEIGHT`` times the
-#: 1-norm distance of Gilbert's vertex from ``nbar`` (on Table 7's Set 13, 78
-#: blocks: the same ``lambda`` to 1e-16, at distances of 113 and 305 block
-#: weights), large enough for HiGHS' dual simplex to see (its dual feasibility tolerance here is 1e-10,
-#: ``micro.backends.highs.SIMPLEX_TOLERANCE``). The only value tried. The
-#: mechanism of such an LP is perturbed by it (energy residuals 6e-6 to
-#: 1.5e-3), so the certificate asks the plain LP at the same ``nbar`` (this
-#: cost switched off) for its mechanism.
-LAZY_WEIGHT = 1e-7
 #: The proximal selection's margin below the LP's optimum: its QP asks for the
 #: field closest to ``nbar`` that carries ``lambda* (1 - PROX_MARGIN)``
 #: (:mod:`micro.nonassociative.proximal`). At 1e-5 Clarabel stopped at its
@@ -186,8 +175,8 @@ def _is_number(x: Any) -> bool:
 
 def continuation_allowed(scheme: str, selection: str) -> bool:
     """Whether ``continuation`` can run: it needs scheme (a) and a vertex
-    sequence (``"vertex"``, ``"vertex+lazy"`` or ``"vertex+proximal"``; the
-    retry of the last two runs without it)."""
+    sequence (``"vertex"`` or ``"vertex+proximal"``; the proximal retry runs
+    without it)."""
     return scheme == "a" and selection.startswith("vertex")
 
 
@@ -200,14 +189,13 @@ class Tuning:
 
     Attributes:
         scheme: rebuilt yield condition, ``"a"`` or ``"b"`` (package docstring).
-        selection: how an iterate picks its forces: ``"vertex"`` (the
-            simplex's vertex, Gilbert et al.'s iteration), ``"lazy"`` (the
-            optimal field closest to ``nbar``), ``"proximal"`` (``nbar``
-            moved towards the field closest to it that carries the LP's
-            load), or ``"vertex+lazy"`` / ``"vertex+proximal"`` (the vertex
-            sequence, then the other from its last forces where it ends
-            :data:`RETRY_STATUSES`). ``None``: :data:`DEFAULT_SELECTION` for
-            scheme (a), ``"vertex"`` for (b). All but ``"vertex"`` need scheme (a).
+        selection: how the next ``nbar`` follows from an LP: ``"vertex"``
+            (the simplex's vertex, Gilbert et al.'s iteration),
+            ``"proximal"`` (``nbar`` moved towards the field closest to it
+            that carries the LP's load), or ``"vertex+proximal"`` (the vertex
+            sequence, then the proximal one from its last forces where it
+            ends :data:`RETRY_STATUSES`). ``None``: :data:`DEFAULT_SELECTION`
+            for scheme (a), ``"vertex"`` for (b). All but ``"vertex"`` need scheme (a).
         relaxation: ``beta`` in ``(0, 1]`` (``None``: :data:`DEFAULT_RELAXATION`).
         alpha0, alpha_min, alpha_factor: slope schedule of scheme (b):
             ``alpha_(k+1) = max(alpha_min, alpha_factor * alpha_k)``.
@@ -234,7 +222,7 @@ class Tuning:
             a vertex sequence.
         continuation: reach scheme (a) by continuation from associative
             friction (``CONT_*`` constants). ``None``: as ``fuse``'s default.
-        fused_retry: with ``"vertex+lazy"`` or ``"vertex+proximal"`` and scheme
+        fused_retry: with ``"vertex+proximal"`` and scheme
             (a), where both sequences fail on a direction, a third run on the
             fused wall with the continuation.
         global_bounds: the global search's big-M policy, ``"per_point"`` or ``"uniform"``.
@@ -285,10 +273,10 @@ class Tuning:
             raise ValueError(f"selection must be one of {', '.join(SELECTIONS)}, got {self.selection!r}")
         if self.resolved_selection != "vertex" and self.scheme != "a":
             raise ValueError(f"selection {self.selection!r} needs scheme 'a' "
-                             "(the lazy and proximal models bound s by mu nbar)")
+                             "(the proximal projection bounds s by mu nbar)")
         if self.continuation and not continuation_allowed(self.scheme, self.resolved_selection):
-            raise ValueError("continuation needs scheme 'a' and a vertex sequence (selection 'vertex', "
-                             f"'vertex+lazy' or 'vertex+proximal'), got scheme {self.scheme!r}, "
+            raise ValueError("continuation needs scheme 'a' and a vertex sequence (selection 'vertex' or "
+                             f"'vertex+proximal'), got scheme {self.scheme!r}, "
                              f"selection {self.resolved_selection!r}")
         for name, allowed in (("start", ("interior", "vertex")), ("state_solver", ("clarabel", "highs")),
                               ("global_bounds", BIG_M_POLICIES)):

@@ -48,7 +48,7 @@ def test_continuation_ends_in_exact_states(fuse: bool) -> None:
         assert certified and min(certified) > n_cont  # tried only once gamma = 0
 
 
-@pytest.mark.parametrize("kw", [{"scheme": "b"}, {"selection": "proximal"}, {"selection": "lazy"}])
+@pytest.mark.parametrize("kw", [{"scheme": "b"}, {"selection": "proximal"}])
 def test_continuation_needs_a_vertex_sequence_of_scheme_a(kw: dict[str, str]) -> None:
     with pytest.raises(ValueError, match="continuation needs scheme 'a'"):
         Tuning(continuation=True, **kw)  # type: ignore[arg-type]
