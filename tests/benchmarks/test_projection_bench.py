@@ -20,8 +20,7 @@ import pytest
 import micro
 from comparison.cases import case
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.proximal import Projection
-from micro.nonassociative.tuning import PROX_MARGIN
+from micro.nonassociative.proximal import PROX_MARGIN, Projection
 
 
 @functools.lru_cache(maxsize=1)

@@ -16,11 +16,10 @@ from micro.nonassociative import (
     solve_nonassociative,
     verify_collapse_state,
 )
-from micro.nonassociative.convergence import detect_stall
 from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.proximal import Projection
-from micro.nonassociative.tuning import PROX_MARGIN
+from micro.nonassociative.proximal import PROX_MARGIN, Projection
+from micro.nonassociative.selections import detect_stall
 
 EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
 
