@@ -1,4 +1,4 @@
-"""Records: flat, JSON-ready, round trip, and consistent with the results they come from."""
+"""Records: flat, read-only mappings with a JSON form, round trip, and consistent with the results they come from."""
 
 from __future__ import annotations
 
