@@ -154,9 +154,10 @@ def run(args: argparse.Namespace) -> int:
     else:
         result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
     if args.plot is not None and result.ok:
+        from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_mechanism
 
-        _write_plot(lambda: plot_mechanism(wall, result, args.plot), args.plot)
+        _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
     if args.json:
         print(_json(result.summary(), args, spec, plotted=result.ok))
     else:
@@ -315,6 +316,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:
+        from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_velocities
 
         title = (
@@ -322,7 +324,8 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             f"{result.blocks} blocks"
         )
         _write_plot(
-            lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction),
+            lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction,
+                                    **storey_marks(spec)),
             args.plot,
         )
     if args.json:

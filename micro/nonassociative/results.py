@@ -398,7 +398,8 @@ class NonAssociativeResult:
         return low.load_factor if low is not None else math.nan
 
     def to_record(self) -> NonAssociativeRecord:
-        """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
+        """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form
+        (see :mod:`micro.records`)."""
         q = self.sequence
         return NonAssociativeRecord(
             solver=solver_description(self.recipe), **record_fields(self, self.governing.mechanism),
