@@ -62,6 +62,8 @@ NO_STOREY = "{name}: a wall needs at least one storey"
 UNEQUAL_STOREYS = "rows: {rows!r} rows cannot be split equally over {storeys!r} storeys"
 #: One of a few named choices.
 CHOICE = "{name} must be one of {choices}, got {value!r}"
+#: A number in the closed interval ``[lo, hi]``.
+IN_CLOSED_RANGE = "{name} must be in [{lo:g}, {hi:g}], got {value!r}"
 #: A number above a physical bound (:data:`MAX_RATIO`); a reason follows after a colon.
 AT_MOST = "{name} must be at most {hi:g}, got {value!r}"
 #: A number below a physical bound (a wall at least one block long); a reason follows after a colon.
@@ -77,7 +79,9 @@ MAX_RATIO = 1e6
 #: The friction coefficient lies in (MIN_FRICTION, MAX_FRICTION] (module docstring).
 MIN_FRICTION = 1e-3
 MAX_FRICTION = 10.0
-#: Relative slack of the bound ``length >= block_length`` (``o/t`` against ``1/m`` in floating point).
+#: Relative slack of the bounds ``block_length <= length <= MAX_RATIO block heights`` (``o/t`` against
+#: ``1/m`` and against ``MAX_RATIO`` in floating point: ``o/t`` at ``t = o/1e6`` comes out a unit in the last
+#: place above or below 1e6).
 LENGTH_SLACK = 1e-12
 #: Work estimated below this many bytes is not checked against the memory available (saves reading it).
 ALWAYS_FITS = 1 << 26
@@ -181,7 +185,11 @@ def choice(name: str, value: T, choices: Sequence[T]) -> T:
     Raises:
         ValueError: :data:`CHOICE`, naming ``name``.
     """
-    if value not in choices:
+    try:
+        known = any(isinstance(value, type(c)) and value == c for c in choices)
+    except (TypeError, ValueError):  # an array compares element by element
+        known = False
+    if not known:
         raise ValueError(CHOICE.format(name=name, choices=" or ".join(repr(c) for c in choices), value=value))
     return value
 
@@ -253,7 +261,7 @@ def wall_bounds(
             AT_LEAST.format(name="length", lo=block_length, value=length)
             + ": a running-bond wall is at least one block long"
         )
-    if length > b * MAX_RATIO:
+    if length > b * MAX_RATIO * (1.0 + LENGTH_SLACK):
         raise ValueError(
             AT_MOST.format(name="length", hi=b * MAX_RATIO, value=length) + f": at most {MAX_RATIO:g} block heights"
         )
@@ -294,4 +302,5 @@ def fits_in_memory(name: str, what: str, need: int, budget: int | None = None) -
         return
     have = available_memory_bytes() if budget is None else budget
     if have is not None and need > have:
-        raise TooLarge(TOO_LARGE.format(name=name, what=what, need=need / 1e9, have=have / 1e9))
+        gb = need / 1e9 if need < 1e300 else math.inf  # an int beyond the doubles cannot be divided as one
+        raise TooLarge(TOO_LARGE.format(name=name, what=what, need=gb, have=have / 1e9))

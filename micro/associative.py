@@ -12,7 +12,7 @@ import time
 
 from micro.backends.base import Outcome, Status, check_time_limit
 from micro.backends.registry import DEFAULT_SOLVER, make_backend
-from micro.geometry import BlockWall
+from micro.geometry import BlockWall, check_block_wall
 from micro.lp import LimitLP, assemble
 from micro.mechanism import mechanism_from_duals
 from micro.results import DIR_NAME, DirectionResult, Directions, LimitResult, check_directions, load_directions
@@ -52,7 +52,23 @@ def solve_associative(
     Raises:
         ValueError: an unknown solver or directions value, or a time limit
             that is not a positive number of seconds (checked before any work).
+        TypeError: ``wall`` is not a :class:`~micro.geometry.BlockWall`.
+
+    Examples:
+        >>> import micro
+        >>> wall = micro.build_wall(length=3.0, block_length=1.0, block_height=0.5, rows=(6,),
+        ...                         thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.75)
+        >>> result = micro.solve_associative(wall)
+        >>> result.status, round(result.load_factor, 4), result.direction
+        ('optimal', 0.639, '+x')
+
+        Another back end answers the same LP:
+
+        >>> other = micro.solve_associative(wall, solver="highs-simplex")
+        >>> abs(other.load_factor - result.load_factor) < 1e-6
+        True
     """
+    check_block_wall(wall)
     check_directions(directions)
     check_time_limit(time_limit)
     t0 = time.perf_counter()

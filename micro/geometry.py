@@ -233,6 +233,19 @@ class BlockWall:
         )
 
 
+def check_block_wall(wall: object) -> BlockWall:
+    """``wall`` when it is a :class:`BlockWall`: the entry points refuse anything else at once, naming it.
+
+    Raises:
+        TypeError: ``"wall must be a micro.BlockWall (micro.build_wall(...) or WallSpec.to_micro() gives
+            one), got WallSpec"``.
+    """
+    if not isinstance(wall, BlockWall):
+        raise TypeError("wall must be a micro.BlockWall (micro.build_wall(...) or WallSpec.to_micro() gives one), "
+                        f"got {type(wall).__name__}")
+    return wall
+
+
 def _half_blocks(length: float, half: float) -> tuple[float, bool]:
     """The wall length in half blocks, and whether it is a whole number of them.
 
@@ -314,6 +327,16 @@ def build_wall(
     Raises:
         ValueError: a bad parameter (the message names it), or a wall whose
             estimated memory exceeds the budget (the message quotes both).
+
+    Examples:
+        A one-storey wall three blocks long and six courses high (21 blocks:
+        the half-block courses end with a half block):
+
+        >>> import micro
+        >>> wall = micro.build_wall(length=3.0, block_length=1.0, block_height=0.5, rows=(6,),
+        ...                         thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.75)
+        >>> wall.n_blocks, wall.mirror_symmetric
+        (21, True)
     """
     L = _number("length", length)
     lb = _number("block_length", block_length)
@@ -331,6 +354,9 @@ def build_wall(
         raise ValueError(f"first_course must be 'full' or 'half', got {first_course!r}")
     if head_joints not in ("frictional", "frictionless"):
         raise ValueError(f"head_joints must be 'frictional' or 'frictionless', got {head_joints!r}")
+    if max_bytes is not None and (isinstance(max_bytes, bool) or not isinstance(max_bytes, (int, np.integer))
+                                  or max_bytes <= 0):
+        raise ValueError(f"max_bytes must be a positive integer (bytes) or None, got {max_bytes!r}")
     physical_bounds(L, lb, hb, gamma, mu, rows_t, thick, over)
 
     half = 0.5 * lb

@@ -1,10 +1,12 @@
-"""Flat, JSON-ready records of the micro results.
+"""Flat records of the micro results: frozen dataclasses that read as mappings, with a JSON form.
 
 A record holds what a table, a cache or a report needs of one analysis:
 numbers, strings, bools and tuples of numbers, no arrays (forces and
-velocities stay on the result objects). ``NaN`` is allowed in memory (a
-failed number); :meth:`MicroRecord.to_dict` writes it as ``None`` and
-:meth:`MicroRecord.from_dict` reads it back as ``NaN``, so
+velocities stay on the result objects). It is a read-only mapping of its
+fields (``rec["lowest_stop"]``, ``rec.lowest_stop``, ``dict(rec)``, ``list(rec)``
+give the field names in order). ``NaN`` is allowed in memory (a failed
+number); :meth:`MicroRecord.to_dict` gives the JSON form (``None`` for NaN,
+lists for tuples) and :meth:`MicroRecord.from_dict` reads it back, so
 ``from_dict(to_dict(r))`` gives the record back.
 
 ``iterations`` and ``total_iterations`` (both records):
@@ -24,7 +26,7 @@ import dataclasses
 import math
 import types
 import typing
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any, Self
 
@@ -88,8 +90,8 @@ def _in(hint: Any, value: Any) -> Any:
 
 
 @dataclass(frozen=True)
-class MicroRecord:
-    """What every micro analysis reports (governing direction first).
+class MicroRecord(Mapping[str, Any]):
+    """What every micro analysis reports (governing direction first); a read-only mapping of its fields.
 
     Attributes:
         load_factor: governing ``lambda`` (NaN when the analysis failed).
@@ -138,8 +140,25 @@ class MicroRecord:
     def __post_init__(self) -> None:
         check_success(type(self).__name__, self.status, self.load_factor)
 
+    def __getitem__(self, key: str) -> Any:
+        """``rec[name]``: the field ``name`` (as in memory: NaN, tuples).
+
+        Raises:
+            KeyError: ``name`` is not a field.
+        """
+        if key not in self.__dataclass_fields__:
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def __iter__(self) -> Iterator[str]:
+        """The field names, in order."""
+        return (f.name for f in dataclasses.fields(self))
+
+    def __len__(self) -> int:
+        return len(dataclasses.fields(self))
+
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary (NaN -> ``None``, tuples -> lists)."""
+        """The JSON form: a dictionary of plain values (NaN -> ``None``, tuples -> lists)."""
         return {f.name: _out(getattr(self, f.name)) for f in dataclasses.fields(self)}
 
     @classmethod
@@ -179,7 +198,8 @@ class NonAssociativeRecord(MicroRecord):
         lambda_band: ``(min, max)`` of ``lambda`` over the cycle or the last
             window (``None`` when converged).
         mechanism_band: ``(min, max)`` of ``lambda`` over the collapse states
-            with the final mechanism (``None`` when not computed).
+            with the final mechanism (``None`` when not computed, and when the
+            run did not converge: a failed run has no exact collapse state).
         last_load_factor: ``lambda`` of the last successful iterate.
         associative_load_factor: smallest associative ``lambda`` over the
             directions solved.
@@ -194,10 +214,15 @@ class NonAssociativeRecord(MicroRecord):
         fallback_steps: scheme (b) LPs replaced by a scheme (a) step, over
             the directions solved.
         selection: how the governing sequence picked its forces
-            (``"vertex"`` or ``"lazy"``).
-        vertex_stop_reason, vertex_lambda_band: with ``"vertex+lazy"``, how
-            the vertex sequence ended before the lazy one ran (``""`` and
+            (``"vertex"`` or ``"proximal"``).
+        vertex_stop_reason, vertex_lambda_band: with ``"vertex+proximal"``, how
+            the vertex sequence ended before the proximal one ran (``""`` and
             ``None`` when it did not run).
+        quoted_load_factor: the value to quote: the lowest certified
+            collapse state where the descent found one, else the iterated
+            LP's ``load_factor`` (NaN on failure).
+        quoted: which one it is: ``"lowest certified"``, ``"iterated"``, or
+            ``""`` on failure.
         lowest_load_factor: the lowest certified collapse state over the
             directions (:mod:`micro.nonassociative.lowest`; NaN when not
             computed or not found in every direction).
@@ -211,14 +236,14 @@ class NonAssociativeRecord(MicroRecord):
             descent ended by its own rules) or ``"budget"`` (one spent its
             budget of LPs: the lowest state found so far).
         global_load_factor: best collapse state of the global search
-            (:mod:`micro.nonassociative.global_mip`; NaN when not run).
+            (:mod:`micro.nonassociative.global_search`; NaN when not run).
         global_lower_bound: its proven lower bound of every collapse load factor.
         global_gap: ``(global_load_factor - global_lower_bound) / global_load_factor``.
         global_status: ``""`` (not run), ``"optimal"`` (the gap closed),
             ``"time_limit"``, ``"node_limit"``, ``"infeasible"`` or ``"solver_error"``.
         fused_bodies, fused_points: moving bodies and contact points of the
             fused wall the sequence ran on (0 and 0: the wall itself;
-            :mod:`micro.nonassociative.fusion`).
+            :mod:`micro.nonassociative.pipeline`).
         unfused_stop_reason: with ``fused_retry``, how the wall's own
             sequences ended before the fused wall with the continuation
             certified the governing direction (``""``: it did not run).
@@ -242,6 +267,8 @@ class NonAssociativeRecord(MicroRecord):
     selection: str = "vertex"
     vertex_stop_reason: str = ""
     vertex_lambda_band: Band | None = None
+    quoted_load_factor: float = math.nan
+    quoted: str = ""
     lowest_load_factor: float = math.nan
     lowest_direction: str = ""
     lowest_band: Band | None = None

@@ -14,6 +14,7 @@ import argparse
 import json
 import math
 import sys
+import types
 import typing
 from collections.abc import Callable
 from pathlib import Path
@@ -41,7 +42,7 @@ from comparison.cli.options import (
 #: Friction laws accepted by ``--friction``.
 FRICTION_LAWS = ("associative", "nonassociative")
 #: ``--lowest``: the value of ``micro.NonAssociativeOptions.lowest`` for each choice.
-LOWEST_CHOICES: dict[str, bool | None] = {"auto": None, "on": True, "off": False}
+LOWEST_CHOICES: dict[str, bool] = {"on": True, "off": False}
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -92,11 +93,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     help="cap on the LPs of a direction's first sequence (default: the library's, 100)")
     na.add_argument(
         "--lowest",
-        choices=tuple(LOWEST_CHOICES),
-        default="auto",
-        metavar="auto|on|off",
-        help="the descent to the lowest certified collapse state (lowest_load_factor, bounded by a budget of "
-        "LPs): auto (default) on walls of at most 300 blocks, where it is cheap; on; off",
+        default=None,
+        metavar="on|off|N",
+        help="the descent to the lowest certified collapse state, the value printed first (lowest_load_factor): "
+        "on (default, at most 100 LPs per direction), N (on, at most N LPs per direction; one that spends them "
+        "prints the lowest state found so far and says so) or off (the iterated LP's state only)",
     )
     na.add_argument("--no-lowest", dest="lowest", action="store_const", const="off", help=argparse.SUPPRESS)
     na.add_argument(
@@ -145,23 +146,40 @@ def run(args: argparse.Namespace) -> int:
         wall = spec.to_micro(first_course=args.first_course, head_joints=args.head_joints)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    _options_apply(args)
     if args.friction == "nonassociative":
         return _run_nonassociative(args, spec, wall, time_limit)
-    if args.tuning:
-        raise UsageError("--tuning applies to --friction nonassociative only")
     if args.solver is None:  # the library's default back end
         result = micro.solve_associative(wall, time_limit=time_limit)
     else:
         result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
     if args.plot is not None and result.ok:
+        from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_mechanism
 
-        _write_plot(lambda: plot_mechanism(wall, result, args.plot), args.plot)
+        _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
     if args.json:
         print(_json(result.summary(), args, spec, plotted=result.ok))
     else:
         _print_associative(result, args.verbosity)
     return EXIT_OK if result.ok else EXIT_FAILED
+
+
+def _options_apply(args: argparse.Namespace) -> None:
+    """Refuse the options that do not apply to the friction law and mode chosen (they were ignored silently).
+
+    Raises:
+        UsageError: naming the options.
+    """
+    if args.friction != "nonassociative":
+        given = [o for o, on in (("--max-iterations", args.max_iterations is not None),
+                                 ("--lowest", args.lowest is not None), ("--global", args.global_),
+                                 ("--node-limit", args.node_limit is not None), ("--tuning", bool(args.tuning))) if on]
+        if given:
+            raise UsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to --friction "
+                             "nonassociative only")
+    elif args.node_limit is not None and not args.global_:
+        raise UsageError("--node-limit applies to --global only (the branch and bound's nodes)")
 
 
 def _print_associative(result: LimitResult, verbosity: int) -> None:
@@ -229,28 +247,42 @@ def parse_tuning(items: list[str]) -> Tuning:
             raise UsageError(f"--tuning must be KEY=VALUE, got {item!r}")
         if key not in TUNING_KNOBS:
             raise UsageError(f"--tuning {key}: unknown knob; the knobs are {', '.join(TUNING_KNOBS)}")
-        values[key] = _knob_value(key, text.strip(), str(hints[key]))
+        values[key] = _knob_value(key, text.strip(), hints[key])
     try:
         return micro.Tuning(**values)
     except ValueError as exc:
         raise UsageError(f"--tuning {exc}") from None
 
 
-def _knob_value(key: str, text: str, kind: str) -> Any:
-    """``text`` read as the knob ``key`` of type ``kind`` (its annotation)."""
-    if text.lower() in ("none", "auto") and "None" in kind:
+def _knob_value(key: str, text: str, hint: Any) -> Any:
+    """``text`` read as the knob ``key`` of type ``hint`` (its annotation, resolved): a choice among a
+    ``Literal``'s values, a bool, an int, a float, ``none``/``auto`` where the knob may be ``None``.
+
+    The type is read from the annotation's structure, not from its text (``"int" in "Literal['interior', ...]"``
+    once made ``start`` and ``global_bounds`` integers that could not be set)."""
+    union = typing.get_origin(hint) in (typing.Union, types.UnionType)
+    kinds = typing.get_args(hint) if union else (hint,)
+    optional = type(None) in kinds
+    (kind,) = (k for k in kinds if k is not type(None))
+    if optional and text.lower() in ("none", "auto"):
         return None
-    if "bool" in kind:
+    if typing.get_origin(kind) is typing.Literal:
+        choices = typing.get_args(kind)
+        if text not in choices:
+            more = ", none" if optional else ""
+            raise UsageError(f"--tuning {key} must be one of {', '.join(map(str, choices))}{more}, got {text!r}")
+        return text
+    if kind is bool:
         flags = {**dict.fromkeys(("true", "yes", "on", "1"), True), **dict.fromkeys(("false", "no", "off", "0"), False)}
         if text.lower() not in flags:
             raise UsageError(f"--tuning {key} must be true or false, got {text!r}")
         return flags[text.lower()]
-    for name, read, what in (("int", int, "an integer"), ("float", float, "a number")):
-        if name in kind:
-            try:
-                return read(text)
-            except ValueError:
-                raise UsageError(f"--tuning {key} must be {what}, got {text!r}") from None
+    if kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            what = "an integer" if kind is int else "a number"
+            raise UsageError(f"--tuning {key} must be {what}, got {text!r}") from None
     return text
 
 
@@ -271,25 +303,39 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
                          "and Clarabel's interior point)")
     tuning = parse_tuning(args.tuning)
     # the options given; the others are the library's defaults
-    given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit, "global_time_limit": time_limit}
+    given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit}
     if args.max_iterations is not None:
         given["max_iterations"] = int_option("--max-iterations", args.max_iterations, minimum=2)
-    if args.node_limit is not None:
-        given["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
+    lowest = args.lowest or "on"
+    if lowest not in LOWEST_CHOICES:
+        try:
+            given["lowest_budget"] = int_option("--lowest", lowest)
+        except UsageError:
+            raise UsageError(f"--lowest must be on, off or a positive number of LPs, got {lowest!r}") from None
+        lowest = "on"
+    nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, minimum=1)
+    if args.global_:  # the search's limits: --node-limit, and --time-limit as for every LP
+        limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes, "time_limit": time_limit}
+        given["global_"] = micro.GlobalOptions(**limits)
     result = micro.solve_nonassociative(
         wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
-        lowest=LOWEST_CHOICES[args.lowest], global_=args.global_, **given,
+        lowest=LOWEST_CHOICES[lowest], **given,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:
+        from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_velocities
 
         title = (
-            f"lambda = {result.load_factor:.4f} ({result.direction}), non-associative scheme {result.scheme}, "
-            f"{result.blocks} blocks"
+            f"micro λ ({result.quoted}) = {result.quoted_load_factor:.4f} ({result.direction}); "
+            f"iterated LP {result.load_factor:.4f}, {result.blocks} blocks"
+            if result.quoted == "lowest certified" else
+            f"micro λ (iterated LP; lowest not searched or not found) = {result.load_factor:.4f} "
+            f"({result.direction}), {result.blocks} blocks"
         )
         _write_plot(
-            lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction),
+            lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction,
+                                    **storey_marks(spec)),
             args.plot,
         )
     if args.json:
@@ -302,38 +348,39 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
 
 
 def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
-    """The iterated LP's result in words: λ alone when quiet, every LP when verbose."""
+    """The result in words, the value to quote first (the lowest certified collapse state, else the
+    iterated LP's, saying why): λ alone when quiet, every LP when verbose."""
     if result.ok and verbosity == QUIET:
-        print(f"{result.load_factor:.6f}")
+        print(f"{result.quoted_load_factor:.6f}")
         return
     if result.ok:
-        print(
-            f"lambda = {result.load_factor:.6f} ({result.direction}), non-associative, scheme "
-            f"{result.scheme}, relaxation {result.relaxation:g}: converged in {result.iterations} LPs "
-            f"({result.stop_reason}); associative lambda = {result.associative_load_factor:.6f}"
-        )
-        if result.mechanism_band is not None:
-            lo, hi = result.mechanism_band
-            print(f"  collapse states with this mechanism: lambda in [{lo:.6f}, {hi:.6f}]")
+        _print_answer(result)
+        band = result.mechanism_band
+        states = "" if band is None else f"; its mechanism's collapse states: lambda in [{band[0]:.6f}, {band[1]:.6f}]"
+        print(f"  iterated LP (Gilbert et al., scheme {result.scheme}, relaxation {result.relaxation:g}): "
+              f"lambda = {result.load_factor:.6f}, converged in {result.iterations} LPs ({result.stop_reason})"
+              f"{states}")
+        print(f"  associative lambda = {result.associative_load_factor:.6f}")
         _print_retry(result)
-        _print_lowest(result)
+        _print_global(result)
     else:
-        band = (
+        window = (
             ""
             if result.lambda_band is None
             else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
         )
-        print(f"status {result.status} after {result.iterations} LPs{band}: {result.message}")
+        print(f"status {result.status} after {result.iterations} LPs{window}: {result.message}")
         if verbosity == QUIET:  # the failure line alone (README, "Exit codes")
             return
         _print_retry(result)
     _print_fusion(result)
     if verbosity == QUIET:
         return
+    cold = ("" if not math.isfinite(result.warm_cold_rel_diff)
+            else f"final LP re-solved cold: rel. difference {result.warm_cold_rel_diff:.2e}, ")
     print(
-        f"  warm/cold rel. difference {result.warm_cold_rel_diff:.2e}, Coulomb residual "
-        f"{result.coulomb_residual:.2e}, dilatancy residual {result.dilatancy_residual:.2e}, "
-        f"{result.blocks} blocks, {result.solve_seconds:.3f} s"
+        f"  {cold}Coulomb residual {result.coulomb_residual:.2e}, dilatancy residual "
+        f"{result.dilatancy_residual:.2e}, {result.blocks} blocks, {result.solve_seconds:.3f} s"
     )
     if verbosity >= VERBOSE:
         print("  LP   lambda      max dn     simplex it.  seconds  algorithm  certificate")
@@ -345,8 +392,25 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
             )
 
 
+def _print_answer(result: NonAssociativeResult) -> None:
+    """The first line: the value to quote, what it is, and where the descent did not finish, why."""
+    low = result.lowest_state
+    note = result.lowest_note.replace("(lowest=False)", "(--lowest off)")
+    if note and "budget" in note:
+        note += "; --lowest N raises it"
+    if low is not None:
+        n = len(low.moves)
+        how = f"{low.lps} LPs" + (f", {n} move{'s' if n > 1 else ''}" if n else "")
+        done = note or f"descent finished: {how}, {low.seconds:.3f} s"
+        print(f"lambda = {low.load_factor:.6f} ({low.direction}): the lowest certified collapse state, "
+              f"non-associative friction ({done})")
+    else:
+        print(f"lambda = {result.load_factor:.6f} ({result.direction}): the iterated LP's collapse state, "
+              f"non-associative friction; {note}")
+
+
 def _print_retry(result: NonAssociativeResult) -> None:
-    """Where the vertex sequence failed and the proximal (or lazy) one ran: the line saying so, and how
+    """Where the vertex sequence failed and the proximal one ran: the line saying so, and how
     the vertex one ended."""
     first = result.sequence.vertex_attempt
     if first is None:
@@ -373,23 +437,8 @@ def _print_fusion(result: NonAssociativeResult) -> None:
           f"blocks at rest, {f.points:,} of {f.wall_points:,} contact points{took}")
 
 
-def _print_lowest(result: NonAssociativeResult) -> None:
-    """The lowest certified state and the global search, when they ran."""
-    low = result.lowest_state
-    if low is not None:
-        n = len(low.moves)
-        moves = f", {n} move{'s' if n > 1 else ''}" if n else ""
-        spent = "; its budget of LPs spent: the lowest found so far" if low.stop == "budget" else ""
-        print(f"  lowest certified collapse state: lambda = {low.load_factor:.6f} ({low.direction}; "
-              f"{low.origin}{moves}; {low.lps} LPs, {low.seconds:.3f} s{spent})")
-    elif result.lowest:
-        print(f"  lowest certified collapse state: none ({'; '.join(x.message for x in result.lowest if x.message)})")
-    elif result.converged and not result.recipe.lowest:
-        from micro.nonassociative.options import LOWEST_AUTO_BLOCKS
-
-        why = (f"by default only on walls of at most {LOWEST_AUTO_BLOCKS} blocks; --lowest on asks for it"
-               if result.blocks > LOWEST_AUTO_BLOCKS else "--lowest off")
-        print(f"  lowest certified collapse state: not searched ({why})")
+def _print_global(result: NonAssociativeResult) -> None:
+    """The global search, when it ran."""
     g = result.global_search
     if g is not None:
         print(f"  global search ({g.status}): best lambda = {g.load_factor:.6f}, proven lower bound "

@@ -29,7 +29,7 @@ Format (see ``examples/sweeps/``)::
     [[method]]
     kind = "micro-nonassoc"
     scheme = "a"                       # "a" or "b" (default "a")
-    selection = "vertex+proximal"      # "vertex", "lazy", "proximal", "vertex+lazy" or "vertex+proximal"
+    selection = "vertex+proximal"      # "vertex", "proximal" or "vertex+proximal"
                                        # (default; scheme b: "vertex")
     max_blocks = 600                   # this method on walls of at most 600 blocks
 
@@ -250,14 +250,17 @@ def _expand(spec: dict[str, Any], axis: str) -> list[float]:
     if keys not in ({"from", "to", "step"}, {"from", "to", "num"}):
         raise ValueError(f"a range must be {{from, to, step}} or {{from, to, num}}, got keys {sorted(keys)}")
     lo, hi = (float(checks.non_negative(f"{axis}.{k}", _number(axis, spec[k]))) for k in ("from", "to"))
+    if hi < lo:
+        raise ValueError(f"{axis}: from must not exceed to, got from = {lo:g}, to = {hi:g}")
     if "num" in spec:
         num = checks.positive_int(f"{axis}.num", spec["num"])
         count, step = num, (hi - lo) / (num - 1) if num > 1 else 0.0
     else:
         step = checks.positive(f"{axis}.step", _number(axis, spec["step"]))
-        count = math.floor((hi - lo) / step * (1 + 1e-12)) + 1
-    if hi < lo:
-        raise ValueError(f"{axis}: from must not exceed to, got from = {lo:g}, to = {hi:g}")
+        steps = (hi - lo) / step * (1 + 1e-12)  # infinite for a step of 5e-324
+        if not steps <= MAX_AXIS_VALUES:
+            raise ValueError(f"{axis}: the range gives more than {MAX_AXIS_VALUES} values (step = {step:g})")
+        count = math.floor(steps) + 1
     if count > MAX_AXIS_VALUES:
         raise ValueError(f"{axis}: the range gives {count} values, more than {MAX_AXIS_VALUES}")
     return [round(lo + i * step, 12) for i in range(count)]
@@ -320,7 +323,7 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
     solver = options.pop("solver", micro.DEFAULT_SOLVER)
     if kind != "micro-nonassoc":
         return GridMethod(Method(kind, solver=solver), _max_blocks(entry, "method", index, src))
-    try:  # the tuning's own check of the pair (a lazy selection needs scheme a)
+    try:  # the tuning's own check of the pair (a proximal selection needs scheme a)
         changed = micro.Tuning(**options).changed()
     except ValueError as exc:
         raise src.error(f"method.{exc}", "method", "selection", index) from None

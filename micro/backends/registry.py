@@ -7,7 +7,7 @@ Names of :data:`SOLVERS` (the CLI's ``--solver``, the report's back ends):
                    the default (:data:`DEFAULT_SOLVER`): 1.8-4.3 times faster
                    than the best configuration of the maintained solvers
                    (``clarabel``) on walls of 1,230-7,575 blocks, as accurate
-                   (docs/research/2026-11-25-associative-default.md);
+                   (``docs/micro/associative.md``);
 ``clarabel``       Clarabel (interior point) on the kinematic (dual) form of
                    the LP (:mod:`micro.backends.clarabel_kinematic`), the
                    fastest and most accurate maintained solver measured;
@@ -32,7 +32,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from micro.backends.base import Backend, check_time_limit
-from micro.backends.clarabel import ClarabelBackend
+from micro.backends.clarabel import ClarabelStaticBackend
 from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
 from micro.backends.cvxpy_ import CvxpyBackend
 from micro.backends.highs import HighsBackend
@@ -53,8 +53,8 @@ _SOLVERS: dict[str, _Factory] = {
     "cvxpy": lambda lp, t: CvxpyBackend(lp, solver="CLARABEL"),
 }
 _EXPERIMENTS: dict[str, _Factory] = {
-    "clarabel-static": lambda lp, t: ClarabelBackend(lp, time_limit=t),
-    "clarabel-default": lambda lp, t: ClarabelBackend(lp, tight=False, time_limit=t),
+    "clarabel-static": lambda lp, t: ClarabelStaticBackend(lp, time_limit=t),
+    "clarabel-default": lambda lp, t: ClarabelStaticBackend(lp, tight=False, time_limit=t),
     "cvxpy-highs": lambda lp, t: CvxpyBackend(lp, solver="HIGHS"),
     "cvxpy-clarabel-default": lambda lp, t: CvxpyBackend(lp, solver="CLARABEL", tight=False),
 }
@@ -73,7 +73,7 @@ def make_backend(lp: LimitLP, solver: str = DEFAULT_SOLVER, *, time_limit: float
             or a time limit that is not a positive number of seconds.
     """
     time_limit = check_time_limit(time_limit)
-    factory = _SOLVERS.get(solver) or _EXPERIMENTS.get(solver)
+    factory = (_SOLVERS.get(solver) or _EXPERIMENTS.get(solver)) if isinstance(solver, str) else None
     if factory is None:
         raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {solver!r}")
     return factory(lp, time_limit)

@@ -11,21 +11,18 @@ implemented:
          of the bounds of the ``s`` columns.
 ``"b"``  a line through ``(nbar, mu nbar)`` with a small negative slope,
          ``|s| <= c0 + (1 + alpha) mu nbar - alpha mu n``, ``alpha`` halved
-         every iteration from ``alpha0`` (0.3) down to ``alpha_min`` (1e-3), a
+         every iteration from 0.3 down to 1e-3 (``selections.ALPHA0``, ``ALPHA_MIN``), a
          tiny cohesion ``c0`` so that contacts with ``nbar = 0`` keep a
          feasible point. Two rows per point, ``+s + alpha mu n <= rhs`` and
          ``-s + alpha mu n <= rhs``; their right-hand sides change every
          iterate and, while ``alpha`` changes, their ``n`` coefficients. The
          cap ``n <= nbar (1 + alpha)/alpha + c0/(alpha mu)`` that the line
          implies freezes points with ``nbar ~ 0``; the support can then
-         shrink until the LP is infeasible (seen on every Table 7 wall with
-         ``c0 = 1e-6``). Such an iterate is replaced by one scheme (a) step
-         from the last forces (``algorithm="fallback-a"``) and (b) goes on.
+         shrink until the LP is infeasible. Such an iterate is replaced by
+         one scheme (a) step from the last forces (``algorithm="fallback-a"``).
 
 Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
-``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none). Without
-relaxation the plain sequence converged on 50 of the 104 walls of
-``xcheck stability``, 62 with ``beta = 0.6``; with the certificate, 102 and 104.
+``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none).
 
 Modules, one concept each:
 
@@ -34,17 +31,19 @@ Modules, one concept each:
 ``recipe``       :class:`Recipe`, both resolved for one wall (what the modules read);
 ``model``        the persistent HiGHS model of one direction and its updates;
 ``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
-``pipeline``     one direction: which sequences run (the vertex one, the lazy or proximal retry, the fused wall);
-``selections``   the selections (vertex, lazy, proximal, continuation), one object each behind one interface;
+``pipeline``     one direction: which sequences run (the vertex one, the proximal retry), on the
+                 wall or on its fused bodies (the blocks that move as one rigid body);
+``selections``   the selections (vertex, proximal, continuation), one object each behind one
+                 interface, and the stops (the exact stop, the settle test, cycles);
+``proximal``     the proximal selection's projection, a QP, and its interior point;
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
-``convergence``  the exact stop, the settle test, cycle detection;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
-``results``      :class:`IterationRecord`, :class:`SequenceDiagnostics`, :class:`NonAssociativeResult`;
-``fusion``       the blocks that move as one rigid body fused into one, and the fused state on the wall;
+``results``      the types: :class:`IterationRecord`, :class:`SequenceDiagnostics`,
+                 :class:`LowestDirection`, :class:`NonAssociativeResult`;
 ``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
 ``lowest``       the descent to the lowest certified collapse state (``options.lowest``);
-``global_mip``   the mixed-integer search for the global minimum (``options.global_``), with
-                 ``global_bounds``, ``global_model``, ``global_pattern`` and ``global_search``.
+``global_search``  the mixed-integer search for the global minimum (``options.global_``): a
+                 subpackage (options and results, bounds, model, patterns, branch and bound, solvers).
 
 After a converged run, the descent (on by default) reports the lowest
 certified collapse state it reaches (``lowest_load_factor``) beside the
@@ -57,12 +56,8 @@ A sequence stops as ``converged`` (exactly, or certified), ``cycling``
 ``max_simplex_iterations``), ``time_limit`` (a user's wall-clock stop,
 ``max_seconds`` or ``time_limit``: no final answer), or ``solver_failure``
 (an LP failed warm and cold, or the final iterate re-solved cold disagrees
-with the warm one, HiGHS having open reports of wrong objectives after hot
-starts). The load factor of a sequence that did
-not converge is NaN; the last value and the band are reported beside it. A
-warm run that stalls (HiGHS' dual simplex on an infeasible scheme (b) LP) is
-interrupted by :class:`micro.backends.highs.StallGuard` and recovered like
-any failed iterate.
+with the warm one). The load factor of a sequence that did not converge is
+NaN; the last value and the band are reported beside it.
 """
 
 from __future__ import annotations
@@ -70,12 +65,11 @@ from __future__ import annotations
 import time
 from typing import Any, Literal
 
-from micro.geometry import BlockWall
+from micro.geometry import BlockWall, check_block_wall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.convergence import detect_cycle
-from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
-from micro.nonassociative.lowest import LowestDirection, lowest_state
+from micro.nonassociative.global_search import GlobalOptions, GlobalResult, StartState, solve_global
+from micro.nonassociative.lowest import lowest_state
 from micro.nonassociative.options import LOWEST_BUDGET, NonAssociativeOptions
 from micro.nonassociative.pipeline import solve_chain
 from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
@@ -88,9 +82,11 @@ from micro.nonassociative.results import (
     TIME_LIMIT,
     FusionDiagnostics,
     IterationRecord,
+    LowestDirection,
     NonAssociativeResult,
     SequenceDiagnostics,
 )
+from micro.nonassociative.selections import detect_cycle
 from micro.nonassociative.tuning import (
     DEFAULT_RELAXATION,
     FUSE_BLOCKS,
@@ -103,37 +99,12 @@ from micro.nonassociative.tuning import (
 from micro.results import DirectionResult, direction_sign, load_directions
 
 __all__ = [
-    "CONVERGED",
-    "CYCLING",
-    "DEFAULT_RELAXATION",
-    "FUSE_BLOCKS",
-    "MAX_ITERATIONS",
-    "SCHEMES",
-    "SELECTIONS",
-    "SOLVER_FAILURE",
-    "STATUSES",
-    "TIME_LIMIT",
-    "FusionDiagnostics",
-    "GlobalOptions",
-    "GlobalResult",
-    "IterationRecord",
-    "LOWEST_BUDGET",
-    "LPProgress",
-    "LowestDirection",
-    "NonAssociativeOptions",
-    "NonAssociativeResult",
-    "Progress",
-    "Recipe",
-    "SequenceDiagnostics",
-    "TUNING_KNOBS",
-    "Tuning",
-    "continuation_allowed",
-    "detect_cycle",
-    "lowest_state",
-    "recipe_for",
-    "solve_global",
-    "solve_nonassociative",
-    "verify_collapse_state",
+    "CONVERGED", "CYCLING", "DEFAULT_RELAXATION", "FUSE_BLOCKS", "MAX_ITERATIONS", "SCHEMES", "SELECTIONS",
+    "SOLVER_FAILURE", "STATUSES", "TIME_LIMIT", "FusionDiagnostics", "GlobalOptions", "GlobalResult",
+    "IterationRecord", "LOWEST_BUDGET", "LPProgress", "LowestDirection", "NonAssociativeOptions",
+    "NonAssociativeResult", "Progress", "Recipe", "SequenceDiagnostics", "TUNING_KNOBS", "Tuning",
+    "continuation_allowed", "detect_cycle", "lowest_state", "recipe_for", "solve_global", "solve_nonassociative",
+    "verify_collapse_state"
 ]
 
 
@@ -163,19 +134,49 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
 
     Raises:
         ValueError: a bad option (the message names it).
-        TypeError: an unknown option name.
+        TypeError: an unknown option name; ``wall``, ``options``, ``tuning`` or ``progress`` of the wrong
+            type (``options="fast"``, ``progress="print"``), naming it.
+
+    Examples:
+        >>> import micro
+        >>> wall = micro.build_wall(length=3.0, block_length=1.0, block_height=0.5, rows=(6,),
+        ...                         thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.75)
+        >>> result = micro.solve_nonassociative(wall)
+        >>> result.status, result.stop_reason, round(result.load_factor, 4)
+        ('converged', 'certified', 0.5789)
+        >>> result.load_factor <= result.associative_load_factor
+        True
+
+        The state is exact: every residual of the collapse conditions is
+        at rounding level, checked from the forces and the mechanism alone.
+
+        >>> residuals = micro.verify_collapse_state(micro.assemble(wall), result.governing)
+        >>> max(v for k, v in residuals.items() if k != "slipping_points") < 1e-9
+        True
+
+        Options as keywords, research knobs through ``tuning``:
+
+        >>> plain = micro.solve_nonassociative(wall, lowest=False, tuning=micro.Tuning(certify=False))
+        >>> plain.stop_reason in ("lambda_and_forces", "lambda_and_coulomb", "repeating", "oscillating")
+        True
     """
+    check_block_wall(wall)
+    for name, value, kind in (("options", options, NonAssociativeOptions), ("tuning", tuning, Tuning)):
+        if value is not None and not isinstance(value, kind):
+            raise TypeError(f"{name} must be a micro.{kind.__name__} or None, got {value!r} ({type(value).__name__})")
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be a function of one LPProgress or None, got {progress!r}")
     o = (options or NonAssociativeOptions()).with_overrides(**overrides)
     t = tuning or Tuning()
     r = recipe_for(wall.n_blocks, o, t, progress)
     t0 = time.perf_counter()
     lp = assemble(wall)
     build = time.perf_counter() - t0
-    solved = [solve_chain(lp, d, r) for d in load_directions(r.directions, wall.mirror_symmetric)]
+    solved = [solve_chain(lp, d, r) for d in load_directions(o.directions, wall.mirror_symmetric)]
     results = tuple(res for res, _ in solved)
     lowest = tuple(lowest_state(lp, res, r, model) for res, model in solved if res.converged) if r.lowest else ()
     del solved  # the models: the descent has taken over what it needs
-    glob = _global_search(lp, results, lowest, r) if r.global_ else None
+    glob = _global_search(lp, results, lowest, o.global_) if isinstance(o.global_, GlobalOptions) else None
     solve_secs = time.perf_counter() - t0 - build
     failing = [res for res in results if not res.converged]
     if failing:
@@ -185,7 +186,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         g = min(results, key=lambda res: res.load_factor)
         lam, direction, status, msg = g.load_factor, g.direction, CONVERGED, ""
     return NonAssociativeResult(
-        load_factor=lam, direction=direction, status=status, scheme=r.scheme, relaxation=r.beta,
+        load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
         directions=results, recipe=r, message=msg, lowest=lowest, global_search=glob,
@@ -193,13 +194,12 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
 
 
 def _global_search(lp: LimitLP, results: tuple[DirectionResult, ...], lowest: tuple[LowestDirection, ...],
-                   o: Recipe) -> GlobalResult:
+                   options: GlobalOptions) -> GlobalResult:
     """The branch and bound over the directions solved, each started from the
     lowest certified state (else the iterated LP's converged state)."""
     starts = [StartState.from_iterated(lp, low.state) for low in lowest if low.state is not None]
     have = {st.direction for st in starts}
     starts += [StartState.from_iterated(lp, r) for r in results
                if r.converged and direction_sign(r.direction) not in have]
-    opts = GlobalOptions(time_limit=o.global_time_limit, node_limit=o.global_node_limit, bounds=o.global_bounds)
     which: Literal[1, -1, "both"] = "both" if len(results) > 1 else 1 if results[0].direction == "+x" else -1
-    return solve_global(lp, which, opts, starts)
+    return solve_global(lp, which, options, starts)

@@ -8,22 +8,17 @@ selection: ``nbar`` moved by ``beta`` towards its projection,
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
-simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`);
-on the crossover route (``Tuning.lp_route="crossover"``, a research knob)
-every LP without a friction slope by the normal-equations interior point,
-HiGHS' crossover from its point and a dual-simplex clean-up instead, the
-policy above where that fails.
+simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`).
 Every decision counts work (iterations, LPs), never seconds: the path and its
 numbers are the same on a loaded or slower machine; only the optional user
 stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
 stop has status ``time_limit``. A failed run is
 recovered (:meth:`LPSequence._recover`); each iterate is then tested for the
-stops of :mod:`micro.nonassociative.convergence`. The final iterate is
+stops of :mod:`micro.nonassociative.selections`. The final iterate is
 checked (:mod:`micro.nonassociative.checks`). How an iterate goes on (the
 next ``nbar`` and slope, whether it may go cold, when the certificate is due,
 which no-progress test applies) is its selection's
-(:mod:`micro.nonassociative.selections`: vertex, lazy, proximal,
-continuation); which sequences run on a direction is
+(:mod:`micro.nonassociative.selections`: vertex, proximal, continuation); which sequences run on a direction is
 :mod:`micro.nonassociative.pipeline`'s.
 """
 
@@ -37,9 +32,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.clarabel import ClarabelBackend
+from micro.backends.clarabel import ClarabelStaticBackend
+from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
-from micro.nonassociative import checks, convergence
+from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.model import IterationModel, restart
 from micro.nonassociative.recipe import LPProgress, Recipe
@@ -54,24 +50,38 @@ from micro.nonassociative.results import (
     IterationRecord,
     SequenceDiagnostics,
 )
-from micro.nonassociative.selections import selection_for
-from micro.nonassociative.tuning import (
-    COLD_STREAK,
-    COLD_SWITCH_PIVOTS,
-    COLD_TOL,
-    COULOMB_TOL,
-    EQUILIBRIUM_RESIDUAL,
-    MIN_WARM_LIMIT,
-    TINY,
-    WARM_LIMIT_PIVOTS,
-)
+from micro.nonassociative.selections import exact_stop, selection_for, window_band
+from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL, TINY
 from micro.results import DIR_NAME, DirectionResult
 
 FloatArray = NDArray[np.float64]
 NAN = math.nan
 COLD = "ipm+crossover+simplex"
-#: the ``lp_route="crossover"`` route: normal-equations interior point, HiGHS' crossover, clean-up
-CROSSOVER = "normal-lp+crossover+simplex"
+
+# The warm/cold policy: every decision is taken on deterministic work measures
+# (simplex and interior-point iteration counts, LP counts), never on seconds:
+# a loaded or slower machine follows the same path to the same numbers.
+#: On large walls a warm dual simplex can cost more than a cold solve (7,575
+#: blocks: 78,000-104,000 simplex iterations, 170-200 s, against 45 s for
+#: interior point + crossover; 1,230 blocks: 514-1,423, 2-6 x faster than
+#: cold). Scheme (a) solves an iterate cold while the last warm run took more
+#: than this many simplex iterations per equilibrium row of the wall ...
+COLD_SWITCH_PIVOTS = 2.0
+#: ... and goes back to warm after this many cold iterates in a row, a number
+#: doubled each time the warm run after a cold streak is slow again (or stopped
+#: at its limit below).
+COLD_STREAK = 3
+#: A warm run that takes more than this many simplex iterations per
+#: equilibrium row is stuck (seen: 13 s to declare a 150-block LP
+#: infeasible): it is stopped and recovered ...
+WARM_LIMIT_PIVOTS = 10.0
+#: ... with at least this many iterations on small walls.
+MIN_WARM_LIMIT = 20_000
+#: The exact stop's ``max(|s| - mu n, 0) / max n`` accepted as "Coulomb holds".
+COULOMB_TOL = 1e-6
+#: Relative warm/cold difference of the final iterate beyond which the run is
+#: a ``solver_failure`` (the cold re-solve always runs).
+COLD_TOL = 1e-6
 
 
 class LPSequence:
@@ -80,22 +90,22 @@ class LPSequence:
     Args:
         lp: the wall's LP.
         direction: ``+1`` or ``-1``.
-        options: the options.
+        recipe: the recipe.
         start: scaled normal forces ``(P,)`` to start ``nbar`` from instead of
             the associative LP's (which still gives iterate 0 and the
             associative load factor); ``None``: the associative LP's.
         iterate0: the associative LP's ``(outcome, algorithm, x)`` from
             another sequence on the same LP and direction with the same
-            ``options.start`` (its :attr:`iterate0`), reused instead of
+            ``tuning.start`` (its :attr:`iterate0`), reused instead of
             solved again; ``None``: solve it.
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: Recipe,
+    def __init__(self, lp: LimitLP, direction: int, recipe: Recipe,
                  start: FloatArray | None = None,
                  iterate0: tuple[Outcome, str, FloatArray | None] | None = None) -> None:
-        self.lp, self.d, self.o, self.start = lp, direction, options, start
+        self.lp, self.d, self.recipe, self.start = lp, direction, recipe, start
         self.iterate0 = iterate0
-        self.certificate = Certificate(lp, direction, options)
+        self.certificate = Certificate(lp, direction, recipe.tuning.scheme)
         self.history: list[IterationRecord] = []
         self.fallbacks = 0
         self.c0 = 0.0
@@ -111,8 +121,8 @@ class LPSequence:
         self.streak_length = COLD_STREAK
         self.last_try = -(10**9)
         self.model: IterationModel | None = None
-        # how an iterate goes on (vertex, lazy, proximal, continuation)
-        self.rule = selection_for(options, lp, direction)
+        # how an iterate goes on (vertex, proximal, continuation)
+        self.rule = selection_for(recipe, lp, direction)
         self.warm_limit = self.rule.warm_limit(self.warm_limit)
         fused = lp.n_eq != 3 * lp.wall.n_blocks  # the LP of a fused wall (fewer bodies than blocks)
         self.stage = ("fused " if fused else "") + self.rule.name
@@ -129,19 +139,23 @@ class LPSequence:
             layout ``[n, s, d * lambda]`` (``None`` unless optimal).
         """
         lp, P = self.lp, self.lp.n_points
-        if self.o.start == "interior":
-            out = ClarabelBackend(lp, time_limit=self.o.time_limit).solve(self.d)
+        if self.recipe.tuning.start == "interior":
+            out = ClarabelStaticBackend(lp, time_limit=self.recipe.options.time_limit).solve(self.d)
             if out.ok and out.n is not None and out.s is not None:
                 return out, "clarabel", np.concatenate([out.n, out.s, [out.load_factor * self.d]])
-            out, algo = self.certificate.state_model().run(), "ipm"
+            out, algo = self._associative_model().run(), "ipm"
         else:
-            m = self.certificate.state_model()
-            out, algo = restart(m), COLD
-            m.set_algorithm("ipm")
+            out, algo = restart(self._associative_model()), COLD
         if out.x is None:
             return out, algo, None
         n, s = lp.forces(out.x[: 2 * P])
         return out, algo, np.concatenate([n, s, [out.x[lp.lam_col]]])
+
+    def _associative_model(self) -> PersistentHighsModel:
+        """The associative LP of this direction in generator form, for HiGHS' interior point."""
+        m = PersistentHighsModel.of(self.lp, +1, algorithm="ipm")
+        m.set_cost(self.lp.lam_col, -float(self.d))
+        return m
 
     # ----------------------------------------------------------------- run
     def run(self) -> DirectionResult:
@@ -166,13 +180,13 @@ class LPSequence:
         t_b = time.perf_counter()
         self.c0 = self.rule.cohesion(assoc_n0, n0)  # of the friction rows, relative to the force level
         alpha = self.rule.first_alpha()
-        model = IterationModel(self.lp, self.d, "b" if self.rule.rows else "a", alpha, lazy=self.rule.lazy_model)
+        model = IterationModel(self.lp, self.d, "b" if self.rule.rows else "a", alpha)
         self.model = model
         model.set_capacity(n0, alpha, alpha, self.c0)
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
         if failed is not None and failed.status is Status.TIME_LIMIT:
             return self._fail("time_limit", f"LP {len(self.history) - 1} hit the time limit of "
-                              f"{self.o.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
+                              f"{self.recipe.options.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
         if failed is not None or self.final is None:
             status = failed.native_status if failed is not None else ""
             return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold ({status})",
@@ -186,9 +200,9 @@ class LPSequence:
         Returns:
             ``(stop reason, band, the failed outcome or None)``.
         """
-        o = self.o
+        r = self.recipe
         n_prev, n_prev2, lam_prev = n0, n0, lam_assoc
-        for k in range(1, o.max_iterations + 1):
+        for k in range(1, r.max_iterations + 1):
             t_it = time.perf_counter()
             new_alpha = alpha
             if k > 1:
@@ -209,11 +223,11 @@ class LPSequence:
             n_prev2, n_prev, lam_prev = n_prev, n, lam
             if stop is not None:
                 return stop
-            if o.max_simplex_iterations is not None and self.pivots >= o.max_simplex_iterations:
-                return "work_budget", convergence.window_band(self.lams, o.window), None
-            if o.max_seconds is not None and time.perf_counter() - t_start > o.max_seconds:
-                return "time_budget", convergence.window_band(self.lams, o.window), None
-        return "max_iterations", convergence.window_band(self.lams, o.window), None
+            if r.tuning.max_simplex_iterations is not None and self.pivots >= r.tuning.max_simplex_iterations:
+                return "work_budget", window_band(self.lams), None
+            if r.options.max_seconds is not None and time.perf_counter() - t_start > r.options.max_seconds:
+                return "time_budget", window_band(self.lams), None
+        return "max_iterations", window_band(self.lams), None
 
     # ------------------------------------------------- warm / cold policy
     def _solve(self, model: IterationModel, k: int, n_prev: FloatArray, alpha: float) -> tuple[Outcome, str]:
@@ -226,19 +240,10 @@ class LPSequence:
         doubled each time the warm run after a cold streak is slow again,
         or stopped at :attr:`warm_limit`: Set 10, 3,630 blocks, warm runs of
         102,000 and over 108,000 simplex iterations, 260-360 s, against cold
-        ones of 40-65 s). On the crossover route
-        (:meth:`~micro.nonassociative.model.IterationModel.interior_vertex`)
-        an LP it takes is solved that way; where it fails the LP goes cold.
-        A run stopped by the user's ``time_limit`` is returned as it is (the
+        ones of 40-65 s). A run stopped by the user's ``time_limit`` is returned as it is (the
         sequence ends)."""
-        user = self.o.time_limit
-        routed_failed = False
-        if self.o.lp_route == "crossover" and model.route_applies:
-            routed = model.interior_vertex(user)
-            if routed is not None and (routed.ok or routed.status is Status.TIME_LIMIT):
-                return routed, CROSSOVER
-            routed_failed = True  # cold below (the model's basis may be gone)
-        cold = routed_failed or k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
+        user = self.recipe.options.time_limit
+        cold = k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
                           and self.cold_streak < self.streak_length)
         if cold:
             model.model.limit_next_run(user)
@@ -263,12 +268,12 @@ class LPSequence:
         last forces alone (no relaxation). What still fails is restarted cold
         (HiGHS "Unknown" on near-degenerate rows)."""
         out, algo = failed, ""
-        if k > 1 and self.o.scheme == "b":
-            out, algo = model.fallback_a_step(n_prev, self.o.time_limit, self.warm_limit), "fallback-a"
+        if k > 1 and self.recipe.tuning.scheme == "b":
+            out, algo = model.fallback_a_step(n_prev, self.recipe.options.time_limit, self.warm_limit), "fallback-a"
             self.fallbacks += 1
-        elif k > 1 and failed.status is Status.INFEASIBLE and self.o.beta < 1.0:
+        elif k > 1 and failed.status is Status.INFEASIBLE and self.recipe.beta < 1.0:
             model.set_capacity(n_prev, alpha, alpha, self.c0)
-            out, algo = model.warm(self.o.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
+            out, algo = model.warm(self.recipe.options.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
         if not out.ok:
             out, algo = restart(model.model), "ipm-restart"
         # the failed run's work counts (the work budget, the history)
@@ -302,7 +307,6 @@ class LPSequence:
         Returns:
             ``(stop reason, band, None)`` or ``None`` to go on.
         """
-        o = self.o
         assert out.duals is not None
         nscale = max(float(np.max(n, initial=0.0)), TINY)
         dlam = abs(lam - lam_prev) / max(abs(lam), TINY)
@@ -315,24 +319,20 @@ class LPSequence:
         self.final = (v, n, s, lam)
         alpha_done = self.rule.alpha_done(alpha)
         coul_tol = COULOMB_TOL + (self.c0 / nscale if self.rule.rows else 0.0)
-        exact = convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o) if self.rule.exact_stop else None
+        exact = exact_stop(k, alpha_done, dlam, dn, coul, coul_tol)
         if exact is not None:
             return exact, None, None
         due = self.rule.certificate_due(self.lams, k, self.last_try)
-        if o.certify and alpha_done and algo != "fallback-a" and due and self._try_certificate(k, v, lam):
+        certify = self.recipe.tuning.certify and alpha_done and algo != "fallback-a" and due
+        if certify and self._try_certificate(k, v, lam):
             return "certified", None, None
         stop = self.rule.no_progress(self.lams, self.dns, alpha_done)
         return None if stop is None else (stop[0], stop[1], None)
 
     def _try_certificate(self, k: int, v: FloatArray, lam: float) -> bool:
-        """Try the certificate on iterate ``k``: is the mechanism the selection
-        names (the iterate's, or the lazy selection's plain LP's) an exact
+        """Try the certificate on iterate ``k``: is its mechanism an exact
         collapse state with other forces than the LP's vertex?"""
-        tried = self.rule.mechanism_to_certify(self, v, lam)
-        if tried is None:
-            return False
-        v, lam = tried
-        cert = self.certificate.certify(v, lam, time_limit=self.o.user_limit)
+        cert = self.certificate.certify(v, lam, time_limit=self.recipe.user_limit)
         self.last_try = k
         rec = self.history[-1]
         coul = checks.coulomb_residual(self.lp, *cert.forces) if cert.forces is not None else NAN
@@ -342,8 +342,6 @@ class LPSequence:
             coulomb_residual=coul if math.isfinite(coul) else rec.coulomb_residual,
         )
         if cert.forces is None:
-            if self.model is not None:
-                self.rule.rejected(self.model)
             return False
         self.final = (v, cert.forces[0], cert.forces[1], lam)
         self.mechanism_band = cert.band
@@ -356,7 +354,7 @@ class LPSequence:
             simplex_iterations=int(out.simplex_iterations), ipm_iterations=int(out.ipm_iterations),
             seconds=float(out.seconds), algorithm=algo, status=out.status.value, proximal_step=self.rule.take_step(),
         ))
-        self.o.tell(LPProgress(DIR_NAME[self.d], self.stage, k, lam, dn, algo, float(out.seconds)))
+        self.recipe.tell(LPProgress(DIR_NAME[self.d], self.stage, k, lam, dn, algo, float(out.seconds)))
 
     # ------------------------------------------------------------ finish
     def _fail(self, reason: str, msg: str, t_start: float, lam_assoc: float,
@@ -365,7 +363,7 @@ class LPSequence:
         seq = SequenceDiagnostics(
             stop_reason=reason, last_load_factor=last[-1] if last else NAN, lambda_band=band, mechanism_band=None,
             associative_load_factor=lam_assoc, history=tuple(self.history), fallback_steps=self.fallbacks,
-            selection=self.o.selection,
+            selection=self.recipe.selection,
         )
         return DirectionResult(direction=DIR_NAME[self.d], status=status, load_factor=NAN,
                                iterations=max(len(self.history) - 1, 0), seconds=time.perf_counter() - t_start,
@@ -375,7 +373,7 @@ class LPSequence:
                 t_start: float) -> DirectionResult:
         """The final-state checks, the cold re-solve, the mechanism band and the message."""
         assert self.final is not None
-        o, lp = self.o, self.lp
+        r, lp = self.recipe, self.lp
         v, n, s, lam = self.final
         status = (CONVERGED if stop in CONVERGED_STOPS else TIME_LIMIT if stop == "time_budget"
                   else MAX_ITERATIONS if stop in ("max_iterations", "work_budget") else CYCLING)
@@ -391,18 +389,19 @@ class LPSequence:
         if status == CONVERGED and state.equilibrium > EQUILIBRIUM_RESIDUAL:
             status, stop = SOLVER_FAILURE, "equilibrium_residual"
             msg = f"equilibrium residual {state.equilibrium:.2e} block weights at the final iterate"
-        if status == CONVERGED and o.mechanism_band and self.mechanism_band is None and o.scheme == "a":
-            self.mechanism_band = self.certificate.certify(v, lam, time_limit=o.user_limit).band
+        if status == CONVERGED and r.tuning.mechanism_band and self.mechanism_band is None and r.tuning.scheme == "a":
+            self.mechanism_band = self.certificate.certify(v, lam, time_limit=r.user_limit).band
         msg = msg or self._message(status, stop, band)
         if cold_note:
             msg += f"; also, {cold_note}"
-        seq = SequenceDiagnostics(
+        seq = SequenceDiagnostics(  # a failed sequence's band is no band of exact collapse states
             stop_reason=stop, last_load_factor=lam, lambda_band=None if status == CONVERGED else band,
-            mechanism_band=self.mechanism_band, associative_load_factor=lam_assoc, history=tuple(self.history),
+            mechanism_band=self.mechanism_band if status == CONVERGED else None,
+            associative_load_factor=lam_assoc, history=tuple(self.history),
             cold_load_factor=cold.load_factor, warm_cold_rel_diff=cold.rel_diff, cold_algorithm=cold.algorithm,
             coulomb_residual=state.coulomb, dilatancy_residual=state.dilatancy,
             equilibrium_residual=state.equilibrium, sliding_points=state.sliding_points,
-            fallback_steps=self.fallbacks, selection=o.selection,
+            fallback_steps=self.fallbacks, selection=r.selection,
         )
         fs = lp.force_scale
         return DirectionResult(
@@ -416,9 +415,10 @@ class LPSequence:
         if status == CYCLING:
             return f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop
         if status in (MAX_ITERATIONS, TIME_LIMIT):
-            msg = {"max_iterations": f"no convergence in {self.o.max_iterations} iterations",
-                   "work_budget": f"work budget of {self.o.max_simplex_iterations} simplex iterations spent after "
-                                  f"{len(self.history) - 1} LPs",
-                   }.get(stop, f"time budget of {self.o.max_seconds} s spent after {len(self.history) - 1} LPs")
+            r, lps = self.recipe, len(self.history) - 1
+            msg = {"max_iterations": f"no convergence in {r.max_iterations} iterations",
+                   "work_budget": f"work budget of {r.tuning.max_simplex_iterations} simplex iterations spent after "
+                                  f"{lps} LPs",
+                   }.get(stop, f"time budget of {r.options.max_seconds} s spent after {lps} LPs")
             return msg + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else "")
         return stop if status != CONVERGED else ""

@@ -85,8 +85,8 @@ def test_the_nonassociative_selection_of_a_sweep() -> None:
     assert g.methods[-1].method == scheme_b and scheme_b.nonassoc_tuning().resolved_selection == "vertex"
     assert "tuning" not in MICRO_ASSOC.key() and MICRO_NONASSOC.key()["tuning"] == []
     assert MICRO_NONASSOC.label == "micro-nonassoc (scheme a)" and scheme_b.label == "micro-nonassoc (scheme b)"
-    lazy = replace(MICRO_NONASSOC, tuning=(("selection", "lazy"),))
-    assert lazy.label == "micro-nonassoc (scheme a, lazy selection)"
+    proximal = replace(MICRO_NONASSOC, tuning=(("selection", "proximal"),))
+    assert proximal.label == "micro-nonassoc (scheme a, proximal selection)"
 
 
 def test_a_range_by_count() -> None:
@@ -103,12 +103,16 @@ def test_a_range_by_count() -> None:
         (("m = [", "q = 1\nm = ["), ["unknown key axes.q"]),
         (("f = 0.6\n", ""), ["missing key axes.f"]),
         (("step = 6", "stride = 6"), ["axes.rows", "range"]),
+        # issue 41: OverflowError (cannot convert float infinity to integer) in the count of the range
+        (("step = 6", "step = 5e-324"), ["axes.rows", "the range gives more than 10000 values (step = 4.94066e-324)"]),
+        (("from = 12, to = 24, step = 6", "from = 24, to = 12, step = 5e-324"),
+         ["axes.rows", "from must not exceed to, got from = 24, to = 12"]),
         (('solver = "clarabel"', 'solver = "gurobi"'), ["line 17", "method.solver", "gurobi"]),
         (('kind = "micro-nonassoc"', 'kind = "micro-magic"'), ["line 19", "method.kind"]),
         (("max_blocks = 50", "max_blocks = 0"), ["line 20", "max_blocks must be a positive integer"]),
         (("max_blocks = 50", 'selection = "closest"'), ["line 20", "method.selection", "closest"]),
-        (("max_blocks = 50", 'scheme = "b"\nselection = "lazy"'),
-         ["line 21", "method.selection 'lazy' needs scheme 'a'"]),
+        (("max_blocks = 50", 'scheme = "b"\nselection = "proximal"'),
+         ["line 21", "method.selection 'proximal' needs scheme 'a'"]),
         (('first_course = ["full", "half"]', 'first_course = "middle"'), ["bond.first_course", "middle"]),
         (('[[method]]\nkind = "macro"', '[[method]]\nkind = "macro"\nsolver = "x"'), ["unknown key method.solver"]),
         (("name = \"g\"", "name = \"g\"\nspeed = 1"), ["unknown key 'speed'"]),

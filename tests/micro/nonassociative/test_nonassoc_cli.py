@@ -49,8 +49,8 @@ def test_cli_cycling_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
     (["--tuning", "relaxation=x"], "--tuning relaxation"), (["--max-iterations", "x"], "--max-iterations"),
     (["--solver", "clarabel"], "--solver"), (["--global", "--node-limit", "0"], "--node-limit"),
     (["--tuning", "selection=closest"], "--tuning selection"),
-    (["--tuning", "selection=lazy", "--tuning", "scheme=b"], "--tuning selection"),
-    (["--tuning", "selection=vertex+lazy", "--tuning", "scheme=b"], "--tuning selection"),
+    (["--tuning", "selection=proximal", "--tuning", "scheme=b"], "--tuning selection"),
+    (["--tuning", "selection=vertex+proximal", "--tuning", "scheme=b"], "--tuning selection"),
     (["--tuning", "continuation=true", "--tuning", "scheme=b"], "--tuning continuation"),
     (["--tuning", "continuation=true", "--tuning", "selection=proximal"], "--tuning continuation"),
     (["--tuning", "certify=maybe"], "--tuning certify"), (["--tuning", "certify"], "--tuning"),
@@ -91,30 +91,20 @@ def test_cli_verbose_streams_one_line_per_lp(capsys: pytest.CaptureFixture[str])
     assert all(line.endswith(" s") for line in lines)
 
 
-def test_cli_lazy_selection(capsys: pytest.CaptureFixture[str]) -> None:
-    """``--tuning selection=lazy`` reaches the tuning and ends certified (Table 7, Set 12)."""
-    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
-                 "--tuning", "selection=lazy", "--no-lowest", "--json"])
-    out = json.loads(capsys.readouterr().out)
-    assert code == 0
-    assert out["options"]["selection"] == "lazy" and out["stop_reason"] == "certified"
-    assert 0.69 < out["load_factor"] <= out["associative_load_factor"]
-
-
-def test_cli_vertex_then_lazy(capsys: pytest.CaptureFixture[str]) -> None:
-    """``--tuning selection=vertex+lazy`` says that the lazy sequence ran and how the vertex one ended; the JSON
-    record carries the same."""
+def test_cli_vertex_then_proximal(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--tuning selection=vertex+proximal`` says that the proximal sequence ran and how the vertex one ended;
+    the JSON record carries the same."""
     args = ["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
-            "--tuning", "selection=vertex+lazy", "--tuning", "retry_iterations=4", "--max-iterations", "4",
+            "--tuning", "selection=vertex+proximal", "--tuning", "retry_iterations=4", "--max-iterations", "4",
             "--no-lowest"]
     assert main(args) == 0
     out = capsys.readouterr().out
-    assert "converged in 7 LPs (certified)" in out
-    assert "lazy sequence (3 LPs) after the vertex sequence ended max_iterations (4 LPs, lambda in [" in out
+    assert "(certified)" in out
+    assert "proximal sequence (" in out and "after the vertex sequence ended max_iterations (4 LPs, lambda in [" in out
     assert main([*args, "--json"]) == 0
     rec = json.loads(capsys.readouterr().out)
-    assert rec["selection"] == "lazy" and rec["vertex_stop_reason"] == "max_iterations"
-    assert rec["options"]["selection"] == "vertex+lazy" and len(rec["vertex_lambda_band"]) == 2
+    assert rec["selection"] == "proximal" and rec["vertex_stop_reason"] == "max_iterations"
+    assert rec["options"]["selection"] == "vertex+proximal" and len(rec["vertex_lambda_band"]) == 2
 
 
 def test_cli_global_node_limit(capsys: pytest.CaptureFixture[str]) -> None:
@@ -150,15 +140,37 @@ def test_cli_no_fused_retry(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 @pytest.mark.parametrize("flags, runs", [([], True), (["--lowest", "off"], False), (["--no-lowest"], False),
-                                         (["--lowest", "on"], True), (["--lowest", "auto"], True)])
-def test_cli_lowest_auto_on_off(flags: list[str], runs: bool, capsys: pytest.CaptureFixture[str]) -> None:
-    """``--lowest auto`` (the default) descends on this 54-block wall, ``off`` (or the old ``--no-lowest``)
-    does not; ``on`` does on any wall."""
+                                         (["--lowest", "on"], True), (["--lowest", "40"], True)])
+def test_cli_lowest_on_off(flags: list[str], runs: bool, capsys: pytest.CaptureFixture[str]) -> None:
+    """``--lowest on`` (the default, on every wall) or ``N`` (a budget of N LPs) descends, ``off`` (or the old
+    ``--no-lowest``) does not; the value to quote is the lowest state where it ran, the iterated LP's else."""
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
                  "--json", *flags])
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and (out["lowest_load_factor"] is not None) is runs
     assert (out["lowest_status"] == "found") is runs
+    assert out["quoted_load_factor"] == (out["lowest_load_factor"] if runs else out["load_factor"])
+    assert out["quoted"] == ("lowest certified" if runs else "iterated")
+    assert list(out)[:2] == ["quoted_load_factor", "quoted"]  # the summary leads with the value to quote
+    if flags == ["--lowest", "40"]:
+        assert [d["budget"] for d in out["lowest"]] == [40]
+
+
+def test_cli_leads_with_the_lowest_certified_state(capsys: pytest.CaptureFixture[str]) -> None:
+    """The words' first line, ``-q`` and the plot title give the lowest certified state (Set 12: 0.691108,
+    below the iterated LP's 0.708622), the iterated value beside it; a descent stopped by ``--lowest N``
+    says so in the first line."""
+    args = ["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative"]
+    assert main([*args, "-q"]) == 0
+    assert capsys.readouterr().out.strip() == "0.691108"
+    assert main(args) == 0
+    first, second = capsys.readouterr().out.splitlines()[:2]
+    assert first.startswith("lambda = 0.691108 (+x): the lowest certified collapse state") and "finished" in first
+    assert "iterated LP" in second and "lambda = 0.708622" in second and "[0.694899, 0.710055]" in second
+    assert main([*args, "--lowest", "3"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert "the lowest certified collapse state" in first and "spent its budget of 3 LPs" in first
+    assert "not finished" in first and "--lowest N raises it" in first
 
 
 def test_cli_lowest_bad_choice(capsys: pytest.CaptureFixture[str]) -> None:
@@ -168,16 +180,10 @@ def test_cli_lowest_bad_choice(capsys: pytest.CaptureFixture[str]) -> None:
     assert code == 2 and "--lowest" in err and len(err.strip().splitlines()) == 1
 
 
-def test_cli_says_when_the_descent_was_not_run(capsys: pytest.CaptureFixture[str],
-                                               monkeypatch: pytest.MonkeyPatch) -> None:
-    """The words name why no lowest state is printed: ``--lowest off``, or a wall above the default's
-    size limit (here the limit lowered below the 54-block wall, so that the test stays fast)."""
+def test_cli_says_when_the_descent_was_not_run(capsys: pytest.CaptureFixture[str]) -> None:
+    """With ``--lowest off`` the first line gives the iterated LP's state and says why it is not the lowest."""
     args = ["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative"]
     assert main([*args, "--lowest", "off"]) == 0
-    assert "lowest certified collapse state: not searched (--lowest off)" in capsys.readouterr().out
-    import micro.nonassociative.options as options
-
-    monkeypatch.setattr(options, "LOWEST_AUTO_BLOCKS", 50)
-    assert main(args) == 0
-    out = capsys.readouterr().out
-    assert "not searched (by default only on walls of at most 50 blocks; --lowest on asks for it)" in out
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == ("lambda = 0.708622 (+x): the iterated LP's collapse state, non-associative friction; the "
+                     "lowest certified state was not searched (--lowest off)")

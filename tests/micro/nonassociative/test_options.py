@@ -26,7 +26,7 @@ def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, 
         (dict(max_seconds=0), "max_seconds"),
         (dict(lowest_budget=-1.0), "lowest_budget"),
         (dict(lowest_budget=float("inf")), "lowest_budget"),
-        (dict(global_node_limit=0), "global_node_limit"),
+        (dict(global_="yes"), "global_"),
         (dict(lowest="yes"), "lowest"),
     ],
 )
@@ -42,21 +42,9 @@ def test_bad_options(kw: dict, word: str) -> None:
         (dict(relaxation=0.0), "relaxation"),
         (dict(relaxation=1.5), "relaxation"),
         (dict(relaxation=True), "relaxation"),
-        (dict(window=2), "window"),
         (dict(start="warm"), "start"),
-        (dict(lambda_tol=0.0), "lambda_tol"),
-        (dict(alpha0=1e-4, alpha_min=1e-3), "alpha_min"),
-        (dict(alpha_factor=2.0), "alpha_factor"),
-        (dict(settle_tol=1.0), "settle_tol"),
-        (dict(settle_window=1), "settle_window"),
-        (dict(state_solver="gurobi"), "state_solver"),
         (dict(retry_iterations=1), "retry_iterations"),
-        (dict(global_bounds="tight"), "global_bounds"),
-        (dict(anderson=-1), "anderson"),
-        (dict(anderson=True), "anderson"),
-        (dict(anderson=2.0), "anderson"),
-        (dict(selection="vertex", anderson=3), "anderson"),
-        (dict(scheme="b", anderson=3), "anderson"),
+        (dict(max_simplex_iterations=0), "max_simplex_iterations"),
     ],
 )
 def test_bad_tuning(kw: dict, word: str) -> None:
@@ -68,7 +56,7 @@ def test_options_and_tuning_are_frozen_defaults_and_overrides() -> None:
     import dataclasses
 
     o = micro.NonAssociativeOptions()
-    assert o.max_iterations == 100 and o.lowest is None and o.time_limit is None
+    assert o.max_iterations == 100 and o.lowest is True and o.lowest_budget == 100 and o.time_limit is None
     with pytest.raises(dataclasses.FrozenInstanceError):
         o.max_iterations = 3  # type: ignore[misc]
     b = o.with_overrides(max_seconds=20)
@@ -98,34 +86,54 @@ def test_the_recipe_is_resolved_for_the_walls_size() -> None:
     from micro.nonassociative import FUSE_BLOCKS, recipe_for
 
     small, large = recipe_for(FUSE_BLOCKS), recipe_for(FUSE_BLOCKS + 1)
-    assert small.selection == large.selection == "vertex+proximal" and small.retry_iterations == 40
+    assert small.selection == large.selection == "vertex+proximal" and small.tuning.retry_iterations == 40
     assert not small.fuse and not small.continuation and large.fuse and large.continuation
     assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(fuse=False, continuation=False)).fuse
-    assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(selection="lazy")).fuse  # no vertex sequence
+    assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(selection="proximal")).fuse  # no vertex sequence
 
 
-def test_the_descent_runs_by_default_on_walls_up_to_its_size_limit() -> None:
-    """lowest=None (the default) descends on walls of at most LOWEST_AUTO_BLOCKS
-    blocks and not above; True and False hold on every size."""
+def test_the_descent_runs_by_default_on_every_size() -> None:
+    """The descent is on by default on walls of any size; False turns it off; its budget is a count of LPs."""
     from micro.nonassociative import recipe_for
-    from micro.nonassociative.options import LOWEST_AUTO_BLOCKS
 
-    assert recipe_for(LOWEST_AUTO_BLOCKS).lowest and not recipe_for(LOWEST_AUTO_BLOCKS + 1).lowest
-    on, off = micro.NonAssociativeOptions(lowest=True), micro.NonAssociativeOptions(lowest=False)
-    assert recipe_for(10 * LOWEST_AUTO_BLOCKS, on).lowest and not recipe_for(10, off).lowest
+    assert recipe_for(10).lowest and recipe_for(100_000).lowest
+    assert not recipe_for(100_000, micro.NonAssociativeOptions(lowest=False)).lowest
+    for bad in (None, "auto", 1):
+        with pytest.raises(ValueError, match="lowest must be True or False"):
+            micro.NonAssociativeOptions(lowest=bad)  # type: ignore[arg-type]
+    for bad in (-1, 2.5, True, "100"):
+        with pytest.raises((ValueError, TypeError), match="lowest_budget"):
+            micro.NonAssociativeOptions(lowest_budget=bad)  # type: ignore[arg-type]
 
 
-def test_the_recipe_carries_every_option_and_knob() -> None:
-    """The flat Recipe mirrors NonAssociativeOptions and Tuning: a field added to either must reach it
-    (by the same name), and a changed value must come through recipe_for."""
+def test_the_recipe_composes_the_options_and_the_tuning() -> None:
+    """The recipe holds the user's options and the tuning as given (a new knob or option reaches the
+    modules with no other edit), with the few choices resolved for the wall beside them; its JSON form
+    names every option and knob once, the resolved values in place of the unresolved ones."""
     import dataclasses
 
     from micro.nonassociative import recipe_for
     from micro.nonassociative.recipe import Recipe
 
-    recipe = {f.name for f in dataclasses.fields(Recipe)} - {"progress"}
-    options = {f.name for f in dataclasses.fields(micro.NonAssociativeOptions)}
-    knobs = {f.name for f in dataclasses.fields(Tuning)}
-    assert recipe == options | knobs
-    r = recipe_for(100, micro.NonAssociativeOptions(max_iterations=7), Tuning(window=9, alpha0=0.2))
-    assert (r.max_iterations, r.window, r.alpha0) == (7, 9, 0.2)
+    options, tuning = micro.NonAssociativeOptions(max_iterations=7, time_limit=30), Tuning(scheme="b", fuse=None)
+    r = recipe_for(100, options, tuning)
+    assert r.options is options and r.tuning is tuning
+    assert (r.selection, r.beta, r.fuse, r.continuation, r.max_iterations) == ("vertex", 0.6, False, False, 7)
+    assert len(dataclasses.fields(Recipe)) <= 12 and len(dataclasses.fields(Tuning)) <= 12
+    d = r.as_dict()
+    names = {f.name for cls in (micro.NonAssociativeOptions, Tuning) for f in dataclasses.fields(cls)}
+    assert names <= set(d) and d["relaxation"] == 0.6 and d["fuse"] is False and d["time_limit"] == 30.0
+
+
+def test_one_global_options_object_reaches_the_search() -> None:
+    """Every setting of the global search, the solver included, travels in one GlobalOptions: ``True`` is
+    its defaults, a GlobalOptions is kept as given, ``False`` is no search."""
+    from micro.nonassociative import GlobalOptions
+
+    assert micro.NonAssociativeOptions(global_=True).global_ == GlobalOptions()
+    assert micro.NonAssociativeOptions(global_=False).global_ is None
+    given = GlobalOptions(node_limit=3, time_limit=None, bounds="uniform")
+    w = WallSpec.from_paper(t=1, m=1, rows=2, f=0.6).to_micro()  # 5 blocks
+    r = solve_nonassociative(w, global_=given)
+    assert r.global_search is not None and r.global_search.options is given
+    assert all(d.bounds is not None and d.bounds.policy == "uniform" for d in r.global_search.directions)
