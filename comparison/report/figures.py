@@ -270,7 +270,7 @@ def sensitivity_figure(res: Results, path: Path) -> Figure:
         if any(r.rocking_load_factor > r.load_factor for r in macro):
             series["macro λ_r (Eq. 10), above f"] = (list(values), [r.rocking_load_factor for r in macro])
         for m in plan.methods:
-            series[m.kind] = (list(values), [res.record(s, m).load_factor for s in specs])
+            series[m.column] = (list(values), [res.record(s, m).load_factor for s in specs])
         panels[param] = series
     base = base_wall(plan.base)
     sensitivity(panels, path, f"λ against each parameter of the base wall ({base})",
@@ -305,7 +305,7 @@ def speed_figure(res: Results, path: Path) -> Figure:
     points = [SpeedPoint(f"{r.rows} rows", r.family, r.seconds, r.error, r.rows) for r in rows]
     ref = speed_reference(res)
     finest = res.plan.reference_rows
-    speed_accuracy(points, f"{ref.method.kind}, {finest} rows", path)
+    speed_accuracy(points, f"{ref.method.column}, {finest} rows", path)
     base = base_wall({**res.plan.base, "rows": finest})
     blocks = {r.rows: r.blocks for r in rows if r.blocks is not None}
     built = ", ".join(f"{r} ({blocks[r]:,} blocks)" if r in blocks else str(r) for r in res.plan.resolutions)
@@ -313,7 +313,7 @@ def speed_figure(res: Results, path: Path) -> Figure:
     return Figure(
         path.name,
         f"Time against accuracy: every associative back end and the iterated LP on the base wall built with "
-        f"{built} rows, and the macro model; the error is |Δλ|/λ against the {ref.method.kind} "
+        f"{built} rows, and the macro model; the error is |Δλ|/λ against the {ref.method.column} "
         f"λ = {ref.load_factor:.4f} of the {finest}-row wall ({base})"
         + (f", the finest the report runs the iterated LP on ({', '.join(map(str, assoc_only))} rows: the "
            "associative back ends only; their error there is mostly the wall's own, λ falling as its blocks get "

@@ -32,17 +32,20 @@ def mechanism_figures(res: Results, out: Path) -> list[Figure]:
         amplification = draw_mechanism(ax, wall, mech.velocities, fig=fig, direction=mech.direction,
                                        **storey_marks(spec, r))  # fmt: skip
         _draw_macro_crack(ax, r, mech.direction)
-        fig.suptitle(f"{c.label}: {rec.method.kind} λ = {rec.load_factor:.3f}, macro λ = {r.load_factor:.3f}",
+        fig.suptitle(f"{c.label}: {rec.method.column} λ = {rec.load_factor:.3f}, macro λ = {r.load_factor:.3f}",
                      fontsize=9)  # fmt: skip
         ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, frameon=False)
         name = f"mechanism_{c.case.lower()}.png"
         save_figure(fig, out / name)
         which = "" if rec.method == res.plan.reference else _why_not(res, c)
+        na = rec.nonassoc
+        lowest = na is not None and na.quoted == "lowest certified"
+        what = f"{'lowest certified collapse state' if lowest else 'collapse mechanism'} of the {rec.method.label}"
         figures.append(
             Figure(
                 name,
                 f"{c.label} (t = {c.t:g}, m = {c.m:.3g}, o = {c.rows}, p = {c.p:g}, f = {c.f:g}, {c.storeys} "
-                f"storey{'s' if c.storeys > 1 else ''}): the collapse mechanism of the {rec.method.label}{which} "
+                f"storey{'s' if c.storeys > 1 else ''}): the {what}{which} "
                 f"for the live load in {mech.direction} (arrow), λ = {rec.load_factor:.4f}. Blocks are drawn "
                 f"displaced by their virtual velocities × {amplification:.3g} and coloured by their speed relative to "
                 f"the fastest block, the wall "
@@ -79,7 +82,7 @@ def _floors_said(spec: WallSpec) -> str:
 def _why_not(res: Results, case: Any) -> str:
     """Why the caption shows another method's mechanism than the reference's: not run, or no state."""
     ref = res.record(case.spec(), res.plan.reference)
-    kind = res.plan.reference.kind
+    kind = res.plan.reference.column
     if ref.status == "not_run":
         return f" (the {kind}: not run on this wall, see the status legend)"
     return f" (the {kind} ended `{ref.status}`: no collapse state)"

@@ -46,6 +46,10 @@ class Results:
         rec = self.record(spec, self.plan.reference)
         return rec if math.isfinite(rec.load_factor) else self.record(spec, self.plan.methods[0])
 
+    def nonassoc_record(self, spec: WallSpec) -> Record | None:
+        """The reference (non-associative) record of ``spec``, if the plan has one."""
+        return self.records.get((spec, self.plan.reference))
+
     def mechanism_band(self, spec: WallSpec) -> tuple[float, float] | None:
         """The mechanism band of the reference record of ``spec``, if it has a finite one."""
         nonassoc = self.record(spec, self.plan.reference).nonassoc

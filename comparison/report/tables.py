@@ -115,6 +115,16 @@ def selection_cell(na: NonAssociativeRecord) -> str:
     return cell
 
 
+def iterated_cell(rec: Record | None, *, band: bool = True) -> str | None:
+    """The non-associative iterated LP's own load factor (4 decimals), with the band of its mechanism's
+    collapse states (``"0.7144 (0.7017-0.7176)"``); ``None`` without a converged iterated LP."""
+    na = None if rec is None else rec.nonassoc
+    if na is None or not math.isfinite(na.load_factor):
+        return None
+    states = band_cell(na.mechanism_band) if band else None
+    return f"{na.load_factor:.4f}" + ("" if states is None else f" ({states})")
+
+
 def band_cell(band: tuple[float, float] | None) -> str | None:
     """``"lo-hi"`` of a mechanism band (4 decimals), or ``None``."""
     return None if band is None else f"{band[0]:.4f}-{band[1]:.4f}"
@@ -187,8 +197,8 @@ def table7(res: Results) -> Table:
     methods, ref = res.plan.methods, res.plan.reference
     hdr = ["Set", "Orduña micro", "paper macro", "Δ % paper", "macro ours", "Δ % ours vs Orduña"]
     for m in methods:
-        hdr += [f"{m.kind} ours", f"Δ % vs Orduña ({m.kind})"]
-    hdr += [f"Δ % macro vs {ref.kind}", "collapse states of the non-assoc. mechanism"]
+        hdr += [f"{m.column} ours", f"Δ % vs Orduña ({m.kind})"]
+    hdr += [f"Δ % macro vs {ref.column}", "micro-nonassoc iterated LP (its mechanism's states)"]
     t = Table("table7", "Table 7: micro-block against macro-block model (one storey, o = 12, f = 0.75)", hdr)
     for c in cases_in_table("7"):
         micro_pub, paper = published(c, "orduna_micro"), published(c, "proposed")
@@ -199,7 +209,7 @@ def table7(res: Results) -> Table:
             rec = res.record(c.spec(), m)
             ours = rec.load_factor
             row += [lam_cell(rec), pct(ours, micro_pub)]
-        row += [pct(lam, ours), band_cell(res.mechanism_band(c.spec()))]
+        row += [pct(lam, ours), iterated_cell(res.nonassoc_record(c.spec()))]
         t.add(*row)
     return t
 
@@ -215,7 +225,7 @@ def bond_variants_table(res: Results) -> Table:
     for c in cases_in_table("7"):
         for m in res.plan.methods:
             cells = [lam_cell(res.record(c.spec(), v)) for v in bond_variants(m)]
-            t.add(c.label, m.kind, published(c, "orduna_micro"), *cells)
+            t.add(c.label, m.column, published(c, "orduna_micro"), *cells)
     return t
 
 
@@ -224,11 +234,11 @@ def table8(res: Results) -> Table:
     ref = res.plan.reference
     t = Table(
         "table8",
-        f"Table 8: other macro-block models (published) against Orduña's micro model and our {ref.kind}",
+        f"Table 8: other macro-block models (published) against Orduña's micro model and our {ref.column}",
         [
             "Set",
             "Orduña micro",
-            f"ours {ref.kind}",
+            f"ours {ref.column}",
             "Orduña macro",
             "Δ %",
             "De Buhan & de Felice",
@@ -255,7 +265,7 @@ def table9(res: Results) -> Table:
     quick, methods = res.plan.quick, res.plan.methods
     hdr = ["Set", "p", "λ paper", "λ ours (m = 1/3)", "Δ %", "λ ours, m = 1/2", "Speranza", "Δ % ours vs Speranza"]
     if not quick:
-        hdr += [f"{m.kind} ours" for m in methods] + ["Δ % macro vs micro (non-assoc., else assoc.)"]
+        hdr += [f"{m.column} ours" for m in methods] + ["Δ % macro vs micro (non-assoc., else assoc.)"]
     t = Table("table9", "Table 9: five-storey walls (t = 1, m = 1/3, o = 150, f = 0.75)", hdr)
     for c in cases_in_table("9"):
         lam = res.macro[c.spec()].load_factor
@@ -275,8 +285,8 @@ def table9(res: Results) -> Table:
 def all_cases(res: Results) -> Table:
     """Every case the micro model runs on: macro against micro."""
     hdr = ["Case", "storeys", "t", "m", "o", "p", "f", "macro λ", "macro mechanism"]
-    hdr += [f"{m.kind} λ" for m in res.plan.methods]
-    hdr += ["Δ % macro vs micro (non-assoc., else assoc.)", "blocks"]
+    hdr += [f"{m.column} λ" for m in res.plan.methods]
+    hdr += ["micro-nonassoc iterated LP λ", "Δ % macro vs micro (non-assoc., else assoc.)", "blocks"]
     t = Table("all_cases", "All cases: macro against micro (micro values the paper does not have)", hdr)
     for c in res.plan.cases:
         r = res.macro[c.spec()]
@@ -297,7 +307,8 @@ def all_cases(res: Results) -> Table:
             micro = rec.micro
             row.append(lam_cell(rec))
             blocks = blocks if micro is None else micro.blocks
-        row += [pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
+        row += [iterated_cell(res.nonassoc_record(c.spec()), band=False),
+                pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
         t.add(*row)
     cut = ("A length that is not a whole number of half blocks (Set 8: L = 20, l = 3) ends every course with a cut "
            "block.")
@@ -320,7 +331,7 @@ def failure_modes(res: Results) -> Table:
     """The macro crack and hinge against the micro mechanism, case by case."""
     t = Table(
         "failure_modes",
-        f"Failure modes: macro crack and hinge against the {res.plan.reference.kind} mechanism",
+        f"Failure modes: macro crack and hinge against the {res.plan.reference.column} mechanism",
         [
             "Case",
             "micro mechanism of",
@@ -342,7 +353,7 @@ def failure_modes(res: Results) -> Table:
         fm, micro = rec.failure, rec.micro
         states = micro is not None and micro.closed_contacts + micro.opening_contacts + micro.sliding_contacts > 0
         t.add(
-            c.label, rec.method.kind, r.alpha_c_deg, r.alpha_c_star_deg, r.hinge_storey,
+            c.label, rec.method.column, r.alpha_c_deg, r.alpha_c_star_deg, r.hinge_storey,
             None if fm is None else fm.crack_angle_deg, None if fm is None else fm.conventional_angle_deg,
             None if fm is None else fm.hinge_storey, None if fm is None else 100.0 * fm.moving_fraction,
             None if fm is None else fm.whole_length_courses,
@@ -366,7 +377,7 @@ def sensitivity(res: Results) -> Table:
     t = Table(
         "sensitivity",
         "Sensitivity: λ against each parameter, macro and micro",
-        ["parameter", "value", "macro λ", *[f"{m.kind} λ" for m in plan.methods]],
+        ["parameter", "value", "macro λ", *[f"{m.column} λ" for m in plan.methods]],
         keys=2,
     )
     for param, values in plan.sweeps.items():
@@ -429,7 +440,7 @@ def speed_accuracy(res: Results) -> Table:
     ref = speed_reference(res)
     t = Table(
         "speed_accuracy",
-        f"Speed against accuracy (reference: {ref.method.kind}, {res.plan.reference_rows} rows, "
+        f"Speed against accuracy (reference: {ref.method.column}, {res.plan.reference_rows} rows, "
         f"λ = {ref.load_factor:.4f})",
         ["method", "rows", "blocks", "λ", "rel. error of λ"],
         keys=2,

@@ -61,6 +61,12 @@ class Method:
         return micro.Tuning(**dict(self.tuning))
 
     @property
+    def column(self) -> str:
+        """The method's name over a column of load factors: its kind, and for the non-associative
+        method the value it gives (the lowest certified collapse state, which the docs say to quote)."""
+        return f"{self.kind} (lowest certified)" if self.kind == "micro-nonassoc" else self.kind
+
+    @property
     def label(self) -> str:
         """Short name for tables and figures."""
         if self.kind == "macro":

@@ -52,9 +52,12 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, MechanismRecord | N
     else:
         nres = micro.solve_nonassociative(wall, tuning=method.nonassoc_tuning() if method.tuning else None)
         record = nres.to_record()
-        gov = next((d for d in nres.directions if d.direction == nres.direction), None)
+        # the mechanism of the state quoted: the lowest certified one, else the iterated LP's
+        low = nres.lowest_state
+        gov = low.state if low is not None else next((d for d in nres.directions if d.direction == nres.direction),
+                                                     None)
         if gov is not None and gov.mechanism is not None:
-            mechanism = MechanismRecord(np.asarray(gov.mechanism.velocities), nres.direction)
+            mechanism = MechanismRecord(np.asarray(gov.mechanism.velocities), gov.direction)
     failure: FailureMode | None = None
     message = ""
     if mechanism is not None:
