@@ -327,11 +327,11 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         from micro.plot import plot_velocities
 
         title = (
-            f"micro λ ({result.quoted}) = {result.quoted_load_factor:.4f} ({result.direction}); "
-            f"iterated LP {result.load_factor:.4f}, {result.blocks} blocks"
+            f"non-associative micro λ = {result.quoted_load_factor:.4f} (lowest certified; iterated LP "
+            f"{result.load_factor:.4f}), {result.direction}, {result.blocks} blocks"
             if result.quoted == "lowest certified" else
-            f"micro λ (iterated LP; lowest not searched or not found) = {result.load_factor:.4f} "
-            f"({result.direction}), {result.blocks} blocks"
+            f"non-associative micro λ = {result.load_factor:.4f} (iterated LP; the lowest not searched or not "
+            f"found), {result.direction}, {result.blocks} blocks"
         )
         _write_plot(
             lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction,

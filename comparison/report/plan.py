@@ -56,9 +56,14 @@ def micro_methods() -> tuple[Method, ...]:
     return (MICRO_ASSOC, MICRO_NONASSOC)
 
 
-def bond_variants(method: Method) -> tuple[Method, Method, Method]:
-    """``method`` as it is, with a half first course, and with frictionless head joints."""
-    return method, replace(method, first_course="half"), replace(method, head_joints="frictionless")
+#: The bond variants the suite builds: (first course, head joints), the paper's bond first.
+BONDS: tuple[tuple[str, str], ...] = (("full", "frictional"), ("half", "frictional"), ("full", "frictionless"),
+                                      ("half", "frictionless"))
+
+
+def bond_variants(method: Method) -> tuple[Method, ...]:
+    """``method`` as it is, then with every other bond of :data:`BONDS`."""
+    return (method, *[replace(method, first_course=fc, head_joints=hj) for fc, hj in BONDS[1:]])
 
 
 @dataclass(frozen=True)
@@ -123,6 +128,10 @@ class Plan:
         one_block = self.base["rows"] * self.base["m"]
         return WallSpec.from_paper(**{**self.base, "t": one_block}, name="one block long")  # type: ignore[arg-type]
 
+    def rows_specs(self) -> list[WallSpec]:
+        """The base wall with each number of rows of the rows sweep (the same wall of ever smaller blocks)."""
+        return [self.sweep_spec("rows", v) for v in self.sweeps.get("rows", ())]
+
     def macro_specs(self) -> list[WallSpec]:
         """The walls the macro model runs on: every case, Table 9 with ``m = 1/2``, Table 5 with the other
         reading of ``p``, the sweeps, the speed base, the slender base wall."""
@@ -135,6 +144,8 @@ class Plan:
         """Every (wall, method) pair the micro tables and figures read, each once."""
         pairs = [(c.spec(), m) for c in self.cases for m in self.methods]
         pairs += [(c.spec(), v) for c in cases_in_table("7") for m in self.methods for v in bond_variants(m)[1:]]
+        # how robust the macro-vs-micro finding is: the rows sequence of the base wall in every bond
+        pairs += [(s, v) for s in self.rows_specs() for v in bond_variants(self.reference)[1:]]
         pairs += [(self.sweep_spec(p, v), m) for p, values in self.sweeps.items() for v in values for m in self.methods]
         for rows in self.resolutions:
             spec = self.speed_spec(rows)

@@ -115,13 +115,13 @@ def selection_cell(na: NonAssociativeRecord) -> str:
     return cell
 
 
-def iterated_cell(rec: Record | None, *, band: bool = True) -> str | None:
+def iterated_cell(rec: Record | None) -> str | None:
     """The non-associative iterated LP's own load factor (4 decimals), with the band of its mechanism's
     collapse states (``"0.7144 (0.7017-0.7176)"``); ``None`` without a converged iterated LP."""
     na = None if rec is None else rec.nonassoc
     if na is None or not math.isfinite(na.load_factor):
         return None
-    states = band_cell(na.mechanism_band) if band else None
+    states = band_cell(na.mechanism_band)
     return f"{na.load_factor:.4f}" + ("" if states is None else f" ({states})")
 
 
@@ -214,19 +214,75 @@ def table7(res: Results) -> Table:
     return t
 
 
+#: Column names of the bonds of :data:`~comparison.report.plan.BONDS`.
+BOND_NAMES = ("full first, frictional heads", "half first", "frictionless heads", "half first, frictionless heads")
+
+
 def bond_variants_table(res: Results) -> Table:
-    """The micro model on Table 7's walls with the other bond phase and frictionless head joints."""
+    """The micro model on Table 7's walls in every bond: the associative LP, the lowest certified
+    non-associative state and the iterated LP's own value."""
     t = Table(
         "bond_variants",
         "Micro model variants on Table 7's walls: bond phase and head-joint friction",
-        ["Set", "method", "Orduña micro", "full first, frictional heads", "half first", "frictionless heads"],
+        ["Set", "method", "Orduña micro", *BOND_NAMES],
         keys=2,
     )
     for c in cases_in_table("7"):
         for m in res.plan.methods:
-            cells = [lam_cell(res.record(c.spec(), v)) for v in bond_variants(m)]
-            t.add(c.label, m.column, published(c, "orduna_micro"), *cells)
+            recs = [res.record(c.spec(), v) for v in bond_variants(m)]
+            t.add(c.label, m.column, published(c, "orduna_micro"), *[lam_cell(r) for r in recs])
+            if m.kind == "micro-nonassoc":
+                t.add(c.label, "micro-nonassoc iterated LP", published(c, "orduna_micro"),
+                      *[r.iterated_load_factor if math.isfinite(r.iterated_load_factor) else lam_cell(r)
+                        for r in recs])
     return t
+
+
+def robustness_table(res: Results) -> Table | None:
+    """The macro model against the lowest certified micro state in every bond the suite builds, on the
+    rows sequence of the base wall and on Table 7's walls: which conclusions hold under every bond."""
+    specs = [(f"base wall, o = {sum(st.rows for st in s.storeys)}", s) for s in res.plan.rows_specs()]
+    specs += [(c.label, c.spec()) for c in cases_in_table("7")]
+    if not specs:
+        return None
+    hdr = ["wall", "blocks", "macro λ"]
+    for name in BOND_NAMES:
+        hdr += [f"micro λ, {name}", f"Δ % macro, {name}"]
+    hdr += ["macro above micro in"]
+    t = Table("robustness", "How robust the finding is: macro against the lowest certified micro state in every "
+              "bond", hdr)
+    for label, spec in specs:
+        lam = res.macro[spec].load_factor
+        recs = [res.record(spec, v) for v in bond_variants(res.plan.reference)]
+        blocks = next((r.micro.blocks for r in recs if r.micro is not None), None)
+        row: list[Any] = [label, blocks, lam]
+        above = 0
+        for r in recs:
+            row += [lam_cell(r), pct(lam, r.load_factor)]
+            d = delta(lam, r.load_factor)
+            above += d is not None and d > 0
+        known = sum(1 for r in recs if math.isfinite(r.load_factor))
+        row.append(f"{above} of {known}")
+        t.add(*row)
+    t.note = robustness_note(t)
+    return t
+
+
+def robustness_note(t: Table) -> str:
+    """Which walls of the robustness table have the macro λ above the micro one under every bond, under
+    none, or under some only."""
+    every: list[str] = []
+    none: list[str] = []
+    some: list[str] = []
+    for row in t.rows:
+        above, known = (int(x) for x in row[-1].split(" of "))
+        (every if above == known > 0 else none if above == 0 else some).append(str(row[0]))
+    parts = [f"under every bond on {', '.join(every)}" if every else "",
+             f"under no bond on {', '.join(none)}" if none else "",
+             f"under some bonds only on {', '.join(some)} (the verdict depends on the bond)" if some else ""]
+    return ("The macro λ lies above the lowest certified micro state " + "; ".join(p for p in parts if p) + ". "
+            "Bonds: the bottom course starting with a full or a half block, head joints with or without friction. "
+            "Base wall: the sensitivity sweeps' (o rows in all).")
 
 
 def table8(res: Results) -> Table:
@@ -307,7 +363,8 @@ def all_cases(res: Results) -> Table:
             micro = rec.micro
             row.append(lam_cell(rec))
             blocks = blocks if micro is None else micro.blocks
-        row += [iterated_cell(res.nonassoc_record(c.spec()), band=False),
+        ref = res.nonassoc_record(c.spec())
+        row += [None if ref is None else ref.iterated_load_factor,
                 pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
         t.add(*row)
     cut = ("A length that is not a whole number of half blocks (Set 8: L = 20, l = 3) ends every course with a cut "
@@ -377,14 +434,16 @@ def sensitivity(res: Results) -> Table:
     t = Table(
         "sensitivity",
         "Sensitivity: λ against each parameter, macro and micro",
-        ["parameter", "value", "macro λ", *[f"{m.column} λ" for m in plan.methods]],
+        ["parameter", "value", "macro λ", *[f"{m.column} λ" for m in plan.methods],
+         "micro-nonassoc iterated LP (its mechanism's states)"],
         keys=2,
     )
     for param, values in plan.sweeps.items():
         for v in values:
             spec = plan.sweep_spec(param, v)
             t.add(
-                param, f"{v:.4g}", res.macro[spec].load_factor, *[lam_cell(res.record(spec, m)) for m in plan.methods]
+                param, f"{v:.4g}", res.macro[spec].load_factor, *[lam_cell(res.record(spec, m)) for m in plan.methods],
+                iterated_cell(res.nonassoc_record(spec)),
             )
     t.note = f"Base wall: {', '.join(f'{k} = {v:.4g}' for k, v in plan.base.items())}. Figure: `sensitivity.png`."
     return t
@@ -456,14 +515,14 @@ def histories(res: Results) -> Table:
     t = Table(
         "histories",
         "Iterated LP: iterations and status",
-        ["case", "status", "selection", "iterations", "λ", "band min", "band max"],
+        ["case", "status", "selection", "iterations", "λ of the iterated LP", "band min", "band max"],
     )
     for c in res.plan.cases:
         rec = res.record(c.spec(), res.plan.reference)
         na = rec.nonassoc
         band = (None, None) if na is None or na.lambda_band is None else na.lambda_band
         selection = None if na is None else selection_cell(na)
-        t.add(c.label, rec.status, selection, None if na is None else na.iterations, rec.load_factor, *band)
+        t.add(c.label, rec.status, selection, None if na is None else na.iterations, rec.iterated_load_factor, *band)
     t.note = (
         "selection: how the iterates went on from an LP: `vertex` (from the simplex's vertex, Gilbert et al.'s "
         "iteration), or `proximal after vertex (...)`: the vertex sequence ended as said in brackets, and the "
@@ -492,4 +551,5 @@ def all_tables(res: Results) -> dict[str, Table]:
         histories,
     )
     tables = [build(res) for build in builders]
-    return {t.name: t for t in tables}
+    robust = robustness_table(res)
+    return {t.name: t for t in (*tables, *([robust] if robust is not None else []))}

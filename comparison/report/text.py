@@ -22,6 +22,7 @@ ORDER = (
     "table9",
     "table5",
     "all_cases",
+    "robustness",
     "failure_modes",
     "sensitivity",
     "speed_accuracy",
@@ -39,6 +40,10 @@ GLOSSARY = {
     "α_c": "the angle from the vertical of the macro crack through the hinge (Eq. 10's variable)",
     "α_c*": "the angle of the macro model's stepped crack of Eq. (9), tan α_c* = tan α_c − v/(n b)",
     "α_b": "the angle of the bond's stair, tan α_b = v/b (v the overlap, b the block height)",
+    "lowest certified": "the micro value the report quotes: the lowest exact non-associative collapse state the "
+    "descent from the iterated LP's fixed point reaches (every state verified: equilibrium, Coulomb with its own "
+    "normal forces, no dilatancy); the collapse load is not unique, and the iterated LP's own value (beside it) "
+    "can lie higher in its mechanism's band",
     "band": "mechanism band: the range of λ over which the iterated LP's final mechanism admits an exact "
     "non-associative collapse state (one value: the solution is unique); cycling band: the range of the last "
     "λ values of a sequence that did not converge",

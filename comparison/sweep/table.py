@@ -21,7 +21,9 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-#: The table's columns, in order.
+#: The table's columns, in order. ``load_factor`` is the value to quote: for the non-associative
+#: method the lowest certified collapse state (``quoted`` says which), its iterated LP's own value in
+#: ``iterated_load_factor``, and ``lowest_stop`` whether the descent finished.
 COLUMNS = (
     "cell",
     "wall",
@@ -39,6 +41,9 @@ COLUMNS = (
     "head_joints",
     "blocks",
     "load_factor",
+    "quoted",
+    "iterated_load_factor",
+    "lowest_stop",
     "status",
     "iterations",
     "direction",

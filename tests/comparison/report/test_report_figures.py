@@ -196,7 +196,7 @@ def test_mechanism_caption_says_not_run_where_the_reference_was_not_run() -> Non
     for status, words in (("not_run", "not run on this wall"), ("cycling", "ended `cycling`")):
         res = SimpleNamespace(
             record=lambda spec, method, s=status: SimpleNamespace(status=s),
-            plan=SimpleNamespace(reference=SimpleNamespace(kind="micro-nonassoc")),
+            plan=SimpleNamespace(reference=SimpleNamespace(kind="micro-nonassoc", column="micro-nonassoc")),
         )
         text = _why_not(res, case)  # type: ignore[arg-type]
         assert words in text and "did not converge" not in text
@@ -278,7 +278,8 @@ def test_the_report_marks_the_floors_and_the_macro_hinge_on_each_mechanism(tmp_p
     res = SimpleNamespace(plan=SimpleNamespace(cases=[c], reference=MICRO_ASSOC, methods=[MICRO_ASSOC]),
                           macro={spec: r}, mechanisms={(spec, MICRO_ASSOC): mechanism})  # fmt: skip
     monkeypatch.setattr(mechanisms, "mechanism_record",
-                        lambda res, c: SimpleNamespace(method=MICRO_ASSOC, load_factor=sol.load_factor))  # fmt: skip
+                        lambda res, c: SimpleNamespace(method=MICRO_ASSOC, load_factor=sol.load_factor,
+                                                       nonassoc=None))  # fmt: skip
     plt = pyplot()
     kept = []
     monkeypatch.setattr(mechanisms, "save_figure", lambda fig, path: kept.append(fig))

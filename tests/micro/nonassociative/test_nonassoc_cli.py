@@ -173,6 +173,18 @@ def test_cli_leads_with_the_lowest_certified_state(capsys: pytest.CaptureFixture
     assert "not finished" in first and "--lowest N raises it" in first
 
 
+def test_cli_plot_title_leads_with_the_lowest_certified_state(tmp_path, monkeypatch: pytest.MonkeyPatch,
+                                                              capsys: pytest.CaptureFixture[str]) -> None:
+    import micro.plot
+
+    titles: list[str] = []
+    monkeypatch.setattr(micro.plot, "plot_velocities", lambda *a, title, **k: titles.append(title))
+    assert main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
+                 "--plot", str(tmp_path / "m.png")]) == 0
+    capsys.readouterr()
+    assert titles == ["non-associative micro λ = 0.6911 (lowest certified; iterated LP 0.7086), +x, 54 blocks"]
+
+
 def test_cli_lowest_bad_choice(capsys: pytest.CaptureFixture[str]) -> None:
     code = main(["micro", "--rows", "12", "--t", "1", "--m", "1/3", "--f", "0.75", "--friction", "nonassociative",
                  "--lowest", "sometimes"])
