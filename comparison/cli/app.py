@@ -68,13 +68,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``xcheck`` console script."""
-    parser = build_parser()
     args_given = sys.argv[1:] if argv is None else list(argv)
-    if not args_given:
-        parser.print_help(sys.stderr)
-        return EXIT_USAGE
     with _one_line_warnings():
         try:
+            parser = build_parser()
+            if not args_given:
+                parser.print_help(sys.stderr)
+                return EXIT_USAGE
             args = parser.parse_args(args_given)
             code = int(args.handler(args) or 0)
             sys.stdout.flush()  # a closed pipe shows here, not at exit
