@@ -174,7 +174,14 @@ SET4_HINGE_LOAD_FACTORS = (0.576, 0.578, 0.582)
 
 
 def case(name: str) -> PaperCase:
-    """Look a case up by name (``"Ref"``, ``"7"``, ``"Set 7"``)."""
+    """Look a case up by name (``"Ref"``, ``"7"``, ``"Set 7"``).
+
+    Raises:
+        TypeError: ``name`` is not a string (``7``, ``None``).
+        ValueError: no such case.
+    """
+    if not isinstance(name, str):
+        raise TypeError(f"case must be a name such as 'Ref', '7' or 'Set 7', got {name!r} ({type(name).__name__})")
     key = name.removeprefix("Set ").strip()
     for c in CASES:
         if c.case.lower() == key.lower():
@@ -183,5 +190,5 @@ def case(name: str) -> PaperCase:
 
 
 def cases_in_table(table: str) -> tuple[PaperCase, ...]:
-    """The cases of one table (``"5"``, ``"7"``, ``"8"``, ``"9"``)."""
+    """The cases of one table (``"5"``, ``"7"``, ``"8"``, ``"9"``; none for another string)."""
     return tuple(c for c in CASES if table in c.tables)

@@ -22,8 +22,11 @@ reading of ``p``). The load factor is independent of the unit of length and of
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence, Set
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
 
 from macro.checks import NO_STOREY, WALL_FIELDS, friction, magnitude, non_negative, positive, positive_int, wall_bounds
 from macro.paper import BLOCK_HEIGHT, paper_walls
@@ -31,6 +34,21 @@ from macro.paper import BLOCK_HEIGHT, paper_walls
 if TYPE_CHECKING:  # pragma: no cover - typing only
     import macro
     import micro
+
+
+def _one_number(name: str, value: object) -> None:
+    """Refuse a sequence, a set, a mapping or an array where one wall takes one number (the number itself is
+    checked by :func:`macro.paper.paper_walls`).
+
+    Raises:
+        ValueError: naming ``name``.
+    """
+    if isinstance(value, np.ndarray):
+        one = value.ndim == 0
+    else:
+        one = isinstance(value, (str, bytes)) or not isinstance(value, (Sequence, Set, Mapping))
+    if not one:
+        raise ValueError(f"{name} must be one number (a WallSpec is one wall; macro.sweep takes arrays), got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -80,6 +98,10 @@ class WallSpec:
         for name in ("length", "block_length", "block_height", "unit_weight"):
             object.__setattr__(self, name, magnitude(name, getattr(self, name)))
         object.__setattr__(self, "friction", friction("friction", self.friction))
+        if isinstance(self.storeys, (str, bytes)) or not hasattr(self.storeys, "__iter__"):
+            raise ValueError(f"storeys must be a tuple of StoreySpec, storey 1 (top) first, got {self.storeys!r}")
+        if not isinstance(self.name, str):
+            raise ValueError(f"name must be a string, got {self.name!r}")
         storeys = tuple(self.storeys)
         if not storeys:
             raise ValueError(NO_STOREY.format(name="storeys"))
@@ -118,8 +140,12 @@ class WallSpec:
 
         Raises:
             ValueError: with a message naming the offending parameter
-                (see :func:`macro.paper.paper_walls`).
+                (see :func:`macro.paper.paper_walls`); an array or a list for a
+                parameter (one wall is one number each: :func:`macro.sweep`
+                takes arrays).
         """
+        for key, value in (("t", t), ("m", m), ("rows", rows), ("f", f), ("p", p), ("storeys", storeys)):
+            _one_number(key, value)
         w = paper_walls(t, m, rows, f, p, storeys, p_height)
         per = int(w.rows_per_storey[0])
         q = float(w.overload[0])

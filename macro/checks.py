@@ -62,6 +62,8 @@ NO_STOREY = "{name}: a wall needs at least one storey"
 UNEQUAL_STOREYS = "rows: {rows!r} rows cannot be split equally over {storeys!r} storeys"
 #: One of a few named choices.
 CHOICE = "{name} must be one of {choices}, got {value!r}"
+#: A number in the closed interval ``[lo, hi]``.
+IN_CLOSED_RANGE = "{name} must be in [{lo:g}, {hi:g}], got {value!r}"
 #: A number above a physical bound (:data:`MAX_RATIO`); a reason follows after a colon.
 AT_MOST = "{name} must be at most {hi:g}, got {value!r}"
 #: A number below a physical bound (a wall at least one block long); a reason follows after a colon.
@@ -77,7 +79,9 @@ MAX_RATIO = 1e6
 #: The friction coefficient lies in (MIN_FRICTION, MAX_FRICTION] (module docstring).
 MIN_FRICTION = 1e-3
 MAX_FRICTION = 10.0
-#: Relative slack of the bound ``length >= block_length`` (``o/t`` against ``1/m`` in floating point).
+#: Relative slack of the bounds ``block_length <= length <= MAX_RATIO block heights`` (``o/t`` against
+#: ``1/m`` and against ``MAX_RATIO`` in floating point: ``o/t`` at ``t = o/1e6`` comes out a unit in the last
+#: place above or below 1e6).
 LENGTH_SLACK = 1e-12
 #: Work estimated below this many bytes is not checked against the memory available (saves reading it).
 ALWAYS_FITS = 1 << 26
@@ -253,7 +257,7 @@ def wall_bounds(
             AT_LEAST.format(name="length", lo=block_length, value=length)
             + ": a running-bond wall is at least one block long"
         )
-    if length > b * MAX_RATIO:
+    if length > b * MAX_RATIO * (1.0 + LENGTH_SLACK):
         raise ValueError(
             AT_MOST.format(name="length", hi=b * MAX_RATIO, value=length) + f": at most {MAX_RATIO:g} block heights"
         )

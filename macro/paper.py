@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -99,7 +99,7 @@ def _checked(
     A scalar gets exactly the message of ``check``; an array entry the same
     message followed by ``(entry i)``.
     """
-    a = np.asarray(value)
+    a = _array(name, value)
     if a.ndim == 0:
         return np.array([check(name, a.item() if isinstance(value, (np.ndarray, np.generic)) else value)], dtype=float)
     flat = a.ravel()
@@ -120,6 +120,29 @@ def _checked(
     return x
 
 
+def _array(name: str, value: object) -> NDArray[Any]:
+    """``value`` as an array; a ragged nesting of lists names the parameter (numpy's message does not)."""
+    try:
+        return np.asarray(value)
+    except (ValueError, TypeError):
+        raise ValueError(f"{name} must be a number or an array of numbers, got {value!r}") from None
+
+
+def broadcast_shape(**params: ArrayLike) -> tuple[int, ...]:
+    """The shape the paper's parameters broadcast to, computed without building the walls.
+
+    Raises:
+        ValueError: a ragged parameter, or shapes that do not broadcast together, naming the parameters
+            and their shapes (numpy's message numbers them ``arg 0``, ``arg 1``).
+    """
+    shapes = {name: np.shape(_array(name, value)) for name, value in params.items()}
+    try:
+        return tuple(np.broadcast_shapes(*shapes.values()))
+    except ValueError:
+        given = ", ".join(f"{name} {shape}" for name, shape in shapes.items() if shape)
+        raise ValueError(f"{', '.join(shapes)} must broadcast to one shape, got the shapes {given}") from None
+
+
 def _positive(a: FloatArray) -> NDArray[np.bool_]:
     return np.isfinite(a) & (a > 0)
 
@@ -137,18 +160,18 @@ def _paper_bounds(
     """The physical bounds of :mod:`macro.checks` in the paper's terms (entries broadcast and flat).
 
     A wall at least one block long and at most ``MAX_RATIO`` block heights,
-    ``o/MAX_RATIO < t <= o m``; a floor load of at most ``MAX_RATIO`` row
+    ``o/MAX_RATIO <= t <= o m``; a floor load of at most ``MAX_RATIO`` row
     weights, ``p p_rows <= MAX_RATIO`` (``p_rows``: the rows of the height
     ``p`` refers to). ``shown(name, i)`` is the value to quote; ``entry``:
     messages end with ``(entry i)``.
     """
     R = checks.MAX_RATIO
     lo = o / R
-    bad_t = (t > o * m * (1.0 + checks.LENGTH_SLACK)) | (t <= lo)
+    bad_t = (t > o * m * (1.0 + checks.LENGTH_SLACK)) | (t < lo * (1.0 - checks.LENGTH_SLACK))
     _first_bad(
         bad_t,
         lambda i: (
-            checks.IN_RANGE.format(name="t", lo=lo[i], hi=o[i] * m[i], value=shown("t", i))
+            checks.IN_CLOSED_RANGE.format(name="t", lo=lo[i], hi=o[i] * m[i], value=shown("t", i))
             + f": a wall at least one block long (o/t >= 1/m) and at most {R:g} block heights (o/t <= {R:g})"
         ),
         entry,
@@ -190,6 +213,7 @@ def paper_walls(
             :mod:`macro.checks`).
     """
     n = checks.positive_int("storeys", storeys)
+    broadcast_shape(t=t, m=m, rows=rows, f=f, p=p)
     t_ = _checked("t", t, checks.positive, _positive)
     m_ = _checked("m", m, _m, lambda a: (a > 1.0 / checks.MAX_RATIO) & (a <= 1.0))
     o = _checked("rows", rows, _rows, lambda a: _positive(a) & (a == np.round(a)) & (a <= checks.MAX_RATIO))

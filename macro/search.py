@@ -27,7 +27,6 @@ The tests compare against a dense brute force.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,6 +35,12 @@ from numpy.typing import ArrayLike, NDArray
 from macro.kernel import search_walls
 
 Array = NDArray[np.float64]
+
+
+#: The most cells per piece and Newton/bisection steps per bracket a search may take: the
+#: defaults are 4 and 100 (bisection alone needs about 30), and a count past this only
+#: makes a search that never ends (the kernel reads the counts as doubles).
+MAX_SEARCH_COUNT = 10_000
 
 
 @dataclass(frozen=True)
@@ -50,6 +55,8 @@ class SearchSettings:
             far below it (it is stationary there).
         max_iterations: cap on Newton/bisection steps per bracket (bisection
             alone reaches ``tolerance = 1e-9`` in about 30).
+
+    Both counts are at most :data:`MAX_SEARCH_COUNT`.
     """
 
     cells: int = 4
@@ -59,10 +66,11 @@ class SearchSettings:
     def __post_init__(self) -> None:
         for name in ("cells", "max_iterations"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise ValueError(f"{name} must be a positive integer, got {value!r}")
-        if not (math.isfinite(self.tolerance) and 0.0 < self.tolerance < 1.0):
-            raise ValueError(f"tolerance must be in (0, 1), got {self.tolerance!r}")
+            if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_SEARCH_COUNT:
+                raise ValueError(f"{name} must be an integer in 1..{MAX_SEARCH_COUNT:,}, got {value!r}")
+        tol = self.tolerance
+        if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not (0.0 < tol < 1.0):
+            raise ValueError(f"tolerance must be in (0, 1), got {tol!r}")
 
 
 DEFAULT_SEARCH = SearchSettings()

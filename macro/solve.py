@@ -265,7 +265,17 @@ def solve(wall: MacroWall, settings: SearchSettings = DEFAULT_SEARCH) -> MacroRe
 
     Returns:
         The governing :class:`MacroResult`.
+
+    Raises:
+        TypeError: ``wall`` is not a :class:`MacroWall` (``WallSpec.to_macro()`` gives one) or
+            ``settings`` not a :class:`SearchSettings`.
+        ValueError: a wall whose search would not fit in memory (:class:`macro.checks.TooLarge`).
     """
+    if not isinstance(wall, MacroWall):
+        hint = "; WallSpec.to_macro() gives one" if hasattr(wall, "to_macro") else ""
+        raise TypeError(f"wall must be a macro.MacroWall{hint}, got {type(wall).__name__}")
+    if not isinstance(settings, SearchSettings):
+        raise TypeError(f"settings must be a macro.SearchSettings, got {settings!r} ({type(settings).__name__})")
     start = time.perf_counter()
     n = wall.storeys
     checks.fits_in_memory("storeys", f"the search over {n} storeys", search_bytes(n))

@@ -12,7 +12,7 @@ import time
 
 from micro.backends.base import Outcome, Status, check_time_limit
 from micro.backends.registry import DEFAULT_SOLVER, make_backend
-from micro.geometry import BlockWall
+from micro.geometry import BlockWall, check_block_wall
 from micro.lp import LimitLP, assemble
 from micro.mechanism import mechanism_from_duals
 from micro.results import DIR_NAME, DirectionResult, Directions, LimitResult, check_directions, load_directions
@@ -52,7 +52,9 @@ def solve_associative(
     Raises:
         ValueError: an unknown solver or directions value, or a time limit
             that is not a positive number of seconds (checked before any work).
+        TypeError: ``wall`` is not a :class:`~micro.geometry.BlockWall`.
     """
+    check_block_wall(wall)
     check_directions(directions)
     check_time_limit(time_limit)
     t0 = time.perf_counter()

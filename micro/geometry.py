@@ -233,6 +233,19 @@ class BlockWall:
         )
 
 
+def check_block_wall(wall: object) -> BlockWall:
+    """``wall`` when it is a :class:`BlockWall`: the entry points refuse anything else at once, naming it.
+
+    Raises:
+        TypeError: ``"wall must be a micro.BlockWall (micro.build_wall(...) or WallSpec.to_micro() gives
+            one), got WallSpec"``.
+    """
+    if not isinstance(wall, BlockWall):
+        raise TypeError("wall must be a micro.BlockWall (micro.build_wall(...) or WallSpec.to_micro() gives one), "
+                        f"got {type(wall).__name__}")
+    return wall
+
+
 def _half_blocks(length: float, half: float) -> tuple[float, bool]:
     """The wall length in half blocks, and whether it is a whole number of them.
 
@@ -331,6 +344,9 @@ def build_wall(
         raise ValueError(f"first_course must be 'full' or 'half', got {first_course!r}")
     if head_joints not in ("frictional", "frictionless"):
         raise ValueError(f"head_joints must be 'frictional' or 'frictionless', got {head_joints!r}")
+    if max_bytes is not None and (isinstance(max_bytes, bool) or not isinstance(max_bytes, (int, np.integer))
+                                  or max_bytes <= 0):
+        raise ValueError(f"max_bytes must be a positive integer (bytes) or None, got {max_bytes!r}")
     physical_bounds(L, lb, hb, gamma, mu, rows_t, thick, over)
 
     half = 0.5 * lb

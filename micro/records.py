@@ -179,7 +179,8 @@ class NonAssociativeRecord(MicroRecord):
         lambda_band: ``(min, max)`` of ``lambda`` over the cycle or the last
             window (``None`` when converged).
         mechanism_band: ``(min, max)`` of ``lambda`` over the collapse states
-            with the final mechanism (``None`` when not computed).
+            with the final mechanism (``None`` when not computed, and when the
+            run did not converge: a failed run has no exact collapse state).
         last_load_factor: ``lambda`` of the last successful iterate.
         associative_load_factor: smallest associative ``lambda`` over the
             directions solved.
@@ -194,9 +195,9 @@ class NonAssociativeRecord(MicroRecord):
         fallback_steps: scheme (b) LPs replaced by a scheme (a) step, over
             the directions solved.
         selection: how the governing sequence picked its forces
-            (``"vertex"`` or ``"lazy"``).
-        vertex_stop_reason, vertex_lambda_band: with ``"vertex+lazy"``, how
-            the vertex sequence ended before the lazy one ran (``""`` and
+            (``"vertex"`` or ``"proximal"``).
+        vertex_stop_reason, vertex_lambda_band: with ``"vertex+proximal"``, how
+            the vertex sequence ended before the proximal one ran (``""`` and
             ``None`` when it did not run).
         lowest_load_factor: the lowest certified collapse state over the
             directions (:mod:`micro.nonassociative.lowest`; NaN when not
@@ -211,14 +212,14 @@ class NonAssociativeRecord(MicroRecord):
             descent ended by its own rules) or ``"budget"`` (one spent its
             budget of LPs: the lowest state found so far).
         global_load_factor: best collapse state of the global search
-            (:mod:`micro.nonassociative.global_mip`; NaN when not run).
+            (:mod:`micro.nonassociative.global_search`; NaN when not run).
         global_lower_bound: its proven lower bound of every collapse load factor.
         global_gap: ``(global_load_factor - global_lower_bound) / global_load_factor``.
         global_status: ``""`` (not run), ``"optimal"`` (the gap closed),
             ``"time_limit"``, ``"node_limit"``, ``"infeasible"`` or ``"solver_error"``.
         fused_bodies, fused_points: moving bodies and contact points of the
             fused wall the sequence ran on (0 and 0: the wall itself;
-            :mod:`micro.nonassociative.fusion`).
+            :mod:`micro.nonassociative.pipeline`).
         unfused_stop_reason: with ``fused_retry``, how the wall's own
             sequences ended before the fused wall with the continuation
             certified the governing direction (``""``: it did not run).

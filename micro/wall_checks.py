@@ -19,7 +19,7 @@ def _number(name: str, value: object, *, positive: bool = True) -> float:
     kind = "a positive number" if positive else "zero or a positive number"
     x = math.nan
     if isinstance(value, (int, float, np.integer, np.floating, str)) and not isinstance(value, bool):
-        with contextlib.suppress(ValueError):
+        with contextlib.suppress(ValueError, OverflowError):  # 10**400: not finite, refused below
             x = float(value)
     if not math.isfinite(x) or (x <= 0.0 if positive else x < 0.0):
         raise ValueError(f"{name} must be {kind}, got {value!r}")
@@ -29,7 +29,9 @@ def _number(name: str, value: object, *, positive: bool = True) -> float:
 def _positive_int(name: str, value: object) -> int:
     """``value`` as a positive int (an integral float is accepted)."""
     if isinstance(value, (int, np.integer, float)) and not isinstance(value, bool):
-        x = float(value)
+        x = math.nan
+        with contextlib.suppress(OverflowError):  # 10**400: refused below (the bounds would refuse it too)
+            x = float(value)
         if math.isfinite(x) and x == int(x) and x > 0:
             return int(x)
     raise ValueError(f"{name} must be a positive integer, got {value!r}")
@@ -55,6 +57,9 @@ def _per_storey(name: str, values: object, n: int | None, *, positive: bool) -> 
 #: refused the model (``--p 1e300``).
 MIN_MAGNITUDE, MAX_MAGNITUDE = 1e-30, 1e30
 MAX_RATIO = 1e6
+#: Relative slack of ``length <= MAX_RATIO`` block heights (``o/t`` at ``t = o/1e6`` is a unit in the last
+#: place above 1e6 for some ``o``), as ``macro.checks.LENGTH_SLACK``.
+LENGTH_SLACK = 1e-12
 MIN_FRICTION, MAX_FRICTION = 1e-3, 10.0
 
 
@@ -88,7 +93,7 @@ def physical_bounds(
     _within("friction", friction, MIN_FRICTION, MAX_FRICTION, "dry-joint friction coefficients lie near 0.3-1")
     b, R = block_height, MAX_RATIO
     _within("block_length", block_length, b / R, b * R, f"at most {R:g} block heights")
-    if length > b * R:
+    if length > b * R * (1.0 + LENGTH_SLACK):
         raise ValueError(f"length must be at most {b * R:g}, got {length!r}: at most {R:g} block heights")
     if sum(rows) > R:
         raise ValueError(f"rows must be at most {R:g}, got {sum(rows)!r}: rows in all")

@@ -14,6 +14,7 @@ import argparse
 import json
 import math
 import sys
+import types
 import typing
 from collections.abc import Callable
 from pathlib import Path
@@ -93,7 +94,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     na.add_argument(
         "--lowest",
         choices=tuple(LOWEST_CHOICES),
-        default="auto",
+        default=None,
         metavar="auto|on|off",
         help="the descent to the lowest certified collapse state (lowest_load_factor, bounded by a budget of "
         "LPs): auto (default) on walls of at most 300 blocks, where it is cheap; on; off",
@@ -145,10 +146,9 @@ def run(args: argparse.Namespace) -> int:
         wall = spec.to_micro(first_course=args.first_course, head_joints=args.head_joints)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    _options_apply(args)
     if args.friction == "nonassociative":
         return _run_nonassociative(args, spec, wall, time_limit)
-    if args.tuning:
-        raise UsageError("--tuning applies to --friction nonassociative only")
     if args.solver is None:  # the library's default back end
         result = micro.solve_associative(wall, time_limit=time_limit)
     else:
@@ -162,6 +162,23 @@ def run(args: argparse.Namespace) -> int:
     else:
         _print_associative(result, args.verbosity)
     return EXIT_OK if result.ok else EXIT_FAILED
+
+
+def _options_apply(args: argparse.Namespace) -> None:
+    """Refuse the options that do not apply to the friction law and mode chosen (they were ignored silently).
+
+    Raises:
+        UsageError: naming the options.
+    """
+    if args.friction != "nonassociative":
+        given = [o for o, on in (("--max-iterations", args.max_iterations is not None),
+                                 ("--lowest", args.lowest is not None), ("--global", args.global_),
+                                 ("--node-limit", args.node_limit is not None), ("--tuning", bool(args.tuning))) if on]
+        if given:
+            raise UsageError(f"{', '.join(given)} appl{'ies' if len(given) == 1 else 'y'} to --friction "
+                             "nonassociative only")
+    elif args.node_limit is not None and not args.global_:
+        raise UsageError("--node-limit applies to --global only (the branch and bound's nodes)")
 
 
 def _print_associative(result: LimitResult, verbosity: int) -> None:
@@ -229,28 +246,42 @@ def parse_tuning(items: list[str]) -> Tuning:
             raise UsageError(f"--tuning must be KEY=VALUE, got {item!r}")
         if key not in TUNING_KNOBS:
             raise UsageError(f"--tuning {key}: unknown knob; the knobs are {', '.join(TUNING_KNOBS)}")
-        values[key] = _knob_value(key, text.strip(), str(hints[key]))
+        values[key] = _knob_value(key, text.strip(), hints[key])
     try:
         return micro.Tuning(**values)
     except ValueError as exc:
         raise UsageError(f"--tuning {exc}") from None
 
 
-def _knob_value(key: str, text: str, kind: str) -> Any:
-    """``text`` read as the knob ``key`` of type ``kind`` (its annotation)."""
-    if text.lower() in ("none", "auto") and "None" in kind:
+def _knob_value(key: str, text: str, hint: Any) -> Any:
+    """``text`` read as the knob ``key`` of type ``hint`` (its annotation, resolved): a choice among a
+    ``Literal``'s values, a bool, an int, a float, ``none``/``auto`` where the knob may be ``None``.
+
+    The type is read from the annotation's structure, not from its text (``"int" in "Literal['interior', ...]"``
+    once made ``start`` and ``global_bounds`` integers that could not be set)."""
+    union = typing.get_origin(hint) in (typing.Union, types.UnionType)
+    kinds = typing.get_args(hint) if union else (hint,)
+    optional = type(None) in kinds
+    (kind,) = (k for k in kinds if k is not type(None))
+    if optional and text.lower() in ("none", "auto"):
         return None
-    if "bool" in kind:
+    if typing.get_origin(kind) is typing.Literal:
+        choices = typing.get_args(kind)
+        if text not in choices:
+            more = ", none" if optional else ""
+            raise UsageError(f"--tuning {key} must be one of {', '.join(map(str, choices))}{more}, got {text!r}")
+        return text
+    if kind is bool:
         flags = {**dict.fromkeys(("true", "yes", "on", "1"), True), **dict.fromkeys(("false", "no", "off", "0"), False)}
         if text.lower() not in flags:
             raise UsageError(f"--tuning {key} must be true or false, got {text!r}")
         return flags[text.lower()]
-    for name, read, what in (("int", int, "an integer"), ("float", float, "a number")):
-        if name in kind:
-            try:
-                return read(text)
-            except ValueError:
-                raise UsageError(f"--tuning {key} must be {what}, got {text!r}") from None
+    if kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            what = "an integer" if kind is int else "a number"
+            raise UsageError(f"--tuning {key} must be {what}, got {text!r}") from None
     return text
 
 
@@ -278,7 +309,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         given["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
     result = micro.solve_nonassociative(
         wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
-        lowest=LOWEST_CHOICES[args.lowest], global_=args.global_, **given,
+        lowest=LOWEST_CHOICES[args.lowest or "auto"], global_=args.global_, **given,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     if args.plot is not None and mechanism is not None:
@@ -346,7 +377,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
 
 
 def _print_retry(result: NonAssociativeResult) -> None:
-    """Where the vertex sequence failed and the proximal (or lazy) one ran: the line saying so, and how
+    """Where the vertex sequence failed and the proximal one ran: the line saying so, and how
     the vertex one ended."""
     first = result.sequence.vertex_attempt
     if first is None:

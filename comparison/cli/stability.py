@@ -54,6 +54,11 @@ def run(args: argparse.Namespace) -> int:
             raise UsageError("--processes is the old name of --workers; give --workers alone")
         warnings.warn("--processes is deprecated: use --workers", FutureWarning, stacklevel=1)
         args.workers = args.processes
+    if args.table7:  # one study per run: --table7 ran alone, ignoring these
+        extra = [o for o, given in (("--lowest", args.lowest), ("--quick", args.quick),
+                                    ("--workers", args.workers is not None)) if given]
+        if extra:
+            raise UsageError(f"--table7 runs its four walls alone in this process; drop {', '.join(extra)}")
     processes = workers_from_args(args) or STUDY_WORKERS
     output_directory("--out", args.out)
     try:

@@ -15,14 +15,17 @@ walls of ``--xcheck-walls``, default ``macro``; ``micro-assoc``,
 ``micro-nonassoc`` through the result cache), ``--xcheck-cases`` (``"7"``, ``"5,9"``, ``"Ref,Set 12"``, ``"all"``,
 or names of the walls of ``--xcheck-walls``: see :func:`~comparison.pytest_plugin.walls.cases_and_walls`),
 ``--xcheck-walls FILE.toml`` (see :func:`~comparison.pytest_plugin.walls.walls_from_file`),
-``--xcheck-table PATH`` (``.md`` or ``.csv``), ``--xcheck-against LIST`` (the
-reference columns of the table, default
+``--xcheck-table PATH`` (``.md`` or ``.csv``; its folder is checked before the tests run, and a table
+that cannot be written at the end, a full disk, is one line in the summary and fails the run),
+``--xcheck-against LIST`` (the reference columns of the table, methods of the references, default
 :data:`~comparison.pytest_plugin.table.DEFAULT_AGAINST`).
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -33,6 +36,7 @@ from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
 from comparison.pytest_plugin.walls import UserWall, cases_and_walls
 
 _TABLE = pytest.StashKey[ComparisonTable]()
+_TABLE_ERROR = pytest.StashKey[str]()
 _REFERENCES = pytest.StashKey[References]()
 _WALLS = pytest.StashKey[Sequence[PaperCase]]()
 
@@ -100,11 +104,38 @@ def pytest_configure(config: pytest.Config) -> None:
     """Read ``--xcheck-cases`` and ``--xcheck-walls`` once; a bad one stops the run as a usage error."""
     try:
         config.stash[_WALLS] = cases_and_walls(config.getoption("xcheck_cases"), config.getoption("xcheck_walls"))
-    except ValueError as exc:
+    except (TypeError, ValueError) as exc:
         raise pytest.UsageError(str(exc)) from None
     unknown = [k for k in _listed(config, "xcheck_compute") if k not in COMPUTABLE]
     if unknown:
         raise pytest.UsageError(f"--xcheck-compute: {', '.join(unknown)} not among {', '.join(COMPUTABLE)}")
+    against = _listed(config, "xcheck_against")
+    methods = References.load().all_methods()
+    unknown = [k for k in against if k not in methods]
+    if unknown or not against:
+        given = f"{', '.join(unknown)} not among" if unknown else "no method given; the methods are"
+        raise pytest.UsageError(f"--xcheck-against: {given} {', '.join(methods)}")
+    path = config.getoption("xcheck_table")
+    if path is not None:
+        problem = table_path_problem(str(path))
+        if problem:
+            raise pytest.UsageError(f"--xcheck-table: {problem}")
+
+
+def table_path_problem(path: str) -> str:
+    """Why the comparison table cannot be written to ``path`` (``""``: it can be tried), checked before the
+    tests run: an empty path, a directory, a folder that does not exist or cannot be written."""
+    if not path.strip():
+        return f"must name a file (.md or .csv), got {path!r}"
+    p = Path(path)
+    if p.is_dir():
+        return f"{path!r} is a directory; name a file (.md or .csv)"
+    folder = p.parent
+    if not folder.is_dir():
+        return f"the folder of {path!r} does not exist"
+    if not os.access(folder, os.W_OK | os.X_OK) and not (p.exists() and os.access(p, os.W_OK)):
+        return f"cannot write to {path!r} (permission denied)"
+    return ""
 
 
 def _listed(config: pytest.Config, option: str) -> list[str]:
@@ -124,7 +155,12 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     """Write the comparison table to ``--xcheck-table``."""
     path = session.config.getoption("xcheck_table")
     if path and _TABLE in session.config.stash and session.config.stash[_TABLE].entries:
-        session.config.stash[_TABLE].write(path)
+        try:
+            session.config.stash[_TABLE].write(path)
+        except OSError as exc:  # a full or read-only disk: one line in the summary, the run fails
+            session.config.stash[_TABLE_ERROR] = f"cannot write the table to {path} ({exc.strerror or exc})"
+            if session.exitstatus == pytest.ExitCode.OK:
+                session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 
 def pytest_terminal_summary(terminalreporter: Any, exitstatus: int, config: pytest.Config) -> None:
@@ -133,5 +169,7 @@ def pytest_terminal_summary(terminalreporter: Any, exitstatus: int, config: pyte
         terminalreporter.write_sep("=", "xcheck: your values against the references")
         terminalreporter.write_line(config.stash[_TABLE].markdown())
         path = config.getoption("xcheck_table")
-        if path:
+        if _TABLE_ERROR in config.stash:
+            terminalreporter.write_line(f"xcheck: error: {config.stash[_TABLE_ERROR]}", red=True)
+        elif path:
             terminalreporter.write_line(f"written to {path}")

@@ -43,9 +43,15 @@ def case_label(wall: PaperCase | str) -> str:
     """The label a case is stored under (``"Ref"``, ``"Set 12"``) from a case or a name (``"12"``, ``"Set 12"``).
 
     A name that is not one of the paper's cases is returned as it is (a user's wall).
+
+    Raises:
+        TypeError: ``wall`` is neither a case nor a string (``None``, ``12``).
     """
     if isinstance(wall, PaperCase):
         return wall.label
+    if not isinstance(wall, str):
+        raise TypeError(f"wall must be a case (PaperCase) or a name such as 'Set 12', got {wall!r} "
+                        f"({type(wall).__name__})")
     try:
         return case(wall).label
     except ValueError:
@@ -84,7 +90,9 @@ class Reference:
 
         Raises:
             MissingReference: the cell has no value.
+            TypeError, ValueError: ``rel`` or ``abs`` is not a finite number >= 0 (:func:`widening`).
         """
+        rel, abs = widening("rel", rel), widening("abs", abs)
         if self.value is None or self.tolerance is None:
             raise MissingReference(f"{self.name}: no reference value ({self.status or 'not computed'})")
         return self.tolerance + rel * math.fabs(self.value) + abs
@@ -106,6 +114,36 @@ def received_number(where: str, value: object) -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{where} needs a number, got {value!r} ({type(value).__name__})")
     return float(value)
+
+
+def widening(name: str, value: object) -> float:
+    """``rel`` or ``abs`` of :meth:`References.check` as a float: a finite number >= 0.
+
+    ``NaN`` would make every comparison false and pass any value; a string (``"5%"``) or ``None`` is a bug of
+    the test, named here.
+
+    Raises:
+        TypeError: not a number (``"5%"``, ``None``, ``True``).
+        ValueError: NaN, infinite or negative.
+    """
+    hint = " (0.05 for 5 %)" if name == "rel" else ""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a number >= 0{hint}, got {value!r} ({type(value).__name__})")
+    try:
+        x = float(value)
+    except OverflowError:  # an int beyond the doubles
+        x = math.inf
+    if not math.isfinite(x) or x < 0.0:
+        raise ValueError(f"{name} must be a finite number >= 0{hint}, got {value!r}")
+    return x
+
+
+def checked_name(what: str, value: object) -> str:
+    """A method or cell name: a string (``None`` or a number is a bug of the test)."""
+    if not isinstance(value, str):
+        raise TypeError(f"{what} must be a string such as {'load_factor' if what == 'cell' else 'paper'!r}, "
+                        f"got {value!r} ({type(value).__name__})")
+    return value
 
 
 class MissingReference(LookupError):
@@ -152,6 +190,10 @@ class References:
     def __len__(self) -> int:
         return len(self._cells)
 
+    def all_methods(self) -> tuple[str, ...]:
+        """Every method with a cell, in the order first met."""
+        return tuple(dict.fromkeys(m for (_c, m, _cell) in self._cells))
+
     def methods(self, wall: PaperCase | str) -> tuple[str, ...]:
         """The methods with a load-factor cell on ``wall`` (valued or not)."""
         label = case_label(wall)
@@ -164,6 +206,7 @@ class References:
             MissingReference: no such cell (the message lists the methods that ``wall`` has).
         """
         label = case_label(wall)
+        method, cell = checked_name("method", method), checked_name("cell", cell)
         try:
             return self._cells[(label, method, cell)]
         except KeyError:
@@ -192,21 +235,25 @@ class References:
             value: the value to check (e.g. your model's load factor).
             cell: the quantity.
             rel: allowed relative difference on top of the reference's own tolerance
-                (how far your model may be from the reference: 0.05 for 5 %).
-            abs: allowed absolute difference on top of it.
+                (how far your model may be from the reference: 0.05 for 5 %); a finite number >= 0.
+            abs: allowed absolute difference on top of it; a finite number >= 0.
 
         Returns:
             The reference cell.
 
         Raises:
             TypeError: ``value`` is not a number (``None``, a string), naming the case, the method and
-                what was received (:func:`received_number`).
+                what was received (:func:`received_number`); ``wall``, ``method``, ``cell``, ``rel`` or
+                ``abs`` of the wrong type (``rel="5%"``), naming it.
+            ValueError: ``rel`` or ``abs`` NaN, infinite or negative (a NaN would pass any value).
             ReferenceMismatch: ``value`` is outside, e.g. ``Set 14 / micro-nonassoc / load_factor:
                 0.2600 outside 0.2684 ± 0.0067 (iterated LP, ...; reference tolerance 0.0013 + 2 % of the
                 reference)``.
             MissingReference: there is no reference value for that cell.
         """
-        value = received_number(f"{case_label(wall)} / {method} / {cell}: xcheck_references.check", value)
+        rel, abs = widening("rel", rel), widening("abs", abs)
+        label, method, cell = case_label(wall), checked_name("method", method), checked_name("cell", cell)
+        value = received_number(f"{label} / {method} / {cell}: xcheck_references.check", value)
         ref = self.get(wall, method, cell)
         allowed = ref.allowed(rel, abs)
         assert ref.value is not None  # allowed() raised otherwise

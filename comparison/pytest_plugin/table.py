@@ -12,13 +12,20 @@ from __future__ import annotations
 import csv
 import io
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from comparison.cases import PaperCase
-from comparison.pytest_plugin.references import MissingReference, References, case_label, received_number
+from comparison.pytest_plugin.references import (
+    MissingReference,
+    References,
+    case_label,
+    checked_name,
+    received_number,
+)
 
 #: The references a table compares against unless told otherwise: our two micro LPs, Orduña's
 #: micro values (Table 7) and the paper's macro model.
@@ -44,9 +51,11 @@ class ComparisonTable:
 
         Raises:
             TypeError: ``value`` is not a number (``None``, ``"0.5"``), naming the wall, the method and what
-                was received (:func:`~comparison.pytest_plugin.references.received_number`).
+                was received (:func:`~comparison.pytest_plugin.references.received_number`); ``wall`` or
+                ``method`` of the wrong type (``None``), naming it.
         """
-        self.entries.append((wall, method, received_number(f"{case_label(wall)} / {method}: xcheck_table.add", value)))
+        label, method = case_label(wall), checked_name("method", method)
+        self.entries.append((wall, method, received_number(f"{label} / {method}: xcheck_table.add", value)))
 
     def _reference(self, wall: PaperCase | str, method: str) -> float | None:
         try:
@@ -94,9 +103,25 @@ class ComparisonTable:
         return buf.getvalue()
 
     def write(self, path: str | Path) -> Path:
-        """Write the table: CSV for a ``.csv`` path, markdown otherwise."""
+        """Write the table: CSV for a ``.csv`` path, markdown otherwise.
+
+        A regular file is written whole or not at all (a temporary file renamed over it), so that a full disk
+        leaves no truncated table; a device (``/dev/stdout``) is written directly.
+
+        Raises:
+            OSError: the table could not be written (the file is then as it was).
+        """
         p = Path(path)
-        p.write_text(self.csv() if p.suffix.lower() == ".csv" else self.markdown() + "\n", encoding="utf-8")
+        text = self.csv() if p.suffix.lower() == ".csv" else self.markdown() + "\n"
+        if p.exists() and not p.is_file():
+            p.write_text(text, encoding="utf-8")
+            return p
+        tmp = p.with_name(f".{p.name}.{os.getpid()}.tmp")
+        try:
+            tmp.write_text(text, encoding="utf-8")
+            tmp.replace(p)
+        finally:
+            tmp.unlink(missing_ok=True)
         return p
 
 

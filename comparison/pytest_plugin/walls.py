@@ -20,6 +20,9 @@ import pytest
 from comparison.cases import CASES, PaperCase, case, cases_in_table
 from comparison.wall import WallSpec
 
+#: The paper's tables that hold cases.
+TABLES = ("5", "6", "7", "8", "9")
+
 #: The keys of a wall in a walls file, and their defaults.
 WALL_KEYS: Mapping[str, Any] = {"name": None, "t": None, "m": None, "rows": None, "f": None, "p": 0.0, "storeys": 1}
 
@@ -45,6 +48,9 @@ def select_cases(selection: str, own: Sequence[UserWall] = ()) -> tuple[PaperCas
     Raises:
         ValueError: a name that is neither a table, a case nor one of ``own``.
     """
+    if not isinstance(selection, str):
+        raise TypeError(f"--xcheck-cases must be a comma-separated string such as '7' or 'Ref,Set 12', got "
+                        f"{selection!r} ({type(selection).__name__})")
     out: dict[str, PaperCase] = {}
     mine: dict[str, UserWall] = {}
     own_by_name = {w.label: w for w in own}
@@ -74,16 +80,28 @@ def paper_cases(*tables: str, known_gaps: Mapping[str, str] | None = None) -> li
     """The paper's cases of ``tables`` (all when none) as ``pytest.param`` values, for ``parametrize``.
 
     Args:
-        tables: ``"5"``, ``"7"``, ``"8"``, ``"9"``.
+        tables: ``"5"``, ``"6"``, ``"7"``, ``"8"``, ``"9"`` (``"table 7"`` too).
         known_gaps: cases your method is known to miss (``{"Set 11": "why"}``): their tests are
             marked ``xfail(strict=True)`` with the reason, so they report as expected failures
             and fail again the day they pass (then drop the entry).
 
     Raises:
-        ValueError: a known gap names a case outside the selection.
+        TypeError: a table that is not a string (``7``), or ``known_gaps`` that is not a mapping of case
+            names to reasons (``["Set 11"]``, ``{"Set 11": None}``).
+        ValueError: a table the paper does not have (``"99"``: no silently empty selection, whose tests
+            pytest would skip and pass), a known gap that names no case or a case outside the selection,
+            or an empty reason.
     """
-    cases = tuple(c for c in CASES if not tables or any(t in c.tables for t in tables))
-    gaps = {case(k).label: v for k, v in (known_gaps or {}).items()}
+    chosen: dict[str, PaperCase] = {}
+    for table in tables:
+        if not isinstance(table, str):
+            raise TypeError(f"paper_cases: tables must be strings such as '7', got {table!r} ({type(table).__name__})")
+        found = cases_in_table(table.strip().lower().removeprefix("table").strip())
+        if not found:
+            raise ValueError(f"paper_cases: no table {table!r} (tables {', '.join(TABLES)})")
+        chosen |= {c.label: c for c in found}
+    cases = tuple(c for c in CASES if not tables or c.label in chosen)
+    gaps = _known_gaps(known_gaps)
     stray = sorted(set(gaps) - {c.label for c in cases})
     if stray:
         raise ValueError(f"known_gaps: {', '.join(stray)} not among the selected cases")
@@ -93,6 +111,28 @@ def paper_cases(*tables: str, known_gaps: Mapping[str, str] | None = None) -> li
         else pytest.param(c, id=c.label)
         for c in cases
     ]
+
+
+def _known_gaps(known_gaps: object) -> dict[str, str]:
+    """``known_gaps`` of :func:`paper_cases` by case label, each reason a non-empty string."""
+    if known_gaps is None:
+        return {}
+    if not isinstance(known_gaps, Mapping):
+        raise TypeError(f"known_gaps must map case names to reasons ({{'Set 11': 'why'}}), got {known_gaps!r} "
+                        f"({type(known_gaps).__name__})")
+    gaps: dict[str, str] = {}
+    for name, reason in known_gaps.items():
+        try:
+            label = case(name).label
+        except (TypeError, ValueError) as exc:
+            raise type(exc)(f"known_gaps: {exc}") from None
+        if not isinstance(reason, str):
+            raise TypeError(f"known_gaps[{name!r}] must be the reason, a string, got {reason!r} "
+                            f"({type(reason).__name__})")
+        if not reason.strip():
+            raise ValueError(f"known_gaps[{name!r}]: the reason is empty; say why the case is a known gap")
+        gaps[label] = reason
+    return gaps
 
 
 def walls_from_file(path: str | Path) -> tuple[UserWall, ...]:
@@ -123,11 +163,19 @@ def _wall(where: str, w: Any) -> UserWall:
         raise ValueError(f"{where}: " + "; ".join(problems))
     v = {**WALL_KEYS, **w}
     try:
-        m = float(Fraction(str(v["m"]))) if isinstance(v["m"], str) else v["m"]
+        m = _fraction("m", v["m"]) if isinstance(v["m"], str) else v["m"]
         WallSpec.from_paper(t=v["t"], m=m, rows=v["rows"], f=v["f"], p=v["p"], storeys=v["storeys"])
     except (ValueError, ZeroDivisionError, TypeError) as exc:
         raise ValueError(f"{where} ({v['name']}): {exc}") from None
     return UserWall(str(v["name"]), v["t"], m, v["rows"], v["f"], v["p"], v["storeys"], tables=())
+
+
+def _fraction(name: str, text: str) -> float:
+    """A number written as text in a walls file (``"1/3"``)."""
+    try:
+        return float(Fraction(text.strip()))
+    except (ValueError, ZeroDivisionError, OverflowError):
+        raise ValueError(f"{name} must be a number or a fraction such as \"1/3\", got {text!r}") from None
 
 
 def cases_and_walls(selection: str | None, walls_file: str | None) -> Sequence[PaperCase]:

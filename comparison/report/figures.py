@@ -347,6 +347,6 @@ def histories_figure(res: Results, path: Path) -> Figure | None:
         "(the associative LP first, square), with the band of exact collapse states of the final mechanism "
         "(green) or, for a sequence that did not converge, the range of its last λ values (red). The panel's "
         "title gives the status (see the status legend) and the number of LPs (of the last sequence: a wall marked "
-        "proximal or lazy shows that sequence, run after its vertex sequence ended without a state, see the "
+        "proximal shows that sequence, run after its vertex sequence ended without a state, see the "
         "table `histories`); data: `histories.csv`.",
     )

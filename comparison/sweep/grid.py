@@ -29,7 +29,7 @@ Format (see ``examples/sweeps/``)::
     [[method]]
     kind = "micro-nonassoc"
     scheme = "a"                       # "a" or "b" (default "a")
-    selection = "vertex+proximal"      # "vertex", "lazy", "proximal", "vertex+lazy" or "vertex+proximal"
+    selection = "vertex+proximal"      # "vertex", "proximal" or "vertex+proximal"
                                        # (default; scheme b: "vertex")
     max_blocks = 600                   # this method on walls of at most 600 blocks
 
@@ -320,7 +320,7 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
     solver = options.pop("solver", micro.DEFAULT_SOLVER)
     if kind != "micro-nonassoc":
         return GridMethod(Method(kind, solver=solver), _max_blocks(entry, "method", index, src))
-    try:  # the tuning's own check of the pair (a lazy selection needs scheme a)
+    try:  # the tuning's own check of the pair (a proximal selection needs scheme a)
         changed = micro.Tuning(**options).changed()
     except ValueError as exc:
         raise src.error(f"method.{exc}", "method", "selection", index) from None

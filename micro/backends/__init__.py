@@ -4,7 +4,7 @@
 ``interrupt`` Ctrl-C during a solver's compiled code: the solver stopped by its own callback;
 ``registry``  :func:`make_backend`, the back ends by name (:data:`SOLVERS`, :data:`DEFAULT_SOLVER`);
 ``highs``     :class:`HighsBackend` and the :class:`PersistentHighsModel` it (and the iterated LP) runs on;
-``clarabel``  :class:`ClarabelBackend` (the static form, the ``clarabel-static`` experiment) and its settings;
+``clarabel``  Clarabel's settings and :class:`ClarabelStaticBackend` (the static form: ``clarabel-static``);
 ``clarabel_kinematic``  :class:`ClarabelKinematicBackend` (the kinematic form, ``clarabel``);
 ``normal_ipm``  :class:`NormalIpmBackend` (``normal-ipm``), the suite's interior point on the normal
               equations, over ``normal_matrix`` (:class:`NormalMatrix`, CHOLMOD);
@@ -13,7 +13,7 @@
 """
 
 from micro.backends.base import MAX_RESIDUAL, Backend, Outcome, Status, recheck
-from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT, ClarabelBackend
+from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT, ClarabelStaticBackend
 from micro.backends.clarabel_kinematic import CLARABEL_KINEMATIC, POLISH, ClarabelKinematicBackend
 from micro.backends.cvxpy_ import CvxpyBackend
 from micro.backends.highs import HighsBackend, PersistentHighsModel
@@ -34,8 +34,8 @@ __all__ = [
     "POLISH_MAX_LOAD_FACTOR_CHANGE",
     "SOLVERS",
     "Backend",
-    "ClarabelBackend",
     "ClarabelKinematicBackend",
+    "ClarabelStaticBackend",
     "CvxpyBackend",
     "HighsBackend",
     "NormalIpmBackend",

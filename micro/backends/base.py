@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import enum
 import math
+import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -124,6 +125,11 @@ def recheck(lp: LimitLP, direction: int, out: Outcome) -> Outcome:
     return dataclasses.replace(out, info=info)
 
 
+#: The largest count an option may hold: HiGHS' integer options are 32-bit (``HighsInt``), and a
+#: larger count (``10**400``) reached them as an ``OverflowError``.
+MAX_INTEGER = 2**31 - 1
+
+
 class Backend(Protocol):
     """The interface every one-shot back end implements."""
 
@@ -134,6 +140,18 @@ class Backend(Protocol):
         ...
 
 
+def finite_real(value: Any) -> float | None:
+    """``value`` as a finite float, ``None`` when it is no real number (a bool, a string, ``None``), NaN,
+    infinite or an integer beyond the doubles (``10**400``, whose ``math.isfinite`` raises ``OverflowError``)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return None
+    try:
+        x = float(value)
+    except OverflowError:
+        return None
+    return x if math.isfinite(x) else None
+
+
 def check_time_limit(time_limit: float | None) -> float | None:
     """``None`` (no limit) or a positive finite number of seconds.
 
@@ -142,10 +160,10 @@ def check_time_limit(time_limit: float | None) -> float | None:
     """
     if time_limit is None:
         return None
-    ok = isinstance(time_limit, (int, float)) and not isinstance(time_limit, bool)
-    if not ok or not math.isfinite(time_limit) or time_limit <= 0:
+    x = finite_real(time_limit)
+    if x is None or x <= 0:
         raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit!r}")
-    return float(time_limit)
+    return x
 
 
 def check_number(name: str, value: Any, lower: float = 0.0) -> None:
@@ -154,15 +172,19 @@ def check_number(name: str, value: Any, lower: float = 0.0) -> None:
     Raises:
         ValueError: ``"<name> must be a positive finite number, got ..."``.
     """
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= lower:
+    x = finite_real(value)
+    if x is None or x <= lower:
         raise ValueError(f"{name} must be a positive finite number, got {value!r}")
 
 
-def check_integer(name: str, value: Any, minimum: int) -> None:
-    """An integer of at least ``minimum`` (booleans refused).
+def check_integer(name: str, value: Any, minimum: int, maximum: int = MAX_INTEGER) -> None:
+    """An integer of at least ``minimum`` and at most ``maximum`` (booleans refused).
 
     Raises:
-        ValueError: ``"<name> must be an integer >= <minimum>, got ..."``.
+        ValueError: ``"<name> must be an integer >= <minimum>, got ..."``, or ``"... an integer in
+            <minimum>..<maximum>, got ..."`` for one above ``maximum``.
     """
-    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    if value > maximum:
+        raise ValueError(f"{name} must be an integer in {minimum}..{maximum:,}, got {value!r}")

@@ -1,7 +1,7 @@
-"""Clarabel's direct API (interior point) on the static form: the ``clarabel-static`` experiment.
+"""Clarabel's settings, and its direct API on the static form: :class:`ClarabelStaticBackend` (``clarabel-static``).
 
 The iterated non-associative LP solves its start and certificate LPs with
-:class:`ClarabelBackend`; the associative ``clarabel`` back end is the
+:class:`ClarabelStaticBackend`; the associative ``clarabel`` back end is the
 kinematic form (:mod:`micro.backends.clarabel_kinematic`).
 
 ``min c.x  s.t.  A x + s = b, s in K``. Rows: the equilibrium equalities
@@ -96,7 +96,7 @@ def clarabel_settings(opts: Mapping[str, Any]) -> Any:
     return s
 
 
-class ClarabelBackend:
+class ClarabelStaticBackend:
     """Clarabel's direct API (module docstring).
 
     Args:

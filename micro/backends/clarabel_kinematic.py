@@ -55,7 +55,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from micro.backends.base import Outcome, Status
-from micro.backends.clarabel import RETRY_ON, ClarabelBackend, clarabel_settings, solve_interruptibly
+from micro.backends.clarabel import RETRY_ON, ClarabelStaticBackend, clarabel_settings, solve_interruptibly
 from micro.backends.polish import checked_outcome
 from micro.lp import LimitLP
 
@@ -127,7 +127,7 @@ class ClarabelKinematicBackend:
     #: load factor; a mechanism the dead load drives without limit (kinematic
     #: unbounded) is a wall that cannot stand.
     STATUS_MAP = {
-        **ClarabelBackend.STATUS_MAP,
+        **ClarabelStaticBackend.STATUS_MAP,
         "PrimalInfeasible": Status.UNBOUNDED,
         "DualInfeasible": Status.INFEASIBLE,
     }
@@ -200,10 +200,10 @@ class ClarabelKinematicBackend:
         return checked_outcome(self.lp, self.A_g, self.active, direction, g, lam_column, raw, polish=self.polish)
 
     def _static(self, direction: int, native: str, iterations: int, seconds: float) -> Outcome:
-        """The static form's answer (:class:`~micro.backends.clarabel.ClarabelBackend`,
+        """The static form's answer (:class:`~micro.backends.clarabel.ClarabelStaticBackend`,
         with its own retry) after both kinematic attempts stopped short; this
         attempt's iterations and time are added."""
-        out = ClarabelBackend(self.lp, time_limit=self.time_limit).solve(direction)
+        out = ClarabelStaticBackend(self.lp, time_limit=self.time_limit).solve(direction)
         info = {**out.info, "form": "static", "fallback": f"{native} twice in kinematic form; solved in static form"}
         return dataclasses.replace(out, ipm_iterations=out.ipm_iterations + iterations,
                                    seconds=out.seconds + seconds, info=info)

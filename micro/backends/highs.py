@@ -163,22 +163,6 @@ def _check_algorithm(algorithm: str) -> None:
         raise ValueError(f"algorithm must be 'ipm' or 'simplex', got {algorithm!r}")
 
 
-_SCHEDULER_STARTED = False
-
-
-def _start_scheduler() -> None:
-    """Run HiGHS once in this process (a one-column LP) before a crossover:
-    ``Highs.crossover`` uses HiGHS' task scheduler without starting it, and
-    crashed the process (a segmentation fault, HiGHS 1.16.0) where no
-    ``run`` had started it before."""
-    global _SCHEDULER_STARTED
-    if not _SCHEDULER_STARTED:
-        h = quiet_highs()
-        h.addVar(0.0, 1.0)
-        h.run()
-        _SCHEDULER_STARTED = True
-
-
 class PersistentHighsModel:
     """One HiGHS model, changed in place between runs (the basis is kept).
 
@@ -378,33 +362,6 @@ class PersistentHighsModel:
         clone._callback = clone._listen(h)
         clone.set_algorithm(algorithm)
         return clone
-
-    def crossover(self, col_value: FloatArray, col_dual: FloatArray, row_value: FloatArray,
-                  row_dual: FloatArray) -> tuple[bool, float, int]:
-        """HiGHS' crossover from a primal-dual point near the optimum (in
-        HiGHS' sign convention: ``col_dual = cost - A^T row_dual``): the
-        model is left with the basis it found (any earlier one is dropped).
-
-        Returns:
-            ``(whether HiGHS accepted the point, seconds, crossover iterations)``.
-        """
-        _start_scheduler()
-        h = self._highs
-        sol = self._hs.HighsSolution()
-        sol.col_value = np.asarray(col_value, dtype=float)
-        sol.col_dual = np.asarray(col_dual, dtype=float)
-        sol.row_value = np.asarray(row_value, dtype=float)
-        sol.row_dual = np.asarray(row_dual, dtype=float)
-        sol.value_valid = True
-        sol.dual_valid = True
-        h.clearSolver()
-        t0 = time.perf_counter()
-        with deferred_signals(self._callback.stop):
-            status = h.crossover(sol)
-        self._callback.stop.raise_kept()
-        seconds = time.perf_counter() - t0
-        ok = status != self._hs.HighsStatus.kError and bool(h.getBasis().valid)
-        return ok, seconds, int(h.getInfo().crossover_iteration_count)
 
     # ---------------------------------------------------------------- run
     def run(self, *, presolve: bool = True) -> Outcome:

@@ -203,7 +203,7 @@ class NormalMatrix:
 @dataclass(frozen=True)
 class InteriorPointSettings:
     """The tolerances and limits shared by the normal-equations interior points
-    (``normal-ipm``, the proximal QP's and the iterated LP's crossover route);
+    (``normal-ipm`` and the proximal QP's);
     each subclass sets its own defaults and adds its own fields.
 
     Attributes:

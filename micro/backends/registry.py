@@ -32,7 +32,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from micro.backends.base import Backend, check_time_limit
-from micro.backends.clarabel import ClarabelBackend
+from micro.backends.clarabel import ClarabelStaticBackend
 from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
 from micro.backends.cvxpy_ import CvxpyBackend
 from micro.backends.highs import HighsBackend
@@ -53,8 +53,8 @@ _SOLVERS: dict[str, _Factory] = {
     "cvxpy": lambda lp, t: CvxpyBackend(lp, solver="CLARABEL"),
 }
 _EXPERIMENTS: dict[str, _Factory] = {
-    "clarabel-static": lambda lp, t: ClarabelBackend(lp, time_limit=t),
-    "clarabel-default": lambda lp, t: ClarabelBackend(lp, tight=False, time_limit=t),
+    "clarabel-static": lambda lp, t: ClarabelStaticBackend(lp, time_limit=t),
+    "clarabel-default": lambda lp, t: ClarabelStaticBackend(lp, tight=False, time_limit=t),
     "cvxpy-highs": lambda lp, t: CvxpyBackend(lp, solver="HIGHS"),
     "cvxpy-clarabel-default": lambda lp, t: CvxpyBackend(lp, solver="CLARABEL", tight=False),
 }

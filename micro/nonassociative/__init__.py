@@ -34,17 +34,19 @@ Modules, one concept each:
 ``recipe``       :class:`Recipe`, both resolved for one wall (what the modules read);
 ``model``        the persistent HiGHS model of one direction and its updates;
 ``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
-``pipeline``     one direction: which sequences run (the vertex one, the lazy or proximal retry, the fused wall);
-``selections``   the selections (vertex, lazy, proximal, continuation), one object each behind one interface;
+``pipeline``     one direction: which sequences run (the vertex one, the proximal retry), on the
+                 wall or on its fused bodies (the blocks that move as one rigid body);
+``selections``   the selections (vertex, proximal, continuation), one object each behind one
+                 interface, and the stops (the exact stop, the settle test, cycles);
+``proximal``     the proximal selection's projection, a QP, and its interior point;
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
-``convergence``  the exact stop, the settle test, cycle detection;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
-``results``      :class:`IterationRecord`, :class:`SequenceDiagnostics`, :class:`NonAssociativeResult`;
-``fusion``       the blocks that move as one rigid body fused into one, and the fused state on the wall;
+``results``      the types: :class:`IterationRecord`, :class:`SequenceDiagnostics`,
+                 :class:`LowestDirection`, :class:`NonAssociativeResult`;
 ``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
 ``lowest``       the descent to the lowest certified collapse state (``options.lowest``);
-``global_mip``   the mixed-integer search for the global minimum (``options.global_``), with
-                 ``global_bounds``, ``global_model``, ``global_pattern`` and ``global_search``.
+``global_search``  the mixed-integer search for the global minimum (``options.global_``): a
+                 subpackage (options and results, bounds, model, patterns, branch and bound, solvers).
 
 After a converged run, the descent (on by default) reports the lowest
 certified collapse state it reaches (``lowest_load_factor``) beside the
@@ -70,12 +72,11 @@ from __future__ import annotations
 import time
 from typing import Any, Literal
 
-from micro.geometry import BlockWall
+from micro.geometry import BlockWall, check_block_wall
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.convergence import detect_cycle
-from micro.nonassociative.global_mip import GlobalOptions, GlobalResult, StartState, solve_global
-from micro.nonassociative.lowest import LowestDirection, lowest_state
+from micro.nonassociative.global_search import GlobalOptions, GlobalResult, StartState, solve_global
+from micro.nonassociative.lowest import lowest_state
 from micro.nonassociative.options import LOWEST_BUDGET, LOWEST_ROW_LPS, NonAssociativeOptions
 from micro.nonassociative.pipeline import solve_chain
 from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
@@ -88,9 +89,11 @@ from micro.nonassociative.results import (
     TIME_LIMIT,
     FusionDiagnostics,
     IterationRecord,
+    LowestDirection,
     NonAssociativeResult,
     SequenceDiagnostics,
 )
+from micro.nonassociative.selections import detect_cycle
 from micro.nonassociative.tuning import (
     DEFAULT_RELAXATION,
     FUSE_BLOCKS,
@@ -164,8 +167,15 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
 
     Raises:
         ValueError: a bad option (the message names it).
-        TypeError: an unknown option name.
+        TypeError: an unknown option name; ``wall``, ``options``, ``tuning`` or ``progress`` of the wrong
+            type (``options="fast"``, ``progress="print"``), naming it.
     """
+    check_block_wall(wall)
+    for name, value, kind in (("options", options, NonAssociativeOptions), ("tuning", tuning, Tuning)):
+        if value is not None and not isinstance(value, kind):
+            raise TypeError(f"{name} must be a micro.{kind.__name__} or None, got {value!r} ({type(value).__name__})")
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be a function of one LPProgress or None, got {progress!r}")
     o = (options or NonAssociativeOptions()).with_overrides(**overrides)
     t = tuning or Tuning()
     r = recipe_for(wall.n_blocks, o, t, progress)

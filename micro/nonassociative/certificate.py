@@ -39,24 +39,29 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.clarabel import ClarabelBackend
+from micro.backends.clarabel import CLARABEL_RETRY, ClarabelStaticBackend
 from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
 from micro.nonassociative.recipe import Recipe
 from micro.nonassociative.states import point_states
-from micro.nonassociative.tuning import (
-    BAND_SLACK,
-    INTERPENETRATION,
-    STATE_CLARABEL,
-    STATE_IPM_ITERATIONS,
-    STATE_RESIDUAL,
-    TINY,
-)
+from micro.nonassociative.tuning import INTERPENETRATION, STATE_RESIDUAL, TINY
 
 FloatArray = NDArray[np.float64]
 #: ``(n, s, lambda)`` of a state found by a certificate LP.
 StateTriple = tuple[FloatArray, FloatArray, float]
+
+#: Interior-point iterations allowed to each certificate LP (HiGHS'
+#: ``ipm_iteration_limit``; Clarabel's ``max_iter`` of the tight settings is
+#: the same 400): the only limit of a certificate try besides the user's
+#: ``time_limit``.
+STATE_IPM_ITERATIONS = 400
+#: Clarabel settings of the certificate LPs: their ends are checked for
+#: feasibility, so optimality to 1e-9 is enough (the tight settings stopped
+#: short on every certificate LP of the Table 7 walls and were retried).
+STATE_CLARABEL = CLARABEL_RETRY
+#: Relative slack of the test "the iterate's lambda lies in the mechanism band".
+BAND_SLACK = 1e-7
 
 
 @dataclass(frozen=True, eq=False)
@@ -154,8 +159,8 @@ class Certificate:
         lp, d = self.lp, self.d
         restricted = dataclasses.replace(lp, col_upper=np.concatenate([up_p, up_m, [np.inf]]))
         tl = None if not math.isfinite(time_limit) else float(time_limit)
-        direction = -d if sense > 0 else d  # ClarabelBackend maximises direction * lambda_column
-        out = ClarabelBackend(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)
+        direction = -d if sense > 0 else d  # ClarabelStaticBackend maximises direction * lambda_column
+        out = ClarabelStaticBackend(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)
         if out.status is not Status.OPTIMAL or out.n is None or out.s is None:
             return None, out
         return (np.asarray(out.n), np.asarray(out.s), d * (out.load_factor * direction)), out

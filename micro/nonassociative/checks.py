@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.tuning import CONTACT_FORCE, TINY
+from micro.nonassociative.tuning import TINY
 from micro.results import DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
@@ -26,6 +26,10 @@ FloatArray = NDArray[np.float64]
 #: 16 % on Table 5's reference wall, all certified
 #: (docs/research/2026-11-25-nonassociative-profile.md).
 COLD_CHECKED_STOPS = ("lambda_and_forces", "lambda_and_coulomb")
+
+#: A point is in contact when its normal force exceeds this fraction of the
+#: largest one (for the dilatancy residual).
+CONTACT_FORCE = 1e-9
 
 
 def cold_check_due(stop: str) -> bool:
@@ -160,7 +164,7 @@ def state_residuals(lp: LimitLP, direction: int, n: FloatArray, s: FloatArray, l
     ``(dn, ds)`` of its mechanism against the non-associative collapse
     conditions (scaled units; the one computation behind
     :func:`verify_collapse_state` and
-    :func:`micro.nonassociative.global_pattern.collapse_residuals`).
+    :func:`micro.nonassociative.global_search.pattern.collapse_residuals`).
 
     Args:
         lp: the LP of the wall.

@@ -8,22 +8,17 @@ selection: ``nbar`` moved by ``beta`` towards its projection,
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
-simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`);
-on the crossover route (``Tuning.lp_route="crossover"``, a research knob)
-every LP without a friction slope by the normal-equations interior point,
-HiGHS' crossover from its point and a dual-simplex clean-up instead, the
-policy above where that fails.
+simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`).
 Every decision counts work (iterations, LPs), never seconds: the path and its
 numbers are the same on a loaded or slower machine; only the optional user
 stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
 stop has status ``time_limit``. A failed run is
 recovered (:meth:`LPSequence._recover`); each iterate is then tested for the
-stops of :mod:`micro.nonassociative.convergence`. The final iterate is
+stops of :mod:`micro.nonassociative.selections`. The final iterate is
 checked (:mod:`micro.nonassociative.checks`). How an iterate goes on (the
 next ``nbar`` and slope, whether it may go cold, when the certificate is due,
 which no-progress test applies) is its selection's
-(:mod:`micro.nonassociative.selections`: vertex, lazy, proximal,
-continuation); which sequences run on a direction is
+(:mod:`micro.nonassociative.selections`: vertex, proximal, continuation); which sequences run on a direction is
 :mod:`micro.nonassociative.pipeline`'s.
 """
 
@@ -37,9 +32,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.clarabel import ClarabelBackend
+from micro.backends.clarabel import ClarabelStaticBackend
 from micro.lp import LimitLP
-from micro.nonassociative import checks, convergence
+from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.model import IterationModel, restart
 from micro.nonassociative.recipe import LPProgress, Recipe
@@ -54,24 +49,38 @@ from micro.nonassociative.results import (
     IterationRecord,
     SequenceDiagnostics,
 )
-from micro.nonassociative.selections import selection_for
-from micro.nonassociative.tuning import (
-    COLD_STREAK,
-    COLD_SWITCH_PIVOTS,
-    COLD_TOL,
-    COULOMB_TOL,
-    EQUILIBRIUM_RESIDUAL,
-    MIN_WARM_LIMIT,
-    TINY,
-    WARM_LIMIT_PIVOTS,
-)
+from micro.nonassociative.selections import exact_stop, selection_for, window_band
+from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL, TINY
 from micro.results import DIR_NAME, DirectionResult
 
 FloatArray = NDArray[np.float64]
 NAN = math.nan
 COLD = "ipm+crossover+simplex"
-#: the ``lp_route="crossover"`` route: normal-equations interior point, HiGHS' crossover, clean-up
-CROSSOVER = "normal-lp+crossover+simplex"
+
+# The warm/cold policy: every decision is taken on deterministic work measures
+# (simplex and interior-point iteration counts, LP counts), never on seconds:
+# a loaded or slower machine follows the same path to the same numbers.
+#: On large walls a warm dual simplex can cost more than a cold solve (7,575
+#: blocks: 78,000-104,000 simplex iterations, 170-200 s, against 45 s for
+#: interior point + crossover; 1,230 blocks: 514-1,423, 2-6 x faster than
+#: cold). Scheme (a) solves an iterate cold while the last warm run took more
+#: than this many simplex iterations per equilibrium row of the wall ...
+COLD_SWITCH_PIVOTS = 2.0
+#: ... and goes back to warm after this many cold iterates in a row, a number
+#: doubled each time the warm run after a cold streak is slow again (or stopped
+#: at its limit below).
+COLD_STREAK = 3
+#: A warm run that takes more than this many simplex iterations per
+#: equilibrium row is stuck (seen: 13 s to declare a 150-block LP
+#: infeasible): it is stopped and recovered ...
+WARM_LIMIT_PIVOTS = 10.0
+#: ... with at least this many iterations on small walls.
+MIN_WARM_LIMIT = 20_000
+#: The exact stop's ``max(|s| - mu n, 0) / max n`` accepted as "Coulomb holds".
+COULOMB_TOL = 1e-6
+#: Relative warm/cold difference of the final iterate beyond which the run is
+#: a ``solver_failure`` (the cold re-solve always runs).
+COLD_TOL = 1e-6
 
 
 class LPSequence:
@@ -111,7 +120,7 @@ class LPSequence:
         self.streak_length = COLD_STREAK
         self.last_try = -(10**9)
         self.model: IterationModel | None = None
-        # how an iterate goes on (vertex, lazy, proximal, continuation)
+        # how an iterate goes on (vertex, proximal, continuation)
         self.rule = selection_for(options, lp, direction)
         self.warm_limit = self.rule.warm_limit(self.warm_limit)
         fused = lp.n_eq != 3 * lp.wall.n_blocks  # the LP of a fused wall (fewer bodies than blocks)
@@ -130,7 +139,7 @@ class LPSequence:
         """
         lp, P = self.lp, self.lp.n_points
         if self.o.start == "interior":
-            out = ClarabelBackend(lp, time_limit=self.o.time_limit).solve(self.d)
+            out = ClarabelStaticBackend(lp, time_limit=self.o.time_limit).solve(self.d)
             if out.ok and out.n is not None and out.s is not None:
                 return out, "clarabel", np.concatenate([out.n, out.s, [out.load_factor * self.d]])
             out, algo = self.certificate.state_model().run(), "ipm"
@@ -166,7 +175,7 @@ class LPSequence:
         t_b = time.perf_counter()
         self.c0 = self.rule.cohesion(assoc_n0, n0)  # of the friction rows, relative to the force level
         alpha = self.rule.first_alpha()
-        model = IterationModel(self.lp, self.d, "b" if self.rule.rows else "a", alpha, lazy=self.rule.lazy_model)
+        model = IterationModel(self.lp, self.d, "b" if self.rule.rows else "a", alpha)
         self.model = model
         model.set_capacity(n0, alpha, alpha, self.c0)
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
@@ -210,10 +219,10 @@ class LPSequence:
             if stop is not None:
                 return stop
             if o.max_simplex_iterations is not None and self.pivots >= o.max_simplex_iterations:
-                return "work_budget", convergence.window_band(self.lams, o.window), None
+                return "work_budget", window_band(self.lams, o.window), None
             if o.max_seconds is not None and time.perf_counter() - t_start > o.max_seconds:
-                return "time_budget", convergence.window_band(self.lams, o.window), None
-        return "max_iterations", convergence.window_band(self.lams, o.window), None
+                return "time_budget", window_band(self.lams, o.window), None
+        return "max_iterations", window_band(self.lams, o.window), None
 
     # ------------------------------------------------- warm / cold policy
     def _solve(self, model: IterationModel, k: int, n_prev: FloatArray, alpha: float) -> tuple[Outcome, str]:
@@ -226,19 +235,10 @@ class LPSequence:
         doubled each time the warm run after a cold streak is slow again,
         or stopped at :attr:`warm_limit`: Set 10, 3,630 blocks, warm runs of
         102,000 and over 108,000 simplex iterations, 260-360 s, against cold
-        ones of 40-65 s). On the crossover route
-        (:meth:`~micro.nonassociative.model.IterationModel.interior_vertex`)
-        an LP it takes is solved that way; where it fails the LP goes cold.
-        A run stopped by the user's ``time_limit`` is returned as it is (the
+        ones of 40-65 s). A run stopped by the user's ``time_limit`` is returned as it is (the
         sequence ends)."""
         user = self.o.time_limit
-        routed_failed = False
-        if self.o.lp_route == "crossover" and model.route_applies:
-            routed = model.interior_vertex(user)
-            if routed is not None and (routed.ok or routed.status is Status.TIME_LIMIT):
-                return routed, CROSSOVER
-            routed_failed = True  # cold below (the model's basis may be gone)
-        cold = routed_failed or k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
+        cold = k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
                           and self.cold_streak < self.streak_length)
         if cold:
             model.model.limit_next_run(user)
@@ -315,7 +315,7 @@ class LPSequence:
         self.final = (v, n, s, lam)
         alpha_done = self.rule.alpha_done(alpha)
         coul_tol = COULOMB_TOL + (self.c0 / nscale if self.rule.rows else 0.0)
-        exact = convergence.exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o) if self.rule.exact_stop else None
+        exact = exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
         if exact is not None:
             return exact, None, None
         due = self.rule.certificate_due(self.lams, k, self.last_try)
@@ -325,13 +325,8 @@ class LPSequence:
         return None if stop is None else (stop[0], stop[1], None)
 
     def _try_certificate(self, k: int, v: FloatArray, lam: float) -> bool:
-        """Try the certificate on iterate ``k``: is the mechanism the selection
-        names (the iterate's, or the lazy selection's plain LP's) an exact
+        """Try the certificate on iterate ``k``: is its mechanism an exact
         collapse state with other forces than the LP's vertex?"""
-        tried = self.rule.mechanism_to_certify(self, v, lam)
-        if tried is None:
-            return False
-        v, lam = tried
         cert = self.certificate.certify(v, lam, time_limit=self.o.user_limit)
         self.last_try = k
         rec = self.history[-1]
@@ -342,8 +337,6 @@ class LPSequence:
             coulomb_residual=coul if math.isfinite(coul) else rec.coulomb_residual,
         )
         if cert.forces is None:
-            if self.model is not None:
-                self.rule.rejected(self.model)
             return False
         self.final = (v, cert.forces[0], cert.forces[1], lam)
         self.mechanism_band = cert.band
@@ -396,9 +389,10 @@ class LPSequence:
         msg = msg or self._message(status, stop, band)
         if cold_note:
             msg += f"; also, {cold_note}"
-        seq = SequenceDiagnostics(
+        seq = SequenceDiagnostics(  # a failed sequence's band is no band of exact collapse states
             stop_reason=stop, last_load_factor=lam, lambda_band=None if status == CONVERGED else band,
-            mechanism_band=self.mechanism_band, associative_load_factor=lam_assoc, history=tuple(self.history),
+            mechanism_band=self.mechanism_band if status == CONVERGED else None,
+            associative_load_factor=lam_assoc, history=tuple(self.history),
             cold_load_factor=cold.load_factor, warm_cold_rel_diff=cold.rel_diff, cold_algorithm=cold.algorithm,
             coulomb_residual=state.coulomb, dilatancy_residual=state.dilatancy,
             equilibrium_residual=state.equilibrium, sliding_points=state.sliding_points,

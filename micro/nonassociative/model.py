@@ -1,19 +1,9 @@
 """The iteration model: the rebuilt yield conditions as changes of one persistent HiGHS model.
 
 Columns ``[n (P), s (P), lambda]`` over the equilibrium rows (plus, for
-scheme (b), ``2P`` friction rows). The lazy selection's model has columns
-``[p (P), m (P), s (P), lambda]`` instead, with ``n = nbar + p - m``,
-``0 <= m <= nbar`` (so ``n >= 0``), the cost
-:data:`~micro.nonassociative.tuning.LAZY_WEIGHT` on ``p + m``, and the
-equilibrium rows' right-hand side moved by ``-B_n nbar``: the same LP as
-rows ``n - p + m = nbar`` beside the ``n`` columns, whose interior point took
-5.2-5.4 s against 3.0-3.4 s for this one on Set 2 (1,230 blocks; the same
-``lambda`` and distance to ``nbar``). Without the associative generator
-columns each simplex iteration costs ~2/3 of what it did with them (1,230
-blocks: 0.21 ms against 0.32 ms). Every iterate changes bounds (scheme (a);
-the lazy model also its equilibrium right-hand side), or row bounds and
-coefficients (scheme (b)), only, so the dual simplex restarts from the
-previous basis.
+scheme (b), ``2P`` friction rows). Every iterate changes bounds (scheme (a)),
+or row bounds and coefficients (scheme (b)), only, so the dual simplex
+restarts from the previous basis.
 """
 
 from __future__ import annotations
@@ -27,9 +17,7 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
 from micro.backends.highs import PersistentHighsModel
-from micro.backends.normal_lp import BoxLP, exact_dot
 from micro.lp import LimitLP
-from micro.nonassociative.tuning import LAZY_WEIGHT, ROUTE_NORMAL_COST
 
 FloatArray = NDArray[np.float64]
 
@@ -43,42 +31,26 @@ class IterationModel:
         scheme: ``"a"`` (``|s| <= mu nbar`` as bounds of ``s``) or ``"b"``
             (the two friction rows ``+-s + alpha mu n <= c0 + (1 + alpha) mu nbar``).
         alpha0: the first slope of scheme (b).
-        lazy: the lazy selection's model (module docstring; scheme (a) only):
-            among the LP's optimal fields it picks the one closest to
-            ``nbar`` in the 1-norm (see :data:`~micro.nonassociative.tuning.LAZY_WEIGHT`).
     """
 
-    def __init__(self, lp: LimitLP, direction: int, scheme: str, alpha0: float, *, lazy: bool = False) -> None:
+    def __init__(self, lp: LimitLP, direction: int, scheme: str, alpha0: float) -> None:
         P = lp.n_points
-        self.lp, self.d, self.scheme, self.P, self.lazy = lp, direction, scheme, P, lazy
+        self.lp, self.d, self.scheme, self.P = lp, direction, scheme, P
         self.nbar = np.zeros(P)
         live = sp.csc_matrix(lp.live.reshape(-1, 1))
-        if lazy:
-            # columns [p, m, s, lambda], n = nbar + p - m: the equilibrium rows
-            # alone (their right-hand side moves with nbar); 0 <= m <= nbar
-            # keeps n >= 0 and lets n take any value >= 0
-            self.pm_cols = np.arange(2 * P)
-            self.s_cols = np.arange(2 * P, 3 * P)
-            self.lam_col = 3 * P
-            A = sp.hstack([lp.Bn, -lp.Bn, lp.Bs, live], format="csc")
-            cost = np.concatenate([np.full(2 * P, LAZY_WEIGHT), np.zeros(P), [-float(direction)]])
-            lower = np.concatenate([np.zeros(3 * P), [-np.inf]])
-            upper = np.concatenate([np.full(P, np.inf), np.zeros(2 * P), [np.inf]])
-        else:
-            self.n_cols = np.arange(P)
-            self.s_cols = np.arange(P, 2 * P)
-            self.lam_col = 2 * P
-            A = sp.hstack([lp.Bn, lp.Bs, live], format="csc")
-            cost = np.zeros(2 * P + 1)
-            cost[self.lam_col] = -float(direction)
-            lower = np.concatenate([np.zeros(2 * P), [-np.inf]])
-            upper = np.concatenate([np.full(P, np.inf), np.zeros(P), [np.inf]])
+        self.n_cols = np.arange(P)
+        self.s_cols = np.arange(P, 2 * P)
+        self.lam_col = 2 * P
+        A = sp.hstack([lp.Bn, lp.Bs, live], format="csc")
+        cost = np.zeros(2 * P + 1)
+        cost[self.lam_col] = -float(direction)
+        lower = np.concatenate([np.zeros(2 * P), [-np.inf]])
+        upper = np.concatenate([np.full(P, np.inf), np.zeros(P), [np.inf]])
         self.model = PersistentHighsModel(A, cost, lower, upper, lp.rhs.copy(), lp.rhs.copy(), algorithm="ipm")
         self.model.guard_stalls()  # a stalled warm run fails (and is recovered) instead of hanging
         self.in_fallback = False
         self.good_basis: Any = None
         self.alpha, self.c0 = alpha0, 0.0
-        self._box: BoxLP | None = None  # the interior point of interior_vertex (built on first use)
         if scheme == "b":
             # rows n_eq + 2p (+s) and n_eq + 2p + 1 (-s): +-s + alpha mu n <= rhs
             self.model.add_rows(self._friction_rows(alpha0 * lp.mu), np.full(2 * P, -np.inf),
@@ -99,11 +71,8 @@ class IterationModel:
 
     # ------------------------------------------------------------ reading
     def forces(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """``(n, s)`` of a solution (lazy: ``n = nbar + p - m`` at the last ``nbar``)."""
-        P = self.P
-        if self.lazy:
-            return np.maximum(self.nbar + x[:P] - x[P : 2 * P], 0.0), x[2 * P : 3 * P]
-        return x[:P], x[P : 2 * P]
+        """``(n, s)`` of a solution."""
+        return x[: self.P], x[self.P : 2 * self.P]
 
     def load_factor(self, x: FloatArray) -> float:
         """``lambda`` of a solution (the column holds ``d * lambda``)."""
@@ -112,7 +81,7 @@ class IterationModel:
     # ------------------------------------------------------------ updates
     def set_capacity(self, nbar: FloatArray, alpha: float, alpha_prev: float, c0: float) -> None:
         """Rebuild the yield condition of every point from ``nbar`` (bounds;
-        the lazy model's equilibrium right-hand side too; for scheme (b) row
+        for scheme (b) row
         bounds and, when ``alpha`` changed, coefficients: 9 ms for the 14,200
         coefficients of the 1,230-block wall against ~1 s for one warm
         simplex run)."""
@@ -122,10 +91,6 @@ class IterationModel:
         self.alpha, self.c0 = alpha, c0
         if self.scheme == "a":
             m.set_col_bounds(self.s_cols, -mu * nbar, mu * nbar)
-            if self.lazy:
-                m.set_col_bounds(self.pm_cols[P:], np.zeros(P), nbar)
-                rhs = self.lp.rhs - self.lp.Bn @ nbar
-                m.set_row_bounds(np.arange(self.lp.n_eq), rhs, rhs)
             return
         if self.in_fallback:
             m.set_col_bounds(self.s_cols, np.full(P, -np.inf), np.full(P, np.inf))
@@ -134,13 +99,6 @@ class IterationModel:
             m.change_coeffs(self.f_rows, np.repeat(self.n_cols, 2), np.repeat(alpha * mu, 2))
         rhs = c0 + (1.0 + alpha) * mu * nbar
         m.set_row_bounds(self.f_rows, np.full(2 * P, -np.inf), np.repeat(rhs, 2))
-
-    def set_lazy(self, on: bool) -> None:
-        """Switch the lazy selection's cost on ``|n - nbar|`` on or off (costs
-        only, the basis is kept). Off, the model is Gilbert's LP at ``nbar``
-        itself: ``p`` and ``m`` are free to absorb ``n - nbar``."""
-        if self.lazy:
-            self.model.set_costs(self.pm_cols, np.full(2 * self.P, LAZY_WEIGHT if on else 0.0))
 
     def fallback_a_step(self, nbar: FloatArray, seconds: float | None, simplex_iterations: int) -> Outcome:
         """One LP of scheme (a) inside the scheme (b) model from the last good
@@ -157,71 +115,6 @@ class IterationModel:
         out = self.warm(seconds, simplex_iterations)
         self.in_fallback = True  # the model now holds a scheme (a) LP (for the cold check)
         return out
-
-    @property
-    def route_applies(self) -> bool:
-        """Whether :meth:`interior_vertex` takes the current LP (no lazy
-        model, no friction slope, not a scheme (a) step inside the (b) model)."""
-        return not self.lazy and not self.in_fallback and self.alpha == 0.0
-
-    def interior_vertex(self, seconds: float | None) -> Outcome | None:
-        """Solve the current LP by the normal-equations interior point
-        (:class:`~micro.backends.normal_lp.BoxLP`), then HiGHS' crossover from
-        its primal-dual point and a dual-simplex clean-up from that basis: a
-        vertex without the warm run's path through the previous basis.
-
-        The friction conditions are bounds of ``s``: scheme (a)'s ``|s| <= mu
-        nbar``, or the continuation's rows ``+-s <= c0 + mu nbar`` once its
-        slope is 0. With a slope ``-gamma`` the rows would be columns ``g+, g-
-        >= 0`` and ``|h| <= c0 + (1 - gamma) mu nbar`` (``n = g+ + g-``, ``s =
-        gamma mu (g+ - g-) + h``), but on Set 10's bodies that interior point
-        failed at ``gamma = 0.9`` and the clean-up after the crossover took
-        15,900-23,900 pivots (28-49 s) at ``gamma`` 0.1-0.5, against 1,940
-        (1.8 s) at 0: the route is taken at slope 0 only.
-
-        Returns:
-            The clean-up's outcome with the cost of all three steps, or
-            ``None`` where the route does not apply (the lazy model, a
-            non-zero slope, a scheme (a) step inside the (b) model) or the
-            interior point or the crossover failed (the model then holds no
-            basis).
-        """
-        if not self.route_applies:
-            return None
-        lp, P, mu, d = self.lp, self.P, self.lp.mu, float(self.d)
-        if self._box is None:
-            self._box = BoxLP(sp.hstack([lp.Bn, lp.Bs]), lp.live)
-        cap = mu * self.nbar + (self.c0 if self.scheme == "b" else 0.0)
-        lower = np.concatenate([np.zeros(P), -cap])
-        upper = np.concatenate([np.full(P, np.inf), cap])
-        cost = np.concatenate([np.full(P, ROUTE_NORMAL_COST), np.zeros(P)])
-        res = self._box.solve(cost, lp.rhs, lower, upper, self.d)
-        if not res.converged:
-            return None
-        y, n, s = res.y, res.x[:P], res.x[P:]
-        qn, qs = lp.Bn.T @ y, lp.Bs.T @ y
-        x = np.concatenate([n, s, [res.lam]])
-        # HiGHS' signs: column duals = cost - A^T (row duals)
-        col_dual = np.concatenate([-qn, -qs, [-d - exact_dot(lp.live, y)]])
-        row_value, row_dual = lp.Bn @ n + lp.Bs @ s + lp.live * res.lam, y
-        if self.scheme == "b":  # s is free; its bounds are the rows +s <= R (dual wp) and -s <= R (wm)
-            col_dual[P : 2 * P] = 0.0
-            rows, duals = np.empty(2 * P), np.empty(2 * P)
-            rows[0::2], rows[1::2] = s, -s
-            duals[0::2], duals[1::2] = -np.maximum(qs, 0.0), np.minimum(qs, 0.0)
-            row_value, row_dual = np.concatenate([row_value, rows]), np.concatenate([y, duals])
-        ok, x_seconds, x_iterations = self.model.crossover(x, col_dual, row_value, row_dual)
-        if not ok:
-            self.model.clear_solver()
-            return None
-        self.model.set_algorithm("simplex")
-        self.model.limit_next_run(seconds)
-        out = self.model.run()
-        info = {**out.info, "interior_seconds": res.seconds, "crossover_seconds": x_seconds,
-                "cleanup_seconds": out.seconds}
-        return dataclasses.replace(
-            out, seconds=out.seconds + res.seconds + x_seconds, ipm_iterations=res.iterations,
-            crossover_iterations=x_iterations, info=info)
 
     def keep_basis(self) -> None:
         """Remember the basis of a good scheme (b) iterate (for :meth:`fallback_a_step`)."""

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from micro.backends.base import check_integer
+from micro.backends.base import check_integer, finite_real
 from micro.results import Directions, check_directions
 
 #: The descent to the lowest certified state may solve at most
@@ -67,7 +67,7 @@ class NonAssociativeOptions:
             of LPs); a descent that spends it returns the lowest certified
             state found so far (``lowest_stop="budget"``). No clock decides it.
         global_: then search for the global minimum by branch and bound
-            (:mod:`micro.nonassociative.global_mip`; walls of a few blocks).
+            (:mod:`micro.nonassociative.global_search`; walls of a few blocks).
         global_time_limit: seconds of branch and bound per direction
             (``None``: none); a search it stops depends on the machine.
         global_node_limit: branch-and-bound nodes per direction (``None``:
@@ -92,17 +92,18 @@ class NonAssociativeOptions:
         check_integer("max_iterations", self.max_iterations, 2)
         for name in ("time_limit", "max_seconds", "global_time_limit"):
             tl = getattr(self, name)
-            if tl is not None and (isinstance(tl, bool) or not isinstance(tl, (int, float))
-                                   or not math.isfinite(tl) or tl <= 0):
+            if tl is not None and ((x := finite_real(tl)) is None or x <= 0):
                 raise ValueError(f"{name} must be a positive number of seconds, got {tl!r}")
             if tl is not None:
                 object.__setattr__(self, name, float(tl))
         lb = self.lowest_budget
-        if isinstance(lb, bool) or not isinstance(lb, (int, float)) or not math.isfinite(lb) or lb < 0:
+        if (x := finite_real(lb)) is None or x < 0:
             raise ValueError(f"lowest_budget must be a finite number >= 0, got {lb!r}")
         object.__setattr__(self, "lowest_budget", float(self.lowest_budget))
         if self.global_node_limit is not None:
             check_integer("global_node_limit", self.global_node_limit, 1)
+        if not isinstance(self.global_, (bool, np.bool_)):  # global_=1 started minutes of branch and bound
+            raise ValueError(f"global_ must be True or False, got {self.global_!r}")
         object.__setattr__(self, "global_", bool(self.global_))
         if self.lowest is not None and not isinstance(self.lowest, (bool, np.bool_)):
             raise ValueError(f"lowest must be True, False or None (by the wall's size), got {self.lowest!r}")

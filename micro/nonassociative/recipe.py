@@ -27,7 +27,7 @@ class LPProgress:
 
     Attributes:
         direction: ``"+x"`` or ``"-x"``.
-        stage: ``"vertex"``, ``"lazy"``, ``"proximal"``, ``"fused"`` (a
+        stage: ``"vertex"``, ``"proximal"``, ``"fused"`` (a
             sequence of the iterated LP) or ``"lowest"`` (the descent).
         lp: the LP's number in its stage (0: the associative LP).
         load_factor: its ``lambda`` (NaN when it failed or has none).
@@ -87,9 +87,6 @@ class Recipe:
     fuse: bool
     continuation: bool
     fused_retry: bool
-    anderson: int = 0
-    projection_solver: Literal["normal-ipm", "clarabel"] = "normal-ipm"
-    lp_route: Literal["simplex", "crossover"] = "simplex"
     progress: Progress | None = field(default=None, repr=False, compare=False)
 
     @property
@@ -128,6 +125,6 @@ def recipe_for(blocks: int, options: NonAssociativeOptions | None = None, tuning
         time_limit=o.time_limit, lowest=o.lowest_on(blocks), lowest_budget=o.lowest_budget, global_=o.global_,
         global_time_limit=o.global_time_limit, global_node_limit=o.global_node_limit, global_bounds=t.global_bounds,
         fuse=large if t.fuse is None else t.fuse, continuation=large if t.continuation is None else t.continuation,
-        fused_retry=t.fused_retry, anderson=t.anderson, projection_solver=t.projection_solver,
-        lp_route=t.lp_route, progress=progress,
+        fused_retry=t.fused_retry,
+        progress=progress,
     )

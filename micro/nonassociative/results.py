@@ -1,4 +1,5 @@
-"""Result types of the iterated LP: one LP's record, a direction's diagnostics, the analysis."""
+"""Result types of the iterated LP: one LP's record, a direction's diagnostics, the descent's lowest
+state, the analysis (types only: this module imports no module that computes them)."""
 
 from __future__ import annotations
 
@@ -6,8 +7,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from micro.nonassociative.global_mip import GlobalResult, global_fields, global_summary
-from micro.nonassociative.lowest import LowestDirection, lowest_fields, lowest_summary
+from micro.nonassociative.global_search.results import GlobalResult, global_fields, global_summary
 from micro.nonassociative.recipe import Recipe
 from micro.records import NonAssociativeRecord, check_success, json_number
 from micro.results import DirectionResult, record_fields
@@ -76,7 +76,7 @@ class IterationRecord:
 
 @dataclass(frozen=True)
 class FusionDiagnostics:
-    """How a sequence ran on the fused wall (:mod:`micro.nonassociative.fusion`).
+    """How a sequence ran on the fused wall (:mod:`micro.nonassociative.pipeline`).
 
     Attributes:
         bodies: moving bodies of the fused LP.
@@ -120,7 +120,8 @@ class SequenceDiagnostics:
             the last window (``None`` when converged).
         mechanism_band: ``(min, max)`` of ``lambda`` over ALL collapse
             states with the final mechanism (certified runs, and converged
-            scheme (a) runs; ``None`` otherwise): the non-associative problem
+            scheme (a) runs; ``None`` otherwise, also when a certified state
+            then failed a final check): the non-associative problem
             has many solutions, and the same mechanism can form at any load
             factor in this band.
         associative_load_factor: ``lambda`` of the associative LP.
@@ -140,17 +141,17 @@ class SequenceDiagnostics:
         sliding_points: points of the final mechanism that slide while in contact.
         fallback_steps: scheme (b) LPs replaced by a scheme (a) step.
         selection: how this sequence's iterates picked their forces,
-            ``"vertex"`` or ``"lazy"``.
-        vertex_attempt: with ``selection="vertex+lazy"``, the vertex
-            sequence that ended cycling (or at its cap) before this lazy one
-            ran (``None`` otherwise); its LPs count in the direction's
+            ``"vertex"`` or ``"proximal"``.
+        vertex_attempt: with ``selection="vertex+proximal"``, the vertex
+            sequence that ended cycling (or at its cap) before this proximal
+            one ran (``None`` otherwise); its LPs count in the direction's
             ``iterations`` and ``seconds``.
         fusion: how the sequence ran on the fused wall (``options.fuse``;
             ``None``: on the wall itself). Its history is then the fused
             LP's; forces, residuals, the mechanism band and
             ``associative_load_factor`` (whose mechanism gave the bodies)
             are the wall's.
-        unfused_attempt: the wall's own sequences (vertex, then lazy or
+        unfused_attempt: the wall's own sequences (vertex, then
             proximal) that ended cycling or at their caps before this run
             on the fused wall with the continuation certified the direction
             (``options.fused_retry``; ``None`` otherwise); their LPs count
@@ -188,6 +189,58 @@ def diagnostics(d: DirectionResult) -> SequenceDiagnostics:
     return d.sequence
 
 
+#: Values of :attr:`LowestDirection.status`.
+FOUND, FAILED = "found", "failed"
+#: Values of :attr:`LowestDirection.stop`.
+FINISHED, BUDGET = "finished", "budget"
+
+
+@dataclass(frozen=True, eq=False)
+class LowestDirection:
+    """The lowest certified state of one load direction.
+
+    Attributes:
+        direction: ``"+x"`` or ``"-x"``.
+        status: ``"found"`` (an exact state, checked) or ``"failed"``.
+        load_factor: its ``lambda`` (NaN when failed).
+        band: ``(lambda, greatest lambda)`` of the collapse states with its
+            mechanism (``None`` when failed).
+        path: ``lambda`` of the iterated LP's state, of its band's lower end
+            after the polish (when lower) and after every accepted move.
+        moves: the accepted proposals (their origin).
+        lps: LPs solved by the descent.
+        budget: the most LPs it could solve (module docstring).
+        stop: ``"finished"`` (it ended by its own rules) or ``"budget"`` (it
+            spent its budget: the lowest state found so far).
+        seconds: its wall time.
+        state: the state as a direction result (dimensional forces, mechanism,
+            contact states; ``None`` when failed).
+        residuals: its :func:`~micro.nonassociative.checks.verify_collapse_state`.
+        origin: how the state was found.
+        message: why it failed.
+    """
+
+    direction: str
+    status: str
+    load_factor: float
+    band: tuple[float, float] | None
+    path: tuple[float, ...]
+    moves: tuple[str, ...]
+    lps: int
+    budget: int
+    stop: str
+    seconds: float
+    state: DirectionResult | None = field(repr=False)
+    residuals: dict[str, float] = field(repr=False)
+    origin: str = ""
+    message: str = ""
+
+    @property
+    def found(self) -> bool:
+        """True when an exact state was found."""
+        return self.status == FOUND
+
+
 @dataclass(frozen=True, eq=False)
 class NonAssociativeResult:
     """Result of the non-associative analysis.
@@ -215,7 +268,7 @@ class NonAssociativeResult:
         lowest: the lowest certified state of every converged direction
             (``lowest``; :mod:`micro.nonassociative.lowest`).
         global_search: the branch and bound for the global minimum
-            (``global_``; :mod:`micro.nonassociative.global_mip`), or ``None``.
+            (``global_``; :mod:`micro.nonassociative.global_search`), or ``None``.
     """
 
     load_factor: float
@@ -399,10 +452,52 @@ def solver_description(options: Recipe) -> str:
     roles = [("clarabel" if options.start == "interior" else "highs-ipm+crossover", "start")]
     if options.certify or options.mechanism_band:
         roles.append(("clarabel" if options.state_solver == "clarabel" else "highs-ipm", "certificate"))
-    iterated = "normal-lp+highs-crossover" if options.lp_route == "crossover" else "highs-simplex"
-    roles.append((iterated, "iterated" + (", fused" if options.fuse else "")))
+    roles.append(("highs-simplex", "iterated" + (", fused" if options.fuse else "")))
     roles.append(("highs-ipm", "cold check"))
     by_solver: dict[str, list[str]] = {}
     for solver, role in roles:
         by_solver.setdefault(solver, []).append(role)
     return " + ".join(f"{solver} ({', '.join(r)})" for solver, r in by_solver.items())
+
+
+def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirection, ...]) -> dict[str, Any]:
+    """The record fields of the descent (:class:`micro.NonAssociativeRecord`).
+
+    Args:
+        governing: the lowest state over the directions (``None`` without one).
+        lowest: the descent of every direction (empty when it did not run).
+
+    Returns:
+        ``lowest_load_factor``, ``lowest_direction``, ``lowest_band``,
+        ``lowest_moves`` (accepted proposals of the governing direction),
+        ``lowest_lps`` and ``lowest_seconds`` (summed over the directions),
+        ``lowest_status`` (``""`` when it did not run, ``"found"``, or
+        ``"failed"`` when some direction has no state) and ``lowest_stop``
+        (``""``, ``"finished"``, or ``"budget"`` when some direction spent its budget).
+    """
+    status = "" if not lowest else FOUND if governing is not None else FAILED
+    stop = "" if not lowest else BUDGET if any(low.stop == BUDGET for low in lowest) else FINISHED
+    return {
+        "lowest_load_factor": governing.load_factor if governing is not None else math.nan,
+        "lowest_direction": governing.direction if governing is not None else "",
+        "lowest_band": governing.band if governing is not None else None,
+        "lowest_moves": len(governing.moves) if governing is not None else 0,
+        "lowest_lps": sum(low.lps for low in lowest),
+        "lowest_seconds": sum(low.seconds for low in lowest),
+        "lowest_status": status,
+        "lowest_stop": stop,
+    }
+
+
+def lowest_summary(low: LowestDirection) -> dict[str, Any]:
+    """One direction's descent as JSON-ready data (NaN -> ``None``; ``contact_states`` ``None`` without a state)."""
+    num = json_number
+    mech = low.state.mechanism if low.state is not None else None
+    return {
+        "direction": low.direction, "status": low.status, "load_factor": num(low.load_factor),
+        "band": None if low.band is None else [num(x) for x in low.band], "path": [num(x) for x in low.path],
+        "moves": list(low.moves), "origin": low.origin, "lps": low.lps, "budget": low.budget,
+        "stop": low.stop, "seconds": low.seconds,
+        "contact_states": mech.state_counts() if mech is not None else None,
+        "residuals": {k: num(v) for k, v in low.residuals.items()}, "message": low.message,
+    }

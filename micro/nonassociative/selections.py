@@ -4,55 +4,169 @@ The loop of :class:`~micro.nonassociative.iteration.LPSequence` asks its
 selection the same few questions at every LP and holds no branch of its own:
 
 * the model: friction as bounds of ``s`` or as rows (:attr:`Selection.rows`),
-  the lazy model (:attr:`Selection.lazy_model`), the first slope and the
-  cohesion of the rows;
+  the first slope and the cohesion of the rows;
 * where the next ``nbar`` lies (:meth:`Selection.next_nbar`) and the next slope;
-* whether an iterate may be solved cold, whether the exact stop applies;
-* when the certificate is due, with which mechanism, and what a rejection undoes;
+* whether an iterate may be solved cold;
+* when the certificate is due;
 * which no-progress test ends the sequence (cycles, or the proximal steps' stall).
 
 ``Vertex``        Gilbert et al.'s iteration, scheme (a) or (b):
                   ``nbar = beta n_k + (1 - beta) n_(k-1)`` from the simplex's vertex;
-``Lazy``          among each LP's optimal fields the one closest to ``nbar``
-                  (:mod:`~micro.nonassociative.model`); only the certificate ends it;
 ``Proximal``      ``nbar`` moved by ``beta`` towards its projection onto the
                   fields that carry the LP's load (:mod:`~micro.nonassociative.proximal`);
 ``Continuation``  scheme (a) reached from associative friction: friction rows of
                   slope ``gamma mu`` falling to 0 (``CONT_*`` in :mod:`~micro.nonassociative.tuning`).
 
-Which sequences run on a direction (the vertex one, then the lazy or proximal
-one, then the fused wall) is :mod:`micro.nonassociative.pipeline`'s.
+When a sequence stops: the LPs are degenerate, and the simplex returns a
+vertex whose forces in the parts that do not move jump from one iterate to
+the next, so an iterate's own forces rarely satisfy Coulomb even when
+``lambda`` has settled. Two stops count as converged: the exact one
+(:func:`exact_stop`) and the certificate (:mod:`micro.nonassociative.certificate`),
+tried once ``lambda`` has settled (:func:`settled`). Otherwise a sequence
+stops when it cycles (:func:`detect_cycle`) or stalls (:func:`detect_stall`),
+or on the caps on LPs and time.
+
+Which sequences run on a direction (the vertex one, then the proximal one,
+then the fused wall) is :mod:`micro.nonassociative.pipeline`'s.
 """
 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from micro.lp import LimitLP
-from micro.nonassociative import convergence
-from micro.nonassociative.proximal import Anderson, Projection
+from micro.nonassociative.proximal import Projection
 from micro.nonassociative.recipe import Recipe
-from micro.nonassociative.tuning import (
-    COHESION,
-    CONT_COHESION,
-    CONT_FACTOR,
-    CONT_GAMMA0,
-    CONT_GAMMA_MIN,
-    TINY,
-    WARM_UNLIMITED,
-)
-
-if TYPE_CHECKING:  # pragma: no cover - typing only
-    from micro.nonassociative.iteration import LPSequence
-    from micro.nonassociative.model import IterationModel
+from micro.nonassociative.tuning import TINY
 
 FloatArray = NDArray[np.float64]
 Band = tuple[float, float]
 NAN = math.nan
+
+#: Scheme (b)'s cohesion ``c0``, relative to the largest normal force of the
+#: associative solution (scale-free: one millionth of the force level).
+COHESION = 1e-6
+#: The continuation (``continuation=True``) reaches scheme (a)'s vertex
+#: sequence from associative friction: LP ``k`` bounds the shear by the line
+#: ``|s| <= c0 + (1 - gamma) mu nbar + gamma mu n`` through ``(nbar, mu nbar)``
+#: (``gamma = 1``: associative Coulomb; ``gamma = 0``: scheme (a)) in scheme
+#: (b)'s friction rows, ``gamma = CONT_GAMMA0`` at the first LP ...
+CONT_GAMMA0 = 0.9
+#: ... times this at every LP ...
+CONT_FACTOR = 0.8
+#: ... and 0 once it would fall to this or below (LP 32 on).
+CONT_GAMMA_MIN = 1e-3
+#: Its cohesion ``c0``, relative to the largest normal force it starts from
+#: (scheme (b) has ``cohesion``, 1e-6: with it the fused Set 9's first LP gave
+#: lambda = 5.46 against 0.394 associative).
+CONT_COHESION = 1e-9
+#: Its warm runs are not cut short (a cap would make the path depend on it):
+#: the fused Set 10's second LP took 60,122 simplex iterations, 40 s.
+WARM_UNLIMITED = 2**31 - 1
+
+
+#: The exact stop: largest change of the normal forces (relative to the
+#: largest) for ``"lambda_and_forces"`` (else ``"lambda_and_coulomb"``).
+FORCE_TOL = 1e-6
+#: Periods of the repeating-sequence test (a period seen twice in a row).
+PERIODS = range(2, 7)
+#: Oscillation: the last window's spread of lambda is at least this fraction
+#: of the window before (no contraction). Stagnation: the smallest change of
+#: the forces over the last window is at least this fraction of the window
+#: before (no progress).
+NO_PROGRESS = 0.5
+
+
+def exact_stop(k: int, alpha_done: bool, dlam: float, dn: float, coulomb: float, coulomb_tol: float,
+               options: Recipe) -> str | None:
+    """The exact stop: after at least two non-associative iterates (for
+    scheme (b) once ``alpha`` has reached ``alpha_min``), the relative change
+    of ``lambda`` is below ``lambda_tol`` and the iterate satisfies Coulomb
+    with its OWN normal forces within ``coulomb_tol``.
+
+    Returns:
+        ``"lambda_and_forces"`` (the normal forces settled too, within
+        :data:`~micro.nonassociative.tuning.FORCE_TOL`), ``"lambda_and_coulomb"``, or ``None``.
+    """
+    if k >= 2 and alpha_done and dlam <= options.lambda_tol and coulomb <= coulomb_tol:
+        return "lambda_and_forces" if dn <= FORCE_TOL else "lambda_and_coulomb"
+    return None
+
+
+def settled(lams: list[float], k: int, last_try: int, options: Recipe) -> bool:
+    """Time for a certificate try: ``lambda``'s spread over the last
+    ``settle_window`` iterates is at most ``settle_tol`` relative, and the
+    last try is at least a window ago (on large walls a try costs a few LPs)."""
+    w = options.settle_window
+    return (len(lams) >= w and k - last_try >= w
+            and float(np.ptp(lams[-w:])) <= options.settle_tol * abs(lams[-1]))
+
+
+def window_band(lams: list[float], window: int) -> Band | None:
+    """``(min, max)`` of the last ``window`` load factors (``None`` if there are none)."""
+    w = lams[-window:]
+    return (min(w), max(w)) if w else None
+
+
+def detect_cycle(lams: list[float], dns: list[float], tol: float, window: int) -> tuple[str, Band] | None:
+    """Cycling tests on the non-associative ``lambda`` sequence.
+
+    * ``"repeating"``: the sequence repeats with a period in :data:`PERIODS`,
+      seen twice in a row, and is not constant;
+    * ``"oscillating"``: ``lambda`` moves by more than ``tol`` over the last
+      window without contracting (spread at least :data:`NO_PROGRESS` of the
+      window before);
+    * ``"stagnation"``: ``lambda`` unchanged over the last window while the
+      forces make no progress (their smallest change at least
+      :data:`NO_PROGRESS` of the window before).
+
+    Args:
+        lams: ``lambda`` of the non-associative iterates.
+        dns: their largest relative change of the normal forces.
+        tol: relative tolerance on ``lambda``.
+        window: iterates per window.
+
+    Returns:
+        ``(reason, (min, max))`` over the cycle or the last window, or ``None``.
+    """
+    k = len(lams)
+    lam = np.asarray(lams)
+    ref = max(abs(lam[-1]), TINY)
+    for p in PERIODS:
+        if k >= 2 * p:
+            a = lam[-p:]
+            b = lam[-2 * p : -p]
+            if np.all(np.abs(a - b) <= tol * ref) and np.ptp(a) > tol * ref:
+                return "repeating", (float(a.min()), float(a.max()))
+    if k >= 2 * window:
+        w1, w2 = lam[-2 * window : -window], lam[-window:]
+        b1, b2 = float(np.ptp(w1)), float(np.ptp(w2))
+        if b2 > tol * ref and b2 >= NO_PROGRESS * b1:
+            return "oscillating", (float(w2.min()), float(w2.max()))
+        d1, d2 = min(dns[-2 * window : -window]), min(dns[-window:])
+        if b2 <= tol * ref and d2 >= NO_PROGRESS * d1:
+            return "stagnation", (float(w2.min()), float(w2.max()))
+    return None
+
+
+def detect_stall(steps: list[float], lams: list[float], window: int) -> tuple[str, Band] | None:
+    """The proximal selection's no-progress test: its ``lambda`` may move
+    while its steps ``|n - nbar|_1 / |nbar|_1`` shrink, so it stops only
+    when the smallest step of the last window is at least
+    :data:`NO_PROGRESS` of the smallest of the window before.
+
+    Returns:
+        ``("stagnation", (min, max) of lambda over the last window)`` or ``None``.
+    """
+    if len(steps) < 2 * window:
+        return None
+    if min(steps[-window:]) >= NO_PROGRESS * min(steps[-2 * window : -window]):
+        w = lams[-window:]
+        return "stagnation", (min(w), max(w))
+    return None
 
 
 class Selection:
@@ -66,10 +180,6 @@ class Selection:
 
     #: Its name in the records (``SequenceDiagnostics.selection``) and the progress lines.
     name = "vertex"
-    #: The lazy model (columns ``[p, m, s, lambda]``).
-    lazy_model = False
-    #: The exact stop (the LP's own forces satisfy Coulomb) may end the sequence.
-    exact_stop = True
 
     def __init__(self, options: Recipe, lp: LimitLP, direction: int) -> None:
         self.o = options
@@ -121,51 +231,15 @@ class Selection:
     # ------------------------------------------------------------- stops
     def certificate_due(self, lams: list[float], k: int, last_try: int) -> bool:
         """Whether to try the certificate at LP ``k``: once ``lambda`` has settled."""
-        return convergence.settled(lams, k, last_try, self.o)
-
-    def mechanism_to_certify(self, seq: LPSequence, v: FloatArray, lam: float) -> tuple[FloatArray, float] | None:
-        """The mechanism and ``lambda`` the certificate tries: the iterate's own."""
-        return v, lam
-
-    def rejected(self, model: IterationModel) -> None:
-        """The certificate found no state (nothing to undo)."""
+        return settled(lams, k, last_try, self.o)
 
     def no_progress(self, lams: list[float], dns: list[float], alpha_done: bool) -> tuple[str, Band] | None:
-        """The cycle tests of :func:`~micro.nonassociative.convergence.detect_cycle` once the slope is done."""
-        return convergence.detect_cycle(lams, dns, self.o.lambda_tol, self.o.window) if alpha_done else None
+        """The cycle tests of :func:`detect_cycle` once the slope is done."""
+        return detect_cycle(lams, dns, self.o.lambda_tol, self.o.window) if alpha_done else None
 
 
 class Vertex(Selection):
     """Gilbert et al.'s vertex iteration, scheme (a) or (b) (the interface's own answers)."""
-
-
-class Lazy(Selection):
-    """The lazy selection (module docstring): its mechanism is perturbed by the
-    selection's cost, so the certificate asks the plain LP at the same ``nbar``,
-    and only the certificate ends it."""
-
-    name = "lazy"
-    lazy_model = True
-    exact_stop = False
-
-    def mechanism_to_certify(self, seq: LPSequence, v: FloatArray, lam: float) -> tuple[FloatArray, float] | None:
-        """The plain LP at the current ``nbar`` (the cost switched off, a warm run
-        from the iterate's basis): ``(v, lambda)``, or ``None`` when it fails (the
-        cost is switched on again). A certified sequence ends with that LP in
-        the model (for the cold check)."""
-        model = seq.model
-        assert model is not None
-        model.set_lazy(False)
-        out = model.warm(seq.o.time_limit, seq.warm_limit)
-        seq.pivots += int(out.simplex_iterations)
-        if out.x is None or out.duals is None:
-            model.set_lazy(True)
-            return None
-        return out.duals[: seq.lp.n_eq], model.load_factor(out.x)
-
-    def rejected(self, model: IterationModel) -> None:
-        """The selection's cost switched on again."""
-        model.set_lazy(True)
 
 
 class Proximal(Selection):
@@ -177,25 +251,18 @@ class Proximal(Selection):
 
     def __init__(self, options: Recipe, lp: LimitLP, direction: int) -> None:
         super().__init__(options, lp, direction)
-        self.projection = Projection(lp, direction, options.user_limit, options.projection_solver)
+        self.projection = Projection(lp, direction, options.user_limit)
         self.steps: list[float] = []
         self.step = NAN
-        self.anderson = Anderson(options.anderson, self.beta) if options.anderson > 0 else None
 
     def next_nbar(self, nbar: FloatArray, lam: float, n_prev: FloatArray, n_prev2: FloatArray) -> FloatArray:
-        """``nbar`` moved by ``beta`` towards its projection at the LP's ``lam``
-        (with ``anderson``: the accelerated step, :class:`~micro.nonassociative.proximal.Anderson`);
-        where the QP is not solved, the vertex rule for this step
-        (and Anderson's history is dropped)."""
+        """``nbar`` moved by ``beta`` towards its projection at the LP's ``lam``;
+        where the QP is not solved, the vertex rule for this step."""
         proj = self.projection.project(nbar, lam)
         self.step = proj.step
         if proj.normal is None:
-            if self.anderson is not None:
-                self.anderson.reset()
             return super().next_nbar(nbar, lam, n_prev, n_prev2)
         self.steps.append(proj.step)
-        if self.anderson is not None:
-            return self.anderson.step(nbar, proj.normal)
         return nbar + self.beta * (proj.normal - nbar)
 
     def take_step(self) -> float:
@@ -207,8 +274,8 @@ class Proximal(Selection):
         return k >= 2
 
     def no_progress(self, lams: list[float], dns: list[float], alpha_done: bool) -> tuple[str, Band] | None:
-        """:func:`~micro.nonassociative.convergence.detect_stall` on its steps."""
-        return convergence.detect_stall(self.steps, lams, self.o.window)
+        """:func:`detect_stall` on its steps."""
+        return detect_stall(self.steps, lams, self.o.window)
 
 
 class Continuation(Selection):
@@ -260,10 +327,8 @@ class Continuation(Selection):
 
 
 def selection_for(options: Recipe, lp: LimitLP, direction: int) -> Selection:
-    """The selection object of one sequence (``options.selection``: ``"vertex"``,
-    ``"lazy"`` or ``"proximal"``; ``"vertex"`` with ``options.continuation``: the continuation)."""
-    if options.selection == "lazy":
-        return Lazy(options, lp, direction)
+    """The selection object of one sequence (``options.selection``: ``"vertex"``
+    or ``"proximal"``; ``"vertex"`` with ``options.continuation``: the continuation)."""
     if options.selection == "proximal":
         return Proximal(options, lp, direction)
     if options.continuation and options.selection == "vertex":

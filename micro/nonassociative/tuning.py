@@ -5,9 +5,9 @@ condition, the relaxation, the selections, fusing and the continuation,
 tolerances. Its defaults are the method of ``xcheck report`` (what
 :func:`micro.solve_nonassociative` runs with no options); a user needs none of
 them (the options a user sets are :class:`~micro.nonassociative.options.NonAssociativeOptions`).
-The module constants are the fixed policy of the iteration, each with the
-measurement that set it (longer logs: ``docs/research/2026-11-25-nonassociative-recipe.md``;
-every knob: ``docs/micro/tuning.md``).
+The module's constants are the defaults those knobs resolve to and the
+tolerances several modules share; every other policy constant lives beside
+its only user (every knob: ``docs/micro/tuning.md``).
 """
 
 from __future__ import annotations
@@ -16,152 +16,19 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
-from micro.backends.base import check_integer, check_number
-from micro.backends.clarabel import CLARABEL_RETRY
-from micro.nonassociative.global_bounds import POLICIES as BIG_M_POLICIES
+import numpy as np
+
+from micro.backends.base import check_integer, check_number, finite_real
 
 #: Published rebuilt yield conditions implemented here.
 SCHEMES = ("a", "b")
 #: Default relaxation ``beta`` per scheme (``nbar = beta n_k + (1 - beta) n_(k-1)``).
 DEFAULT_RELAXATION = {"a": 0.6, "b": 0.6}
-#: How an iterate picks its forces among the optimal fields of its LP, or
-#: (``"proximal"``) the next ``nbar`` near them (``"vertex+lazy"``,
-#: ``"vertex+proximal"``: the vertex sequence, and the other where it fails).
-SelectionName = Literal["vertex", "lazy", "proximal", "vertex+lazy", "vertex+proximal"]
+#: How the next ``nbar`` follows from an LP: its vertex's forces (``"vertex"``),
+#: or ``nbar`` moved towards the optimal field nearest to it (``"proximal"``);
+#: ``"vertex+proximal"``: the vertex sequence, and the proximal one where it fails.
+SelectionName = Literal["vertex", "proximal", "vertex+proximal"]
 SELECTIONS: tuple[str, ...] = get_args(SelectionName)
-
-
-#: ``"vertex+lazy"`` runs the lazy sequence on a direction whose vertex
-#: sequence ended with one of these statuses.
-RETRY_STATUSES = ("cycling", "max_iterations")
-#: The lazy selection's cost per unit of ``|n - nbar|`` (scaled units: block
-#: weights, against a cost of 1 on ``lambda``). Small enough that the lazy
-#: LP's ``lambda`` lies below Gilbert's by at most ``LAZY_WEIGHT`` times the
-#: 1-norm distance of Gilbert's vertex from ``nbar`` (on Table 7's Set 13, 78
-#: blocks: the same ``lambda`` to 1e-16, at distances of 113 and 305 block
-#: weights), large enough for HiGHS' dual simplex to see (its dual feasibility tolerance here is 1e-10,
-#: ``micro.backends.highs.SIMPLEX_TOLERANCE``). The only value tried. The
-#: mechanism of such an LP is perturbed by it (energy residuals 6e-6 to
-#: 1.5e-3), so the certificate asks the plain LP at the same ``nbar`` (this
-#: cost switched off) for its mechanism.
-LAZY_WEIGHT = 1e-7
-#: The proximal selection's margin below the LP's optimum: its QP asks for the
-#: field closest to ``nbar`` that carries ``lambda* (1 - PROX_MARGIN)``
-#: (:mod:`micro.nonassociative.proximal`). At 1e-5 Clarabel stopped at its
-#: iteration cap ("AlmostSolved", 200 iterations) on most QPs of Sets 2 and 9
-#: (the feasible set is too thin); at 1e-3 Set 9's sequence had not been
-#: certified after 40 LPs; at 1e-4 it was after 38 (and Set 2 after 21).
-PROX_MARGIN = 1e-4
-#: Clarabel settings of the proximal QP: a projection needs no more than
-#: 1e-8 (it only chooses the next ``nbar``; the certificate decides
-#: convergence); QDLDL named as for the LPs (``CLARABEL_TIGHT``).
-PROX_CLARABEL: dict[str, Any] = {
-    "direct_solve_method": "qdldl",
-    "tol_gap_abs": 1e-8,
-    "tol_gap_rel": 1e-8,
-    "tol_feas": 1e-8,
-    "max_iter": 400,
-}
-#: Anderson acceleration of the proximal fixed-point iteration (``Tuning.anderson``,
-#: :class:`~micro.nonassociative.proximal.Anderson`): the history is dropped (a
-#: restart, then a plain relaxed step) when the residual ``|P(nbar) - nbar|_2``
-#: exceeds this factor times the previous iterate's ...
-ANDERSON_GROWTH = 1.0
-#: ... and singular values of the least-squares problem below this fraction of
-#: the largest are cut (``numpy.linalg.lstsq``'s ``rcond``).
-ANDERSON_RCOND = 1e-8
-
-# ------------------------------------------------------------ warm / cold policy
-# Every decision of the sequence is taken on deterministic work measures
-# (simplex and interior-point iteration counts, LP counts), never on seconds:
-# a loaded or slower machine follows the same path to the same numbers.
-#: On large walls a warm dual simplex can cost more than a cold solve (7,575
-#: blocks: 78,000-104,000 simplex iterations, 170-200 s, against 45 s for
-#: interior point + crossover; 1,230 blocks: 514-1,423, 2-6 x faster than
-#: cold). Scheme (a) solves an iterate cold while the last warm run took more
-#: than this many simplex iterations per equilibrium row of the wall ...
-COLD_SWITCH_PIVOTS = 2.0
-#: ... and goes back to warm after this many cold iterates in a row, a number
-#: doubled each time the warm run after a cold streak is slow again (or stopped
-#: at its limit below).
-COLD_STREAK = 3
-#: A warm run that takes more than this many simplex iterations per
-#: equilibrium row is stuck (seen: 13 s to declare a 150-block LP
-#: infeasible): it is stopped and recovered ...
-WARM_LIMIT_PIVOTS = 10.0
-#: ... with at least this many iterations on small walls.
-MIN_WARM_LIMIT = 20_000
-#: Interior-point iterations allowed to each certificate LP (HiGHS'
-#: ``ipm_iteration_limit``; Clarabel's ``max_iter`` of the tight settings is
-#: the same 400): the only limit of a certificate try besides the user's
-#: ``time_limit``.
-STATE_IPM_ITERATIONS = 400
-
-# --------------------------------------------------------------- certificate
-#: Clarabel settings of the certificate LPs: their ends are checked for
-#: feasibility, so optimality to 1e-9 is enough (the tight settings stopped
-#: short on every certificate LP of the Table 7 walls and were retried).
-STATE_CLARABEL = CLARABEL_RETRY
-#: Largest closing rate (relative to the largest rate) that the certificate
-#: still reads as dual noise rather than interpenetration.
-INTERPENETRATION = 1e-3
-#: Largest primal residual (block weights) of a state found by HiGHS IPM: an
-#: interior point that stopped short of it found no state.
-STATE_RESIDUAL = 1e-7
-#: Relative slack of the test "the iterate's lambda lies in the mechanism band".
-BAND_SLACK = 1e-7
-
-# ------------------------------------------------------------ continuation
-#: The continuation (``continuation=True``) reaches scheme (a)'s vertex
-#: sequence from associative friction: LP ``k`` bounds the shear by the line
-#: ``|s| <= c0 + (1 - gamma) mu nbar + gamma mu n`` through ``(nbar, mu nbar)``
-#: (``gamma = 1``: associative Coulomb; ``gamma = 0``: scheme (a)) in scheme
-#: (b)'s friction rows, ``gamma = CONT_GAMMA0`` at the first LP ...
-CONT_GAMMA0 = 0.9
-#: ... times this at every LP ...
-CONT_FACTOR = 0.8
-#: ... and 0 once it would fall to this or below (LP 32 on).
-CONT_GAMMA_MIN = 1e-3
-#: Its cohesion ``c0``, relative to the largest normal force it starts from
-#: (scheme (b) has ``cohesion``, 1e-6: with it the fused Set 9's first LP gave
-#: lambda = 5.46 against 0.394 associative).
-CONT_COHESION = 1e-9
-#: Its warm runs are not cut short (a cap would make the path depend on it):
-#: the fused Set 10's second LP took 60,122 simplex iterations, 40 s.
-WARM_UNLIMITED = 2**31 - 1
-
-# ------------------------------------------------------------------ fusion
-#: A contact is rigid, and the blocks it joins are fused into one body
-#: (:mod:`micro.nonassociative.fusion`), when its opening and slip rates in the
-#: associative mechanism (Clarabel's interior point) are below this fraction
-#: of the largest rate. That mechanism has no clean zero: on Set 10 (10,710
-#: contacts) 27 contacts are rigid at 1e-8, 2,598 at 1e-7, 7,189 at 1e-6,
-#: 8,335 at 1e-5 and 9,148 at 1e-4. At 1e-4 the fused Set 9 converged at the
-#: very end of its mechanism band, where the certificate of the whole wall
-#: missed it by 4e-7; at 1e-5 both Sets 2 and 9 are certified on the wall.
-FUSE_RIGID_TOL = 1e-5
-
-# -------------------------------------------------------------- cycles
-#: Periods of the repeating-sequence test (a period seen twice in a row).
-PERIODS = range(2, 7)
-#: Oscillation: the last window's spread of lambda is at least this fraction
-#: of the window before (no contraction). Stagnation: the smallest change of
-#: the forces over the last window is at least this fraction of the window
-#: before (no progress).
-NO_PROGRESS = 0.5
-
-# ----------------------------------------------------------- final state
-#: Largest equilibrium residual (block weights) of a converged final state;
-#: beyond it the run is a ``solver_failure``.
-EQUILIBRIUM_RESIDUAL = 1e-6
-#: A point is in contact when its normal force exceeds this fraction of the
-#: largest one (for the dilatancy residual).
-CONTACT_FORCE = 1e-9
-#: Floor of the scales that residuals are divided by.
-TINY = 1e-12
-
-
-# --------------------------------------------------------------- the recipe
 #: The default selection of scheme (a): the vertex sequence, and the proximal
 #: one from its last normal forces on a direction where it cycles or hits its
 #: cap (Sets 2 and 9 of Table 5 cycle with vertices; the proximal sequence
@@ -174,36 +41,25 @@ RETRY_LPS = 40
 #: certified that way; the walls of up to 2,000 blocks keep the wall's own
 #: sequences.
 FUSE_BLOCKS = 2000
-#: Scheme (b)'s cohesion ``c0``, relative to the largest normal force of the
-#: associative solution (scale-free: one millionth of the force level).
-COHESION = 1e-6
-#: The exact stop: largest change of the normal forces (relative to the
-#: largest) for ``"lambda_and_forces"`` ...
-FORCE_TOL = 1e-6
-#: ... and ``max(|s| - mu n, 0) / max n`` accepted as "Coulomb holds".
-COULOMB_TOL = 1e-6
-#: Relative warm/cold difference of the final iterate beyond which the run is
-#: a ``solver_failure`` (the cold re-solve always runs).
-COLD_TOL = 1e-6
-#: The cost per unit normal force in the interior point of the crossover route
-#: (``Tuning.lp_route="crossover"``): without it the optimal face of a fused
-#: wall's LP is unbounded (self-equilibrated normal forces between bodies) and
-#: the interior point's forces grew without bound (to 1e22 on Set 10's bodies);
-#: 1e-10 lowers ``lambda`` there by ~1e-5, which the dual-simplex clean-up after
-#: the crossover restores. It bounded the first LP of Set 10's bodies, not its
-#: continuation's later ones (the route then falls back to HiGHS' cold solve).
-ROUTE_NORMAL_COST = 1e-10
 
-
-def _is_number(x: Any) -> bool:
-    """An int or a float, not a bool."""
-    return not isinstance(x, bool) and isinstance(x, (int, float))
+# ------------------------------------------ tolerances shared by several modules
+#: Largest closing rate (relative to the largest rate) that the certificate
+#: and the descent still read as dual noise rather than interpenetration.
+INTERPENETRATION = 1e-3
+#: Largest primal residual (block weights) of a state found by an interior
+#: point: one that stopped short of it found no state.
+STATE_RESIDUAL = 1e-7
+#: Largest equilibrium residual (block weights) of a converged final state;
+#: beyond it the run is a ``solver_failure``.
+EQUILIBRIUM_RESIDUAL = 1e-6
+#: Floor of the scales that residuals are divided by.
+TINY = 1e-12
 
 
 def continuation_allowed(scheme: str, selection: str) -> bool:
     """Whether ``continuation`` can run: it needs scheme (a) and a vertex
-    sequence (``"vertex"``, ``"vertex+lazy"`` or ``"vertex+proximal"``; the
-    retry of the last two runs without it)."""
+    sequence (``"vertex"`` or ``"vertex+proximal"``; the proximal retry runs
+    without it)."""
     return scheme == "a" and selection.startswith("vertex")
 
 
@@ -216,14 +72,13 @@ class Tuning:
 
     Attributes:
         scheme: rebuilt yield condition, ``"a"`` or ``"b"`` (package docstring).
-        selection: how an iterate picks its forces: ``"vertex"`` (the
-            simplex's vertex, Gilbert et al.'s iteration), ``"lazy"`` (the
-            optimal field closest to ``nbar``), ``"proximal"`` (``nbar``
-            moved towards the field closest to it that carries the LP's
-            load), or ``"vertex+lazy"`` / ``"vertex+proximal"`` (the vertex
-            sequence, then the other from its last forces where it ends
-            :data:`RETRY_STATUSES`). ``None``: :data:`DEFAULT_SELECTION` for
-            scheme (a), ``"vertex"`` for (b). All but ``"vertex"`` need scheme (a).
+        selection: how the next ``nbar`` follows from an LP: ``"vertex"``
+            (the simplex's vertex, Gilbert et al.'s iteration),
+            ``"proximal"`` (``nbar`` moved towards the field closest to it
+            that carries the LP's load), or ``"vertex+proximal"`` (the vertex
+            sequence, then the proximal one from its last forces where it
+            ends :data:`RETRY_STATUSES`). ``None``: :data:`DEFAULT_SELECTION`
+            for scheme (a), ``"vertex"`` for (b). All but ``"vertex"`` need scheme (a).
         relaxation: ``beta`` in ``(0, 1]`` (``None``: :data:`DEFAULT_RELAXATION`).
         alpha0, alpha_min, alpha_factor: slope schedule of scheme (b):
             ``alpha_(k+1) = max(alpha_min, alpha_factor * alpha_k)``.
@@ -250,30 +105,10 @@ class Tuning:
             a vertex sequence.
         continuation: reach scheme (a) by continuation from associative
             friction (``CONT_*`` constants). ``None``: as ``fuse``'s default.
-        fused_retry: with ``"vertex+lazy"`` or ``"vertex+proximal"`` and scheme
+        fused_retry: with ``"vertex+proximal"`` and scheme
             (a), where both sequences fail on a direction, a third run on the
             fused wall with the continuation.
         global_bounds: the global search's big-M policy, ``"per_point"`` or ``"uniform"``.
-        anderson: depth ``m`` of Anderson acceleration (type II, restarted
-            when the residual grows, ``nbar`` clipped at 0) of the proximal
-            sequence's fixed-point iteration ``nbar <- nbar + beta (P(nbar) - nbar)``;
-            0: off (the plain relaxed step). Needs a proximal selection
-            (``"proximal"`` or ``"vertex+proximal"``). A research knob
-            (``docs/research/2026-11-25-anderson.md``).
-        projection_solver: the proximal QP's solver: ``"normal-ipm"`` (the
-            suite's interior point on the normal equations, Clarabel where it
-            does not converge) or ``"clarabel"`` (the path before 2026-11-26;
-            ``docs/research/2026-11-26-proximal-projection.md``).
-        lp_route: how the iterated LP's LPs get their vertex: ``"simplex"``
-            (a warm dual simplex from the last basis, cold by HiGHS' interior
-            point and crossover where warm runs are slow) or ``"crossover"``
-            (every LP without a friction slope by the suite's interior point
-            on the normal equations, :mod:`micro.backends.normal_lp`, then
-            HiGHS' crossover from its point and a dual-simplex clean-up; the
-            ``"simplex"`` route where that fails). The two routes can reach
-            different vertices of one LP, so different paths: a research
-            knob (1.4-2.4 times faster on Set 9, slower on the walls whose
-            vertex sequences converge; ``docs/research/2026-11-26-crossover-route.md``).
 
     Raises:
         ValueError: a bad knob (the message names it).
@@ -299,9 +134,6 @@ class Tuning:
     continuation: bool | None = None
     fused_retry: bool = True
     global_bounds: Literal["per_point", "uniform"] = "per_point"
-    anderson: int = 0
-    projection_solver: Literal["normal-ipm", "clarabel"] = "normal-ipm"
-    lp_route: Literal["simplex", "crossover"] = "simplex"
 
     def __post_init__(self) -> None:
         self._check_method()
@@ -310,11 +142,14 @@ class Tuning:
             object.__setattr__(self, name, float(getattr(self, name)))
         if self.relaxation is not None:
             object.__setattr__(self, "relaxation", float(self.relaxation))
-        for name in ("certify", "mechanism_band", "fused_retry"):
-            object.__setattr__(self, name, bool(getattr(self, name)))
-        for name in ("fuse", "continuation"):
-            if getattr(self, name) is not None:
-                object.__setattr__(self, name, bool(getattr(self, name)))
+        for name in ("certify", "mechanism_band", "fused_retry", "fuse", "continuation"):
+            value = getattr(self, name)
+            if value is None and name in ("fuse", "continuation"):
+                continue
+            if not isinstance(value, (bool, np.bool_)):  # certify="no" was read as True
+                may_be_none = " or None (by the wall's size)" if name in ("fuse", "continuation") else ""
+                raise ValueError(f"{name} must be True or False{may_be_none}, got {value!r}")
+            object.__setattr__(self, name, bool(value))
 
     def _check_method(self) -> None:
         """The scheme, the selection and the choices among names."""
@@ -324,41 +159,35 @@ class Tuning:
             raise ValueError(f"selection must be one of {', '.join(SELECTIONS)}, got {self.selection!r}")
         if self.resolved_selection != "vertex" and self.scheme != "a":
             raise ValueError(f"selection {self.selection!r} needs scheme 'a' "
-                             "(the lazy and proximal models bound s by mu nbar)")
+                             "(the proximal projection bounds s by mu nbar)")
         if self.continuation and not continuation_allowed(self.scheme, self.resolved_selection):
-            raise ValueError("continuation needs scheme 'a' and a vertex sequence (selection 'vertex', "
-                             f"'vertex+lazy' or 'vertex+proximal'), got scheme {self.scheme!r}, "
+            raise ValueError("continuation needs scheme 'a' and a vertex sequence (selection 'vertex' or "
+                             f"'vertex+proximal'), got scheme {self.scheme!r}, "
                              f"selection {self.resolved_selection!r}")
-        if (not isinstance(self.anderson, bool) and isinstance(self.anderson, int) and self.anderson > 0
-                and self.resolved_selection not in ("proximal", "vertex+proximal")):
-            raise ValueError(f"anderson accelerates the proximal sequence: it needs selection 'proximal' or "
-                             f"'vertex+proximal', got {self.resolved_selection!r}")
         for name, allowed in (("start", ("interior", "vertex")), ("state_solver", ("clarabel", "highs")),
-                              ("global_bounds", BIG_M_POLICIES), ("projection_solver", ("normal-ipm", "clarabel")),
-                              ("lp_route", ("simplex", "crossover"))):
+                              ("global_bounds", ("per_point", "uniform"))):
             if getattr(self, name) not in allowed:
                 raise ValueError(f"{name} must be one of {', '.join(allowed)}, got {getattr(self, name)!r}")
 
     def _check_numbers(self) -> None:
         """The numbers, each in its range."""
         beta = self.relaxation
-        if beta is not None and (not _is_number(beta) or not (0.0 < float(beta) <= 1.0)):
+        if beta is not None and ((x := finite_real(beta)) is None or not (0.0 < x <= 1.0)):
             raise ValueError(f"relaxation must be a number in (0, 1], got {beta!r}")
         for name in ("alpha0", "alpha_min", "lambda_tol"):
             check_number(name, getattr(self, name))
         if self.alpha_min > self.alpha0:
             raise ValueError(f"alpha_min ({self.alpha_min}) must not exceed alpha0 ({self.alpha0})")
         af, st = self.alpha_factor, self.settle_tol
-        if not _is_number(af) or not (0.0 < af <= 1.0):
+        if (x := finite_real(af)) is None or not (0.0 < x <= 1.0):
             raise ValueError(f"alpha_factor must be a number in (0, 1], got {af!r}")
-        if not _is_number(st) or not (0.0 <= st < 1.0):
+        if (x := finite_real(st)) is None or not (0.0 <= x < 1.0):
             raise ValueError(f"settle_tol must be a number in [0, 1), got {st!r}")
         check_integer("retry_iterations", self.retry_iterations, 2)
         if self.max_simplex_iterations is not None:
             check_integer("max_simplex_iterations", self.max_simplex_iterations, 1)
         check_integer("window", self.window, 3)
         check_integer("settle_window", self.settle_window, 2)
-        check_integer("anderson", self.anderson, 0)
 
     @property
     def resolved_selection(self) -> SelectionName:

@@ -16,8 +16,8 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative import global_scip
-from micro.nonassociative.global_mip import GlobalOptions, StartState, solve_global
+from micro.nonassociative.global_search import GlobalOptions, StartState, solve_global
+from micro.nonassociative.global_search.results import scip_available
 
 #: Nodes per search: enough to show that the bound does not move.
 NODES = 20
@@ -49,7 +49,7 @@ def test_bench_global(benchmark, name: str, tm: tuple[float, float], blocks: int
 
 
 #: Solvers of the branch and bound compared on a wall where both close (SCIP only with pyscipopt).
-SOLVERS = ["highs", pytest.param("scip", marks=pytest.mark.skipif(not global_scip.available(),
+SOLVERS = ["highs", pytest.param("scip", marks=pytest.mark.skipif(not scip_available(),
                                                                    reason="pyscipopt not installed"))]
 
 

@@ -7,12 +7,11 @@ Run with ``pytest -m benchmark --benchmark-enable tests/benchmarks/test_nonassoc
 * ``nonassoc-1230``: the Table 5 reference wall (3 storeys x 20 rows, t = 1,
   m = 1/3, f = 0.6, 1,230 blocks), target <= 10 s and <= 3 x one cold
   associative solve; also the same wall with f = 0.75 (harder: 29 LPs);
-* ``nonassoc-1230`` (``slow``): Set 2 (1,230 blocks, f = 0.8) with the lazy
-  selection (the vertex default cycles on it), with ``vertex+lazy`` (the
-  vertex sequence, then the lazy one from its last forces) and with the
-  report's ``vertex+proximal`` (the proximal sequence second);
-* ``nonassoc-1830`` (``slow``): Set 9 (1,830 blocks), which cycles with the
-  vertex and lazy selections, with the report's ``vertex+proximal``;
+* ``nonassoc-1230`` (``slow``): Set 2 (1,230 blocks, f = 0.8), on which the
+  vertex sequence cycles, with the report's ``vertex+proximal`` (the
+  proximal sequence second);
+* ``nonassoc-1830`` (``slow``): Set 9 (1,830 blocks), which cycles with
+  vertices, with the report's ``vertex+proximal``;
 * ``nonassoc-882`` (``slow``): the error-map wall t = 1, m = 2/3, 36 rows
   (882 blocks), on which the vertex and proximal sequences fail and the
   fused retry (the fused wall with the continuation) certifies it;
@@ -51,8 +50,7 @@ from micro.nonassociative import Tuning
 ASSOC = {"set12": 0.7120472, "w1230": 0.4695331, "w7575": 0.5072551}
 #: Converged non-associative load factors (default options: scheme (a),
 #: relaxation 0.6, certified) and their LPs.
-NONASSOC = {"set12": (0.7086216, 7), "w1230": (0.4680950, 9), "set2-lazy": (0.5487750, 30),
-            "set2-vertex+lazy": (0.5476048, 67 + 17), "set2-vertex+proximal": (0.5481709, 67 + 15),
+NONASSOC = {"set12": (0.7086216, 7), "w1230": (0.4680950, 9), "set2-vertex+proximal": (0.5481709, 67 + 15),
             "set9-vertex+proximal": (0.3914066, 50 + 27), "set10-fused-continuation": (0.2537577, 54),
             "errormap-882-fused-retry": (0.3477748, 40 + 40 + 84)}
 
@@ -131,15 +129,11 @@ def test_bench_1230_f075_nonassoc(benchmark) -> None:  # type: ignore[no-untyped
 
 @pytest.mark.slow
 @pytest.mark.benchmark(group="nonassoc-1230")
-@pytest.mark.parametrize("selection", ["lazy", "vertex+lazy", "vertex+proximal"])
-def test_bench_set2_lazy(benchmark, selection: str) -> None:  # type: ignore[no-untyped-def]
-    """Set 2 (1,230 blocks, f = 0.8), which cycles with vertices, with the lazy
-    selection from the associative forces (measured: 30 LPs, 136 s on one
-    core while the other ran another wall), then 67 vertex LPs and 17 lazy
-    ones from the vertex sequence's last forces, and as the report runs it
-    (the same 67 vertex LPs, then 15 proximal ones): certified, in a state
-    that passes the exact checks."""
-    _certified(benchmark, "2", selection)
+def test_bench_set2_proximal(benchmark) -> None:  # type: ignore[no-untyped-def]
+    """Set 2 (1,230 blocks, f = 0.8), which cycles with vertices, as the
+    report runs it (67 vertex LPs, then 15 proximal ones): certified, in a
+    state that passes the exact checks."""
+    _certified(benchmark, "2", "vertex+proximal")
 
 
 @pytest.mark.slow

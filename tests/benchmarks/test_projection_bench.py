@@ -3,7 +3,7 @@
 Run with ``pytest -m benchmark --benchmark-enable tests/benchmarks/test_projection_bench.py``
 (the fast suite deselects them). Group ``projection-1230``: the first projection of the
 proximal sequence on Set 2 (1,230 blocks), from the associative normal forces at the
-optimum of Gilbert's LP there, by each solver of ``Tuning.projection_solver``. Both
+optimum of Gilbert's LP there, by each solver of :class:`~micro.nonassociative.proximal.Projection`. Both
 answer the same unique QP: each benchmark records its objective and iterations in
 ``benchmark.extra_info`` and asserts the field feasible. Measured 2026-11-26 on one
 core: 0.25-0.32 s against Clarabel's 0.76-1.07 s
@@ -20,8 +20,7 @@ import pytest
 import micro
 from comparison.cases import case
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.proximal import Projection
-from micro.nonassociative.tuning import PROX_MARGIN
+from micro.nonassociative.proximal import PROX_MARGIN, Projection
 
 
 @functools.lru_cache(maxsize=1)

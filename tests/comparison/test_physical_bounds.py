@@ -75,14 +75,14 @@ def test_a_wall_is_at_least_one_block_long(api: str) -> None:
 
 def test_micro_spells_the_same_bounds() -> None:
     assert (wall_checks.MIN_MAGNITUDE, wall_checks.MAX_MAGNITUDE) == (checks.MIN_MAGNITUDE, checks.MAX_MAGNITUDE)
-    assert wall_checks.MAX_RATIO == checks.MAX_RATIO
+    assert (wall_checks.MAX_RATIO, wall_checks.LENGTH_SLACK) == (checks.MAX_RATIO, checks.LENGTH_SLACK)
     assert (wall_checks.MIN_FRICTION, wall_checks.MAX_FRICTION) == (checks.MIN_FRICTION, checks.MAX_FRICTION)
 
 
 BAD_PAPER = [
-    ({"t": 1e300}, "t must be in (1.2e-05, 4], got 1e+300: a wall at least one block long"),
-    ({"t": 100}, "t must be in (1.2e-05, 4], got 100: a wall at least one block long"),
-    ({"t": 1e-300}, "t must be in (1.2e-05, 4], got 1e-300"),
+    ({"t": 1e300}, "t must be in [1.2e-05, 4], got 1e+300: a wall at least one block long"),
+    ({"t": 100}, "t must be in [1.2e-05, 4], got 100: a wall at least one block long"),
+    ({"t": 1e-300}, "t must be in [1.2e-05, 4], got 1e-300"),
     ({"m": 1e-300}, "m must be in (1e-06, 1], got 1e-300"),
     ({"f": 1e300}, "f must be in (0.001, 10], got 1e+300"),
     ({"p": 1e300}, "p must be at most 83333.3, got 1e+300"),
@@ -98,7 +98,7 @@ def test_the_paper_parameters_are_bounded(api: Any, change: dict[str, Any], star
 
 def test_an_array_names_the_entry() -> None:
     message = _message(lambda: macro.sweep(t=[1.0, 50.0], m=1 / 3, rows=12, f=0.6))
-    assert message.startswith("t must be in (1.2e-05, 4], got 50.0") and message.endswith("(entry 1)")
+    assert message.startswith("t must be in [1.2e-05, 4], got 50.0") and message.endswith("(entry 1)")
 
 
 def test_the_memory_of_the_macro_search_is_estimated_first() -> None:

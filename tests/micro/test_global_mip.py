@@ -18,12 +18,12 @@ from enumeration import STATES, Enumerator
 from hand_walls import column_wall, small_wall
 
 import micro
-from micro.nonassociative import global_scip, verify_collapse_state
-from micro.nonassociative.global_bounds import big_m
-from micro.nonassociative.global_mip import GlobalOptions, StartState, global_summary, solve_global
+from micro.nonassociative import verify_collapse_state
+from micro.nonassociative.global_search import GlobalOptions, StartState, global_summary, results, solve_global
+from micro.nonassociative.global_search.bounds import big_m
 
 #: The solvers of the branch and bound; SCIP only with the optional extra ``global`` (pyscipopt).
-SOLVERS = ["highs", pytest.param("scip", marks=pytest.mark.skipif(not global_scip.available(),
+SOLVERS = ["highs", pytest.param("scip", marks=pytest.mark.skipif(not results.scip_available(),
                                                                    reason="pyscipopt not installed"))]
 
 #: (name, wall, direction, non-associative minimum strictly below the associative load factor)
@@ -172,13 +172,13 @@ def test_bad_direction() -> None:
 
 def test_scip_without_pyscipopt_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
     """Without the optional extra the option names what to install."""
-    monkeypatch.setattr(global_scip, "available", lambda: False)
+    monkeypatch.setattr(results, "scip_available", lambda: False)
     with pytest.raises(ValueError, match=r"pyscipopt.*\[global\]"):
         GlobalOptions(solver="scip")
 
 
 @pytest.mark.processes
-@pytest.mark.skipif(not global_scip.available(), reason="pyscipopt not installed")
+@pytest.mark.skipif(not results.scip_available(), reason="pyscipopt not installed")
 def test_ctrl_c_stops_scip_within_seconds() -> None:
     """SCIP's own Ctrl-C handler stops the search and the interrupt reaches Python (the HiGHS path: test_signals.py)."""
     import os
@@ -188,7 +188,7 @@ def test_ctrl_c_stops_scip_within_seconds() -> None:
     import time
 
     code = ("import micro\nfrom comparison.wall import WallSpec\n"
-            "from micro.nonassociative.global_mip import GlobalOptions, solve_global\n"
+            "from micro.nonassociative.global_search import GlobalOptions, solve_global\n"
             "lp = micro.assemble(WallSpec.from_paper(t=2, m=1/3, rows=6, f=0.6).to_micro())\n"
             "print('searching', flush=True)\n"
             "solve_global(lp, 1, GlobalOptions(solver='scip', time_limit=120))\n")

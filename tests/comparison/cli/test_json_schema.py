@@ -111,6 +111,19 @@ def test_every_failure_status_matches_the_schema(
     assert all(isinstance(doc[f"{k}_contacts"], int) for k in ("closed", "opening", "sliding"))
 
 
+def test_a_failed_nonassociative_run_carries_no_mechanism_band(capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 41, item 5: a run whose certified state then failed the equilibrium check (``solver_failure``,
+    exit 1) still printed the certificate's ``mechanism_band``, which the schema calls the band of exact
+    collapse states; the schema now refuses a band beside any status but converged."""
+    argv = ["micro", "--rows", "12", "--t", "1", "--m", "1/3", "--f", "10", "--p", "16666",
+            "--friction", "nonassociative", "--json"]
+    rc, doc = _run(argv, capsys)
+    assert (rc, doc["status"], doc["stop_reason"]) == (1, "solver_failure", "equilibrium_residual")
+    assert doc["load_factor"] is None and doc["mechanism_band"] is None
+    assert _errors(_validator("micro"), doc) == []
+    assert _errors(_validator("micro"), {**doc, "mechanism_band": [0.50001, 0.50002]})
+
+
 def test_micro_json_names_the_wall_once(capsys: pytest.CaptureFixture[str]) -> None:
     """Issue 31, item 12: ``"wall": ""`` for a wall given by its parameters, and the contact counts twice.
     The wall is now its name or null, with its paper parameters as ``macro --json`` gives them."""

@@ -85,8 +85,8 @@ def test_the_nonassociative_selection_of_a_sweep() -> None:
     assert g.methods[-1].method == scheme_b and scheme_b.nonassoc_tuning().resolved_selection == "vertex"
     assert "tuning" not in MICRO_ASSOC.key() and MICRO_NONASSOC.key()["tuning"] == []
     assert MICRO_NONASSOC.label == "micro-nonassoc (scheme a)" and scheme_b.label == "micro-nonassoc (scheme b)"
-    lazy = replace(MICRO_NONASSOC, tuning=(("selection", "lazy"),))
-    assert lazy.label == "micro-nonassoc (scheme a, lazy selection)"
+    proximal = replace(MICRO_NONASSOC, tuning=(("selection", "proximal"),))
+    assert proximal.label == "micro-nonassoc (scheme a, proximal selection)"
 
 
 def test_a_range_by_count() -> None:
@@ -107,8 +107,8 @@ def test_a_range_by_count() -> None:
         (('kind = "micro-nonassoc"', 'kind = "micro-magic"'), ["line 19", "method.kind"]),
         (("max_blocks = 50", "max_blocks = 0"), ["line 20", "max_blocks must be a positive integer"]),
         (("max_blocks = 50", 'selection = "closest"'), ["line 20", "method.selection", "closest"]),
-        (("max_blocks = 50", 'scheme = "b"\nselection = "lazy"'),
-         ["line 21", "method.selection 'lazy' needs scheme 'a'"]),
+        (("max_blocks = 50", 'scheme = "b"\nselection = "proximal"'),
+         ["line 21", "method.selection 'proximal' needs scheme 'a'"]),
         (('first_course = ["full", "half"]', 'first_course = "middle"'), ["bond.first_course", "middle"]),
         (('[[method]]\nkind = "macro"', '[[method]]\nkind = "macro"\nsolver = "x"'), ["unknown key method.solver"]),
         (("name = \"g\"", "name = \"g\"\nspeed = 1"), ["unknown key 'speed'"]),

@@ -99,12 +99,12 @@ def test_outcome_is_one_type_for_success_and_failure(solver: str) -> None:
 
 def test_every_back_end_has_a_status_map() -> None:
     from micro.backends import (
-        ClarabelBackend,
         ClarabelKinematicBackend,
+        ClarabelStaticBackend,
         CvxpyBackend,
         HighsBackend,
         PersistentHighsModel,
     )
 
-    for cls in (ClarabelBackend, ClarabelKinematicBackend, CvxpyBackend, HighsBackend, PersistentHighsModel):
+    for cls in (ClarabelStaticBackend, ClarabelKinematicBackend, CvxpyBackend, HighsBackend, PersistentHighsModel):
         assert Status.OPTIMAL in cls.STATUS_MAP.values() and Status.INFEASIBLE in cls.STATUS_MAP.values()

@@ -59,7 +59,7 @@ def test_pattern_check_and_state_check_agree() -> None:
     import numpy as np
 
     from micro.nonassociative import verify_collapse_state
-    from micro.nonassociative.global_pattern import collapse_residuals
+    from micro.nonassociative.global_search.pattern import collapse_residuals
     from micro.results import direction_sign
 
     w = wall(1.0, 1 / 3)

@@ -9,7 +9,8 @@ import pytest
 import micro
 from comparison.wall import WallSpec
 from micro.nonassociative import Tuning, solve_nonassociative, verify_collapse_state
-from micro.nonassociative.tuning import CONT_FACTOR, CONT_GAMMA0, CONT_GAMMA_MIN, EQUILIBRIUM_RESIDUAL
+from micro.nonassociative.selections import CONT_FACTOR, CONT_GAMMA0, CONT_GAMMA_MIN
+from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL
 
 EXACT = ("coulomb", "interpenetration", "dilatancy", "slip_off_yield")
 
@@ -48,11 +49,14 @@ def test_continuation_ends_in_exact_states(fuse: bool) -> None:
         assert certified and min(certified) > n_cont  # tried only once gamma = 0
 
 
-@pytest.mark.parametrize("kw", [{"scheme": "b"}, {"selection": "proximal"}, {"selection": "lazy"}])
+@pytest.mark.parametrize("kw", [{"scheme": "b"}, {"selection": "proximal"}])
 def test_continuation_needs_a_vertex_sequence_of_scheme_a(kw: dict[str, str]) -> None:
     with pytest.raises(ValueError, match="continuation needs scheme 'a'"):
         Tuning(continuation=True, **kw)  # type: ignore[arg-type]
 
 
 def test_continuation_is_a_flag() -> None:
-    assert Tuning(continuation=1, selection="vertex+proximal").continuation is True  # type: ignore[arg-type]
+    assert Tuning(continuation=True, selection="vertex+proximal").continuation is True
+    # issue 41: a flag is a bool (1 was read as True, and so was "no"); like global_=1, it is refused
+    with pytest.raises(ValueError, match=r"^continuation must be True or False or None \(by the wall's size\), got 1$"):
+        Tuning(continuation=1, selection="vertex+proximal")  # type: ignore[arg-type]

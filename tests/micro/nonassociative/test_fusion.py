@@ -10,17 +10,16 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.backends.clarabel import ClarabelBackend
+from micro.backends.clarabel import ClarabelStaticBackend
 from micro.nonassociative import (
     NonAssociativeOptions,
     Tuning,
-    fusion,
     pipeline,
     solve_nonassociative,
     verify_collapse_state,
 )
 from micro.nonassociative.certificate import Certificate, CertificateResult
-from micro.nonassociative.fusion import fuse, rigid_bodies
+from micro.nonassociative.pipeline import fuse, rigid_bodies
 
 EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
 
@@ -48,7 +47,7 @@ def test_fused_equilibrium_follows_from_the_walls() -> None:
     summed rows), and a motion of the bodies spread to the blocks is rigid
     inside every body and zero at rest."""
     lp = micro.assemble(wall())
-    out = ClarabelBackend(lp).solve(1)
+    out = ClarabelStaticBackend(lp).solve(1)
     assert out.n is not None and out.s is not None and out.duals is not None
     body, nbody = rigid_bodies(lp, np.asarray(out.duals[: lp.n_eq]))
     assert 0 < nbody < lp.wall.n_blocks and np.sum(body < 0) > 0
@@ -113,7 +112,7 @@ def test_a_state_the_wall_rejects_is_a_failure(monkeypatch: pytest.MonkeyPatch) 
         def certify(self, v: np.ndarray, lam: float, *, time_limit: float = math.inf) -> CertificateResult:
             return CertificateResult(None, None, 0.0, 0)
 
-    monkeypatch.setattr(fusion, "Certificate", Rejecting)  # the wall's certificate only
+    monkeypatch.setattr(pipeline, "Certificate", Rejecting)  # the wall's certificate only
     r = solve_nonassociative(wall(), tuning=Tuning(fuse=True), lowest=False, directions="+x")
     d = r.directions[0]
     assert not r.converged and math.isnan(r.load_factor) and d.normal is None
@@ -123,8 +122,9 @@ def test_a_state_the_wall_rejects_is_a_failure(monkeypatch: pytest.MonkeyPatch) 
 
 
 def test_fuse_option_is_a_flag() -> None:
-    assert Tuning(fuse=1).fuse is True  # type: ignore[arg-type]
     assert dataclasses.replace(Tuning(), fuse=True).fuse
+    with pytest.raises(ValueError, match=r"^fuse must be True or False"):  # issue 41: a bool, not 1 or "no"
+        Tuning(fuse=1)  # type: ignore[arg-type]
 
 
 def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int) -> list[tuple[int, bool]]:

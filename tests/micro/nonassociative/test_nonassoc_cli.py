@@ -49,8 +49,8 @@ def test_cli_cycling_exit_code(capsys: pytest.CaptureFixture[str]) -> None:
     (["--tuning", "relaxation=x"], "--tuning relaxation"), (["--max-iterations", "x"], "--max-iterations"),
     (["--solver", "clarabel"], "--solver"), (["--global", "--node-limit", "0"], "--node-limit"),
     (["--tuning", "selection=closest"], "--tuning selection"),
-    (["--tuning", "selection=lazy", "--tuning", "scheme=b"], "--tuning selection"),
-    (["--tuning", "selection=vertex+lazy", "--tuning", "scheme=b"], "--tuning selection"),
+    (["--tuning", "selection=proximal", "--tuning", "scheme=b"], "--tuning selection"),
+    (["--tuning", "selection=vertex+proximal", "--tuning", "scheme=b"], "--tuning selection"),
     (["--tuning", "continuation=true", "--tuning", "scheme=b"], "--tuning continuation"),
     (["--tuning", "continuation=true", "--tuning", "selection=proximal"], "--tuning continuation"),
     (["--tuning", "certify=maybe"], "--tuning certify"), (["--tuning", "certify"], "--tuning"),
@@ -91,30 +91,20 @@ def test_cli_verbose_streams_one_line_per_lp(capsys: pytest.CaptureFixture[str])
     assert all(line.endswith(" s") for line in lines)
 
 
-def test_cli_lazy_selection(capsys: pytest.CaptureFixture[str]) -> None:
-    """``--tuning selection=lazy`` reaches the tuning and ends certified (Table 7, Set 12)."""
-    code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
-                 "--tuning", "selection=lazy", "--no-lowest", "--json"])
-    out = json.loads(capsys.readouterr().out)
-    assert code == 0
-    assert out["options"]["selection"] == "lazy" and out["stop_reason"] == "certified"
-    assert 0.69 < out["load_factor"] <= out["associative_load_factor"]
-
-
-def test_cli_vertex_then_lazy(capsys: pytest.CaptureFixture[str]) -> None:
-    """``--tuning selection=vertex+lazy`` says that the lazy sequence ran and how the vertex one ended; the JSON
-    record carries the same."""
+def test_cli_vertex_then_proximal(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--tuning selection=vertex+proximal`` says that the proximal sequence ran and how the vertex one ended;
+    the JSON record carries the same."""
     args = ["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction", "nonassociative",
-            "--tuning", "selection=vertex+lazy", "--tuning", "retry_iterations=4", "--max-iterations", "4",
+            "--tuning", "selection=vertex+proximal", "--tuning", "retry_iterations=4", "--max-iterations", "4",
             "--no-lowest"]
     assert main(args) == 0
     out = capsys.readouterr().out
-    assert "converged in 7 LPs (certified)" in out
-    assert "lazy sequence (3 LPs) after the vertex sequence ended max_iterations (4 LPs, lambda in [" in out
+    assert "(certified)" in out
+    assert "proximal sequence (" in out and "after the vertex sequence ended max_iterations (4 LPs, lambda in [" in out
     assert main([*args, "--json"]) == 0
     rec = json.loads(capsys.readouterr().out)
-    assert rec["selection"] == "lazy" and rec["vertex_stop_reason"] == "max_iterations"
-    assert rec["options"]["selection"] == "vertex+lazy" and len(rec["vertex_lambda_band"]) == 2
+    assert rec["selection"] == "proximal" and rec["vertex_stop_reason"] == "max_iterations"
+    assert rec["options"]["selection"] == "vertex+proximal" and len(rec["vertex_lambda_band"]) == 2
 
 
 def test_cli_global_node_limit(capsys: pytest.CaptureFixture[str]) -> None:

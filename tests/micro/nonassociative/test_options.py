@@ -52,11 +52,6 @@ def test_bad_options(kw: dict, word: str) -> None:
         (dict(state_solver="gurobi"), "state_solver"),
         (dict(retry_iterations=1), "retry_iterations"),
         (dict(global_bounds="tight"), "global_bounds"),
-        (dict(anderson=-1), "anderson"),
-        (dict(anderson=True), "anderson"),
-        (dict(anderson=2.0), "anderson"),
-        (dict(selection="vertex", anderson=3), "anderson"),
-        (dict(scheme="b", anderson=3), "anderson"),
     ],
 )
 def test_bad_tuning(kw: dict, word: str) -> None:
@@ -101,7 +96,7 @@ def test_the_recipe_is_resolved_for_the_walls_size() -> None:
     assert small.selection == large.selection == "vertex+proximal" and small.retry_iterations == 40
     assert not small.fuse and not small.continuation and large.fuse and large.continuation
     assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(fuse=False, continuation=False)).fuse
-    assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(selection="lazy")).fuse  # no vertex sequence
+    assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(selection="proximal")).fuse  # no vertex sequence
 
 
 def test_the_descent_runs_by_default_on_walls_up_to_its_size_limit() -> None:

@@ -2,9 +2,9 @@
 
 The MIP's own solution is never reported as it stands: its binaries (the
 contact pattern) are rounded and the state is rebuilt by the two LPs of the
-pattern (:func:`micro.nonassociative.global_pattern.force_state` and
-:func:`~micro.nonassociative.global_pattern.mechanism`), then checked by
-:func:`~micro.nonassociative.global_pattern.collapse_residuals`. The rebuilt load factor is
+pattern (:func:`micro.nonassociative.global_search.pattern.force_state` and
+:func:`~micro.nonassociative.global_search.pattern.mechanism`), then checked by
+:func:`~micro.nonassociative.global_search.pattern.collapse_residuals`. The rebuilt load factor is
 the least of the pattern, so it is at most the MIP's (up to HiGHS'
 feasibility tolerances on the big-M rows, which it removes).
 """
@@ -14,20 +14,17 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from micro.backends import highs_mip as gh
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
-from micro.nonassociative.global_bounds import BigM, BoundError, big_m
-from micro.nonassociative.global_model import Layout, build_mip, pattern_of, solution_vector
-from micro.nonassociative.global_pattern import Pattern, collapse_residuals, force_state, is_collapse_state, mechanism
-
-if TYPE_CHECKING:
-    from micro.nonassociative.global_mip import GlobalOptions
+from micro.nonassociative.global_search import highs as gh
+from micro.nonassociative.global_search.bounds import BoundError, big_m
+from micro.nonassociative.global_search.model import Layout, build_mip, pattern_of, solution_vector
+from micro.nonassociative.global_search.pattern import collapse_residuals, force_state, is_collapse_state, mechanism
+from micro.nonassociative.global_search.results import BigM, GlobalOptions, Pattern
 
 FloatArray = NDArray[np.float64]
 
@@ -128,12 +125,12 @@ def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts
     """The branch and bound by HiGHS, or by SCIP on the same model (``opts.solver``)."""
     start = None if inc is None else solution_vector(lp, layout, inc.pattern, inc.n, inc.s, inc.load_factor, inc.v)
     if opts.solver == "scip":
-        from micro.nonassociative import global_scip
+        from micro.nonassociative.global_search import scip
 
-        m, xs = global_scip.from_model(h)
+        m, xs = scip.from_model(h)
         if start is not None:
-            global_scip.set_start(m, xs, start)
-        return global_scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.time_limit, mip_gap=opts.mip_gap,
+            scip.set_start(m, xs, start)
+        return scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.time_limit, mip_gap=opts.mip_gap,
                                abs_gap=MIP_ABS_GAP, feasibility=MIP_FEASIBILITY, seed=opts.seed, log=opts.log)
     if start is not None:
         gh.set_start(h, start)

@@ -1,49 +1,41 @@
-"""Proven global minimum of the non-associative collapse load (mixed-integer search).
+"""The global search's types: its options, a contact pattern, the big-M bounds, the results.
 
-With non-associative (zero-dilatancy) friction the collapse load factor is
-not unique: the iterated LP (:mod:`micro.nonassociative`) returns one exact
-collapse state, a local answer. :func:`solve_global` writes the collapse
-conditions with binary contact states (:mod:`micro.nonassociative.global_model`), minimises
-``lambda`` with HiGHS' branch and bound, and returns the proven lower bound,
-the best state and the gap; where the gap closes, ``lambda`` is the global
-minimum of the non-associative problem (to the MIP gap). Every big-M bound is
-provable (:mod:`micro.nonassociative.global_bounds`), and every returned state is rebuilt by
-two LPs from its contact pattern and checked against the collapse conditions
-(:mod:`micro.nonassociative.global_pattern`) before it is reported. Derivation and figures:
-``docs/micro/global-search.md``. A reference tool for small walls: the search
-closes on tens of blocks, not thousands.
+A types module: it imports no module of the search (:mod:`~micro.nonassociative.global_search`
+computes; this module only describes what goes in and comes out).
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
-import time
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from micro.geometry import BlockWall
-from micro.lp import LimitLP, assemble
+from micro.lp import LimitLP
 from micro.mechanism import Mechanism
-from micro.nonassociative import global_scip
-from micro.nonassociative.global_bounds import POLICIES, BigM
-from micro.nonassociative.global_pattern import Pattern
-from micro.nonassociative.global_search import Incumbent, search_direction
 from micro.records import json_number
 
 FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+BoolArray = NDArray[np.bool_]
 
 #: Values of ``status``.
 OPTIMAL, TIME_LIMIT, NODE_LIMIT = "optimal", "time_limit", "node_limit"
 INFEASIBLE, SOLVER_ERROR = "infeasible", "solver_error"
 STATUSES = (OPTIMAL, TIME_LIMIT, NODE_LIMIT, INFEASIBLE, SOLVER_ERROR)
-_DIR_NAME = {1: "+x", -1: "-x"}
 #: Values of ``GlobalOptions.solver``.
 SOLVERS = ("highs", "scip")
 
+#: Big-M policies for the normal forces (:attr:`GlobalOptions.bounds`).
+POLICIES = ("per_point", "uniform")
+
+
+def scip_available() -> bool:
+    """True when ``pyscipopt`` is installed (the optional extra ``global``)."""
+    return importlib.util.find_spec("pyscipopt") is not None
 
 @dataclass(frozen=True)
 class GlobalOptions:
@@ -91,9 +83,8 @@ class GlobalOptions:
             raise ValueError(f"seed must be zero or a positive integer, got {self.seed!r}")
         if self.solver not in SOLVERS:
             raise ValueError(f"solver must be one of {', '.join(SOLVERS)}, got {self.solver!r}")
-        if self.solver == "scip" and not global_scip.available():
+        if self.solver == "scip" and not scip_available():
             raise ValueError("solver 'scip' needs pyscipopt: pip install 'xcheck-masonry[global]'")
-
 
 @dataclass(frozen=True, eq=False)
 class StartState:
@@ -135,6 +126,59 @@ class StartState:
                    np.asarray(result.shear) / lp.force_scale, lam,
                    np.asarray(result.mechanism.velocities, dtype=float).ravel())
 
+@dataclass(frozen=True, eq=False)
+class BigM:
+    """The bounds used by one global search (scaled units).
+
+    Attributes:
+        normal: ``N_p``, the bound on the normal force of every point.
+        lambda_lower: lower bound of the load factor (column bound).
+        lambda_upper: upper bound of the load factor (a known collapse
+            state's, else the associative load factor).
+        associative: largest statically admissible load factor (the
+            associative limit load) in this direction.
+        lift_nonnegative: no admissible mechanism lowers the dead load (so
+            ``lambda >= 0`` and ``lift <= lambda_upper * live work`` hold).
+        policy: ``"per_point"`` or ``"uniform"``.
+        lps: LPs solved for the bounds.
+        seconds: their time.
+    """
+
+    normal: FloatArray = field(repr=False)
+    lambda_lower: float
+    lambda_upper: float
+    associative: float
+    lift_nonnegative: bool
+    policy: str
+    lps: int
+    seconds: float
+
+@dataclass(frozen=True, eq=False)
+class Pattern:
+    """Which points may open and in which sense each interface may slip.
+
+    Attributes:
+        opening: ``(P,)`` True where the point may open (its ``n`` is 0).
+        slip: ``(C,)`` ``0`` (sticks), ``+1`` or ``-1`` per interface.
+    """
+
+    opening: BoolArray = field(repr=False)
+    slip: IntArray = field(repr=False)
+
+    @classmethod
+    def from_rates(cls, opening_rate: FloatArray, slip_rate: FloatArray, tol: float) -> Pattern:
+        """The pattern a mechanism follows: rates above ``tol`` count.
+
+        Args:
+            opening_rate: ``(P,)`` ``B_n^T v``.
+            slip_rate: ``(P,)`` ``B_s^T v`` (one value per interface is read,
+                the larger in magnitude of its two points).
+            tol: rates at most ``tol`` in magnitude count as zero.
+        """
+        s2 = np.asarray(slip_rate).reshape(-1, 2)
+        pick = np.where(np.abs(s2[:, 0]) >= np.abs(s2[:, 1]), s2[:, 0], s2[:, 1])
+        slip = np.where(pick > tol, 1, np.where(pick < -tol, -1, 0)).astype(np.int64)
+        return cls(np.asarray(opening_rate) > tol, slip)
 
 @dataclass(frozen=True, eq=False)
 class GlobalDirection:
@@ -152,7 +196,7 @@ class GlobalDirection:
         pattern: its contact pattern, or ``None``.
         pattern_band: least and greatest ``lambda`` over the force fields of
             that pattern (any of them forms a collapse state with the mechanism).
-        residuals: its check (:func:`micro.nonassociative.global_pattern.collapse_residuals`).
+        residuals: its check (:func:`micro.nonassociative.global_search.pattern.collapse_residuals`).
         bounds: the big-M bounds used, or ``None``.
         binaries: binary columns of the model.
         nodes: branch-and-bound nodes.
@@ -216,85 +260,6 @@ def relative_gap(value: float, bound: float) -> float:
     if not (math.isfinite(value) and math.isfinite(bound)):
         return math.nan
     return max(value - bound, 0.0) / max(abs(value), 1e-12)
-
-
-def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "both", "auto"] = "auto",
-                 options: GlobalOptions | None = None,
-                 start: StartState | Sequence[StartState] | None = None) -> GlobalResult:
-    """Least collapse load factor with non-associative friction, with a proof.
-
-    Args:
-        wall_or_lp: the wall, or its assembled LP.
-        direction: ``+1``, ``-1``, ``"both"`` or ``"auto"`` (both unless the
-            wall is mirror-symmetric).
-        options: :class:`GlobalOptions` (default: the defaults).
-        start: a known collapse state of one direction (or one state per
-            direction): its contact pattern is rebuilt into an exact state,
-            handed to HiGHS as the first incumbent, and its load factor
-            bounds the search.
-
-    Returns:
-        The :class:`GlobalResult`.
-
-    Raises:
-        ValueError: a bad argument (the message names it).
-    """
-    opts = GlobalOptions() if options is None else options
-    if not isinstance(opts, GlobalOptions):
-        raise ValueError(f"options must be a GlobalOptions, got {type(opts).__name__}")
-    t0 = time.perf_counter()
-    lp = wall_or_lp if isinstance(wall_or_lp, LimitLP) else assemble(wall_or_lp)
-    if direction in (1, -1):
-        dirs: tuple[int, ...] = (int(direction),)
-    elif direction == "both" or (direction == "auto" and not lp.wall.mirror_symmetric):
-        dirs = (1, -1)
-    elif direction == "auto":
-        dirs = (1,)
-    else:
-        raise ValueError(f"direction must be 1, -1, 'both' or 'auto', got {direction!r}")
-    starts = () if start is None else (start,) if isinstance(start, StartState) else tuple(start)
-    for st in starts:
-        if st.direction not in (1, -1):
-            raise ValueError(f"start.direction must be 1 or -1, got {st.direction!r}")
-    by_dir = {st.direction: st for st in starts}
-    results = tuple(_direction(lp, d, opts, by_dir.get(d)) for d in dirs)
-    return _combine(results, opts, time.perf_counter() - t0)
-
-
-def _direction(lp: LimitLP, d: int, opts: GlobalOptions, start: StartState | None) -> GlobalDirection:
-    """One load direction: search, then report in the result's shape."""
-    t0 = time.perf_counter()
-    inc = None
-    if start is not None:
-        inc = Incumbent.from_state(lp, d, start.velocities)
-    out = search_direction(lp, d, opts, inc)
-    st = out.state
-    lam = st.load_factor if st is not None else math.nan
-    return GlobalDirection(
-        direction=_DIR_NAME[d], status=out.status, load_factor=lam, lower_bound=out.lower_bound,
-        gap=relative_gap(lam, out.lower_bound), normal=None if st is None else st.n,
-        shear=None if st is None else st.s, mechanism=None if st is None else st.mechanism(lp, d),
-        pattern=None if st is None else st.pattern, pattern_band=out.band, residuals=out.residuals,
-        bounds=out.bounds, binaries=out.binaries, nodes=out.nodes, mip_seconds=out.mip_seconds,
-        seconds=time.perf_counter() - t0, start_load_factor=math.nan if inc is None else inc.load_factor,
-        message=out.message)
-
-
-def _combine(results: tuple[GlobalDirection, ...], opts: GlobalOptions, seconds: float) -> GlobalResult:
-    """The summary over the directions."""
-    found = [r for r in results if math.isfinite(r.load_factor)]
-    best = min(found, key=lambda r: r.load_factor) if found else None
-    bounds = [r.lower_bound for r in results]
-    lb = math.nan if any(math.isnan(b) for b in bounds) else min(bounds)
-    lam = best.load_factor if best is not None else math.nan
-    failing = [r for r in results if r.status not in (OPTIMAL, INFEASIBLE)]
-    # every direction closed: optimal unless no direction has a collapse state
-    closed = OPTIMAL if best is not None else INFEASIBLE
-    status = failing[0].status if failing else closed
-    msg = "; ".join(f"{r.direction}: {r.message}" for r in results if r.message and r.status != OPTIMAL)
-    return GlobalResult(status, lam, lb, relative_gap(lam, lb), best.direction if best else "", results, opts,
-                        seconds, msg)
-
 
 def global_summary(result: GlobalResult) -> dict[str, Any]:
     """The JSON keys of the global search (NaN and infinities as ``None``).

@@ -17,7 +17,7 @@ ASSOCIATIVE problem: equilibrium, ``n >= 0``, ``|s| <= mu n``. Hence
   LP per point, policy ``"per_point"``), or at most the largest TOTAL normal
   force ``sum_p n_p`` over them (one LP, policy ``"uniform"``, looser).
 
-The LP optima carry the solver's tolerance (:data:`~micro.backends.highs_mip.LP_TOLERANCE`);
+The LP optima carry the solver's tolerance (:data:`~micro.nonassociative.global_search.highs.LP_TOLERANCE`);
 each ``N_p`` is widened by :data:`BOUND_MARGIN` so that rounding cannot cut a
 state off. The rate bounds of the mechanism need no LP: the mechanism is
 normalised so that its rates (opening rates, absolute slip rates) sum to 1,
@@ -28,53 +28,23 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from micro.backends import highs_mip as gh
 from micro.lp import LimitLP
+from micro.nonassociative.global_search import highs as gh
+from micro.nonassociative.global_search.results import BigM
 
 FloatArray = NDArray[np.float64]
 
-#: Big-M policies for the normal forces.
-POLICIES = ("per_point", "uniform")
 #: Relative widening of every LP bound on a normal force (plus the same
 #: fraction of the largest one, absolute): far above the LPs' tolerance.
 BOUND_MARGIN = 1e-6
 #: The lowest dead-load work an admissible mechanism may do (rates in
 #: ``[-1, 1]``) and still count as "never lowers the dead load" (LP noise).
 LIFT_TOLERANCE = 1e-9
-
-
-@dataclass(frozen=True, eq=False)
-class BigM:
-    """The bounds used by one global search (scaled units).
-
-    Attributes:
-        normal: ``N_p``, the bound on the normal force of every point.
-        lambda_lower: lower bound of the load factor (column bound).
-        lambda_upper: upper bound of the load factor (a known collapse
-            state's, else the associative load factor).
-        associative: largest statically admissible load factor (the
-            associative limit load) in this direction.
-        lift_nonnegative: no admissible mechanism lowers the dead load (so
-            ``lambda >= 0`` and ``lift <= lambda_upper * live work`` hold).
-        policy: ``"per_point"`` or ``"uniform"``.
-        lps: LPs solved for the bounds.
-        seconds: their time.
-    """
-
-    normal: FloatArray = field(repr=False)
-    lambda_lower: float
-    lambda_upper: float
-    associative: float
-    lift_nonnegative: bool
-    policy: str
-    lps: int
-    seconds: float
 
 
 class BoundError(RuntimeError):

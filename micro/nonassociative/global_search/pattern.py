@@ -27,19 +27,16 @@ conditions from the forces and the mechanism alone, as
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from micro.backends import highs_mip as gh
 from micro.lp import LimitLP
 from micro.nonassociative.checks import state_residuals
+from micro.nonassociative.global_search import highs as gh
+from micro.nonassociative.global_search.results import Pattern
 
 FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
-BoolArray = NDArray[np.bool_]
 
 #: Largest live-load work (rates in ``[-1, 1]``) below which a pattern has no
 #: mechanism: the work of a genuine mechanism is of the order of the block
@@ -50,34 +47,6 @@ LIVE_WORK_TOL = 1e-9
 CHECK_TOL = 1e-7
 #: Largest equilibrium residual (block weights) of an LP state.
 EQUILIBRIUM_TOL = 1e-8
-
-
-@dataclass(frozen=True, eq=False)
-class Pattern:
-    """Which points may open and in which sense each interface may slip.
-
-    Attributes:
-        opening: ``(P,)`` True where the point may open (its ``n`` is 0).
-        slip: ``(C,)`` ``0`` (sticks), ``+1`` or ``-1`` per interface.
-    """
-
-    opening: BoolArray = field(repr=False)
-    slip: IntArray = field(repr=False)
-
-    @classmethod
-    def from_rates(cls, opening_rate: FloatArray, slip_rate: FloatArray, tol: float) -> Pattern:
-        """The pattern a mechanism follows: rates above ``tol`` count.
-
-        Args:
-            opening_rate: ``(P,)`` ``B_n^T v``.
-            slip_rate: ``(P,)`` ``B_s^T v`` (one value per interface is read,
-                the larger in magnitude of its two points).
-            tol: rates at most ``tol`` in magnitude count as zero.
-        """
-        s2 = np.asarray(slip_rate).reshape(-1, 2)
-        pick = np.where(np.abs(s2[:, 0]) >= np.abs(s2[:, 1]), s2[:, 0], s2[:, 1])
-        slip = np.where(pick > tol, 1, np.where(pick < -tol, -1, 0)).astype(np.int64)
-        return cls(np.asarray(opening_rate) > tol, slip)
 
 
 def force_state(lp: LimitLP, direction: int, pattern: Pattern,

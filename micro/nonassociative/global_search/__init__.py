@@ -1,0 +1,141 @@
+"""The proven global minimum of the non-associative collapse load (a mixed-integer search).
+
+With non-associative (zero-dilatancy) friction the collapse load factor is
+not unique: the iterated LP (:mod:`micro.nonassociative`) returns one exact
+collapse state, a local answer. :func:`solve_global` writes the collapse
+conditions with binary contact states (:mod:`.model`), minimises ``lambda``
+by branch and bound (HiGHS, :mod:`.highs`, or SCIP, :mod:`.scip`), and
+returns the proven lower bound, the best state and the gap; where the gap
+closes, ``lambda`` is the global minimum of the non-associative problem (to
+the MIP gap). Every big-M bound is provable (:mod:`.bounds`), and every
+returned state is rebuilt by two LPs from its contact pattern and checked
+against the collapse conditions (:mod:`.pattern`) before it is reported
+(:mod:`.search`: one load direction). Options and results: :mod:`.results`.
+Derivation and figures: ``docs/micro/global-search.md``. A reference tool
+for small walls: the search closes on tens of blocks, not thousands.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from typing import Literal
+
+from micro.geometry import BlockWall
+from micro.lp import LimitLP, assemble
+from micro.nonassociative.global_search.results import (
+    INFEASIBLE,
+    NODE_LIMIT,
+    OPTIMAL,
+    SOLVER_ERROR,
+    SOLVERS,
+    STATUSES,
+    TIME_LIMIT,
+    GlobalDirection,
+    GlobalOptions,
+    GlobalResult,
+    StartState,
+    global_fields,
+    global_summary,
+    relative_gap,
+)
+from micro.nonassociative.global_search.search import Incumbent, search_direction
+
+__all__ = [
+    "INFEASIBLE",
+    "NODE_LIMIT",
+    "OPTIMAL",
+    "SOLVER_ERROR",
+    "SOLVERS",
+    "STATUSES",
+    "TIME_LIMIT",
+    "GlobalDirection",
+    "GlobalOptions",
+    "GlobalResult",
+    "StartState",
+    "global_fields",
+    "global_summary",
+    "relative_gap",
+    "solve_global",
+]
+_DIR_NAME = {1: "+x", -1: "-x"}
+
+
+def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "both", "auto"] = "auto",
+                 options: GlobalOptions | None = None,
+                 start: StartState | Sequence[StartState] | None = None) -> GlobalResult:
+    """Least collapse load factor with non-associative friction, with a proof.
+
+    Args:
+        wall_or_lp: the wall, or its assembled LP.
+        direction: ``+1``, ``-1``, ``"both"`` or ``"auto"`` (both unless the
+            wall is mirror-symmetric).
+        options: :class:`GlobalOptions` (default: the defaults).
+        start: a known collapse state of one direction (or one state per
+            direction): its contact pattern is rebuilt into an exact state,
+            handed to HiGHS as the first incumbent, and its load factor
+            bounds the search.
+
+    Returns:
+        The :class:`GlobalResult`.
+
+    Raises:
+        ValueError: a bad argument (the message names it).
+    """
+    opts = GlobalOptions() if options is None else options
+    if not isinstance(opts, GlobalOptions):
+        raise ValueError(f"options must be a GlobalOptions, got {type(opts).__name__}")
+    t0 = time.perf_counter()
+    lp = wall_or_lp if isinstance(wall_or_lp, LimitLP) else assemble(wall_or_lp)
+    if direction in (1, -1):
+        dirs: tuple[int, ...] = (int(direction),)
+    elif direction == "both" or (direction == "auto" and not lp.wall.mirror_symmetric):
+        dirs = (1, -1)
+    elif direction == "auto":
+        dirs = (1,)
+    else:
+        raise ValueError(f"direction must be 1, -1, 'both' or 'auto', got {direction!r}")
+    starts = () if start is None else (start,) if isinstance(start, StartState) else tuple(start)
+    for st in starts:
+        if st.direction not in (1, -1):
+            raise ValueError(f"start.direction must be 1 or -1, got {st.direction!r}")
+    by_dir = {st.direction: st for st in starts}
+    results = tuple(_direction(lp, d, opts, by_dir.get(d)) for d in dirs)
+    return _combine(results, opts, time.perf_counter() - t0)
+
+
+def _direction(lp: LimitLP, d: int, opts: GlobalOptions, start: StartState | None) -> GlobalDirection:
+    """One load direction: search, then report in the result's shape."""
+    t0 = time.perf_counter()
+    inc = None
+    if start is not None:
+        inc = Incumbent.from_state(lp, d, start.velocities)
+    out = search_direction(lp, d, opts, inc)
+    st = out.state
+    lam = st.load_factor if st is not None else math.nan
+    return GlobalDirection(
+        direction=_DIR_NAME[d], status=out.status, load_factor=lam, lower_bound=out.lower_bound,
+        gap=relative_gap(lam, out.lower_bound), normal=None if st is None else st.n,
+        shear=None if st is None else st.s, mechanism=None if st is None else st.mechanism(lp, d),
+        pattern=None if st is None else st.pattern, pattern_band=out.band, residuals=out.residuals,
+        bounds=out.bounds, binaries=out.binaries, nodes=out.nodes, mip_seconds=out.mip_seconds,
+        seconds=time.perf_counter() - t0, start_load_factor=math.nan if inc is None else inc.load_factor,
+        message=out.message)
+
+
+def _combine(results: tuple[GlobalDirection, ...], opts: GlobalOptions, seconds: float) -> GlobalResult:
+    """The summary over the directions."""
+    found = [r for r in results if math.isfinite(r.load_factor)]
+    best = min(found, key=lambda r: r.load_factor) if found else None
+    bounds = [r.lower_bound for r in results]
+    lb = math.nan if any(math.isnan(b) for b in bounds) else min(bounds)
+    lam = best.load_factor if best is not None else math.nan
+    failing = [r for r in results if r.status not in (OPTIMAL, INFEASIBLE)]
+    # every direction closed: optimal unless no direction has a collapse state
+    closed = OPTIMAL if best is not None else INFEASIBLE
+    status = failing[0].status if failing else closed
+    msg = "; ".join(f"{r.direction}: {r.message}" for r in results if r.message and r.status != OPTIMAL)
+    return GlobalResult(status, lam, lb, relative_gap(lam, lb), best.direction if best else "", results, opts,
+                        seconds, msg)
+
