@@ -9,10 +9,12 @@ Example::
 from __future__ import annotations
 
 import argparse
+import sys
 from typing import TYPE_CHECKING
 from urllib.parse import urlsplit
 
 from comparison.cli.options import (
+    EXIT_FAILED,
     UsageError,
     add_command,
     add_executor_options,
@@ -68,6 +70,7 @@ def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck sweep``."""
     from comparison.progress import Progress
     from comparison.runner import ResultCache
+    from comparison.runner.executor.cluster import ClusterError
     from comparison.sweep import GridError, load_grid, run_sweep
 
     try:
@@ -81,8 +84,12 @@ def run(args: argparse.Namespace) -> int:
     out = output_directory("--out", args.out)  # before an hour of computing, not after
     cache = ResultCache(cache_directory(args.cache))
     executor = _executor(workers, args.scheduler, None if memory is None else int(memory * GB))
-    with executor, Progress(args.verbosity) as progress:
-        done = run_sweep(grid, out, cache=cache, executor=executor, progress=progress)
+    try:
+        with executor, Progress(args.verbosity) as progress:
+            done = run_sweep(grid, out, cache=cache, executor=executor, progress=progress)
+    except ClusterError as exc:  # the scheduler went away mid-sweep: what finished is in the cache
+        print(f"xcheck: error: --scheduler: {exc}", file=sys.stderr)
+        return EXIT_FAILED
     print(f"table: {done.table}")
     print(f"meta: {done.meta}")
     return 1 if done.counts["failed"] else 0
