@@ -185,7 +185,11 @@ def choice(name: str, value: T, choices: Sequence[T]) -> T:
     Raises:
         ValueError: :data:`CHOICE`, naming ``name``.
     """
-    if value not in choices:
+    try:
+        known = any(isinstance(value, type(c)) and value == c for c in choices)
+    except (TypeError, ValueError):  # an array compares element by element
+        known = False
+    if not known:
         raise ValueError(CHOICE.format(name=name, choices=" or ".join(repr(c) for c in choices), value=value))
     return value
 
@@ -298,4 +302,5 @@ def fits_in_memory(name: str, what: str, need: int, budget: int | None = None) -
         return
     have = available_memory_bytes() if budget is None else budget
     if have is not None and need > have:
-        raise TooLarge(TOO_LARGE.format(name=name, what=what, need=need / 1e9, have=have / 1e9))
+        gb = need / 1e9 if need < 1e300 else math.inf  # an int beyond the doubles cannot be divided as one
+        raise TooLarge(TOO_LARGE.format(name=name, what=what, need=gb, have=have / 1e9))

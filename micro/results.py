@@ -35,7 +35,7 @@ Directions = Literal["auto", "both", "+x", "-x"]
 
 def check_directions(directions: str) -> None:
     """Raise ``ValueError`` unless ``directions`` is one of :data:`DIRECTIONS`."""
-    if directions not in DIRECTIONS:
+    if not isinstance(directions, str) or directions not in DIRECTIONS:
         raise ValueError(f"directions must be 'auto', 'both', '+x' or '-x', got {directions!r}")
 
 

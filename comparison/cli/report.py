@@ -58,9 +58,14 @@ def run(args: argparse.Namespace) -> int:
     (:mod:`comparison.progress`).
     """
     from comparison.report import build_report
+    from comparison.report.committed import BadTable, check_tables
 
     out = output_directory("--out", args.out)
     tables = None if args.tables is None else readable_directory("--tables", args.tables)
+    try:
+        check_tables(out if tables is None else tables)
+    except BadTable as exc:
+        raise UsageError(f"{'--tables' if tables is not None else '--out'}: {exc}") from None
     path = build_report(
         out,
         quick=args.quick,

@@ -113,7 +113,10 @@ def received_number(where: str, value: object) -> float:
     """
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{where} needs a number, got {value!r} ({type(value).__name__})")
-    return float(value)
+    try:
+        return float(value)
+    except OverflowError:  # an int beyond the doubles (10**400): infinite, outside every reference
+        return -math.inf if str(value).lstrip().startswith("-") else math.inf
 
 
 def widening(name: str, value: object) -> float:

@@ -22,7 +22,7 @@ from typing import Any
 from comparison.outputs import writable_directory
 from comparison.progress import NORMAL, Progress
 from comparison.report import bond, errormap, figures, lowest
-from comparison.report.committed import BOND, ERRORMAP, LOWEST, committed_table
+from comparison.report.committed import BOND, ERRORMAP, LOWEST, check_tables, committed_table
 from comparison.report.findings import findings
 from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
@@ -62,10 +62,12 @@ def build_report(
         The path of ``REPORT.md``.
 
     Raises:
-        ValueError: ``out_dir`` or ``cache_dir`` cannot be written (checked before any work).
+        ValueError: ``out_dir`` or ``cache_dir`` cannot be written, or a committed table of ``tables_dir``
+            cannot be read whole (:class:`~comparison.report.committed.BadTable`; checked before any work).
     """
     start = time.perf_counter()
     writable_directory("out_dir", out_dir)
+    check_tables(out_dir if tables_dir is None else Path(tables_dir))
     if cache_dir is not None:
         writable_directory("cache_dir", cache_dir)
     plan = build_plan(quick)

@@ -178,7 +178,7 @@ def figure(cells: Sequence[MapCell], path: Path) -> Path:
                         ax.text(b, a, f"{100 * c.error:+.0f}{star}", ha="center", va="center", fontsize=7)
             ax.set_facecolor("0.85")
             mesh = ax.pcolormesh(np.ma.masked_invalid(grid), cmap="RdBu_r", norm=norm, shading="nearest")
-            if np.nanmin(grid, initial=np.inf) < AGREEMENT < np.nanmax(grid, initial=-np.inf):
+            if min(grid.shape) >= 2 and np.nanmin(grid, initial=np.inf) < AGREEMENT < np.nanmax(grid, initial=-np.inf):
                 ax.contour(np.ma.masked_invalid(grid), levels=[AGREEMENT], colors="k", linewidths=1.5)
             ax.set_title(f"{n} storey{'s' if n > 1 else ''}, o = {o} rows", fontsize=9)
             ax.set_xticks(range(len(ts)), [fraction(t) for t in ts], fontsize=8)

@@ -70,10 +70,20 @@ def _fmt(c: Any) -> str:
     return str(c)
 
 
+#: Significant digits of the numbers of the report's CSV tables and ``report.json``: the digits every
+#: method guarantees. The least accurate is the associative interior point (duality-gap tolerance 1e-8
+#: relative): between three OpenBLAS kernels its λ moved by up to 1.2e-8 relative (Set 15: 0.5072551119
+#: to 0.5072551182; Ref not at all), and a value printed with all its digits differed from one machine
+#: to the next. At seven digits the three kernels print the same values on Sets 15-17; a difference of
+#: 1e-8 still moves a printed value where it straddles a rounding boundary, one value in twenty to fifty on
+#: the 7,575-block walls.
+DIGITS = 7
+
+
 def plain(c: Any) -> Any:
-    """A cell for CSV/JSON: non-finite numbers as ``None``."""
-    if isinstance(c, float) and not math.isfinite(c):
-        return None
+    """A cell for CSV/JSON: non-finite numbers as ``None``, a float to :data:`DIGITS` significant digits."""
+    if isinstance(c, float):
+        return float(f"{c:.{DIGITS}g}") if math.isfinite(c) else None
     return c
 
 
@@ -340,7 +350,8 @@ def failure_modes(res: Results) -> Table:
         )  # fmt: skip
     t.note = (
         "α_c: the macro crack through the hinge (Eq. 10's variable); α_c*: its stepped crack (Eq. 9). "
-        "Micro: a block moves when its corner speed exceeds 1e-3 of the largest; the crack slope is a line "
+        "Micro: a block moves when its corner speed exceeds 1e-3 of the largest, and a contact opens or slides "
+        "when its opening or slip rate exceeds 1e-3 of the largest; the crack slope is a line "
         "fitted, course by course, to the far edge of the moving blocks (to compare with α_c*); the conventional "
         "angle joins the hinge to the crack's highest point (to compare with α_c). Where the non-associative "
         "sequence did not converge, the associative mechanism is shown."

@@ -244,5 +244,8 @@ scheme, bond phase and head-joint friction: [table7_nonassoc.md](table7_nonassoc
 
 Seconds, the machine and what came from the result cache are in [timings.md](timings.md)
 (and `timings.csv`, `timings.json`, the speed-accuracy figure): they change from run to run;
-nothing else in this report does.
+nothing else in this report does. Numbers are printed to the digits their method guarantees (seven
+significant digits in the CSV tables and `report.json`) and contacts are counted opening or sliding
+above the solvers' noise (1e-3 of the largest rate), so that another machine's last-digit differences
+(1e-8 relative in the associative λ) do not show, unless a value falls that close to a rounding boundary.
 """

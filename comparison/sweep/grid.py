@@ -252,14 +252,17 @@ def _expand(spec: dict[str, Any], axis: str) -> list[float]:
     if keys not in ({"from", "to", "step"}, {"from", "to", "num"}):
         raise ValueError(f"a range must be {{from, to, step}} or {{from, to, num}}, got keys {sorted(keys)}")
     lo, hi = (float(checks.non_negative(f"{axis}.{k}", _number(axis, spec[k]))) for k in ("from", "to"))
+    if hi < lo:
+        raise ValueError(f"{axis}: from must not exceed to, got from = {lo:g}, to = {hi:g}")
     if "num" in spec:
         num = checks.positive_int(f"{axis}.num", spec["num"])
         count, step = num, (hi - lo) / (num - 1) if num > 1 else 0.0
     else:
         step = checks.positive(f"{axis}.step", _number(axis, spec["step"]))
-        count = math.floor((hi - lo) / step * (1 + 1e-12)) + 1
-    if hi < lo:
-        raise ValueError(f"{axis}: from must not exceed to, got from = {lo:g}, to = {hi:g}")
+        steps = (hi - lo) / step * (1 + 1e-12)  # infinite for a step of 5e-324
+        if not steps <= MAX_AXIS_VALUES:
+            raise ValueError(f"{axis}: the range gives more than {MAX_AXIS_VALUES} values (step = {step:g})")
+        count = math.floor(steps) + 1
     if count > MAX_AXIS_VALUES:
         raise ValueError(f"{axis}: the range gives {count} values, more than {MAX_AXIS_VALUES}")
     return [round(lo + i * step, 12) for i in range(count)]

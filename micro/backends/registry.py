@@ -73,7 +73,7 @@ def make_backend(lp: LimitLP, solver: str = DEFAULT_SOLVER, *, time_limit: float
             or a time limit that is not a positive number of seconds.
     """
     time_limit = check_time_limit(time_limit)
-    factory = _SOLVERS.get(solver) or _EXPERIMENTS.get(solver)
+    factory = (_SOLVERS.get(solver) or _EXPERIMENTS.get(solver)) if isinstance(solver, str) else None
     if factory is None:
         raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {solver!r}")
     return factory(lp, time_limit)

@@ -139,3 +139,44 @@ def test_fuzz_micro_wall_and_lp(
     assert finite_success(r.status, r.load_factor), (r.status, r.load_factor)
     assert r.ok or math.isnan(r.load_factor)
     event("solved" if r.ok else f"failed: {r.status}")
+
+
+#: Anything a caller might pass by mistake (issue 41: ``None``, a ``WallSpec`` where a wall is expected,
+#: ``tuning='b'``, ``options='fast'``, ``progress='print'``, ``time_limit=10**400``, ``chunk=0``, arrays).
+ODD = st.one_of(
+    st.none(), st.sampled_from([0, -1, 10**400, -(10**400), 2.5, "b", "fast", "print", "", [], {}, [1.0, 2.0],
+                                np.array([1.0, 2.0]), np.ones((2, 2)), math.nan, math.inf, 5e-324, 1e300]),
+    numbers, st.text(max_size=4),
+)  # fmt: skip
+_SPEC = WallSpec.from_paper(t=1, m=1 / 3, rows=4, f=0.6)
+#: Each entry point with valid arguments; the fuzz replaces one of them.
+ENTRY_POINTS: dict[str, tuple[object, dict[str, object]]] = {
+    "macro.solve": (macro.solve, {"wall": _SPEC.to_macro(), "settings": macro.SearchSettings()}),
+    "macro.sweep": (macro.sweep, {"t": np.array([1.0, 2.0]), "m": 1 / 3, "rows": 12, "f": 0.6, "p": 0.0,
+                                  "storeys": 1, "p_height": "wall", "chunk": 4096}),
+    "WallSpec.from_paper": (WallSpec.from_paper, {"t": 1.0, "m": 1 / 3, "rows": 4, "f": 0.6, "p": 0.0, "storeys": 1,
+                                                  "p_height": "wall", "name": "w"}),
+    "micro.solve_associative": (micro.solve_associative, {"wall": _SPEC.to_micro(), "solver": "normal-ipm",
+                                                          "directions": "auto", "time_limit": 60}),
+    "micro.solve_nonassociative": (micro.solve_nonassociative, {
+        "wall": _SPEC.to_micro(), "options": None, "tuning": None, "progress": None, "time_limit": 60,
+        "max_iterations": 20, "max_seconds": 60, "lowest": False, "lowest_budget": 500.0, "directions": "auto"}),
+}
+
+
+@FUZZ
+@given(entry=st.sampled_from(list(ENTRY_POINTS)), data=st.data())
+def test_fuzz_entry_points_refuse_a_bad_value_of_any_kind(entry: str, data: st.DataObject) -> None:
+    """One parameter replaced by an odd value: a result, or ``ValueError``/``TypeError`` naming a parameter;
+    never ``AttributeError`` or ``OverflowError`` from deep inside, nor numpy's "truth value of an array is
+    ambiguous" (``directions=array``) or "unhashable type" (``solver=[]``), which the fuzz found."""
+    function, kwargs = ENTRY_POINTS[entry]
+    name = data.draw(st.sampled_from(list(kwargs)))
+    value = data.draw(ODD)
+    try:
+        function(**{**kwargs, name: value})  # type: ignore[operator]
+    except (ValueError, TypeError) as exc:
+        assert any(k in str(exc) for k in kwargs), (name, str(exc))  # a parameter named (t when rows moved it)
+        event("refused")
+        return
+    event("accepted")

@@ -103,6 +103,10 @@ def test_a_range_by_count() -> None:
         (("m = [", "q = 1\nm = ["), ["unknown key axes.q"]),
         (("f = 0.6\n", ""), ["missing key axes.f"]),
         (("step = 6", "stride = 6"), ["axes.rows", "range"]),
+        # issue 41: OverflowError (cannot convert float infinity to integer) in the count of the range
+        (("step = 6", "step = 5e-324"), ["axes.rows", "the range gives more than 10000 values (step = 4.94066e-324)"]),
+        (("from = 12, to = 24, step = 6", "from = 24, to = 12, step = 5e-324"),
+         ["axes.rows", "from must not exceed to, got from = 24, to = 12"]),
         (('solver = "clarabel"', 'solver = "gurobi"'), ["line 17", "method.solver", "gurobi"]),
         (('kind = "micro-nonassoc"', 'kind = "micro-magic"'), ["line 19", "method.kind"]),
         (("max_blocks = 50", "max_blocks = 0"), ["line 20", "max_blocks must be a positive integer"]),

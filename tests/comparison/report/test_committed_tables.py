@@ -1,0 +1,94 @@
+"""Issue 41, item 3: ``xcheck report --tables DIR`` refuses a committed table it cannot read whole, with one
+line naming the file and the line, before any work; it read truncated tables silently (REPORT.md then said
+"0 of 3 walls" and quoted a row cut mid-number), and binary junk and wrong columns were tracebacks
+(``UnicodeDecodeError``, ``KeyError: 't'``)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from comparison.cli import main
+from comparison.report import build_report
+from comparison.report.committed import BOND, ERRORMAP, LOWEST, BadTable, check_tables, read_committed
+from comparison.report.errormap import figure, load
+
+REPORTS = Path(__file__).resolve().parents[3] / "reports"
+
+
+def _tables(tmp_path: Path, name: str, content: bytes, meta: bool = False) -> Path:
+    """A tables directory holding ``content`` as the table ``name`` (and the sweep's metadata when ``meta``)."""
+    tables = tmp_path / "tables"
+    (tables / "sweeps").mkdir(parents=True)
+    (tables / name).write_bytes(content)
+    if meta:
+        shutil.copy(REPORTS / name.replace(".csv", ".json"), tables / name.replace(".csv", ".json"))
+    return tables
+
+
+def _report(tables: Path, out: Path) -> tuple[int, str, str]:
+    o, e = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(o), contextlib.redirect_stderr(e):
+        code = main(["report", "--quick", "--no-cache", "--tables", str(tables), "--out", str(out), "-q"])
+    return code, o.getvalue(), e.getvalue()
+
+
+def _cut(name: str, size: int) -> bytes:
+    return (REPORTS / name).read_bytes()[:size]
+
+
+def _lines(name: str, n: int) -> bytes:
+    return b"".join((REPORTS / name).read_bytes().splitlines(keepends=True)[:n])
+
+
+CASES = {
+    "cut mid-number": (ERRORMAP, _cut(ERRORMAP, 20_000), False,
+                       r"sweeps/errormap.csv: the last line is cut short \(no line break at the end of the file\); "
+                       r"remake it with `xcheck sweep examples/sweeps/errormap.toml --out .*/tables/sweeps`"),
+    "cut at a line": (ERRORMAP, _lines(ERRORMAP, 40), True,
+                      r"sweeps/errormap.csv: 39 rows where its metadata \(errormap.json\) counts 750 cells "
+                      r"\(a truncated table\)"),
+    "a row cut short": (BOND, _lines(BOND, 3) + b"1,t=1,1.0,0.333\n" + _lines(BOND, 40)[len(_lines(BOND, 3)):],
+                        False, r"sweeps/table9_bond.csv:4: 4 fields where the header has 31 \(a truncated or "
+                               r"damaged table\)"),
+    "binary junk": (LOWEST, bytes(range(256)) * 4, False,
+                    r"lowest.csv: not a text table \(byte 128 is not UTF-8\); remake it with `xcheck stability "
+                    r"--lowest --out .*tables`"),
+    "wrong columns": (ERRORMAP, b"a,b\n1,2\n", False,
+                      r"sweeps/errormap.csv:1: no column 't', 'm', 'f', 'p', 'load_factor', 'rows', 'storeys', "
+                      r"'blocks', 'iterations', 'kind', 'status', 'first_course' \(the header has 2 columns\)"),
+    "header only": (LOWEST, _lines(LOWEST, 1), False, r"lowest.csv: no rows under the header"),
+    "not a number": (ERRORMAP, _lines(ERRORMAP, 2).replace(b",0.4,0.25,12,", b",0.4,0.25,twelve,"), False,
+                     r"sweeps/errormap.csv:2: rows must be an integer, got 'twelve'"),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_a_damaged_committed_table_is_one_line_and_exit_2_before_any_work(case: str, tmp_path: Path) -> None:
+    name, content, meta, match = CASES[case]
+    tables = _tables(tmp_path, name, content, meta)
+    code, out, err = _report(tables, tmp_path / "out")
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert err.startswith("xcheck: error: --tables: ") and re.search(match, err), err
+    assert not any((tmp_path / "out").iterdir())  # nothing computed, nothing written
+    with pytest.raises(BadTable):
+        build_report(tmp_path / "api", quick=True, cache_dir=None, tables_dir=tables)
+    assert not (tmp_path / "api" / "REPORT.md").exists()
+
+
+def test_the_committed_tables_read_whole() -> None:
+    check_tables(REPORTS)
+    assert len(read_committed(REPORTS, ERRORMAP)) == 750 and len(read_committed(REPORTS, LOWEST)) == 178
+
+
+def test_a_table_cut_at_a_line_without_its_metadata_still_draws(tmp_path: Path) -> None:
+    """Without the metadata to count against, a table cut at a line break is read as it is: its section
+    quotes what it holds, and the figure of a grid with one column no longer fails in ``contour``."""
+    tables = _tables(tmp_path, ERRORMAP, _lines(ERRORMAP, 40))
+    cells = load(tables / ERRORMAP)
+    assert figure(cells, tmp_path / "e.png").stat().st_size > 0
