@@ -8,6 +8,7 @@ solver, is a bug and ends with a traceback.
 from __future__ import annotations
 
 import argparse
+import errno
 import math
 import os
 import warnings
@@ -28,6 +29,9 @@ EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
 #: The reader of the output went away (``xcheck macro --json | head``): 128 + SIGPIPE, as a shell reports it.
 EXIT_BROKEN_PIPE = 141
+#: The errors of an output that cannot take more (``> /dev/full``, a full disk or quota, a file too large):
+#: one line and :data:`EXIT_FAILED`, not a traceback, nor exit 2 (the input was fine).
+DISK_FULL = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 # Values of ``args.verbosity`` (``-q``/``--quiet``, default, ``-v``/``--verbose``), defined with the
 # progress display that long-running subcommands pass them down to: QUIET, NORMAL, VERBOSE.

@@ -29,6 +29,9 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
 
 #: Bytes in a gigabyte (``--worker-memory`` is given in GB).
 GB = 1e9
+#: The largest ``--worker-memory`` (GB): a million gigabytes, beyond any machine (1e308 overflowed the
+#: conversion to bytes: an OverflowError traceback).
+MAX_WORKER_MEMORY_GB = 1e6
 #: The transports a ``dask.distributed`` scheduler listens on (``--scheduler tcp://host:8786``).
 SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
 
@@ -80,7 +83,8 @@ def run(args: argparse.Namespace) -> int:
     workers = workers_from_args(args)
     if args.scheduler is not None and workers is not None:
         raise UsageError("--workers and --scheduler exclude each other (the cluster has its own workers)")
-    memory = in_range("--worker-memory", args.worker_memory, "a positive number of gigabytes", float("inf"))
+    memory = in_range("--worker-memory", args.worker_memory,
+                      f"a positive number of gigabytes, at most {MAX_WORKER_MEMORY_GB:g}", MAX_WORKER_MEMORY_GB)
     out = output_directory("--out", args.out)  # before an hour of computing, not after
     cache = ResultCache(cache_directory(args.cache))
     executor = _executor(workers, args.scheduler, None if memory is None else int(memory * GB))
