@@ -195,34 +195,8 @@ def test_a_stored_mechanism_reads_back_equal(tmp_path: Path) -> None:
     np.testing.assert_array_equal(back.velocities, mine.velocities)
 
 
-class _StoppedByTheClock:
-    """An executor whose every task 'ran out of time': it returns ``stopped`` for each."""
-
-    workers, memory_per_worker, where = 1, None, "test"
-
-    def __init__(self, stopped: object) -> None:
-        self.stopped = stopped
-
-    def run(self, tasks: Sequence[Task]) -> Iterator[TaskOutcome]:
-        for task in tasks:
-            yield TaskOutcome(task, "done", self.stopped)
-
-
-def test_a_result_stopped_by_the_clock_is_used_by_its_run_but_not_stored(tmp_path: Path) -> None:
-    record = Runner(None).run(SPEC, MICRO_ASSOC)
-    assert record.micro is not None
-    stopped = dataclasses.replace(record, result=dataclasses.replace(record.micro, status="time_limit"))
-    runner = Runner(tmp_path)
-    assert runner.cache is not None
-    done = prefetch(runner.cache, [(SPEC, MICRO_ASSOC)], _StoppedByTheClock((stopped, None)))  # type: ignore[arg-type]
-    assert done.computed == 1 and list(done.unstored) == [(SPEC, MICRO_ASSOC)]
-    assert (SPEC, MICRO_ASSOC) not in runner.cache
-    runner.keep(done.unstored)
-    assert runner.run(SPEC, MICRO_ASSOC) is stopped and runner.computed == 0  # not computed a second time
-
-
-class _Computed:
-    """An executor that returns the given entry for every task."""
+class _Returns:
+    """An executor that returns ``entry`` for every task (a result computed elsewhere)."""
 
     workers, memory_per_worker, where = 1, None, "test"
 
@@ -232,6 +206,19 @@ class _Computed:
     def run(self, tasks: Sequence[Task]) -> Iterator[TaskOutcome]:
         for task in tasks:
             yield TaskOutcome(task, "done", self.entry)
+
+
+def test_a_result_stopped_by_the_clock_is_used_by_its_run_but_not_stored(tmp_path: Path) -> None:
+    record = Runner(None).run(SPEC, MICRO_ASSOC)
+    assert record.micro is not None
+    stopped = dataclasses.replace(record, result=dataclasses.replace(record.micro, status="time_limit"))
+    runner = Runner(tmp_path)
+    assert runner.cache is not None
+    done = prefetch(runner.cache, [(SPEC, MICRO_ASSOC)], _Returns((stopped, None)))  # type: ignore[arg-type]
+    assert done.computed == 1 and list(done.unstored) == [(SPEC, MICRO_ASSOC)]
+    assert (SPEC, MICRO_ASSOC) not in runner.cache
+    runner.keep(done.unstored)
+    assert runner.run(SPEC, MICRO_ASSOC) is stopped and runner.computed == 0  # not computed a second time
 
 
 def test_a_cache_that_cannot_be_written_warns_once_and_its_run_keeps_every_result(
@@ -253,7 +240,7 @@ def test_a_cache_that_cannot_be_written_warns_once_and_its_run_keeps_every_resul
     runner = Runner(tmp_path)
     assert runner.cache is not None
     with pytest.warns(cache_module.CacheWarning, match="cannot write the cache .*No space left on device") as seen:
-        done = prefetch(runner.cache, [(SPEC, MICRO_ASSOC)], _Computed(entry))  # type: ignore[arg-type]
+        done = prefetch(runner.cache, [(SPEC, MICRO_ASSOC)], _Returns(entry))  # type: ignore[arg-type]
         runner.keep(done.unstored)
         macro_record = runner.run(SPEC, MACRO)  # computed here, its store fails too: no second warning
     assert len(seen) == 1
