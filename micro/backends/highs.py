@@ -89,6 +89,9 @@ class RunCallback:
     raises (:mod:`micro.backends.interrupt`: an exception unwound through
     HiGHS left the model broken and the next run crashed the process).
 
+    Args:
+        simplex_type: HiGHS' code of the simplex interrupt callback (the guard counts those calls only).
+
     Attributes:
         guard: the stall guard (``None``: none).
         stop: the run's stop request and any error kept from the callback.
