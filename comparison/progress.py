@@ -8,15 +8,21 @@ verbosity the command line passes down:
   counts and ETA (tqdm's), elsewhere (a log, a pipe, CI) a status line each time
   another :data:`LOG_STEP` of the work is done or :data:`LOG_SECONDS` have passed
   since the last line, whichever comes first (done, cached, to go, elapsed,
-  ETA), then the closing summary (e.g. the paths written);
+  ETA by count), then the closing summary (e.g. the paths written);
 * ``VERBOSE`` (``--verbose``): the same, and one line per computation.
 
 While nothing finishes (one computation can run for minutes) a heartbeat
-thread keeps the display alive: off a terminal it writes the status line,
-marked ``still running``, once :data:`LOG_SECONDS` have passed without one;
-on a terminal it refreshes the bar (its elapsed time). Measured on
-2026-11-25: a full report's log had no line for 10 minutes while its two
-workers ran the non-associative LP of Sets 9 and 10.
+thread keeps the display alive: off a terminal it writes the status line
+once :data:`LOG_SECONDS` have passed without one, ending ``nothing finished
+for <time since the last computation finished>`` when none finished since the
+previous line (otherwise the plain line: the count moved); on a terminal it
+refreshes the bar (its elapsed time). Without it a report's log can stay
+silent for the minutes its largest walls take.
+
+The ETA counts computations, not their cost: the time elapsed times the
+computations to go over those done, as if the rest took as long on average
+as the finished ones. A report runs its largest walls first, so its ETA
+changes as the mix of what finished does.
 """
 
 from __future__ import annotations
@@ -73,7 +79,7 @@ class Progress:
         self._clock = clock
         self._bar: tqdm | None = None
         self._what, self._total, self._done, self._cached = "", 0, 0, 0
-        self._start = self._last = 0.0
+        self._start = self._last = self._finished = 0.0
         self._last_done = 0
         self._heartbeat = heartbeat
         self._lock = threading.RLock()
@@ -101,7 +107,7 @@ class Progress:
         status lines); no bar when there is nothing to do."""
         self.close()
         self._what, self._total, self._done, self._cached = what, total, 0, cached
-        self._start = self._last = self._clock()
+        self._start = self._last = self._finished = self._clock()
         self._last_done = 0
         if self.show_bar and total > 0:
             self._bar = tqdm(total=total, desc=what, unit="run", file=self.stream, dynamic_ncols=True, smoothing=0.1)
@@ -114,14 +120,23 @@ class Progress:
         """The heartbeat (module docstring): until :meth:`close`."""
         assert self._heartbeat is not None
         while not self._stop.wait(self._heartbeat):
-            with self._lock:
-                if self._bar is not None:
-                    self._bar.refresh()
-                elif self.show_status and self._done < self._total:
-                    now = self._clock()
-                    if now - self._last >= LOG_SECONDS:
-                        self.say(self.status(now) + "; still running")
-                        self._last = now
+            self.beat()
+
+    def beat(self) -> None:
+        """One look of the heartbeat at the display: refresh the bar, or off a terminal the status line once
+        :data:`LOG_SECONDS` have passed since the last, ending ``nothing finished for ...`` when the count has
+        not moved since that line."""
+        with self._lock:
+            if self._bar is not None:
+                self._bar.refresh()
+            elif self.show_status and self._done < self._total:
+                now = self._clock()
+                if now - self._last >= LOG_SECONDS:
+                    line = self.status(now)
+                    if self._done == self._last_done:
+                        line += f"; nothing finished for {duration(now - self._finished)}"
+                    self.say(line)
+                    self._last, self._last_done = now, self._done
 
     def advance(self, line: str = "") -> None:
         """One step done; ``line`` says what (printed when verbose)."""
@@ -130,23 +145,24 @@ class Progress:
 
     def _advance(self, line: str) -> None:
         self._done += 1
+        now = self._finished = self._clock()
         if self._bar is not None:
             self._bar.update(1)
         if line and self.verbosity >= VERBOSE:
             self.say(line)
         if self.show_status and self._total > 0:
-            now = self._clock()
             step = self._done - self._last_done >= LOG_STEP * self._total
             if step or now - self._last >= LOG_SECONDS or self._done >= self._total:
                 self.say(self.status(now))
                 self._last, self._last_done = now, self._done
 
     def status(self, now: float | None = None) -> str:
-        """``"micro: 12 of 88 done (14 %), 40 cached, 76 to go; 2 min 05 s elapsed, ETA 21 min 40 s"``."""
+        """``"micro: 12 of 88 done (14 %), 40 cached, 76 to go; 2 min 05 s elapsed, ETA by count 21 min 40 s"``
+        (the ETA: module docstring)."""
         now = self._clock() if now is None else now
         elapsed = now - self._start
         left = max(self._total - self._done, 0)
-        eta = duration(elapsed / self._done * left) if self._done else "unknown"
+        eta = f"by count {duration(elapsed / self._done * left)}" if self._done else "unknown"
         share = 100 * self._done // self._total if self._total else 100
         return (f"{self._what}: {self._done} of {self._total} done ({share} %), {self._cached} cached, {left} to go; "
                 f"{duration(elapsed)} elapsed, ETA {eta}")

@@ -159,21 +159,23 @@ class WallSpec:
             name=name,
         )
 
-    def paper_parameters(self) -> dict[str, float]:
+    def paper_parameters(self) -> dict[str, Any]:
         """The paper's nondimensional parameters of this wall (back-mapping).
 
-        ``p`` is taken from the top storey's load and thickness
-        (``p_height="wall"`` reading); walls whose storeys differ have no
-        single paper ``p`` or ``m`` and are returned with the values of storey 1.
+        ``p = q/(gamma H b)`` (``p_height="wall"`` reading) is the paper's one
+        value for every floor; ``p_storeys`` gives it storey by storey
+        (storey 1, the top, first), and ``p`` is storey 1's, so a scene with no
+        load on its top storey has ``p = 0`` whatever its floors carry.
         """
         height = self.height
-        top = self.storeys[0]
+        p = [s.overload / (self.unit_weight * height * s.thickness) for s in self.storeys]
         return {
             "t": height / self.length,
             "m": self.block_height / self.block_length,
             "rows": self.rows,
             "storeys": len(self.storeys),
-            "p": top.overload / (self.unit_weight * height * top.thickness),
+            "p": p[0],
+            "p_storeys": p,
             "f": self.friction,
         }
 
@@ -192,6 +194,11 @@ class WallSpec:
     def overlap(self) -> float:
         """Staggering length ``v = l/2``."""
         return 0.5 * self.block_length
+
+    def storey_base(self, storey: int) -> float:
+        """Height above the wall's base of the base of ``storey`` (1 = top): where the macro model's hinge of
+        that storey lies, and for every storey but the bottom one a floor level."""
+        return sum(s.rows for s in self.storeys[storey:]) * self.block_height
 
     # ----------------------------------------------------------------- models
     def dimensions(self) -> dict[str, Any]:

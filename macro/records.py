@@ -1,8 +1,13 @@
-"""The flat record of a macro result: what a table, a cache or a JSON file keeps of it."""
+"""The flat record of a macro result: what a table, a cache or a JSON file keeps of it.
+
+A frozen dataclass that reads as a mapping of its fields (``rec["hinge_storey"]``,
+``dict(rec)``); :meth:`MacroRecord.to_dict` gives its JSON form.
+"""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator, Mapping
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
@@ -16,8 +21,9 @@ def _number(x: float | None) -> float:
 
 
 @dataclass(frozen=True)
-class MacroRecord:
-    """A :class:`macro.MacroResult` without its wall and its per-storey terms (flat, frozen, JSON-ready).
+class MacroRecord(Mapping[str, Any]):
+    """A :class:`macro.MacroResult` without its wall and its per-storey terms: flat, frozen, a read-only
+    mapping of its fields (``rec["load_factor"]``); :meth:`to_dict` is its JSON form.
 
     Attributes:
         load_factor: the least of ``rocking_load_factor``, ``f`` and ``overturning_load_factor``.
@@ -54,8 +60,25 @@ class MacroRecord:
         if self.status == "optimal" and not (math.isfinite(self.load_factor) and self.load_factor > 0.0):
             raise ValueError(f"an optimal macro record needs a finite positive load factor, got {self.load_factor!r}")
 
+    def __getitem__(self, key: str) -> Any:
+        """``rec[name]``: the field ``name`` (as in memory: NaN, tuples).
+
+        Raises:
+            KeyError: ``name`` is not a field.
+        """
+        if key not in self.__dataclass_fields__:
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def __iter__(self) -> Iterator[str]:
+        """The field names, in order."""
+        return (f.name for f in fields(self))
+
+    def __len__(self) -> int:
+        return len(fields(self))
+
     def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready dictionary (non-finite numbers as ``None``)."""
+        """The JSON form: a dictionary of plain values (non-finite numbers as ``None``, tuples as lists)."""
         d = asdict(self)
         for f in fields(self):
             if f.type == "float":

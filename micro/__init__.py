@@ -16,7 +16,8 @@ Gilbert, Casapulla & Ahmed (2006) with :func:`solve_nonassociative`::
     result = micro.solve_nonassociative(wall)   # the report's method
     result.load_factor, result.status, result.lowest_load_factor, result.history
 
-Every result has a flat, JSON-ready record (``result.to_record()``).
+Every result has a flat record (``result.to_record()``: a read-only mapping of its fields,
+``record["load_factor"]``; ``record.to_dict()`` is its JSON form).
 
 Layout: ``geometry`` (the wall), ``lp`` (the LP), ``backends`` (the solvers),
 ``mechanism``, ``results`` and ``records`` (what comes out), ``associative``
@@ -31,6 +32,7 @@ from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
 from micro.nonassociative import (
     SCHEMES,
+    GlobalOptions,
     IterationRecord,
     NonAssociativeOptions,
     NonAssociativeResult,
@@ -49,6 +51,7 @@ __all__ = [
     "AssociativeRecord",
     "BlockWall",
     "DirectionResult",
+    "GlobalOptions",
     "IterationRecord",
     "LimitLP",
     "LimitResult",

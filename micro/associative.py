@@ -53,6 +53,20 @@ def solve_associative(
         ValueError: an unknown solver or directions value, or a time limit
             that is not a positive number of seconds (checked before any work).
         TypeError: ``wall`` is not a :class:`~micro.geometry.BlockWall`.
+
+    Examples:
+        >>> import micro
+        >>> wall = micro.build_wall(length=3.0, block_length=1.0, block_height=0.5, rows=(6,),
+        ...                         thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.75)
+        >>> result = micro.solve_associative(wall)
+        >>> result.status, round(result.load_factor, 4), result.direction
+        ('optimal', 0.639, '+x')
+
+        Another back end answers the same LP:
+
+        >>> other = micro.solve_associative(wall, solver="highs-simplex")
+        >>> abs(other.load_factor - result.load_factor) < 1e-6
+        True
     """
     check_block_wall(wall)
     check_directions(directions)

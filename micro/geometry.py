@@ -327,6 +327,16 @@ def build_wall(
     Raises:
         ValueError: a bad parameter (the message names it), or a wall whose
             estimated memory exceeds the budget (the message quotes both).
+
+    Examples:
+        A one-storey wall three blocks long and six courses high (21 blocks:
+        the half-block courses end with a half block):
+
+        >>> import micro
+        >>> wall = micro.build_wall(length=3.0, block_length=1.0, block_height=0.5, rows=(6,),
+        ...                         thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.75)
+        >>> wall.n_blocks, wall.mirror_symmetric
+        (21, True)
     """
     L = _number("length", length)
     lb = _number("block_length", block_length)

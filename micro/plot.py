@@ -6,6 +6,7 @@ import contextlib
 import io
 import os
 import uuid
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +28,9 @@ def draw_mechanism(
     amplification: float | None = None,
     fig: Any = None,
     direction: str | None = None,
+    floors: Sequence[float] = (),
+    hinge: float | None = None,
+    hinge_label: str = "hinge",
 ) -> float:
     """Draw the wall and a mechanism on matplotlib axes, in block heights.
 
@@ -36,7 +40,11 @@ def draw_mechanism(
     is given) and coloured by the magnitude of its translational velocity relative to the
     fastest block's (0 to 1); the
     undeformed outline is drawn in grey. The x label gives the amplification;
-    when ``direction`` is given, an arrow shows the live load.
+    when ``direction`` is given, an arrow shows the live load. Floor levels
+    are drawn as dashed lines across the wall, each storey named beside it
+    (1 = top), and a hinge as a marker at the toe the wall rotates about (the
+    side the load pushes towards; both toes without a direction), labelled
+    for a legend.
 
     Args:
         ax: matplotlib axes.
@@ -46,6 +54,11 @@ def draw_mechanism(
         amplification: displacement scale; ``None`` chooses one.
         fig: when given, a colour bar is added to it.
         direction: the live load's direction, ``"+x"`` or ``"-x"`` (``None``: no arrow).
+        floors: heights above the base of the floors between storeys, in the
+            wall's length unit (``()``: none drawn).
+        hinge: height above the base of a hinge to mark, in the wall's length
+            unit (``None``: none).
+        hinge_label: the hinge marker's legend label.
 
     Returns:
         The amplification used.
@@ -82,6 +95,12 @@ def draw_mechanism(
         fig.colorbar(pc, ax=ax, label="block speed |(u, v)| / speed of the fastest block", shrink=0.8)
     if direction is not None:
         _load_arrow(ax, wall.length / ls, height, direction)
+    if floors:
+        _floors(ax, wall.length / ls, height, [f / ls for f in floors])
+    if hinge is not None:
+        toes = {"+x": [wall.length / ls], "-x": [0.0]}.get(direction or "", [0.0, wall.length / ls])
+        ax.plot(toes, [hinge / ls] * len(toes), ls="none", marker="o", ms=9, mfc="none", mec="red", mew=2.0,
+                zorder=5, label=hinge_label)  # fmt: skip
     ax.autoscale_view()
     ax.set_aspect("equal")
     ax.set_xlabel(f"x [block heights]; displacements × {amplification:.3g} (largest: {amplification * dmax:.2g})")
@@ -103,6 +122,22 @@ def _load_arrow(ax: Any, length: float, height: float, direction: str) -> None:
     ax.update_datalim([(tail, y), (head, y)])
 
 
+def _floors(ax: Any, length: float, height: float, floors: list[float]) -> None:
+    """Dashed lines across the wall at the floor levels (block heights), and on a second y axis at the right
+    each storey's number at its mid-height (1 = top), clear of the displaced blocks."""
+    from matplotlib import patheffects
+
+    halo = [patheffects.withStroke(linewidth=2.2, foreground="white")]  # readable over dark and light blocks
+    for i, y in enumerate(sorted(floors)):
+        ax.plot([0.0, length], [y, y], ls="--", color="0.1", lw=1.0, zorder=4, path_effects=halo,
+                label="floor" if i == 0 else None)  # fmt: skip
+    levels = [0.0, *sorted(floors), height]
+    n = len(levels) - 1
+    storeys = ax.secondary_yaxis("right")
+    storeys.set_yticks([(levels[k] + levels[k + 1]) / 2 for k in range(n)], [f"storey {n - k}" for k in range(n)])
+    storeys.tick_params(length=0, labelsize=7, labelrotation=90)
+
+
 def plot_velocities(
     wall: BlockWall,
     velocities: NDArray[np.float64],
@@ -111,6 +146,9 @@ def plot_velocities(
     amplification: float | None = None,
     title: str = "",
     direction: str | None = None,
+    floors: Sequence[float] = (),
+    hinge: float | None = None,
+    hinge_label: str = "hinge",
 ) -> Path:
     """Draw the wall and a mechanism (see :func:`draw_mechanism`) to an image file.
 
@@ -121,6 +159,8 @@ def plot_velocities(
         amplification: displacement scale; ``None`` chooses one.
         title: figure title.
         direction: the live load's direction (an arrow), or ``None``.
+        floors, hinge, hinge_label: floor levels and a hinge to mark (:func:`draw_mechanism`); a legend
+            names them.
 
     Returns:
         The written path.
@@ -132,8 +172,12 @@ def plot_velocities(
 
     aspect = wall.height / wall.length
     fig, ax = plt.subplots(figsize=(9, max(3.0, min(9.0, 9 * aspect + 1.5))), dpi=110)
-    draw_mechanism(ax, wall, velocities, amplification=amplification, fig=fig, direction=direction)
-    ax.set_title(title)
+    draw_mechanism(ax, wall, velocities, amplification=amplification, fig=fig, direction=direction, floors=floors,
+                   hinge=hinge, hinge_label=hinge_label)  # fmt: skip
+    marks = len(ax.get_legend_handles_labels()[0])
+    if marks:  # one row over the axes, the title above it
+        ax.legend(fontsize=8, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=marks, frameon=False)
+    ax.set_title(title, pad=24 if marks else 6)
     try:
         return save_figure(fig, path, bbox_inches="tight")
     finally:
@@ -183,6 +227,9 @@ def plot_mechanism(
     *,
     amplification: float | None = None,
     title: str | None = None,
+    floors: Sequence[float] = (),
+    hinge: float | None = None,
+    hinge_label: str = "hinge",
 ) -> Path:
     """Draw the wall and the collapse mechanism of an associative result to an image file.
 
@@ -192,6 +239,7 @@ def plot_mechanism(
         path: output file (``.png``, ``.pdf``, ``.svg``).
         amplification: displacement scale; ``None`` chooses one.
         title: figure title; default: load factor, direction, friction law (associative), blocks and back end.
+        floors, hinge, hinge_label: floor levels and a hinge to mark (:func:`draw_mechanism`).
 
     Returns:
         The written path.
@@ -210,6 +258,9 @@ def plot_mechanism(
         or f"lambda = {result.load_factor:.4f} ({result.direction}), associative friction, {result.blocks} blocks, "
         f"{result.solver}",
         direction=result.direction or None,
+        floors=floors,
+        hinge=hinge,
+        hinge_label=hinge_label,
     )
 
 

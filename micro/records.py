@@ -1,10 +1,12 @@
-"""Flat, JSON-ready records of the micro results.
+"""Flat records of the micro results: frozen dataclasses that read as mappings, with a JSON form.
 
 A record holds what a table, a cache or a report needs of one analysis:
 numbers, strings, bools and tuples of numbers, no arrays (forces and
-velocities stay on the result objects). ``NaN`` is allowed in memory (a
-failed number); :meth:`MicroRecord.to_dict` writes it as ``None`` and
-:meth:`MicroRecord.from_dict` reads it back as ``NaN``, so
+velocities stay on the result objects). It is a read-only mapping of its
+fields (``rec["lowest_stop"]``, ``rec.lowest_stop``, ``dict(rec)``, ``list(rec)``
+give the field names in order). ``NaN`` is allowed in memory (a failed
+number); :meth:`MicroRecord.to_dict` gives the JSON form (``None`` for NaN,
+lists for tuples) and :meth:`MicroRecord.from_dict` reads it back, so
 ``from_dict(to_dict(r))`` gives the record back.
 
 ``iterations`` and ``total_iterations`` (both records):
@@ -24,7 +26,7 @@ import dataclasses
 import math
 import types
 import typing
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any, Self
 
@@ -88,8 +90,8 @@ def _in(hint: Any, value: Any) -> Any:
 
 
 @dataclass(frozen=True)
-class MicroRecord:
-    """What every micro analysis reports (governing direction first).
+class MicroRecord(Mapping[str, Any]):
+    """What every micro analysis reports (governing direction first); a read-only mapping of its fields.
 
     Attributes:
         load_factor: governing ``lambda`` (NaN when the analysis failed).
@@ -138,8 +140,25 @@ class MicroRecord:
     def __post_init__(self) -> None:
         check_success(type(self).__name__, self.status, self.load_factor)
 
+    def __getitem__(self, key: str) -> Any:
+        """``rec[name]``: the field ``name`` (as in memory: NaN, tuples).
+
+        Raises:
+            KeyError: ``name`` is not a field.
+        """
+        if key not in self.__dataclass_fields__:
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def __iter__(self) -> Iterator[str]:
+        """The field names, in order."""
+        return (f.name for f in dataclasses.fields(self))
+
+    def __len__(self) -> int:
+        return len(dataclasses.fields(self))
+
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready dictionary (NaN -> ``None``, tuples -> lists)."""
+        """The JSON form: a dictionary of plain values (NaN -> ``None``, tuples -> lists)."""
         return {f.name: _out(getattr(self, f.name)) for f in dataclasses.fields(self)}
 
     @classmethod

@@ -209,7 +209,8 @@ class LimitResult:
         raise KeyError(direction)
 
     def to_record(self) -> AssociativeRecord:
-        """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
+        """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form
+        (see :mod:`micro.records`)."""
         return AssociativeRecord(solver=self.solver, **record_fields(self, self.mechanism))
 
     def summary(self) -> dict[str, Any]:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from collections.abc import Sequence
 
 import macro
 from comparison.cli.options import QUIET, VERBOSE, UsageError, add_command, add_wall_options, wall_from_args
@@ -38,19 +39,22 @@ def run(args: argparse.Namespace) -> int:
     if args.verbosity == QUIET:
         print(f"{result.load_factor:.6f}")
         return 0
-    print(format_result(result))
+    print(format_result(result, spec.paper_parameters()["p_storeys"]))
     if args.verbosity >= VERBOSE:
-        paper = ", ".join(f"{k} = {v:.6g}" for k, v in spec.paper_parameters().items())
+        paper = ", ".join(f"{k} = {v:.6g}" for k, v in spec.paper_parameters().items() if k != "p_storeys")
         print(f"  paper parameters: {paper}\n  solved in {1e3 * result.solve_seconds:.2f} ms")
     return 0
 
 
-def format_result(r: macro.MacroResult) -> str:
-    """A human-readable account of a macro result, Eq. (10) term by term."""
+def format_result(r: macro.MacroResult, p_storeys: Sequence[float]) -> str:
+    """A human-readable account of a macro result, Eq. (10) term by term; ``p_storeys``: each storey's
+    p = q/(gamma H b) (:meth:`comparison.wall.WallSpec.paper_parameters`)."""
     w = r.wall
     lines = [
         f"macro-block model: {w.storeys} storey(s), rows {list(w.rows)}, L = {w.length:g}, "
         f"block {w.block_length:g} x {w.block_height:g}, f = {w.friction:g}",
+        f"  floor loads (storey 1, the top, first): q = {', '.join(f'{q:g}' for q in w.overload)}; "
+        f"p = q/(gamma H b) = {', '.join(f'{p:.4g}' for p in p_storeys)}",
         f"  load factor         lambda   = {r.load_factor:.4f}  ({r.mechanism}, status {r.status})",
         f"  Eq. (10) minimum    lambda_r = {r.rocking_load_factor:.4f}",
         f"  Eq. (12) at optimum lambda_s = {r.sliding_load_factor:.4f}",

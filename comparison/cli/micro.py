@@ -155,9 +155,10 @@ def run(args: argparse.Namespace) -> int:
         result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
     plot_error = None
     if args.plot is not None and result.ok:
+        from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_mechanism
 
-        plot_error = _write_plot(lambda: plot_mechanism(wall, result, args.plot), args.plot)
+        plot_error = _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
     if args.json:
         print(_json(result.summary(), args, spec, plotted=result.ok and plot_error is None))
     else:
@@ -312,18 +313,21 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
                          "and Clarabel's interior point)")
     tuning = parse_tuning(args.tuning)
     # the options given; the others are the library's defaults
-    given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit, "global_time_limit": time_limit}
+    given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit}
     if args.max_iterations is not None:
         given["max_iterations"] = int_option("--max-iterations", args.max_iterations, minimum=2)
-    if args.node_limit is not None:
-        given["global_node_limit"] = int_option("--node-limit", args.node_limit, minimum=1)
+    nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, minimum=1)
+    if args.global_:  # the search's limits: --node-limit, and --time-limit as for every LP
+        limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes, "time_limit": time_limit}
+        given["global_"] = micro.GlobalOptions(**limits)
     result = micro.solve_nonassociative(
         wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
-        lowest=LOWEST_CHOICES[args.lowest or "auto"], global_=args.global_, **given,
+        lowest=LOWEST_CHOICES[args.lowest or "auto"], **given,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     plot_error = None
     if args.plot is not None and mechanism is not None:
+        from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_velocities
 
         title = (
@@ -331,7 +335,8 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             f"{result.blocks} blocks"
         )
         plot_error = _write_plot(
-            lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction),
+            lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction,
+                                    **storey_marks(spec)),
             args.plot,
         )
     if args.json:

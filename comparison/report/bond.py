@@ -2,7 +2,7 @@
 
 Sets 15-17 (five storeys, 150 rows, 7,575 blocks) have no non-associative
 load factor: the iterated LP does not settle on them within the runner's caps
-(``docs/research/2026-11-24-table9-coarser-bonds.md``). Reads the committed sweep table
+(``docs/report.md`` links the measurements). Reads the committed sweep table
 ``sweeps/table9_bond.csv`` of the report's tables directory
 (:mod:`comparison.report.committed`; written
 by ``xcheck sweep examples/sweeps/table9_bond.toml --out reports/sweeps``;
@@ -121,7 +121,7 @@ def section(path: Path | None) -> tuple[str, list[dict[str, Any]]]:
         "",
         "Sets 15-17 (o = 150, 7,575 blocks) have no non-associative value: the iterated LP does not settle on "
         "them within the runner's caps (Table 9 above; "
-        "[the research log](../docs/research/2026-11-24-table9-coarser-bonds.md)). "
+        "[the report's page](../docs/report.md), which links the measurements). "
         "Their associative λ is an upper "
         "bound of every non-associative collapse load (a non-associative collapse state is statically admissible "
         "for the associative LP), so the macro model's excess over it is a lower bound of its excess over the "

@@ -9,6 +9,7 @@ import macro
 from comparison.report.figures import Figure, pyplot, save_figure
 from comparison.report.results import Results
 from comparison.report.tables import mechanism_record
+from comparison.wall import WallSpec
 
 
 def mechanism_figures(res: Results, out: Path) -> list[Figure]:
@@ -28,7 +29,8 @@ def mechanism_figures(res: Results, out: Path) -> list[Figure]:
         r = res.macro[spec]
         aspect = min(1.4, max(0.45, wall.height / wall.length))
         fig, ax = plt.subplots(figsize=(7.5, 5.2 * aspect + 1.4), dpi=100, layout="constrained")
-        amplification = draw_mechanism(ax, wall, mech.velocities, fig=fig, direction=mech.direction)
+        amplification = draw_mechanism(ax, wall, mech.velocities, fig=fig, direction=mech.direction,
+                                       **storey_marks(spec, r))  # fmt: skip
         _draw_macro_crack(ax, r, mech.direction)
         fig.suptitle(f"{c.label}: {rec.method.kind} λ = {rec.load_factor:.3f}, macro λ = {r.load_factor:.3f}",
                      fontsize=9)  # fmt: skip
@@ -44,12 +46,34 @@ def mechanism_figures(res: Results, out: Path) -> list[Figure]:
                 f"for the live load in {mech.direction} (arrow), λ = {rec.load_factor:.4f}. Blocks are drawn "
                 f"displaced by their virtual velocities × {amplification:.3g} and coloured by their speed relative to "
                 f"the fastest block, the wall "
-                f"undeformed in grey; axes in block heights. Red: the macro model's crack through the hinge "
-                f"(α_c = {r.alpha_c_deg:.1f}°, dashed) and its stepped crack (α_c* = {r.alpha_c_star_deg:.1f}°), "
-                f"hinge at the base of storey {r.hinge_storey}, macro λ = {r.load_factor:.4f}.",
+                f"undeformed in grey; axes in block heights{_floors_said(spec)}. Red: the macro model's crack "
+                f"through the hinge (α_c = {r.alpha_c_deg:.1f}°, dashed) and its stepped crack "
+                f"(α_c* = {r.alpha_c_star_deg:.1f}°), the hinge (circle) at the base of storey {r.hinge_storey}, "
+                f"macro λ = {r.load_factor:.4f}.",
             )
         )
     return figures
+
+
+def storey_marks(spec: WallSpec, r: macro.MacroResult | None = None) -> dict[str, Any]:
+    """What a mechanism plot of ``spec`` marks, as keyword arguments of :func:`micro.plot.draw_mechanism`:
+    the floors between its storeys and the macro model's hinge (``r``'s, else solved here; no hinge when the
+    macro model gives none)."""
+    marks: dict[str, Any] = {"floors": [spec.storey_base(k) for k in range(1, len(spec.storeys))]}
+    if r is None:
+        try:
+            r = macro.solve(spec.to_macro())
+        except ValueError:  # a wall the macro model refuses (TooLarge is one): no hinge to mark
+            return marks
+    if r.status == "optimal":
+        marks |= {"hinge": spec.storey_base(r.hinge_storey),
+                  "hinge_label": f"macro hinge: base of storey {r.hinge_storey}"}  # fmt: skip
+    return marks
+
+
+def _floors_said(spec: WallSpec) -> str:
+    """The caption's words for the floor lines (none on a one-storey wall)."""
+    return "; dashed: the floors, the storeys numbered from the top at the right" if len(spec.storeys) > 1 else ""
 
 
 def _why_not(res: Results, case: Any) -> str:

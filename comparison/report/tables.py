@@ -299,10 +299,11 @@ def all_cases(res: Results) -> Table:
             blocks = blocks if micro is None else micro.blocks
         row += [pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
         t.add(*row)
-    t.note = (
-        "n/a: the micro wall cannot be built (shorter than half a block). A length that is not a whole number "
-        "of half blocks (Set 8: L = 20, l = 3) ends every course with a cut block."
-    )
+    cut = ("A length that is not a whole number of half blocks (Set 8: L = 20, l = 3) ends every course with a cut "
+           "block.")
+    # the n/a note only where an n/a cell is shown
+    na = any(lam_cell(res.record(c.spec(), m)) == "n/a" for c in res.plan.cases for m in res.plan.methods)
+    t.note = f"n/a: the micro wall cannot be built (shorter than half a block). {cut}" if na else cut
     return t
 
 

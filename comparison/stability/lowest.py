@@ -222,12 +222,13 @@ def study_cases(quick: bool = False) -> list[LowestCase]:
 def run_case(case: LowestCase) -> LowestRun:
     """The iterated LP, the descent and (with ``case.nodes``) the global search on one wall."""
     import micro
+    from micro.nonassociative import GlobalOptions
 
     wall = case.wall.spec().to_micro(first_course=case.first_course, head_joints=case.head_joints)
     nan = math.nan
     try:
-        r = micro.solve_nonassociative(wall, tuning=micro.Tuning(global_bounds=GLOBAL_BOUNDS), global_=case.nodes > 0,
-                                       global_node_limit=case.nodes or None, global_time_limit=None)
+        search = GlobalOptions(node_limit=case.nodes, time_limit=None, bounds=GLOBAL_BOUNDS) if case.nodes else None
+        r = micro.solve_nonassociative(wall, global_=search)
     except Exception as exc:  # noqa: BLE001 - recorded as the run's status
         return _failed(case, wall.n_blocks, f"error: {type(exc).__name__}: {exc}")
     rec, g = r.to_record(), r.global_search

@@ -31,12 +31,12 @@ bound. ``info`` then keeps the load factor read from the duals
 polish's corrections (``polish_steps``) and time (``polish_seconds``, also in
 ``seconds``). Forces that pass the re-check are returned as Clarabel gave them
 (the polish would move their load factor by ~1e-9 for 2-6 % of the solve's
-CPU time, docs/research/2026-11-23-associative-lp-measured.md).
+CPU time; ``docs/micro/associative.md``).
 
 Why: Clarabel's KKT system is then ``n_eq + 2P`` square instead of
 ``2P + n_eq + 2P`` (the static form carries the ``g >= 0`` rows as well), and
-the answer is more accurate (docs/research/2026-11-23-associative-lp-measured.md: 1e-8 instead of 1e-6
-relative on 1,230 blocks).
+the answer is more accurate (1e-8 instead of 1e-6 relative on 1,230 blocks;
+``docs/micro/associative.md``).
 
 Scaling: the normalisation row is written ``f_L . u = d * S`` with ``S`` the
 total live load (sum of ``|f_L|``), so that the velocities are of order one
@@ -59,10 +59,9 @@ from micro.backends.clarabel import RETRY_ON, ClarabelStaticBackend, clarabel_se
 from micro.backends.polish import checked_outcome
 from micro.lp import LimitLP
 
-#: Clarabel settings of the kinematic back end (measurements in
-#: docs/research/2026-11-23-associative-lp-measured.md). Every one is set explicitly, so that a later
-#: Clarabel with other defaults cannot silently pick a slower or looser path
-#: (``tests/micro/backends/test_clarabel_kinematic.py`` pins them):
+#: Clarabel settings of the kinematic back end (``docs/micro/associative.md``).
+#: Every one is set explicitly, so that a later Clarabel with other defaults
+#: cannot silently pick a slower or looser path (``tests/micro/backends/test_clarabel_kinematic.py``):
 #:
 #: * ``direct_solve_method="qdldl"``: Clarabel's ``"auto"`` picks faer above
 #:   ~2,700 blocks, 3x slower on one core on these walls;

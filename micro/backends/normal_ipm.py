@@ -21,10 +21,9 @@ Each iteration is one numeric Cholesky factorisation of ``M``
 
 Why: Clarabel (the ``clarabel`` back end) factorises a quasi-definite KKT
 system with a row per generator as well (~32,000 rows on the 1,230-block
-wall against ``M``'s 3,690), by QDLDL, which has no supernodes. Measured on
-one core (benchmark medians, docs/research/2026-11-23-associative-lp-measured.md): 1,230 blocks 0.257 s
-against 0.609 s, 7,575 blocks 5.49 s against 19.6 s, with lambda within 1.7e-8
-of the vertex references.
+wall against ``M``'s 3,690), by QDLDL, which has no supernodes: ``normal-ipm``
+is 1.8-4.3 times faster on 1,230-7,575 blocks, as accurate
+(``docs/micro/associative.md``).
 
 The answer's forces are the primal iterate, checked and if need be polished
 exactly as the kinematic back end's (:func:`micro.backends.polish.checked_outcome`);
@@ -88,8 +87,7 @@ class NormalIpmSettings(InteriorPointSettings):
     divergence: float = 1e12
 
 
-#: The settings of the ``normal-ipm`` back end (measurements in
-#: docs/research/2026-11-23-associative-lp-measured.md).
+#: The settings of the ``normal-ipm`` back end (why: ``docs/micro/associative.md``).
 NORMAL_IPM = NormalIpmSettings()
 
 

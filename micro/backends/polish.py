@@ -7,7 +7,7 @@ Clarabel's cone duals, whose equilibrium residual is Clarabel's dual residual
 (``1e-10`` relative) times the largest force. On Set 17 (p = 8, 7,575 blocks)
 the generators reach 1.7e5 block weights: the residual was 4.1e-6 block
 weights, beyond :data:`micro.backends.base.MAX_RESIDUAL`, although Clarabel
-had solved to its tolerances (docs/research/2026-11-23-associative-lp-measured.md).
+had solved to its tolerances.
 
 What: the smallest correction ``(dg, dlam)`` of the generators ``g`` and the
 load factor that closes the residual ``r0 = A_g g + lam f_L - r``, in the

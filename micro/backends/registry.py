@@ -7,7 +7,7 @@ Names of :data:`SOLVERS` (the CLI's ``--solver``, the report's back ends):
                    the default (:data:`DEFAULT_SOLVER`): 1.8-4.3 times faster
                    than the best configuration of the maintained solvers
                    (``clarabel``) on walls of 1,230-7,575 blocks, as accurate
-                   (docs/research/2026-11-25-associative-default.md);
+                   (``docs/micro/associative.md``);
 ``clarabel``       Clarabel (interior point) on the kinematic (dual) form of
                    the LP (:mod:`micro.backends.clarabel_kinematic`), the
                    fastest and most accurate maintained solver measured;

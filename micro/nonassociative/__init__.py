@@ -11,21 +11,18 @@ implemented:
          of the bounds of the ``s`` columns.
 ``"b"``  a line through ``(nbar, mu nbar)`` with a small negative slope,
          ``|s| <= c0 + (1 + alpha) mu nbar - alpha mu n``, ``alpha`` halved
-         every iteration from ``alpha0`` (0.3) down to ``alpha_min`` (1e-3), a
+         every iteration from 0.3 down to 1e-3 (``selections.ALPHA0``, ``ALPHA_MIN``), a
          tiny cohesion ``c0`` so that contacts with ``nbar = 0`` keep a
          feasible point. Two rows per point, ``+s + alpha mu n <= rhs`` and
          ``-s + alpha mu n <= rhs``; their right-hand sides change every
          iterate and, while ``alpha`` changes, their ``n`` coefficients. The
          cap ``n <= nbar (1 + alpha)/alpha + c0/(alpha mu)`` that the line
          implies freezes points with ``nbar ~ 0``; the support can then
-         shrink until the LP is infeasible (seen on every Table 7 wall with
-         ``c0 = 1e-6``). Such an iterate is replaced by one scheme (a) step
-         from the last forces (``algorithm="fallback-a"``) and (b) goes on.
+         shrink until the LP is infeasible. Such an iterate is replaced by
+         one scheme (a) step from the last forces (``algorithm="fallback-a"``).
 
 Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
-``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none). Without
-relaxation the plain sequence converged on 50 of the 104 walls of
-``xcheck stability``, 62 with ``beta = 0.6``; with the certificate, 102 and 104.
+``nbar = beta n_k + (1 - beta) n_(k-1)`` (``beta = 1``: none).
 
 Modules, one concept each:
 
@@ -59,12 +56,8 @@ A sequence stops as ``converged`` (exactly, or certified), ``cycling``
 ``max_simplex_iterations``), ``time_limit`` (a user's wall-clock stop,
 ``max_seconds`` or ``time_limit``: no final answer), or ``solver_failure``
 (an LP failed warm and cold, or the final iterate re-solved cold disagrees
-with the warm one, HiGHS having open reports of wrong objectives after hot
-starts). The load factor of a sequence that did
-not converge is NaN; the last value and the band are reported beside it. A
-warm run that stalls (HiGHS' dual simplex on an infeasible scheme (b) LP) is
-interrupted by :class:`micro.backends.highs.StallGuard` and recovered like
-any failed iterate.
+with the warm one). The load factor of a sequence that did not converge is
+NaN; the last value and the band are reported beside it.
 """
 
 from __future__ import annotations
@@ -106,38 +99,12 @@ from micro.nonassociative.tuning import (
 from micro.results import DirectionResult, direction_sign, load_directions
 
 __all__ = [
-    "CONVERGED",
-    "CYCLING",
-    "DEFAULT_RELAXATION",
-    "FUSE_BLOCKS",
-    "MAX_ITERATIONS",
-    "SCHEMES",
-    "SELECTIONS",
-    "SOLVER_FAILURE",
-    "STATUSES",
-    "TIME_LIMIT",
-    "FusionDiagnostics",
-    "GlobalOptions",
-    "GlobalResult",
-    "IterationRecord",
-    "LOWEST_BUDGET",
-    "LOWEST_ROW_LPS",
-    "LPProgress",
-    "LowestDirection",
-    "NonAssociativeOptions",
-    "NonAssociativeResult",
-    "Progress",
-    "Recipe",
-    "SequenceDiagnostics",
-    "TUNING_KNOBS",
-    "Tuning",
-    "continuation_allowed",
-    "detect_cycle",
-    "lowest_state",
-    "recipe_for",
-    "solve_global",
-    "solve_nonassociative",
-    "verify_collapse_state",
+    "CONVERGED", "CYCLING", "DEFAULT_RELAXATION", "FUSE_BLOCKS", "MAX_ITERATIONS", "SCHEMES", "SELECTIONS",
+    "SOLVER_FAILURE", "STATUSES", "TIME_LIMIT", "FusionDiagnostics", "GlobalOptions", "GlobalResult",
+    "IterationRecord", "LOWEST_BUDGET", "LOWEST_ROW_LPS", "LPProgress", "LowestDirection", "NonAssociativeOptions",
+    "NonAssociativeResult", "Progress", "Recipe", "SequenceDiagnostics", "TUNING_KNOBS", "Tuning",
+    "continuation_allowed", "detect_cycle", "lowest_state", "recipe_for", "solve_global", "solve_nonassociative",
+    "verify_collapse_state"
 ]
 
 
@@ -169,6 +136,29 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         ValueError: a bad option (the message names it).
         TypeError: an unknown option name; ``wall``, ``options``, ``tuning`` or ``progress`` of the wrong
             type (``options="fast"``, ``progress="print"``), naming it.
+
+    Examples:
+        >>> import micro
+        >>> wall = micro.build_wall(length=3.0, block_length=1.0, block_height=0.5, rows=(6,),
+        ...                         thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.75)
+        >>> result = micro.solve_nonassociative(wall)
+        >>> result.status, result.stop_reason, round(result.load_factor, 4)
+        ('converged', 'certified', 0.5789)
+        >>> result.load_factor <= result.associative_load_factor
+        True
+
+        The state is exact: every residual of the collapse conditions is
+        at rounding level, checked from the forces and the mechanism alone.
+
+        >>> residuals = micro.verify_collapse_state(micro.assemble(wall), result.governing)
+        >>> max(v for k, v in residuals.items() if k != "slipping_points") < 1e-9
+        True
+
+        Options as keywords, research knobs through ``tuning``:
+
+        >>> plain = micro.solve_nonassociative(wall, lowest=False, tuning=micro.Tuning(certify=False))
+        >>> plain.stop_reason in ("lambda_and_forces", "lambda_and_coulomb", "repeating", "oscillating")
+        True
     """
     check_block_wall(wall)
     for name, value, kind in (("options", options, NonAssociativeOptions), ("tuning", tuning, Tuning)):
@@ -182,9 +172,9 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     t0 = time.perf_counter()
     lp = assemble(wall)
     build = time.perf_counter() - t0
-    results = tuple(solve_chain(lp, d, r) for d in load_directions(r.directions, wall.mirror_symmetric))
+    results = tuple(solve_chain(lp, d, r) for d in load_directions(o.directions, wall.mirror_symmetric))
     lowest = tuple(lowest_state(lp, res, r) for res in results if res.converged) if r.lowest else ()
-    glob = _global_search(lp, results, lowest, r) if r.global_ else None
+    glob = _global_search(lp, results, lowest, o.global_) if isinstance(o.global_, GlobalOptions) else None
     solve_secs = time.perf_counter() - t0 - build
     failing = [res for res in results if not res.converged]
     if failing:
@@ -194,7 +184,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         g = min(results, key=lambda res: res.load_factor)
         lam, direction, status, msg = g.load_factor, g.direction, CONVERGED, ""
     return NonAssociativeResult(
-        load_factor=lam, direction=direction, status=status, scheme=r.scheme, relaxation=r.beta,
+        load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
         directions=results, recipe=r, message=msg, lowest=lowest, global_search=glob,
@@ -202,13 +192,12 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
 
 
 def _global_search(lp: LimitLP, results: tuple[DirectionResult, ...], lowest: tuple[LowestDirection, ...],
-                   o: Recipe) -> GlobalResult:
+                   options: GlobalOptions) -> GlobalResult:
     """The branch and bound over the directions solved, each started from the
     lowest certified state (else the iterated LP's converged state)."""
     starts = [StartState.from_iterated(lp, low.state) for low in lowest if low.state is not None]
     have = {st.direction for st in starts}
     starts += [StartState.from_iterated(lp, r) for r in results
                if r.converged and direction_sign(r.direction) not in have]
-    opts = GlobalOptions(time_limit=o.global_time_limit, node_limit=o.global_node_limit, bounds=o.global_bounds)
     which: Literal[1, -1, "both"] = "both" if len(results) > 1 else 1 if results[0].direction == "+x" else -1
-    return solve_global(lp, which, opts, starts)
+    return solve_global(lp, which, options, starts)

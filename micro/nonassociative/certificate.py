@@ -40,22 +40,15 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
 from micro.backends.clarabel import CLARABEL_RETRY, ClarabelStaticBackend
-from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
-from micro.nonassociative.recipe import Recipe
 from micro.nonassociative.states import point_states
-from micro.nonassociative.tuning import INTERPENETRATION, STATE_RESIDUAL, TINY
+from micro.nonassociative.tuning import INTERPENETRATION, TINY
 
 FloatArray = NDArray[np.float64]
 #: ``(n, s, lambda)`` of a state found by a certificate LP.
 StateTriple = tuple[FloatArray, FloatArray, float]
 
-#: Interior-point iterations allowed to each certificate LP (HiGHS'
-#: ``ipm_iteration_limit``; Clarabel's ``max_iter`` of the tight settings is
-#: the same 400): the only limit of a certificate try besides the user's
-#: ``time_limit``.
-STATE_IPM_ITERATIONS = 400
 #: Clarabel settings of the certificate LPs: their ends are checked for
 #: feasibility, so optimality to 1e-9 is enough (the tight settings stopped
 #: short on every certificate LP of the Table 7 walls and were retried).
@@ -89,20 +82,12 @@ class Certificate:
     Args:
         lp: the wall's LP.
         direction: ``+1`` or ``-1``.
-        options: the options (``scheme``, ``state_solver``, ``time_limit``).
+        scheme: the sequence's scheme, ``"a"`` or ``"b"`` (how much closing
+            of a mechanism counts as noise: :meth:`pattern`).
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: Recipe) -> None:
-        self.lp, self.d, self.o = lp, direction, options
-        self._state: PersistentHighsModel | None = None
-
-    def state_model(self) -> PersistentHighsModel:
-        """The associative LP in generator form as a persistent HiGHS model
-        (built on first use; the vertex start solves it too)."""
-        if self._state is None:
-            self._state = PersistentHighsModel.of(self.lp, +1, algorithm="ipm")
-            self._state.set_cost(self.lp.lam_col, -float(self.d))
-        return self._state
+    def __init__(self, lp: LimitLP, direction: int, scheme: str) -> None:
+        self.lp, self.d, self.scheme = lp, direction, scheme
 
     def pattern(self, v: FloatArray) -> tuple[FloatArray, FloatArray] | None:
         """Generator bounds of the collapse states compatible with the
@@ -113,7 +98,7 @@ class Certificate:
         # scheme (b)'s own mechanisms dilate by alpha mu |slip|: its closing
         # rates are not noise, and any beyond STATE_TOL reject it
         states = point_states(self.lp.Bn.T @ v, self.lp.Bs.T @ v,
-                              INTERPENETRATION if self.o.scheme == "a" else STATE_TOL)
+                              INTERPENETRATION if self.scheme == "a" else STATE_TOL)
         if states is None:
             return None
         opening, slip_pos, slip_neg = states
@@ -123,41 +108,19 @@ class Certificate:
 
     def state_lp(self, v: FloatArray, sense: float, time_limit: float = math.inf) -> tuple[StateTriple | None, Outcome]:
         """Minimise ``sense * lambda`` over the collapse states compatible
-        with the mechanism ``v`` (the generator columns of :meth:`pattern`),
-        by an interior point capped at :data:`STATE_IPM_ITERATIONS`
-        iterations (and the user's ``time_limit`` in seconds, ``inf``: none).
+        with the mechanism ``v``: the generator LP without the columns
+        :meth:`pattern` excludes, by Clarabel's interior point (the user's
+        ``time_limit`` in seconds, ``inf``: none).
 
         Returns:
             ``((n, s, lambda) or None, outcome)``: ``None`` unless the
-            interior point found an optimal state that passes its residual check.
+            interior point found an optimal state that passes the back end's re-check.
         """
         pattern = self.pattern(v)
         if pattern is None:
             return None, Outcome(Status.INFEASIBLE, "mechanism interpenetrates")
-        if self.o.state_solver == "clarabel":
-            return self._state_lp_clarabel(*pattern, sense, time_limit)
-        lp, P, d = self.lp, self.lp.n_points, self.d
-        m = self.state_model()
-        m.set_col_bounds(np.arange(2 * P), np.zeros(2 * P), np.concatenate(pattern))
-        m.set_cost(lp.lam_col, float(sense) * d)
-        m.clear_solver()
-        m.limit_next_run(time_limit, ipm_iterations=STATE_IPM_ITERATIONS)
-        out = m.run()
-        m.limit_next_run(None)
-        if out.x is None:
-            return None, out
-        n, s = lp.forces(out.x[: 2 * P])
-        lam = float(out.x[lp.lam_col]) * d
-        if lp.primal_residual(n, s, lam * d) > STATE_RESIDUAL:
-            return None, out  # the interior point stopped short of an accurate state
-        return (n, s, lam), out
-
-    def _state_lp_clarabel(self, up_p: FloatArray, up_m: FloatArray, sense: float,
-                           time_limit: float) -> tuple[StateTriple | None, Outcome]:
-        """:meth:`state_lp` by Clarabel: the generator LP with the excluded
-        columns left out (its own residual check)."""
         lp, d = self.lp, self.d
-        restricted = dataclasses.replace(lp, col_upper=np.concatenate([up_p, up_m, [np.inf]]))
+        restricted = dataclasses.replace(lp, col_upper=np.concatenate([*pattern, [np.inf]]))
         tl = None if not math.isfinite(time_limit) else float(time_limit)
         direction = -d if sense > 0 else d  # ClarabelStaticBackend maximises direction * lambda_column
         out = ClarabelStaticBackend(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)

@@ -21,10 +21,8 @@ FloatArray = NDArray[np.float64]
 #: (``"certified"``) is not the warm vertex's: the certificate's interior-point
 #: LPs, which start from no basis, found it for the iterate's mechanism at its
 #: ``lambda``, and it passes the collapse conditions whatever the warm run's
-#: objective; a sequence that did not converge returns no state. The re-solve
-#: took 14-26 % of the iterated LP's CPU time on Table 7's walls and Set 5 and
-#: 16 % on Table 5's reference wall, all certified
-#: (docs/research/2026-11-25-nonassociative-profile.md).
+#: objective (and the re-solve cost 14-26 % of the iterated LP); a sequence
+#: that did not converge returns no state.
 COLD_CHECKED_STOPS = ("lambda_and_forces", "lambda_and_coulomb")
 
 #: A point is in contact when its normal force exceeds this fraction of the

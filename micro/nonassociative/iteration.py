@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
 from micro.backends.clarabel import ClarabelStaticBackend
+from micro.backends.highs import PersistentHighsModel
 from micro.lp import LimitLP
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
@@ -89,22 +90,22 @@ class LPSequence:
     Args:
         lp: the wall's LP.
         direction: ``+1`` or ``-1``.
-        options: the options.
+        recipe: the recipe.
         start: scaled normal forces ``(P,)`` to start ``nbar`` from instead of
             the associative LP's (which still gives iterate 0 and the
             associative load factor); ``None``: the associative LP's.
         iterate0: the associative LP's ``(outcome, algorithm, x)`` from
             another sequence on the same LP and direction with the same
-            ``options.start`` (its :attr:`iterate0`), reused instead of
+            ``tuning.start`` (its :attr:`iterate0`), reused instead of
             solved again; ``None``: solve it.
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: Recipe,
+    def __init__(self, lp: LimitLP, direction: int, recipe: Recipe,
                  start: FloatArray | None = None,
                  iterate0: tuple[Outcome, str, FloatArray | None] | None = None) -> None:
-        self.lp, self.d, self.o, self.start = lp, direction, options, start
+        self.lp, self.d, self.recipe, self.start = lp, direction, recipe, start
         self.iterate0 = iterate0
-        self.certificate = Certificate(lp, direction, options)
+        self.certificate = Certificate(lp, direction, recipe.tuning.scheme)
         self.history: list[IterationRecord] = []
         self.fallbacks = 0
         self.c0 = 0.0
@@ -121,7 +122,7 @@ class LPSequence:
         self.last_try = -(10**9)
         self.model: IterationModel | None = None
         # how an iterate goes on (vertex, proximal, continuation)
-        self.rule = selection_for(options, lp, direction)
+        self.rule = selection_for(recipe, lp, direction)
         self.warm_limit = self.rule.warm_limit(self.warm_limit)
         fused = lp.n_eq != 3 * lp.wall.n_blocks  # the LP of a fused wall (fewer bodies than blocks)
         self.stage = ("fused " if fused else "") + self.rule.name
@@ -138,19 +139,23 @@ class LPSequence:
             layout ``[n, s, d * lambda]`` (``None`` unless optimal).
         """
         lp, P = self.lp, self.lp.n_points
-        if self.o.start == "interior":
-            out = ClarabelStaticBackend(lp, time_limit=self.o.time_limit).solve(self.d)
+        if self.recipe.tuning.start == "interior":
+            out = ClarabelStaticBackend(lp, time_limit=self.recipe.options.time_limit).solve(self.d)
             if out.ok and out.n is not None and out.s is not None:
                 return out, "clarabel", np.concatenate([out.n, out.s, [out.load_factor * self.d]])
-            out, algo = self.certificate.state_model().run(), "ipm"
+            out, algo = self._associative_model().run(), "ipm"
         else:
-            m = self.certificate.state_model()
-            out, algo = restart(m), COLD
-            m.set_algorithm("ipm")
+            out, algo = restart(self._associative_model()), COLD
         if out.x is None:
             return out, algo, None
         n, s = lp.forces(out.x[: 2 * P])
         return out, algo, np.concatenate([n, s, [out.x[lp.lam_col]]])
+
+    def _associative_model(self) -> PersistentHighsModel:
+        """The associative LP of this direction in generator form, for HiGHS' interior point."""
+        m = PersistentHighsModel.of(self.lp, +1, algorithm="ipm")
+        m.set_cost(self.lp.lam_col, -float(self.d))
+        return m
 
     # ----------------------------------------------------------------- run
     def run(self) -> DirectionResult:
@@ -181,7 +186,7 @@ class LPSequence:
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
         if failed is not None and failed.status is Status.TIME_LIMIT:
             return self._fail("time_limit", f"LP {len(self.history) - 1} hit the time limit of "
-                              f"{self.o.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
+                              f"{self.recipe.options.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
         if failed is not None or self.final is None:
             status = failed.native_status if failed is not None else ""
             return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold ({status})",
@@ -195,9 +200,9 @@ class LPSequence:
         Returns:
             ``(stop reason, band, the failed outcome or None)``.
         """
-        o = self.o
+        r = self.recipe
         n_prev, n_prev2, lam_prev = n0, n0, lam_assoc
-        for k in range(1, o.max_iterations + 1):
+        for k in range(1, r.max_iterations + 1):
             t_it = time.perf_counter()
             new_alpha = alpha
             if k > 1:
@@ -218,11 +223,11 @@ class LPSequence:
             n_prev2, n_prev, lam_prev = n_prev, n, lam
             if stop is not None:
                 return stop
-            if o.max_simplex_iterations is not None and self.pivots >= o.max_simplex_iterations:
-                return "work_budget", window_band(self.lams, o.window), None
-            if o.max_seconds is not None and time.perf_counter() - t_start > o.max_seconds:
-                return "time_budget", window_band(self.lams, o.window), None
-        return "max_iterations", window_band(self.lams, o.window), None
+            if r.tuning.max_simplex_iterations is not None and self.pivots >= r.tuning.max_simplex_iterations:
+                return "work_budget", window_band(self.lams), None
+            if r.options.max_seconds is not None and time.perf_counter() - t_start > r.options.max_seconds:
+                return "time_budget", window_band(self.lams), None
+        return "max_iterations", window_band(self.lams), None
 
     # ------------------------------------------------- warm / cold policy
     def _solve(self, model: IterationModel, k: int, n_prev: FloatArray, alpha: float) -> tuple[Outcome, str]:
@@ -237,7 +242,7 @@ class LPSequence:
         102,000 and over 108,000 simplex iterations, 260-360 s, against cold
         ones of 40-65 s). A run stopped by the user's ``time_limit`` is returned as it is (the
         sequence ends)."""
-        user = self.o.time_limit
+        user = self.recipe.options.time_limit
         cold = k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
                           and self.cold_streak < self.streak_length)
         if cold:
@@ -263,12 +268,12 @@ class LPSequence:
         last forces alone (no relaxation). What still fails is restarted cold
         (HiGHS "Unknown" on near-degenerate rows)."""
         out, algo = failed, ""
-        if k > 1 and self.o.scheme == "b":
-            out, algo = model.fallback_a_step(n_prev, self.o.time_limit, self.warm_limit), "fallback-a"
+        if k > 1 and self.recipe.tuning.scheme == "b":
+            out, algo = model.fallback_a_step(n_prev, self.recipe.options.time_limit, self.warm_limit), "fallback-a"
             self.fallbacks += 1
-        elif k > 1 and failed.status is Status.INFEASIBLE and self.o.beta < 1.0:
+        elif k > 1 and failed.status is Status.INFEASIBLE and self.recipe.beta < 1.0:
             model.set_capacity(n_prev, alpha, alpha, self.c0)
-            out, algo = model.warm(self.o.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
+            out, algo = model.warm(self.recipe.options.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
         if not out.ok:
             out, algo = restart(model.model), "ipm-restart"
         # the failed run's work counts (the work budget, the history)
@@ -302,7 +307,6 @@ class LPSequence:
         Returns:
             ``(stop reason, band, None)`` or ``None`` to go on.
         """
-        o = self.o
         assert out.duals is not None
         nscale = max(float(np.max(n, initial=0.0)), TINY)
         dlam = abs(lam - lam_prev) / max(abs(lam), TINY)
@@ -315,11 +319,12 @@ class LPSequence:
         self.final = (v, n, s, lam)
         alpha_done = self.rule.alpha_done(alpha)
         coul_tol = COULOMB_TOL + (self.c0 / nscale if self.rule.rows else 0.0)
-        exact = exact_stop(k, alpha_done, dlam, dn, coul, coul_tol, o)
+        exact = exact_stop(k, alpha_done, dlam, dn, coul, coul_tol)
         if exact is not None:
             return exact, None, None
         due = self.rule.certificate_due(self.lams, k, self.last_try)
-        if o.certify and alpha_done and algo != "fallback-a" and due and self._try_certificate(k, v, lam):
+        certify = self.recipe.tuning.certify and alpha_done and algo != "fallback-a" and due
+        if certify and self._try_certificate(k, v, lam):
             return "certified", None, None
         stop = self.rule.no_progress(self.lams, self.dns, alpha_done)
         return None if stop is None else (stop[0], stop[1], None)
@@ -327,7 +332,7 @@ class LPSequence:
     def _try_certificate(self, k: int, v: FloatArray, lam: float) -> bool:
         """Try the certificate on iterate ``k``: is its mechanism an exact
         collapse state with other forces than the LP's vertex?"""
-        cert = self.certificate.certify(v, lam, time_limit=self.o.user_limit)
+        cert = self.certificate.certify(v, lam, time_limit=self.recipe.user_limit)
         self.last_try = k
         rec = self.history[-1]
         coul = checks.coulomb_residual(self.lp, *cert.forces) if cert.forces is not None else NAN
@@ -349,7 +354,7 @@ class LPSequence:
             simplex_iterations=int(out.simplex_iterations), ipm_iterations=int(out.ipm_iterations),
             seconds=float(out.seconds), algorithm=algo, status=out.status.value, proximal_step=self.rule.take_step(),
         ))
-        self.o.tell(LPProgress(DIR_NAME[self.d], self.stage, k, lam, dn, algo, float(out.seconds)))
+        self.recipe.tell(LPProgress(DIR_NAME[self.d], self.stage, k, lam, dn, algo, float(out.seconds)))
 
     # ------------------------------------------------------------ finish
     def _fail(self, reason: str, msg: str, t_start: float, lam_assoc: float,
@@ -358,7 +363,7 @@ class LPSequence:
         seq = SequenceDiagnostics(
             stop_reason=reason, last_load_factor=last[-1] if last else NAN, lambda_band=band, mechanism_band=None,
             associative_load_factor=lam_assoc, history=tuple(self.history), fallback_steps=self.fallbacks,
-            selection=self.o.selection,
+            selection=self.recipe.selection,
         )
         return DirectionResult(direction=DIR_NAME[self.d], status=status, load_factor=NAN,
                                iterations=max(len(self.history) - 1, 0), seconds=time.perf_counter() - t_start,
@@ -368,7 +373,7 @@ class LPSequence:
                 t_start: float) -> DirectionResult:
         """The final-state checks, the cold re-solve, the mechanism band and the message."""
         assert self.final is not None
-        o, lp = self.o, self.lp
+        r, lp = self.recipe, self.lp
         v, n, s, lam = self.final
         status = (CONVERGED if stop in CONVERGED_STOPS else TIME_LIMIT if stop == "time_budget"
                   else MAX_ITERATIONS if stop in ("max_iterations", "work_budget") else CYCLING)
@@ -384,8 +389,8 @@ class LPSequence:
         if status == CONVERGED and state.equilibrium > EQUILIBRIUM_RESIDUAL:
             status, stop = SOLVER_FAILURE, "equilibrium_residual"
             msg = f"equilibrium residual {state.equilibrium:.2e} block weights at the final iterate"
-        if status == CONVERGED and o.mechanism_band and self.mechanism_band is None and o.scheme == "a":
-            self.mechanism_band = self.certificate.certify(v, lam, time_limit=o.user_limit).band
+        if status == CONVERGED and r.tuning.mechanism_band and self.mechanism_band is None and r.tuning.scheme == "a":
+            self.mechanism_band = self.certificate.certify(v, lam, time_limit=r.user_limit).band
         msg = msg or self._message(status, stop, band)
         if cold_note:
             msg += f"; also, {cold_note}"
@@ -396,7 +401,7 @@ class LPSequence:
             cold_load_factor=cold.load_factor, warm_cold_rel_diff=cold.rel_diff, cold_algorithm=cold.algorithm,
             coulomb_residual=state.coulomb, dilatancy_residual=state.dilatancy,
             equilibrium_residual=state.equilibrium, sliding_points=state.sliding_points,
-            fallback_steps=self.fallbacks, selection=o.selection,
+            fallback_steps=self.fallbacks, selection=r.selection,
         )
         fs = lp.force_scale
         return DirectionResult(
@@ -410,9 +415,10 @@ class LPSequence:
         if status == CYCLING:
             return f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop
         if status in (MAX_ITERATIONS, TIME_LIMIT):
-            msg = {"max_iterations": f"no convergence in {self.o.max_iterations} iterations",
-                   "work_budget": f"work budget of {self.o.max_simplex_iterations} simplex iterations spent after "
-                                  f"{len(self.history) - 1} LPs",
-                   }.get(stop, f"time budget of {self.o.max_seconds} s spent after {len(self.history) - 1} LPs")
+            r, lps = self.recipe, len(self.history) - 1
+            msg = {"max_iterations": f"no convergence in {r.max_iterations} iterations",
+                   "work_budget": f"work budget of {r.tuning.max_simplex_iterations} simplex iterations spent after "
+                                  f"{lps} LPs",
+                   }.get(stop, f"time budget of {r.options.max_seconds} s spent after {lps} LPs")
             return msg + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else "")
         return stop if status != CONVERGED else ""

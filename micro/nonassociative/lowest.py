@@ -230,7 +230,7 @@ class Descent:
         friction of the ``released`` points set to zero; the lowest polished
         exact state of the steps' distinct mechanisms (``None`` if none)."""
         if self.gilbert is None:
-            model = IterationModel(self.lp, self.d, "a", self.o.alpha0)
+            model = IterationModel(self.lp, self.d, "a", 0.0)
             self.gilbert = (model, PersistentRuns(model.model, self.o.user_limit))
             self.gilbert[1].report = self._progress
             self.gilbert[1].gate = self.may_run
@@ -309,7 +309,7 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe) -> Lowest
     Args:
         lp: the wall's LP.
         start: a converged direction (its final forces and mechanism).
-        options: the recipe of the iterated LP (its ``lowest_budget``).
+        options: the recipe of the iterated LP (its options' ``lowest_budget``).
 
     Returns:
         The :class:`LowestDirection`.
@@ -319,5 +319,5 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe) -> Lowest
     """
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
-    budget = math.ceil((LOWEST_ROW_LPS + options.lowest_budget * start.iterations) / lp.n_eq)
+    budget = math.ceil((LOWEST_ROW_LPS + options.options.lowest_budget * start.iterations) / lp.n_eq)
     return Descent(lp, direction_sign(start.direction), options, budget).run(start)

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from micro.backends.base import check_integer, finite_real
+from micro.nonassociative.global_search.results import GlobalOptions
 from micro.results import Directions, check_directions
 
 #: The descent to the lowest certified state may solve at most
@@ -52,8 +53,7 @@ class NonAssociativeOptions:
             sequence; a sequence that reaches it ends ``max_iterations``.
         time_limit: optional wall-clock limit per LP in seconds (``None``:
             none); an LP it stops ends the run with status ``time_limit``,
-            no final answer. With ``global_`` also the default of the
-            search's limit (``global_time_limit``).
+            no final answer.
         max_seconds: optional wall-clock stop per direction (``None``: none);
             a sequence it stops has status ``time_limit``. No other decision
             depends on time: the same wall gives the same numbers everywhere.
@@ -66,12 +66,13 @@ class NonAssociativeOptions:
             :data:`LOWEST_ROW_LPS`; divided by the wall's rows it is a number
             of LPs); a descent that spends it returns the lowest certified
             state found so far (``lowest_stop="budget"``). No clock decides it.
-        global_: then search for the global minimum by branch and bound
-            (:mod:`micro.nonassociative.global_search`; walls of a few blocks).
-        global_time_limit: seconds of branch and bound per direction
-            (``None``: none); a search it stops depends on the machine.
-        global_node_limit: branch-and-bound nodes per direction (``None``:
-            none); the same answer on every machine.
+        global_: the search for the global minimum by branch and bound
+            (:mod:`micro.nonassociative.global_search`; walls of a few
+            blocks): ``False`` (the default) none, ``True`` with the
+            defaults of :class:`~micro.nonassociative.GlobalOptions`, or a
+            ``GlobalOptions`` with every setting of the search (time and node
+            limits, gap, big-M policy, HiGHS or SCIP). Stored as the
+            ``GlobalOptions`` or ``None``.
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -83,14 +84,12 @@ class NonAssociativeOptions:
     max_seconds: float | None = None
     lowest: bool | None = None
     lowest_budget: float = LOWEST_BUDGET
-    global_: bool = False
-    global_time_limit: float | None = 300.0
-    global_node_limit: int | None = None
+    global_: GlobalOptions | bool | None = None
 
     def __post_init__(self) -> None:
         check_directions(self.directions)
         check_integer("max_iterations", self.max_iterations, 2)
-        for name in ("time_limit", "max_seconds", "global_time_limit"):
+        for name in ("time_limit", "max_seconds"):
             tl = getattr(self, name)
             if tl is not None and ((x := finite_real(tl)) is None or x <= 0):
                 raise ValueError(f"{name} must be a positive number of seconds, got {tl!r}")
@@ -100,11 +99,10 @@ class NonAssociativeOptions:
         if (x := finite_real(lb)) is None or x < 0:
             raise ValueError(f"lowest_budget must be a finite number >= 0, got {lb!r}")
         object.__setattr__(self, "lowest_budget", float(self.lowest_budget))
-        if self.global_node_limit is not None:
-            check_integer("global_node_limit", self.global_node_limit, 1)
-        if not isinstance(self.global_, (bool, np.bool_)):  # global_=1 started minutes of branch and bound
-            raise ValueError(f"global_ must be True or False, got {self.global_!r}")
-        object.__setattr__(self, "global_", bool(self.global_))
+        g = self.global_
+        if not isinstance(g, (GlobalOptions, bool, np.bool_)) and g is not None:
+            raise ValueError(f"global_ must be True, False or a GlobalOptions, got {g!r}")
+        object.__setattr__(self, "global_", GlobalOptions() if g is True or g is np.True_ else g or None)
         if self.lowest is not None and not isinstance(self.lowest, (bool, np.bool_)):
             raise ValueError(f"lowest must be True, False or None (by the wall's size), got {self.lowest!r}")
         if self.lowest is not None:

@@ -30,7 +30,7 @@ mechanism spread to the blocks; any field it finds is an exact collapse
 state of the WALL, and nothing less is accepted. The fusion restricts the
 mechanisms the sequence can reach: the state is one of the wall's collapse
 states, not necessarily the one the unfused sequence would reach
-(measurements: ``docs/research/2026-11-24-fused-wall.md``).
+(``docs/micro/nonassociative.md``).
 """
 
 from __future__ import annotations
@@ -55,7 +55,7 @@ from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.recipe import Recipe
 from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
-from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL, SelectionName
+from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL
 from micro.results import DirectionResult
 
 FloatArray = NDArray[np.float64]
@@ -65,8 +65,8 @@ IntArray = NDArray[np.int64]
 #: sequence ended with one of these statuses.
 RETRY_STATUSES = ("cycling", "max_iterations")
 
-#: A contact is rigid, and the blocks it joins are fused into one body
-#:, when its opening and slip rates in the
+#: A contact is rigid, and the blocks it joins are fused into one body, when
+#: its opening and slip rates in the
 #: associative mechanism (Clarabel's interior point) are below this fraction
 #: of the largest rate. That mechanism has no clean zero: on Set 10 (10,710
 #: contacts) 27 contacts are rigid at 1e-8, 2,598 at 1e-7, 7,189 at 1e-6,
@@ -76,34 +76,31 @@ RETRY_STATUSES = ("cycling", "max_iterations")
 FUSE_RIGID_TOL = 1e-5
 
 
-
-def solve_direction(lp: LimitLP, direction: int, options: Recipe,
+def solve_direction(lp: LimitLP, direction: int, recipe: Recipe,
                     start: FloatArray | None = None) -> DirectionResult:
-    """The iterated LP on one load direction with ``options.selection``.
+    """The iterated LP on one load direction with ``recipe.selection``.
 
     ``"vertex+proximal"`` runs the vertex sequence, and where it ends with a
-    status of :data:`~micro.nonassociative.tuning.RETRY_STATUSES` the
-    proximal sequence (at most ``options.retry_iterations`` LPs), its
+    status of :data:`RETRY_STATUSES` the proximal sequence (at most
+    ``tuning.retry_iterations`` LPs), its
     ``nbar`` started from the vertex sequence's last normal forces rather
     than the associative LP's. The second result is
     returned with the vertex sequence in ``sequence.vertex_attempt``, and
     the LPs and seconds of both. ``start``: normal forces to start the
     (first) sequence's ``nbar`` from (:class:`LPSequence`).
     """
-    if not options.selection.startswith("vertex+"):
-        return LPSequence(lp, direction, options, start=start).run()
-    retry: SelectionName = "proximal"
-    vertex = LPSequence(lp, direction, dataclasses.replace(options, selection="vertex"), start=start)
+    if not recipe.selection.startswith("vertex+"):
+        return LPSequence(lp, direction, recipe, start=start).run()
+    vertex = LPSequence(lp, direction, dataclasses.replace(recipe, selection="vertex"), start=start)
     first = vertex.run()
     if first.status not in RETRY_STATUSES:
         return first
-    cap = options.max_iterations if options.retry_iterations is None else options.retry_iterations
     start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
-    second = LPSequence(lp, direction, dataclasses.replace(options, selection=retry, max_iterations=cap,
-                                                         continuation=False),
-                      start=start, iterate0=vertex.iterate0).run()
+    retry = dataclasses.replace(recipe, selection="proximal", max_iterations=recipe.tuning.retry_iterations,
+                                continuation=False)
+    second = LPSequence(lp, direction, retry, start=start, iterate0=vertex.iterate0).run()
     assert second.sequence is not None
-    message = second.message if second.converged else f"{retry}: {second.message}; vertex: {first.message}"
+    message = second.message if second.converged else f"proximal: {second.message}; vertex: {first.message}"
     return joined(first, second, second, message=message,
                   sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence))
 
@@ -116,47 +113,46 @@ def joined(first: DirectionResult, second: DirectionResult, result: DirectionRes
                                seconds=first.seconds + second.seconds, **changes)
 
 
-def solve_fused(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult:
+def solve_fused(lp: LimitLP, direction: int, recipe: Recipe) -> DirectionResult:
     """The iterated LP of one direction on the fused wall
     (:func:`fused_wall`): the sequences run on
     the bodies' LP, and :func:`on_the_wall` makes
     their state the wall's, or rejects it. Where the associative LP fails, or
     nothing moves, the wall itself runs instead."""
     t0 = time.perf_counter()
-    unfused = dataclasses.replace(options, fuse=False)
-    made = fused_wall(lp, direction, options)
+    unfused = dataclasses.replace(recipe, fuse=False)
+    made = fused_wall(lp, direction, recipe)
     if made is None:
         return solve_direction(lp, direction, unfused)
     fused, assoc = made
     t_fuse = time.perf_counter() - t0
     # the continuation starts from the wall's associative forces at the points kept
-    start = np.maximum(np.asarray(assoc.n)[fused.points], 0.0) if options.continuation and assoc.n is not None else None
+    start = np.maximum(np.asarray(assoc.n)[fused.points], 0.0) if recipe.continuation and assoc.n is not None else None
     r = solve_direction(fused.lp, direction, unfused, start=start)
-    return on_the_wall(lp, direction, fused, assoc, r, options, t0, t_fuse)
+    return on_the_wall(lp, direction, fused, assoc, r, recipe, t0, t_fuse)
 
 
-def solve_chain(lp: LimitLP, direction: int, options: Recipe) -> DirectionResult:
-    """One load direction as ``options`` ask: the fused wall (``fuse``), or
+def solve_chain(lp: LimitLP, direction: int, recipe: Recipe) -> DirectionResult:
+    """One load direction as ``recipe`` asks: the fused wall (``fuse``), or
     the wall's own sequences (:func:`solve_direction`) and, where those of
     ``"vertex+proximal"`` (scheme (a)) both end
     ``cycling`` or ``max_iterations``, the fused wall with the continuation
     (``fused_retry``).
 
     It certified the two error-map walls (882 and 1,314 blocks) on which the
-    vertex and the proximal sequences end at their caps (measurements:
-    ``docs/research/2026-11-25-nonassociative-recipe.md``).
+    vertex and the proximal sequences end at their caps.
 
     A certified third run is returned with the wall's sequences in
     ``sequence.unfused_attempt``; a failed one leaves the wall's result,
     its message extended. Either way the LPs and seconds of all runs count.
     """
-    if options.fuse:
-        return solve_fused(lp, direction, options)
-    first = solve_direction(lp, direction, options)
-    if (not options.fused_retry or options.continuation or options.scheme != "a"
-            or not options.selection.startswith("vertex+") or first.status not in RETRY_STATUSES):
+    if recipe.fuse:
+        return solve_fused(lp, direction, recipe)
+    first = solve_direction(lp, direction, recipe)
+    if (not recipe.tuning.fused_retry or recipe.continuation or recipe.tuning.scheme != "a"
+            or not recipe.selection.startswith("vertex+") or first.status not in RETRY_STATUSES):
         return first
-    third = solve_fused(lp, direction, dataclasses.replace(options, fuse=True, continuation=True))
+    third = solve_fused(lp, direction, dataclasses.replace(recipe, fuse=True, continuation=True))
     assert first.sequence is not None and third.sequence is not None
     if not third.converged:
         return joined(first, third, first,
@@ -272,7 +268,7 @@ def fuse(lp: LimitLP, body: IntArray, n_bodies: int) -> FusedLP:
     return FusedLP(fused, R, points, body, n_bodies)
 
 
-def fused_wall(lp: LimitLP, direction: int, options: Recipe) -> tuple[FusedLP, Outcome] | None:
+def fused_wall(lp: LimitLP, direction: int, recipe: Recipe) -> tuple[FusedLP, Outcome] | None:
     """The fused wall of one direction: the associative LP of the whole wall
     (Clarabel) gives the mechanism whose rigid bodies are fused.
 
@@ -280,7 +276,7 @@ def fused_wall(lp: LimitLP, direction: int, options: Recipe) -> tuple[FusedLP, O
         ``(the fused LP, the associative outcome)``, or ``None`` where the
         associative LP fails or nothing moves (the wall itself must run).
     """
-    assoc = ClarabelStaticBackend(lp, time_limit=options.time_limit).solve(direction)
+    assoc = ClarabelStaticBackend(lp, time_limit=recipe.options.time_limit).solve(direction)
     if not assoc.ok or assoc.duals is None:
         return None
     body, n_bodies = rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]))
@@ -290,7 +286,7 @@ def fused_wall(lp: LimitLP, direction: int, options: Recipe) -> tuple[FusedLP, O
 
 
 def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: DirectionResult,
-                options: Recipe, t0: float, t_fuse: float) -> DirectionResult:
+                recipe: Recipe, t0: float, t_fuse: float) -> DirectionResult:
     """The fused wall's result ``r`` as the wall's (module docstring): a
     converged state is accepted only when the certificate of the whole wall
     finds a field for the bodies' mechanism at its ``lambda``; the result has
@@ -302,7 +298,7 @@ def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: 
         fused: the fused wall (:func:`fused_wall`).
         assoc: the wall's associative outcome whose mechanism was fused.
         r: the sequences' result on ``fused.lp``.
-        options: the recipe.
+        recipe: the recipe.
         t0: when the fusing started (``time.perf_counter()``).
         t_fuse: the seconds of the associative LP and the fusion.
     """
@@ -326,7 +322,7 @@ def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: 
             message=f"on the fused wall ({n_bodies} bodies): {r.message}",
             sequence=dataclasses.replace(seq, fusion=fusion))
     v = mechanism.velocities.ravel()
-    cert = Certificate(lp, direction, options).certify(v, lam, time_limit=options.user_limit)
+    cert = Certificate(lp, direction, recipe.tuning.scheme).certify(v, lam, time_limit=recipe.user_limit)
     t_cert = cert.seconds
     if cert.forces is None:
         if cert.band is None:

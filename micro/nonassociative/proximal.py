@@ -31,7 +31,7 @@ z_l / (x - lower) + z_u / (upper - x)``, factorised by CHOLMOD
 (:class:`~micro.backends.normal_matrix.NormalMatrix`) where Clarabel
 factorises a KKT system with a row per variable and per bound (``5P + 3
 n_blocks`` rows): 2.7-3.9 times faster per QP on Sets 2 and 9
-(``docs/research/2026-11-26-proximal-projection.md``). Mehrotra's
+(``docs/micro/nonassociative.md``). Mehrotra's
 predictor-corrector, one step length for the primal and the dual (the
 Hessian couples them). Both solvers are built once per direction; only the
 right-hand side, the target and the bounds change between iterates
@@ -85,7 +85,6 @@ PROX_CLARABEL: dict[str, Any] = {
     "tol_feas": 1e-8,
     "max_iter": 400,
 }
-
 
 
 @dataclass(frozen=True)
@@ -244,6 +243,7 @@ class _Frame:
             if np.any(neg):
                 a = min(a, float(np.min(-v[neg] / dv[neg])))
         return a
+
 
 @dataclass(frozen=True)
 class ProjectionResult:

@@ -1,23 +1,21 @@
-"""The recipe of one run: the user's options and the tuning, resolved for one wall.
+"""The recipe of one run: the user's options and the tuning, with the choices resolved for one wall.
 
-:func:`recipe_for` turns :class:`~micro.nonassociative.options.NonAssociativeOptions`
-and :class:`~micro.nonassociative.tuning.Tuning` into a flat :class:`Recipe`
-(the selection and the fusing decided for the wall's size), which is what the
-modules of the iterated LP read. With no options and no tuning it is the
-report's method.
+:func:`recipe_for` composes :class:`~micro.nonassociative.options.NonAssociativeOptions`
+and :class:`~micro.nonassociative.tuning.Tuning` into a :class:`Recipe` (the
+selection, the relaxation and the fusing decided for the wall's size), which
+is what the modules of the iterated LP read. With no options and no tuning it
+is the report's method.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any
 
 from micro.nonassociative.options import NonAssociativeOptions
 from micro.nonassociative.tuning import SelectionName, Tuning
-from micro.results import Directions
 
 
 @dataclass(frozen=True)
@@ -51,53 +49,36 @@ Progress = Callable[[LPProgress], None]
 
 @dataclass(frozen=True)
 class Recipe:
-    """What the iterated LP runs (fields: those of the options and the tuning).
+    """What the iterated LP runs on one wall: the user's options and the tuning as given, and the few
+    choices resolved for this wall and this sequence (what the modules of the iterated LP read).
 
-    ``selection``, ``fuse`` and ``continuation`` are resolved (no ``None``);
-    ``relaxation`` is the ``beta`` used. ``progress`` is the caller's callback
-    (not part of the method).
+    Attributes:
+        options: the user's :class:`~micro.nonassociative.options.NonAssociativeOptions`.
+        tuning: the research knobs (:class:`~micro.nonassociative.tuning.Tuning`).
+        selection: this sequence's selection (``tuning.selection`` resolved for the scheme; the
+            pipeline sets ``"vertex"`` or ``"proximal"`` for each sequence of ``"vertex+proximal"``).
+        beta: the relaxation (``tuning.relaxation`` or the scheme's default).
+        fuse, continuation: ``tuning.fuse`` and ``tuning.continuation`` resolved for the wall's size.
+        max_iterations: this sequence's cap on LPs (``options.max_iterations``; the proximal
+            retry's ``tuning.retry_iterations``).
+        lowest: whether the descent runs on this wall (``options.lowest`` resolved).
+        progress: the caller's callback (not part of the method).
     """
 
-    scheme: Literal["a", "b"]
+    options: NonAssociativeOptions
+    tuning: Tuning
     selection: SelectionName
-    relaxation: float
-    alpha0: float
-    alpha_min: float
-    alpha_factor: float
-    max_iterations: int
-    retry_iterations: int
-    max_simplex_iterations: int | None
-    max_seconds: float | None
-    lambda_tol: float
-    window: int
-    directions: Directions
-    start: Literal["interior", "vertex"]
-    certify: bool
-    settle_tol: float
-    settle_window: int
-    mechanism_band: bool
-    state_solver: Literal["clarabel", "highs"]
-    time_limit: float | None
-    lowest: bool
-    lowest_budget: float
-    global_: bool
-    global_time_limit: float | None
-    global_node_limit: int | None
-    global_bounds: Literal["per_point", "uniform"]
+    beta: float
     fuse: bool
     continuation: bool
-    fused_retry: bool
+    max_iterations: int
+    lowest: bool
     progress: Progress | None = field(default=None, repr=False, compare=False)
 
     @property
-    def beta(self) -> float:
-        """The relaxation ``beta``."""
-        return self.relaxation
-
-    @property
     def user_limit(self) -> float:
-        """:attr:`time_limit` in seconds, ``inf`` for none."""
-        return float(self.time_limit) if self.time_limit is not None else math.inf
+        """The user's ``time_limit`` per LP in seconds, ``inf`` for none."""
+        return self.options.user_limit
 
     def tell(self, event: LPProgress) -> None:
         """Pass ``event`` to the progress callback, if any."""
@@ -105,9 +86,10 @@ class Recipe:
             self.progress(event)
 
     def as_dict(self) -> dict[str, Any]:
-        """JSON-ready (without the callback)."""
-        d = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "progress"}
-        return d
+        """JSON-ready: the options and the knobs, with the resolved values in place of theirs."""
+        resolved = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)
+                    if f.name not in ("options", "tuning", "progress")}
+        return {**self.options.as_dict(), **self.tuning.as_dict(), **resolved, "relaxation": self.beta}
 
 
 def recipe_for(blocks: int, options: NonAssociativeOptions | None = None, tuning: Tuning | None = None,
@@ -116,15 +98,6 @@ def recipe_for(blocks: int, options: NonAssociativeOptions | None = None, tuning
     o = options or NonAssociativeOptions()
     t = tuning or Tuning()
     large = t.large_wall(blocks)
-    return Recipe(
-        scheme=t.scheme, selection=t.resolved_selection, relaxation=t.beta, alpha0=t.alpha0, alpha_min=t.alpha_min,
-        alpha_factor=t.alpha_factor, max_iterations=o.max_iterations, retry_iterations=t.retry_iterations,
-        max_simplex_iterations=t.max_simplex_iterations, max_seconds=o.max_seconds, lambda_tol=t.lambda_tol,
-        window=t.window, directions=o.directions, start=t.start, certify=t.certify, settle_tol=t.settle_tol,
-        settle_window=t.settle_window, mechanism_band=t.mechanism_band, state_solver=t.state_solver,
-        time_limit=o.time_limit, lowest=o.lowest_on(blocks), lowest_budget=o.lowest_budget, global_=o.global_,
-        global_time_limit=o.global_time_limit, global_node_limit=o.global_node_limit, global_bounds=t.global_bounds,
-        fuse=large if t.fuse is None else t.fuse, continuation=large if t.continuation is None else t.continuation,
-        fused_retry=t.fused_retry,
-        progress=progress,
-    )
+    return Recipe(o, t, selection=t.resolved_selection, beta=t.beta, fuse=large if t.fuse is None else t.fuse,
+                  continuation=large if t.continuation is None else t.continuation,
+                  max_iterations=o.max_iterations, lowest=o.lowest_on(blocks), progress=progress)

@@ -146,7 +146,7 @@ class SequenceDiagnostics:
             sequence that ended cycling (or at its cap) before this proximal
             one ran (``None`` otherwise); its LPs count in the direction's
             ``iterations`` and ``seconds``.
-        fusion: how the sequence ran on the fused wall (``options.fuse``;
+        fusion: how the sequence ran on the fused wall (``recipe.fuse``;
             ``None``: on the wall itself). Its history is then the fused
             LP's; forces, residuals, the mechanism band and
             ``associative_load_factor`` (whose mechanism gave the bodies)
@@ -154,7 +154,7 @@ class SequenceDiagnostics:
         unfused_attempt: the wall's own sequences (vertex, then
             proximal) that ended cycling or at their caps before this run
             on the fused wall with the continuation certified the direction
-            (``options.fused_retry``; ``None`` otherwise); their LPs count
+            (``tuning.fused_retry``; ``None`` otherwise); their LPs count
             in the direction's ``iterations`` and ``seconds``.
     """
 
@@ -398,7 +398,8 @@ class NonAssociativeResult:
         return low.load_factor if low is not None else math.nan
 
     def to_record(self) -> NonAssociativeRecord:
-        """The flat, JSON-ready record of this result (see :mod:`micro.records`)."""
+        """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form
+        (see :mod:`micro.records`)."""
         q = self.sequence
         return NonAssociativeRecord(
             solver=solver_description(self.recipe), **record_fields(self, self.governing.mechanism),
@@ -446,13 +447,14 @@ class NonAssociativeResult:
         }
 
 
-def solver_description(options: Recipe) -> str:
+def solver_description(recipe: Recipe) -> str:
     """Which solver does what in the iterated LP, e.g. ``"clarabel (start,
     certificate) + highs-simplex (iterated) + highs-ipm (cold check)"``."""
-    roles = [("clarabel" if options.start == "interior" else "highs-ipm+crossover", "start")]
-    if options.certify or options.mechanism_band:
-        roles.append(("clarabel" if options.state_solver == "clarabel" else "highs-ipm", "certificate"))
-    roles.append(("highs-simplex", "iterated" + (", fused" if options.fuse else "")))
+    t = recipe.tuning
+    roles = [("clarabel" if t.start == "interior" else "highs-ipm+crossover", "start")]
+    if t.certify or t.mechanism_band:
+        roles.append(("clarabel", "certificate"))
+    roles.append(("highs-simplex", "iterated" + (", fused" if recipe.fuse else "")))
     roles.append(("highs-ipm", "cold check"))
     by_solver: dict[str, list[str]] = {}
     for solver, role in roles:

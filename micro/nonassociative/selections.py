@@ -66,8 +66,17 @@ CONT_COHESION = 1e-9
 #: Its warm runs are not cut short (a cap would make the path depend on it):
 #: the fused Set 10's second LP took 60,122 simplex iterations, 40 s.
 WARM_UNLIMITED = 2**31 - 1
+#: Scheme (b)'s slope schedule: ``alpha`` from ``ALPHA0``, times
+#: ``ALPHA_FACTOR`` at every LP, down to ``ALPHA_MIN`` (Gilbert et al.'s).
+ALPHA0, ALPHA_FACTOR, ALPHA_MIN = 0.3, 0.5, 1e-3
 
-
+#: The exact stop and the cycle tests: relative change of ``lambda`` counted as none.
+LAMBDA_TOL = 1e-6
+#: LPs per window of the oscillation, stagnation and stall tests.
+WINDOW = 20
+#: The certificate is tried once ``lambda``'s spread over the last
+#: ``SETTLE_WINDOW`` LPs is at most ``SETTLE_TOL`` relative.
+SETTLE_TOL, SETTLE_WINDOW = 1e-3, 3
 #: The exact stop: largest change of the normal forces (relative to the
 #: largest) for ``"lambda_and_forces"`` (else ``"lambda_and_coulomb"``).
 FORCE_TOL = 1e-6
@@ -80,32 +89,30 @@ PERIODS = range(2, 7)
 NO_PROGRESS = 0.5
 
 
-def exact_stop(k: int, alpha_done: bool, dlam: float, dn: float, coulomb: float, coulomb_tol: float,
-               options: Recipe) -> str | None:
+def exact_stop(k: int, alpha_done: bool, dlam: float, dn: float, coulomb: float, coulomb_tol: float) -> str | None:
     """The exact stop: after at least two non-associative iterates (for
-    scheme (b) once ``alpha`` has reached ``alpha_min``), the relative change
-    of ``lambda`` is below ``lambda_tol`` and the iterate satisfies Coulomb
+    scheme (b) once ``alpha`` has reached :data:`ALPHA_MIN`), the relative change
+    of ``lambda`` is below :data:`LAMBDA_TOL` and the iterate satisfies Coulomb
     with its OWN normal forces within ``coulomb_tol``.
 
     Returns:
         ``"lambda_and_forces"`` (the normal forces settled too, within
-        :data:`~micro.nonassociative.tuning.FORCE_TOL`), ``"lambda_and_coulomb"``, or ``None``.
+        :data:`FORCE_TOL`), ``"lambda_and_coulomb"``, or ``None``.
     """
-    if k >= 2 and alpha_done and dlam <= options.lambda_tol and coulomb <= coulomb_tol:
+    if k >= 2 and alpha_done and dlam <= LAMBDA_TOL and coulomb <= coulomb_tol:
         return "lambda_and_forces" if dn <= FORCE_TOL else "lambda_and_coulomb"
     return None
 
 
-def settled(lams: list[float], k: int, last_try: int, options: Recipe) -> bool:
+def settled(lams: list[float], k: int, last_try: int) -> bool:
     """Time for a certificate try: ``lambda``'s spread over the last
-    ``settle_window`` iterates is at most ``settle_tol`` relative, and the
-    last try is at least a window ago (on large walls a try costs a few LPs)."""
-    w = options.settle_window
-    return (len(lams) >= w and k - last_try >= w
-            and float(np.ptp(lams[-w:])) <= options.settle_tol * abs(lams[-1]))
+    :data:`SETTLE_WINDOW` iterates is at most :data:`SETTLE_TOL` relative, and
+    the last try is at least a window ago (on large walls a try costs a few LPs)."""
+    w = SETTLE_WINDOW
+    return len(lams) >= w and k - last_try >= w and float(np.ptp(lams[-w:])) <= SETTLE_TOL * abs(lams[-1])
 
 
-def window_band(lams: list[float], window: int) -> Band | None:
+def window_band(lams: list[float], window: int = WINDOW) -> Band | None:
     """``(min, max)`` of the last ``window`` load factors (``None`` if there are none)."""
     w = lams[-window:]
     return (min(w), max(w)) if w else None
@@ -173,7 +180,7 @@ class Selection:
     """The interface of a selection, its answers those of the vertex iteration (module docstring).
 
     Args:
-        options: the recipe (scheme, relaxation, slopes, tolerances).
+        recipe: the recipe (scheme, relaxation).
         lp: the LP the sequence runs on.
         direction: ``+1`` or ``-1``.
     """
@@ -181,19 +188,19 @@ class Selection:
     #: Its name in the records (``SequenceDiagnostics.selection``) and the progress lines.
     name = "vertex"
 
-    def __init__(self, options: Recipe, lp: LimitLP, direction: int) -> None:
-        self.o = options
-        self.beta = options.beta
+    def __init__(self, recipe: Recipe, lp: LimitLP, direction: int) -> None:
+        self.scheme = recipe.tuning.scheme
+        self.beta = recipe.beta
 
     # ------------------------------------------------------------- the model
     @property
     def rows(self) -> bool:
         """Friction as rows (scheme (b), the continuation) rather than bounds of ``s``."""
-        return self.o.scheme == "b"
+        return self.scheme == "b"
 
     def first_alpha(self) -> float:
         """The slope of the first LP's friction rows (0: none)."""
-        return self.o.alpha0 if self.o.scheme == "b" else 0.0
+        return ALPHA0 if self.scheme == "b" else 0.0
 
     def cohesion(self, associative: FloatArray, start: FloatArray) -> float:
         """``c0`` of the friction rows: :data:`COHESION` of the largest associative normal force."""
@@ -206,7 +213,7 @@ class Selection:
     @property
     def may_go_cold(self) -> bool:
         """Whether a slow warm run sends the next iterates cold (scheme (a))."""
-        return self.o.scheme == "a"
+        return self.scheme == "a"
 
     # ------------------------------------------------------------- a step
     def next_nbar(self, nbar: FloatArray, lam: float, n_prev: FloatArray, n_prev2: FloatArray) -> FloatArray:
@@ -216,13 +223,13 @@ class Selection:
 
     def next_alpha(self, alpha: float) -> float:
         """The next LP's slope: scheme (b)'s halved down to ``alpha_min``, else 0."""
-        if self.o.scheme == "b":
-            return max(self.o.alpha_min, alpha * self.o.alpha_factor)
+        if self.scheme == "b":
+            return max(ALPHA_MIN, alpha * ALPHA_FACTOR)
         return 0.0
 
     def alpha_done(self, alpha: float) -> bool:
         """Whether the slope has reached its end (stops and the certificate wait for it)."""
-        return self.o.scheme == "a" or alpha <= self.o.alpha_min
+        return self.scheme == "a" or alpha <= ALPHA_MIN
 
     def take_step(self) -> float:
         """The proximal step of the last ``nbar`` (NaN for the others), then forgotten."""
@@ -231,11 +238,11 @@ class Selection:
     # ------------------------------------------------------------- stops
     def certificate_due(self, lams: list[float], k: int, last_try: int) -> bool:
         """Whether to try the certificate at LP ``k``: once ``lambda`` has settled."""
-        return settled(lams, k, last_try, self.o)
+        return settled(lams, k, last_try)
 
     def no_progress(self, lams: list[float], dns: list[float], alpha_done: bool) -> tuple[str, Band] | None:
         """The cycle tests of :func:`detect_cycle` once the slope is done."""
-        return detect_cycle(lams, dns, self.o.lambda_tol, self.o.window) if alpha_done else None
+        return detect_cycle(lams, dns, LAMBDA_TOL, WINDOW) if alpha_done else None
 
 
 class Vertex(Selection):
@@ -249,9 +256,9 @@ class Proximal(Selection):
 
     name = "proximal"
 
-    def __init__(self, options: Recipe, lp: LimitLP, direction: int) -> None:
-        super().__init__(options, lp, direction)
-        self.projection = Projection(lp, direction, options.user_limit)
+    def __init__(self, recipe: Recipe, lp: LimitLP, direction: int) -> None:
+        super().__init__(recipe, lp, direction)
+        self.projection = Projection(lp, direction, recipe.user_limit)
         self.steps: list[float] = []
         self.step = NAN
 
@@ -275,7 +282,7 @@ class Proximal(Selection):
 
     def no_progress(self, lams: list[float], dns: list[float], alpha_done: bool) -> tuple[str, Band] | None:
         """:func:`detect_stall` on its steps."""
-        return detect_stall(self.steps, lams, self.o.window)
+        return detect_stall(self.steps, lams, WINDOW)
 
 
 class Continuation(Selection):
@@ -326,11 +333,11 @@ class Continuation(Selection):
         return None
 
 
-def selection_for(options: Recipe, lp: LimitLP, direction: int) -> Selection:
-    """The selection object of one sequence (``options.selection``: ``"vertex"``
-    or ``"proximal"``; ``"vertex"`` with ``options.continuation``: the continuation)."""
-    if options.selection == "proximal":
-        return Proximal(options, lp, direction)
-    if options.continuation and options.selection == "vertex":
-        return Continuation(options, lp, direction)
-    return Vertex(options, lp, direction)
+def selection_for(recipe: Recipe, lp: LimitLP, direction: int) -> Selection:
+    """The selection object of one sequence (``recipe.selection``: ``"vertex"``
+    or ``"proximal"``; ``"vertex"`` with ``recipe.continuation``: the continuation)."""
+    if recipe.selection == "proximal":
+        return Proximal(recipe, lp, direction)
+    if recipe.continuation and recipe.selection == "vertex":
+        return Continuation(recipe, lp, direction)
+    return Vertex(recipe, lp, direction)

@@ -1,4 +1,4 @@
-"""The research knobs of the iterated LP (:class:`Tuning`) and its policy constants.
+"""The research knobs of the iterated LP (:class:`Tuning`), their defaults, the tolerances several modules share.
 
 :class:`Tuning` holds what the method's developers vary: the rebuilt yield
 condition, the relaxation, the selections, fusing and the continuation,
@@ -18,7 +18,7 @@ from typing import Any, Literal, get_args
 
 import numpy as np
 
-from micro.backends.base import check_integer, check_number, finite_real
+from micro.backends.base import check_integer, finite_real
 
 #: Published rebuilt yield conditions implemented here.
 SCHEMES = ("a", "b")
@@ -67,8 +67,9 @@ def continuation_allowed(scheme: str, selection: str) -> bool:
 class Tuning:
     """The research knobs of the iterated LP (validated on construction).
 
-    The defaults are the report's method; ``docs/micro/tuning.md``
-    describes each knob and what it was measured to do.
+    The defaults are the report's method; ``docs/micro/tuning.md`` describes
+    each knob and what it was measured to do. A new knob is one field here
+    with its line below: the recipe carries the whole object.
 
     Attributes:
         scheme: rebuilt yield condition, ``"a"`` or ``"b"`` (package docstring).
@@ -80,24 +81,16 @@ class Tuning:
             ends :data:`RETRY_STATUSES`). ``None``: :data:`DEFAULT_SELECTION`
             for scheme (a), ``"vertex"`` for (b). All but ``"vertex"`` need scheme (a).
         relaxation: ``beta`` in ``(0, 1]`` (``None``: :data:`DEFAULT_RELAXATION`).
-        alpha0, alpha_min, alpha_factor: slope schedule of scheme (b):
-            ``alpha_(k+1) = max(alpha_min, alpha_factor * alpha_k)``.
-        retry_iterations: cap on the second sequence's LPs of a
-            ``"vertex+..."`` selection.
+        retry_iterations: cap on the LPs of the proximal sequence of ``"vertex+proximal"``.
         max_simplex_iterations: cap on the simplex iterations per direction
             (``None``: none): a deterministic work budget; a sequence that
             spends it stops as ``max_iterations`` (``"work_budget"``).
-        lambda_tol: relative change of ``lambda`` for the exact stop and the cycle tests.
-        window: iterations per window of the oscillation / stagnation tests.
         start: iterate 0 by ``"interior"`` (Clarabel, a point near the centre
             of the optimal face) or ``"vertex"`` (HiGHS IPM + crossover).
-        certify: try the certificate once ``lambda`` has settled (over
-            ``settle_window`` iterates within ``settle_tol`` relative);
-            ``False``: only the exact stop converges.
-        settle_tol, settle_window: when to try the certificate.
+        certify: try the certificate once ``lambda`` has settled; ``False``:
+            only the exact stop converges (the plain sequence).
         mechanism_band: for a converged scheme (a) sequence, also compute the
             band of load factors of the final mechanism.
-        state_solver: interior point of the certificate LPs, ``"clarabel"`` or ``"highs"``.
         fuse: run the sequence on the fused wall (blocks that the associative
             mechanism moves as one rigid body are one body; a state counts
             only when the whole wall's certificate extends it). ``None``: on
@@ -105,10 +98,9 @@ class Tuning:
             a vertex sequence.
         continuation: reach scheme (a) by continuation from associative
             friction (``CONT_*`` constants). ``None``: as ``fuse``'s default.
-        fused_retry: with ``"vertex+proximal"`` and scheme
-            (a), where both sequences fail on a direction, a third run on the
-            fused wall with the continuation.
-        global_bounds: the global search's big-M policy, ``"per_point"`` or ``"uniform"``.
+        fused_retry: with ``"vertex+proximal"`` and scheme (a), where both
+            sequences fail on a direction, a third run on the fused wall with
+            the continuation.
 
     Raises:
         ValueError: a bad knob (the message names it).
@@ -117,42 +109,16 @@ class Tuning:
     scheme: Literal["a", "b"] = "a"
     selection: SelectionName | None = None
     relaxation: float | None = None
-    alpha0: float = 0.3
-    alpha_min: float = 1e-3
-    alpha_factor: float = 0.5
     retry_iterations: int = RETRY_LPS
     max_simplex_iterations: int | None = None
-    lambda_tol: float = 1e-6
-    window: int = 20
     start: Literal["interior", "vertex"] = "interior"
     certify: bool = True
-    settle_tol: float = 1e-3
-    settle_window: int = 3
     mechanism_band: bool = True
-    state_solver: Literal["clarabel", "highs"] = "clarabel"
     fuse: bool | None = None
     continuation: bool | None = None
     fused_retry: bool = True
-    global_bounds: Literal["per_point", "uniform"] = "per_point"
 
     def __post_init__(self) -> None:
-        self._check_method()
-        self._check_numbers()
-        for name in ("alpha0", "alpha_min", "alpha_factor", "lambda_tol", "settle_tol"):
-            object.__setattr__(self, name, float(getattr(self, name)))
-        if self.relaxation is not None:
-            object.__setattr__(self, "relaxation", float(self.relaxation))
-        for name in ("certify", "mechanism_band", "fused_retry", "fuse", "continuation"):
-            value = getattr(self, name)
-            if value is None and name in ("fuse", "continuation"):
-                continue
-            if not isinstance(value, (bool, np.bool_)):  # certify="no" was read as True
-                may_be_none = " or None (by the wall's size)" if name in ("fuse", "continuation") else ""
-                raise ValueError(f"{name} must be True or False{may_be_none}, got {value!r}")
-            object.__setattr__(self, name, bool(value))
-
-    def _check_method(self) -> None:
-        """The scheme, the selection and the choices among names."""
         if self.scheme not in SCHEMES:
             raise ValueError(f"scheme must be one of {', '.join(SCHEMES)}, got {self.scheme!r}")
         if self.selection is not None and self.selection not in SELECTIONS:
@@ -164,30 +130,24 @@ class Tuning:
             raise ValueError("continuation needs scheme 'a' and a vertex sequence (selection 'vertex' or "
                              f"'vertex+proximal'), got scheme {self.scheme!r}, "
                              f"selection {self.resolved_selection!r}")
-        for name, allowed in (("start", ("interior", "vertex")), ("state_solver", ("clarabel", "highs")),
-                              ("global_bounds", ("per_point", "uniform"))):
-            if getattr(self, name) not in allowed:
-                raise ValueError(f"{name} must be one of {', '.join(allowed)}, got {getattr(self, name)!r}")
-
-    def _check_numbers(self) -> None:
-        """The numbers, each in its range."""
+        if self.start not in ("interior", "vertex"):
+            raise ValueError(f"start must be one of interior, vertex, got {self.start!r}")
         beta = self.relaxation
         if beta is not None and ((x := finite_real(beta)) is None or not (0.0 < x <= 1.0)):
             raise ValueError(f"relaxation must be a number in (0, 1], got {beta!r}")
-        for name in ("alpha0", "alpha_min", "lambda_tol"):
-            check_number(name, getattr(self, name))
-        if self.alpha_min > self.alpha0:
-            raise ValueError(f"alpha_min ({self.alpha_min}) must not exceed alpha0 ({self.alpha0})")
-        af, st = self.alpha_factor, self.settle_tol
-        if (x := finite_real(af)) is None or not (0.0 < x <= 1.0):
-            raise ValueError(f"alpha_factor must be a number in (0, 1], got {af!r}")
-        if (x := finite_real(st)) is None or not (0.0 <= x < 1.0):
-            raise ValueError(f"settle_tol must be a number in [0, 1), got {st!r}")
         check_integer("retry_iterations", self.retry_iterations, 2)
         if self.max_simplex_iterations is not None:
             check_integer("max_simplex_iterations", self.max_simplex_iterations, 1)
-        check_integer("window", self.window, 3)
-        check_integer("settle_window", self.settle_window, 2)
+        if beta is not None:
+            object.__setattr__(self, "relaxation", float(beta))
+        for name in ("certify", "mechanism_band", "fused_retry", "fuse", "continuation"):
+            value = getattr(self, name)
+            if value is None and name in ("fuse", "continuation"):
+                continue
+            if not isinstance(value, (bool, np.bool_)):  # certify="no" was read as True
+                may_be_none = " or None (by the wall's size)" if name in ("fuse", "continuation") else ""
+                raise ValueError(f"{name} must be True or False{may_be_none}, got {value!r}")
+            object.__setattr__(self, name, bool(value))
 
     @property
     def resolved_selection(self) -> SelectionName:

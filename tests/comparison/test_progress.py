@@ -72,12 +72,12 @@ def test_a_log_gets_a_status_line_every_tenth_or_30_seconds() -> None:
     assert lines[0] == "plan: 100 computations" and lines[-1] == "wrote 3 files"
     status = lines[1:-1]
     assert status[:3] == [
-        "micro: 10 of 100 done (10 %), 40 cached, 90 to go; 10 s elapsed, ETA 1 min 30 s",
-        "micro: 20 of 100 done (20 %), 40 cached, 80 to go; 20 s elapsed, ETA 1 min 20 s",
-        "micro: 26 of 100 done (26 %), 40 cached, 74 to go; 1 min 00 s elapsed, ETA 2 min 51 s",
+        "micro: 10 of 100 done (10 %), 40 cached, 90 to go; 10 s elapsed, ETA by count 1 min 30 s",
+        "micro: 20 of 100 done (20 %), 40 cached, 80 to go; 20 s elapsed, ETA by count 1 min 20 s",
+        "micro: 26 of 100 done (26 %), 40 cached, 74 to go; 1 min 00 s elapsed, ETA by count 2 min 51 s",
     ]
     assert status[-1].startswith("micro: 100 of 100 done (100 %), 40 cached, 0 to go; ") and status[-1].endswith(
-        "ETA 0 s")
+        "ETA by count 0 s")
     assert len(status) == 11 and "lambda" not in stream.getvalue()  # per-computation lines only when verbose
     quiet = io.StringIO()
     with Progress(QUIET, quiet, clock=clock) as p:
@@ -96,7 +96,7 @@ def test_durations() -> None:
 
 
 def test_a_log_gets_a_status_line_while_one_computation_runs_for_minutes() -> None:
-    """The heartbeat: with nothing finishing, a log still gets the status line, marked "still running",
+    """The heartbeat: with nothing finishing, a log still gets the status line, marked "nothing finished",
     once LOG_SECONDS have passed since the last line (a full report's log had no line for 10 minutes
     while Sets 9 and 10 ran); nothing before that, and the thread ends with the display."""
     import time
@@ -110,10 +110,47 @@ def test_a_log_gets_a_status_line_while_one_computation_runs_for_minutes() -> No
         assert stream.getvalue() == ""
         clock.now += LOG_SECONDS + 1
         for _ in range(500):  # wait (up to 5 s) for the heartbeat to see the clock
-            if "still running" in stream.getvalue():
+            if "nothing finished" in stream.getvalue():
                 break
             time.sleep(0.01)
         thread = p._thread
     lines = stream.getvalue().splitlines()
-    assert lines == ["micro: 0 of 4 done (0 %), 0 cached, 4 to go; 31 s elapsed, ETA unknown; still running"]
+    assert lines == [
+        "micro: 0 of 4 done (0 %), 0 cached, 4 to go; 31 s elapsed, ETA unknown; nothing finished for 31 s"]
     assert thread is not None and not thread.is_alive() and p._thread is None
+
+
+def test_the_heartbeat_says_nothing_finished_only_when_the_count_did_not_move() -> None:
+    """Issue 44, item 3: a log showed ``3 of 88`` then ``5 of 88 ...; still running``, though the words were
+    documented as "nothing finished". The heartbeat's line says ``nothing finished for <time since the last
+    finish>`` only when no computation finished since the previous line; after the count moved it is the
+    plain status line."""
+    from comparison.progress import LOG_SECONDS
+
+    stream, clock = io.StringIO(), Clock()
+    with Progress(NORMAL, stream, clock=clock, heartbeat=None) as p:
+        p.start(88, "micro")
+        for _ in range(3):
+            p.advance()
+        clock.now += LOG_SECONDS
+        p.advance()  # 4 of 88, 30 s after the start: a line
+        clock.now += 10
+        p.advance()  # 5 of 88, no line (neither 10 % nor 30 s)
+        clock.now += LOG_SECONDS - 10
+        p.beat()  # 30 s after the last line, the count moved since: the plain line
+        clock.now += LOG_SECONDS / 2
+        p.beat()  # 15 s after that line: nothing
+        clock.now += LOG_SECONDS / 2
+        p.beat()  # 30 s after it, nothing finished since: said, with the time since the 5th finished
+        clock.now += LOG_SECONDS
+        p.beat()
+    lines = stream.getvalue().splitlines()
+    assert [line.split("; ", 1)[0] for line in lines] == ["micro: 4 of 88 done (4 %), 0 cached, 84 to go"] + [
+        "micro: 5 of 88 done (5 %), 0 cached, 83 to go"] * 3
+    assert [line.rsplit("; ", 1)[1] for line in lines] == [
+        "30 s elapsed, ETA by count 10 min 30 s",
+        "1 min 00 s elapsed, ETA by count 16 min 36 s",
+        "nothing finished for 50 s",
+        "nothing finished for 1 min 20 s",
+    ]
+    assert not any("still running" in line for line in lines)

@@ -190,3 +190,17 @@ def test_fused_eq10_matches_term_by_term() -> None:
         pb = _problems(w)
         tau = np.tan(rng.uniform(0.0, 1.2, (pb.size, 40)))
         np.testing.assert_allclose(load_factor(tau, pb), evaluate(tau, pb)["lambda_r"], rtol=1e-12)
+
+
+
+def test_a_macro_record_reads_as_a_mapping_of_its_fields() -> None:
+    """Issue 44, item 5: the records of both models are read-only mappings of their fields."""
+    import dataclasses
+    from collections.abc import Mapping
+
+    rec = macro.solve(WallSpec.from_paper(t=1, m=1 / 3, rows=60, f=0.6, storeys=3).to_macro()).to_record()
+    assert isinstance(rec, Mapping)
+    assert rec["hinge_storey"] == rec.hinge_storey == 3 and rec["mechanism"] == "rocking-sliding"
+    assert list(rec) == [f.name for f in dataclasses.fields(rec)] and dict(rec)["load_factor"] == rec.load_factor
+    with pytest.raises(KeyError):
+        rec["lowest_stop"]

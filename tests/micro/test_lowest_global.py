@@ -32,7 +32,7 @@ WALLS = [
 @pytest.mark.parametrize("name, make, exact", WALLS, ids=[w[0] for w in WALLS])
 def test_lowest_reaches_the_proven_global_minimum(name: str, make, exact: float | None) -> None:  # type: ignore[no-untyped-def]
     # a node limit, not a time limit: the test ends alike on every machine
-    r = micro.solve_nonassociative(make(), global_=True, global_time_limit=None, global_node_limit=NODES)
+    r = micro.solve_nonassociative(make(), global_=micro.GlobalOptions(time_limit=None, node_limit=NODES))
     g = r.global_search
     assert r.converged and g is not None and g.status == "optimal", g and g.message
     lam_it, lam_low = r.load_factor, r.lowest_load_factor

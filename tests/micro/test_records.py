@@ -1,4 +1,4 @@
-"""Records: flat, JSON-ready, round trip, and consistent with the results they come from."""
+"""Records: flat, read-only mappings with a JSON form, round trip, and consistent with the results they come from."""
 
 from __future__ import annotations
 
@@ -107,9 +107,34 @@ def test_summaries_hold_no_nan_at_any_depth() -> None:
 
     assert [json_number(x) for x in (0.5, 1, math.nan, math.inf, -math.inf)] == [0.5, 1.0, None, None, None]
     wall = WallSpec.from_paper(t=1, m=1, rows=2, f=0.6).to_micro()
-    r = micro.solve_nonassociative(wall, lowest=True, global_=True, global_node_limit=5)
+    r = micro.solve_nonassociative(wall, lowest=True, global_=micro.GlobalOptions(node_limit=5))
     assert r.converged and r.lowest and r.global_search is not None
     summary = r.summary()
     text = json.dumps(summary, allow_nan=False)  # raises on any NaN or infinity left
     assert math.isnan(r.sequence.cold_load_factor) == (summary["cold_load_factor"] is None)
     assert json.loads(text)["lowest"][0]["direction"] == r.lowest[0].direction
+
+
+def test_a_record_reads_as_a_mapping_of_its_fields() -> None:
+    """Issue 44, item 5: ``to_record()`` was called JSON-ready but ``rec["lowest_stop"]`` raised
+    ``TypeError: 'NonAssociativeRecord' object is not subscriptable``. A record is a read-only mapping of its
+    fields (the values as in memory: NaN, tuples); ``to_dict()`` is its JSON form."""
+    from collections.abc import Mapping
+
+    r = micro.solve_nonassociative(table7_wall("set12"))
+    rec = r.to_record()
+    assert isinstance(rec, Mapping)
+    assert rec["lowest_stop"] == rec.lowest_stop and rec["mechanism_band"] == r.mechanism_band
+    names = [f.name for f in dataclasses.fields(rec)]
+    assert list(rec) == names and len(rec) == len(names) and "lowest_stop" in rec
+    assert dict(rec) == {n: getattr(rec, n) for n in names}
+    assert rec.get("no such field") is None and "no such field" not in rec
+    with pytest.raises(KeyError, match="no such field"):
+        rec["no such field"]
+    with pytest.raises(TypeError):
+        rec["lowest_stop"] = "budget"  # type: ignore[index]
+    assert {k: rec.to_dict()[k] for k in rec} == rec.to_dict()  # same keys, same order as the JSON form
+    failed = micro.solve_associative(dataclasses.replace(table7_wall("set12"), live=0 * table7_wall("set12").live))
+    frec = failed.to_record()
+    assert math.isnan(frec["load_factor"]) and frec.to_dict()["load_factor"] is None
+    assert rec == r.to_record() and rec != dict(rec)  # equality stays the record's, field by field

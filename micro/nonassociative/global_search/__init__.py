@@ -82,6 +82,18 @@ def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "bot
 
     Raises:
         ValueError: a bad argument (the message names it).
+
+    Examples:
+        On a wall of five blocks a node limit stops the search the same way
+        on every machine (a time limit would depend on the machine):
+
+        >>> import micro
+        >>> from micro.nonassociative import GlobalOptions, solve_global
+        >>> wall = micro.build_wall(length=2.0, block_length=1.0, block_height=0.5, rows=(2,),
+        ...                         thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.6)
+        >>> result = solve_global(wall, options=GlobalOptions(node_limit=100))
+        >>> result.status, round(result.load_factor, 4), result.lower_bound <= result.load_factor
+        ('node_limit', 0.6, True)
     """
     opts = GlobalOptions() if options is None else options
     if not isinstance(opts, GlobalOptions):

@@ -14,6 +14,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.backends.base import check_integer, finite_real
 from micro.lp import LimitLP
 from micro.mechanism import Mechanism
 from micro.records import json_number
@@ -36,6 +37,7 @@ POLICIES = ("per_point", "uniform")
 def scip_available() -> bool:
     """True when ``pyscipopt`` is installed (the optional extra ``global``)."""
     return importlib.util.find_spec("pyscipopt") is not None
+
 
 @dataclass(frozen=True)
 class GlobalOptions:
@@ -69,13 +71,12 @@ class GlobalOptions:
 
     def __post_init__(self) -> None:
         t = self.time_limit
-        if t is not None and (isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t) or t <= 0):
+        if t is not None and ((x := finite_real(t)) is None or x <= 0):
             raise ValueError(f"time_limit must be a positive number, got {t!r}")
-        n = self.node_limit
-        if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n <= 0):
-            raise ValueError(f"node_limit must be a positive integer, got {n!r}")
+        if self.node_limit is not None:
+            check_integer("node_limit", self.node_limit, 1)
         g = self.mip_gap
-        if isinstance(g, bool) or not isinstance(g, (int, float)) or not (0.0 <= g < 1.0):
+        if (x := finite_real(g)) is None or not (0.0 <= x < 1.0):
             raise ValueError(f"mip_gap must be in [0, 1), got {g!r}")
         if self.bounds not in POLICIES:
             raise ValueError(f"bounds must be one of {', '.join(POLICIES)}, got {self.bounds!r}")
@@ -85,6 +86,7 @@ class GlobalOptions:
             raise ValueError(f"solver must be one of {', '.join(SOLVERS)}, got {self.solver!r}")
         if self.solver == "scip" and not scip_available():
             raise ValueError("solver 'scip' needs pyscipopt: pip install 'xcheck-masonry[global]'")
+
 
 @dataclass(frozen=True, eq=False)
 class StartState:
@@ -126,6 +128,7 @@ class StartState:
                    np.asarray(result.shear) / lp.force_scale, lam,
                    np.asarray(result.mechanism.velocities, dtype=float).ravel())
 
+
 @dataclass(frozen=True, eq=False)
 class BigM:
     """The bounds used by one global search (scaled units).
@@ -153,6 +156,7 @@ class BigM:
     lps: int
     seconds: float
 
+
 @dataclass(frozen=True, eq=False)
 class Pattern:
     """Which points may open and in which sense each interface may slip.
@@ -179,6 +183,7 @@ class Pattern:
         pick = np.where(np.abs(s2[:, 0]) >= np.abs(s2[:, 1]), s2[:, 0], s2[:, 1])
         slip = np.where(pick > tol, 1, np.where(pick < -tol, -1, 0)).astype(np.int64)
         return cls(np.asarray(opening_rate) > tol, slip)
+
 
 @dataclass(frozen=True, eq=False)
 class GlobalDirection:
@@ -260,6 +265,7 @@ def relative_gap(value: float, bound: float) -> float:
     if not (math.isfinite(value) and math.isfinite(bound)):
         return math.nan
     return max(value - bound, 0.0) / max(abs(value), 1e-12)
+
 
 def global_summary(result: GlobalResult) -> dict[str, Any]:
     """The JSON keys of the global search (NaN and infinities as ``None``).

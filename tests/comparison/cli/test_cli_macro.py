@@ -51,6 +51,24 @@ def test_macro_scene_file(capsys: pytest.CaptureFixture[str]) -> None:
     assert 0.57 < d["load_factor"] < 0.5825
 
 
+def test_a_scene_shows_its_loads_storey_by_storey(capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 44, item 7: the example scene's comment gives p = 0.2 while ``--json`` said ``"p": 0.0`` (the
+    top storey's, documented but surprising). Both outputs show p storey by storey, as the comment does."""
+    import re
+
+    comment = [float(p) for p in re.findall(r"p = [^#\n]*= ([\d.]+)\s*$", EXAMPLE.read_text(), re.M)]
+    assert comment == [0.2]  # the comment's derivation, for storey 2
+    d = json.loads(run(capsys, "macro", "--scene", str(EXAMPLE), "--json")[1])
+    assert d["paper_parameters"]["p_storeys"] == pytest.approx([0.0, 0.2, 0.2])
+    assert d["paper_parameters"]["p"] == d["paper_parameters"]["p_storeys"][0] == 0.0
+    assert d["wall"]["overload"] == [0.0, 2.16, 2.16]
+    code, out, _ = run(capsys, "macro", "--scene", str(EXAMPLE))
+    assert code == 0
+    assert "floor loads (storey 1, the top, first): q = 0, 2.16, 2.16; p = q/(gamma H b) = 0, 0.2, 0.2" in out
+    uniform = run(capsys, "macro", "--storeys", "3", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--p", "2")
+    assert "; p = q/(gamma H b) = 2, 2, 2\n" in uniform[1]  # the paper's walls: the same p on every floor
+
+
 @pytest.mark.parametrize(
     ("argv", "message"),
     [

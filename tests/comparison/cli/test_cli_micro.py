@@ -156,3 +156,31 @@ def test_a_failed_run_prints_the_line_the_readme_documents(capsys: pytest.Captur
         assert quiet.count("\n") == 1 and re.fullmatch(pattern, quiet.rstrip("\n")), (pattern, quiet)
         assert cli.main(argv) == 1
         assert capsys.readouterr().out.startswith(quiet)  # the same line, then the details
+
+
+@pytest.mark.parametrize("friction", ["associative", "nonassociative"])
+def test_the_plot_marks_the_floors_and_the_macro_hinge(friction: str, tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """Issue 44, item 8: ``xcheck micro --plot`` marks the floors between storeys and the macro model's hinge
+    storey (the comparison solves the macro model for it; micro only draws the numbers it is given)."""
+    import matplotlib.figure
+
+    import macro
+    from comparison.wall import WallSpec
+
+    kept = []
+    save = matplotlib.figure.Figure.savefig
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig",
+                        lambda fig, *a, **k: (kept.append(fig), save(fig, *a, **k)))  # fmt: skip
+    wall = ["--storeys", "2", "--rows", "12", "--t", "1", "--m", "1/2", "--f", "0.6"]
+    png = tmp_path / "m.png"
+    assert cli.main(["micro", *wall, "--friction", friction, "--plot", str(png), "-q"]) == 0
+    (fig,) = kept
+    ax = fig.axes[0]
+    floors = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+    assert [float(ln.get_ydata()[0]) for ln in floors] == [6.0]  # two storeys of 6 rows
+    hinge = macro.solve(WallSpec.from_paper(t=1, m=1 / 2, rows=12, f=0.6, storeys=2).to_macro()).hinge_storey
+    (marker,) = [ln for ln in ax.get_lines() if ln.get_marker() == "o"]
+    assert marker.get_label() == f"macro hinge: base of storey {hinge}"
+    assert float(marker.get_ydata()[0]) == 6.0 * (2 - hinge)
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["floor", marker.get_label()]
+    assert png.stat().st_size > 1000

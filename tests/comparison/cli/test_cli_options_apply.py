@@ -62,18 +62,17 @@ def test_stability_table7_refuses_the_options_it_ignored(extra: list[str], tmp_p
 
 @pytest.mark.parametrize(("item", "key", "value"), [
     ("start=vertex", "start", "vertex"),
-    ("global_bounds=uniform", "global_bounds", "uniform"),
-    ("state_solver=highs", "state_solver", "highs"),
+    ("scheme=b", "scheme", "b"),
     ("selection=none", "selection", None),
     ("fuse=auto", "fuse", None),
     ("fuse=on", "fuse", True),
-    ("window=5", "window", 5),
+    ("retry_iterations=5", "retry_iterations", 5),
     ("relaxation=0.5", "relaxation", 0.5),
     ("max_simplex_iterations=none", "max_simplex_iterations", None),
 ])
 def test_every_kind_of_knob_can_be_set(item: str, key: str, value: object) -> None:
-    """``--tuning start=vertex`` and ``--tuning global_bounds=uniform`` could not be set: the knob's type was
-    read as int because "int" appears in the text ``Literal['interior', 'vertex']`` (and in ``per_point``)."""
+    """``--tuning start=vertex`` could not be set: the knob's type was read as int because "int" appears in
+    the text ``Literal['interior', 'vertex']``."""
     assert getattr(parse_tuning([item]), key) == value
 
 
@@ -89,8 +88,8 @@ def test_every_knob_reads_its_own_default_back() -> None:
 @pytest.mark.parametrize(("item", "message"), [
     ("start=edge", "--tuning start must be one of interior, vertex, got 'edge'"),
     ("selection=closest", "--tuning selection must be one of vertex, proximal, vertex+proximal, none, got 'closest'"),
-    ("global_bounds=3", "--tuning global_bounds must be one of per_point, uniform, got '3'"),
-    ("window=1e3", "--tuning window must be an integer, got '1e3'"),
+    ("scheme=3", "--tuning scheme must be one of a, b, got '3'"),
+    ("retry_iterations=1e3", "--tuning retry_iterations must be an integer, got '1e3'"),
 ])
 def test_a_bad_knob_value_names_the_choices(item: str, message: str, capsys: pytest.CaptureFixture[str]) -> None:
     code, out, err = _run(["micro", *WALL, "--friction", "nonassociative", "--tuning", item], capsys)

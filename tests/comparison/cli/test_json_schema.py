@@ -131,7 +131,7 @@ def test_micro_json_names_the_wall_once(capsys: pytest.CaptureFixture[str]) -> N
     _, mdoc = _run(["macro", *WALL, "--json"], capsys)
     assert doc["wall"] is None and doc["paper_parameters"] == mdoc["paper_parameters"]
     assert doc["paper_parameters"] == {"t": 1.0, "m": pytest.approx(1 / 3), "rows": 12, "storeys": 1, "p": 0.0,
-                                       "f": 0.75}
+                                       "p_storeys": [0.0], "f": 0.75}
     assert "contact_states" not in doc and doc["closed_contacts"] + doc["opening_contacts"] + doc[
         "sliding_contacts"] == doc["contacts"]
     _, sdoc = _run(["micro", "--scene", str(Path(__file__).parents[3] / "examples" / "three-storey.toml"),

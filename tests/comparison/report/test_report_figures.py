@@ -43,14 +43,30 @@ def test_base_wall_in_words() -> None:
     assert base_wall(base) == "t = 1, m = 1/3, o = 60, p = 0, f = 0.6, 3 storeys"
 
 
-def test_speed_labels_once_per_resolution_and_apart(tmp_path: Path) -> None:
+def test_speed_labels_once_per_resolution_and_apart(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each family is one line through its points; each wall resolution is labelled once, and no two
+    labels overlap on the drawn figure."""
+    import comparison.report.figures as figures
+
+    kept: list = []
+    monkeypatch.setattr(figures, "save_figure", lambda fig, path: kept.append(fig) or path)
     pts = [
         SpeedPoint(f"{r} rows", fam, s, e, r) for fam in ("a", "b") for r, s, e in ((3, 0.01, 0.05), (6, 0.02, 0.052))
     ]
     labels = _cluster_labels(pts, 1e-7)
     assert sorted(k.rstrip("\u200b") for k in labels) == ["3 rows", "6 rows"]
     speed_accuracy(pts, "ref", tmp_path / "s.png")
-    assert (tmp_path / "s.png").stat().st_size > 0
+    (fig,) = kept
+    ax = fig.axes[0]
+    lines = {ln.get_label(): (list(ln.get_xdata()), list(ln.get_ydata())) for ln in ax.get_lines()}
+    assert lines == {"a": ([0.05, 0.052], [0.01, 0.02]), "b": ([0.05, 0.052], [0.01, 0.02])}
+    texts = [t for t in ax.texts if t.get_text() in ("3 rows", "6 rows")]
+    assert sorted(t.get_text() for t in texts) == ["3 rows", "6 rows"]
+    renderer = fig.canvas.get_renderer()
+    a, b = (t.get_window_extent(renderer) for t in texts)
+    assert not a.overlaps(b)
+    assert ax.get_xscale() == ax.get_yscale() == "log" and ax.get_ylabel() == "time [s]"
+    pyplot().close(fig)
 
 
 def test_mechanism_drawn_in_block_heights_with_arrow() -> None:
@@ -141,8 +157,34 @@ def test_quick_report_numbers_the_error_map_and_the_lowest_figure(quick_report_d
     assert names[-2:] == ["errormap.png", "lowest.png"]
     for i in range(1, len(images) + 1):
         assert f"**Figure {i}.** " in text
-    assert (quick_report_dir / "lowest.png").stat().st_size > 0
     assert "README" not in text
+
+
+def test_the_lowest_figure_draws_the_committed_study(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """The report's ``lowest.png`` is drawn from ``reports/lowest.csv``: the left histogram counts the walls
+    where the global search closed, the right one every wall of each group, stacked; read back from the
+    figure the report draws."""
+    from comparison.report import lowest as report_lowest
+    from comparison.stability import lowest_render
+
+    kept: list = []
+
+    def keep(over_global, over_lowest, path):  # type: ignore[no-untyped-def]
+        kept.append(lowest_render.chart_figure(over_global, over_lowest))
+        return path
+
+    monkeypatch.setattr(report_lowest, "chart", keep)
+    rows = report_lowest.load(Path(__file__).parents[3] / "reports" / "lowest.csv")
+    report_lowest.figure(rows, tmp_path / "lowest.png")
+    (fig,) = kept
+    left, right = fig.axes[:2]
+    closed = sum(1 for r in rows if r["global_status"] == "optimal")
+    assert sum(p.get_height() for p in left.patches) == closed > 0
+    assert sum(p.get_height() for p in right.patches) == len(rows)
+    legend = [t.get_text() for t in right.get_legend().get_texts()]
+    assert legend == [f"{lowest_render.GROUPS[g]} ({sum(1 for r in rows if r['group'] == g)})"
+                      for g in lowest_render.GROUPS if any(r["group"] == g for r in rows)]
+    pyplot().close(fig)
 
 
 def test_mechanism_caption_says_not_run_where_the_reference_was_not_run() -> None:
@@ -166,3 +208,91 @@ def test_full_sensitivity_sweep_reaches_the_papers_widest_wall() -> None:
     from comparison.report.plan import SWEEPS_FULL
 
     assert max(SWEEPS_FULL["t"]) >= max(c.t for c in cases_in_table("5"))
+
+
+def _marks_drawn(ax: object, block_height: float) -> dict[str, object]:
+    """What a mechanism plot marks, read back from its axes: the floor lines' heights and spans, the hinge
+    marker's points and label, the storey names of the second y axis (bottom first), in block heights."""
+    from matplotlib.lines import Line2D
+
+    lines = [a for a in ax.get_lines() if isinstance(a, Line2D)]  # type: ignore[attr-defined]
+    floors = [ln for ln in lines if ln.get_linestyle() == "--" and ln.get_color() == "0.1"]
+    hinge = [ln for ln in lines if ln.get_marker() == "o"]
+    storeys = [t.get_text() for c in ax.child_axes for t in c.get_yticklabels()]  # type: ignore[attr-defined]
+    return {
+        "floors": sorted(float(ln.get_ydata()[0]) for ln in floors),
+        "spans": {tuple(float(x) for x in ln.get_xdata()) for ln in floors},
+        "hinge": [list(zip(ln.get_xdata(), ln.get_ydata(), strict=True)) for ln in hinge],
+        "hinge_label": [ln.get_label() for ln in hinge],
+        "storeys": storeys,
+    }
+
+
+def test_the_mechanism_plot_marks_floors_and_a_hinge_given_as_plain_numbers() -> None:
+    """Issue 44, item 8: the mechanism plots marked neither the floors nor the macro model's hinge. The micro
+    plot takes them as plain numbers (micro imports neither macro nor comparison): dashed lines across the wall
+    at the floors, the storeys named on a second axis, the hinge as a labelled circle at the toe the wall
+    rotates about (the side the load pushes towards)."""
+    from comparison.scene import load_scene
+    from micro.plot import draw_mechanism
+
+    wall = load_scene(Path(__file__).parents[3] / "examples" / "three-storey.toml").to_micro()  # 3 x 20 rows, b = 0.1
+    vel = np.zeros((len(wall.xc), 3))
+    vel[:, 0] = wall.yc / wall.height
+    plt = pyplot()
+    for direction, toe in (("+x", 60.0), ("-x", 0.0)):
+        fig, ax = plt.subplots()
+        draw_mechanism(ax, wall, vel, direction=direction, floors=[2.0, 4.0], hinge=2.0, hinge_label="macro hinge")
+        drawn = _marks_drawn(ax, wall.block_height)
+        assert drawn["floors"] == pytest.approx([20.0, 40.0])  # block heights
+        assert drawn["spans"] == {(0.0, 60.0)}  # across the wall, L = 6 m = 60 block heights
+        assert drawn["hinge"] == [[(pytest.approx(toe), pytest.approx(20.0))]]
+        assert drawn["hinge_label"] == ["macro hinge"]
+        assert drawn["storeys"] == ["storey 3", "storey 2", "storey 1"]
+        plt.close(fig)
+    fig, ax = plt.subplots()
+    draw_mechanism(ax, wall, vel)  # nothing asked: nothing marked
+    assert _marks_drawn(ax, wall.block_height) == {"floors": [], "spans": set(), "hinge": [], "hinge_label": [],
+                                                   "storeys": []}  # fmt: skip
+    plt.close(fig)
+
+
+def test_the_report_marks_the_floors_and_the_macro_hinge_on_each_mechanism(tmp_path: Path, monkeypatch) -> None:
+    """The report's mechanism figure of a three-storey wall (Set 5, its associative mechanism) shows the two
+    floors, the three storeys and the macro model's hinge at the base of its storey, where the macro crack
+    starts; the caption names the floor lines."""
+    from types import SimpleNamespace
+
+    import macro
+    import micro
+    from comparison.cases import case
+    from comparison.report import mechanisms
+    from comparison.runner import MICRO_ASSOC, MechanismRecord
+
+    c = case("5")
+    spec = c.spec()
+    r = macro.solve(spec.to_macro())
+    sol = micro.solve_associative(spec.to_micro())
+    assert sol.mechanism is not None
+    mechanism = MechanismRecord(sol.mechanism.velocities, sol.direction)
+    res = SimpleNamespace(plan=SimpleNamespace(cases=[c], reference=MICRO_ASSOC, methods=[MICRO_ASSOC]),
+                          macro={spec: r}, mechanisms={(spec, MICRO_ASSOC): mechanism})  # fmt: skip
+    monkeypatch.setattr(mechanisms, "mechanism_record",
+                        lambda res, c: SimpleNamespace(method=MICRO_ASSOC, load_factor=sol.load_factor))  # fmt: skip
+    plt = pyplot()
+    kept = []
+    monkeypatch.setattr(mechanisms, "save_figure", lambda fig, path: kept.append(fig))
+    (figure,) = mechanisms.mechanism_figures(res, tmp_path)  # type: ignore[arg-type]
+    ax = kept[0].axes[0]
+    drawn = _marks_drawn(ax, spec.block_height)
+    assert drawn["floors"] == pytest.approx([12.0, 24.0]) and drawn["storeys"] == ["storey 3", "storey 2", "storey 1"]
+    toe = 36.0 if sol.direction == "+x" else 0.0  # o m = 12 blocks of 3: L = 36 block heights
+    base = 12.0 * (3 - r.hinge_storey)
+    assert drawn["hinge"] == [[(pytest.approx(toe), pytest.approx(base))]]
+    assert drawn["hinge_label"] == [f"macro hinge: base of storey {r.hinge_storey}"]
+    crack = next(ln for ln in ax.get_lines() if ln.get_label() == "macro crack through the hinge (α_c)")
+    assert (crack.get_xdata()[0], crack.get_ydata()[0]) == (pytest.approx(toe), pytest.approx(base))
+    assert {t.get_text() for t in ax.get_legend().get_texts()} >= {"floor", drawn["hinge_label"][0]}
+    assert "dashed: the floors" in figure.caption
+    assert f"the hinge (circle) at the base of storey {r.hinge_storey}" in figure.caption
+    plt.close(kept[0])

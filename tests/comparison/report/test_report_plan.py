@@ -70,3 +70,24 @@ def test_the_reports_associative_method_is_the_library_default() -> None:
     assert MICRO_ASSOC.solver == micro.DEFAULT_SOLVER
     assert micro_methods()[0] == MICRO_ASSOC
     assert build_plan(quick=False).methods[0] == MICRO_ASSOC
+
+
+@pytest.mark.parametrize("skip", ["not_run", "not_applicable"])
+def test_all_cases_explains_n_a_only_where_a_cell_shows_it(skip: str) -> None:
+    """Issue 44, item 7: REPORT.md's "All cases" table carried the note "n/a: the micro wall cannot be
+    built" with no n/a cell in it. The note says so only when a cell shows n/a."""
+    import macro
+    from comparison.report.results import Results
+    from comparison.report.tables import all_cases
+    from comparison.runner import Record
+
+    plan = build_plan(quick=True)
+    results = {c.spec(): macro.solve(c.spec().to_macro()) for c in plan.cases}
+    records = {(c.spec(), m): Record(c.label, m, 0.0, skipped="not_run") for c in plan.cases for m in plan.methods}
+    first = plan.cases[0]
+    records[(first.spec(), plan.methods[0])] = Record(first.label, plan.methods[0], 0.0, skipped=skip)  # type: ignore[arg-type]
+    table = all_cases(Results(plan, results, records, {}, 0.0))
+    cells = [c for row in table.rows for c in row]
+    assert ("n/a" in cells) is (skip == "not_applicable")
+    assert table.note.startswith("n/a: the micro wall cannot be built") is (skip == "not_applicable")
+    assert "Set 8: L = 20, l = 3" in table.note  # the cut blocks are said either way

@@ -12,7 +12,6 @@ import micro
 from comparison.wall import WallSpec
 from micro.backends.clarabel import ClarabelStaticBackend
 from micro.nonassociative import (
-    NonAssociativeOptions,
     Tuning,
     pipeline,
     solve_nonassociative,
@@ -20,6 +19,7 @@ from micro.nonassociative import (
 )
 from micro.nonassociative.certificate import Certificate, CertificateResult
 from micro.nonassociative.pipeline import fuse, rigid_bodies
+from micro.nonassociative.recipe import Recipe
 
 EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
 
@@ -127,18 +127,22 @@ def test_fuse_option_is_a_flag() -> None:
         Tuning(fuse=1)  # type: ignore[arg-type]
 
 
+def _capped(r: Recipe, cap: int) -> Recipe:
+    """``r`` with its sequence and the proximal retry capped at ``cap`` LPs each."""
+    return dataclasses.replace(r, max_iterations=cap, tuning=dataclasses.replace(r.tuning, retry_iterations=cap))
+
+
 def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int) -> list[tuple[int, bool]]:
     """Cap the wall's own sequences (not the continuation) at ``cap`` LPs
     each, so that they end ``max_iterations``; returns the calls made."""
     real = pipeline.solve_direction
     calls: list[tuple[int, bool]] = []
 
-    def capped(lp: micro.LimitLP, d: int, o: NonAssociativeOptions, start: np.ndarray | None = None
-               ) -> micro.DirectionResult:
-        calls.append((lp.n_points, o.continuation))
-        if not o.continuation:
-            o = dataclasses.replace(o, max_iterations=cap, retry_iterations=cap)
-        return real(lp, d, o, start=start)
+    def capped(lp: micro.LimitLP, d: int, r: Recipe, start: np.ndarray | None = None) -> micro.DirectionResult:
+        calls.append((lp.n_points, r.continuation))
+        if not r.continuation:
+            r = _capped(r, cap)
+        return real(lp, d, r, start=start)
 
     monkeypatch.setattr(pipeline, "solve_direction", capped)
     return calls
@@ -186,9 +190,8 @@ def test_a_failed_fused_retry_leaves_the_walls_result(monkeypatch: pytest.Monkey
     naming both."""
     real = pipeline.solve_direction
 
-    def capped(lp: micro.LimitLP, d: int, o: NonAssociativeOptions, start: np.ndarray | None = None
-               ) -> micro.DirectionResult:
-        return real(lp, d, dataclasses.replace(o, max_iterations=2, retry_iterations=2), start=start)
+    def capped(lp: micro.LimitLP, d: int, r: Recipe, start: np.ndarray | None = None) -> micro.DirectionResult:
+        return real(lp, d, _capped(r, 2), start=start)
 
     monkeypatch.setattr(pipeline, "solve_direction", capped)
     r = solve_nonassociative(wall(0.5), tuning=Tuning(selection="vertex+proximal"), lowest=False, directions="+x")

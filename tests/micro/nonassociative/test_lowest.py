@@ -182,16 +182,15 @@ def test_lowest_state_needs_a_final_state() -> None:
 
 @pytest.mark.parametrize("bad", [0, -1.0, math.inf, "10", True])
 def test_global_time_limit_is_checked(bad: object) -> None:
-    with pytest.raises(ValueError, match="global_time_limit must be a positive number of seconds"):
-        micro.NonAssociativeOptions(global_time_limit=bad)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="time_limit must be a positive number"):
+        micro.GlobalOptions(time_limit=bad)  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize("name, bad, message", [
-    ("global_node_limit", 0, "global_node_limit must be"),
-    ("global_node_limit", 1.5, "global_node_limit must be"),
+    ("node_limit", 0, "node_limit must be"),
+    ("node_limit", 1.5, "node_limit must be"),
+    ("bounds", "tight", "bounds must be one of per_point, uniform"),
 ])
 def test_global_search_options_are_checked(name: str, bad: object, message: str) -> None:
     with pytest.raises(ValueError, match=message):
-        micro.NonAssociativeOptions(**{name: bad})
-    with pytest.raises(ValueError, match="global_bounds must be one of per_point, uniform"):
-        micro.Tuning(global_bounds="tight")  # type: ignore[arg-type]
+        micro.GlobalOptions(**{name: bad})  # type: ignore[arg-type]

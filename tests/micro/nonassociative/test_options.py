@@ -26,7 +26,7 @@ def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, 
         (dict(max_seconds=0), "max_seconds"),
         (dict(lowest_budget=-1.0), "lowest_budget"),
         (dict(lowest_budget=float("inf")), "lowest_budget"),
-        (dict(global_node_limit=0), "global_node_limit"),
+        (dict(global_="yes"), "global_"),
         (dict(lowest="yes"), "lowest"),
     ],
 )
@@ -42,16 +42,9 @@ def test_bad_options(kw: dict, word: str) -> None:
         (dict(relaxation=0.0), "relaxation"),
         (dict(relaxation=1.5), "relaxation"),
         (dict(relaxation=True), "relaxation"),
-        (dict(window=2), "window"),
         (dict(start="warm"), "start"),
-        (dict(lambda_tol=0.0), "lambda_tol"),
-        (dict(alpha0=1e-4, alpha_min=1e-3), "alpha_min"),
-        (dict(alpha_factor=2.0), "alpha_factor"),
-        (dict(settle_tol=1.0), "settle_tol"),
-        (dict(settle_window=1), "settle_window"),
-        (dict(state_solver="gurobi"), "state_solver"),
         (dict(retry_iterations=1), "retry_iterations"),
-        (dict(global_bounds="tight"), "global_bounds"),
+        (dict(max_simplex_iterations=0), "max_simplex_iterations"),
     ],
 )
 def test_bad_tuning(kw: dict, word: str) -> None:
@@ -93,7 +86,7 @@ def test_the_recipe_is_resolved_for_the_walls_size() -> None:
     from micro.nonassociative import FUSE_BLOCKS, recipe_for
 
     small, large = recipe_for(FUSE_BLOCKS), recipe_for(FUSE_BLOCKS + 1)
-    assert small.selection == large.selection == "vertex+proximal" and small.retry_iterations == 40
+    assert small.selection == large.selection == "vertex+proximal" and small.tuning.retry_iterations == 40
     assert not small.fuse and not small.continuation and large.fuse and large.continuation
     assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(fuse=False, continuation=False)).fuse
     assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(selection="proximal")).fuse  # no vertex sequence
@@ -110,17 +103,34 @@ def test_the_descent_runs_by_default_on_walls_up_to_its_size_limit() -> None:
     assert recipe_for(10 * LOWEST_AUTO_BLOCKS, on).lowest and not recipe_for(10, off).lowest
 
 
-def test_the_recipe_carries_every_option_and_knob() -> None:
-    """The flat Recipe mirrors NonAssociativeOptions and Tuning: a field added to either must reach it
-    (by the same name), and a changed value must come through recipe_for."""
+def test_the_recipe_composes_the_options_and_the_tuning() -> None:
+    """The recipe holds the user's options and the tuning as given (a new knob or option reaches the
+    modules with no other edit), with the few choices resolved for the wall beside them; its JSON form
+    names every option and knob once, the resolved values in place of the unresolved ones."""
     import dataclasses
 
     from micro.nonassociative import recipe_for
     from micro.nonassociative.recipe import Recipe
 
-    recipe = {f.name for f in dataclasses.fields(Recipe)} - {"progress"}
-    options = {f.name for f in dataclasses.fields(micro.NonAssociativeOptions)}
-    knobs = {f.name for f in dataclasses.fields(Tuning)}
-    assert recipe == options | knobs
-    r = recipe_for(100, micro.NonAssociativeOptions(max_iterations=7), Tuning(window=9, alpha0=0.2))
-    assert (r.max_iterations, r.window, r.alpha0) == (7, 9, 0.2)
+    options, tuning = micro.NonAssociativeOptions(max_iterations=7, time_limit=30), Tuning(scheme="b", fuse=None)
+    r = recipe_for(100, options, tuning)
+    assert r.options is options and r.tuning is tuning
+    assert (r.selection, r.beta, r.fuse, r.continuation, r.max_iterations) == ("vertex", 0.6, False, False, 7)
+    assert len(dataclasses.fields(Recipe)) <= 12 and len(dataclasses.fields(Tuning)) <= 12
+    d = r.as_dict()
+    names = {f.name for cls in (micro.NonAssociativeOptions, Tuning) for f in dataclasses.fields(cls)}
+    assert names <= set(d) and d["relaxation"] == 0.6 and d["fuse"] is False and d["time_limit"] == 30.0
+
+
+def test_one_global_options_object_reaches_the_search() -> None:
+    """Every setting of the global search, the solver included, travels in one GlobalOptions: ``True`` is
+    its defaults, a GlobalOptions is kept as given, ``False`` is no search."""
+    from micro.nonassociative import GlobalOptions
+
+    assert micro.NonAssociativeOptions(global_=True).global_ == GlobalOptions()
+    assert micro.NonAssociativeOptions(global_=False).global_ is None
+    given = GlobalOptions(node_limit=3, time_limit=None, bounds="uniform")
+    w = WallSpec.from_paper(t=1, m=1, rows=2, f=0.6).to_micro()  # 5 blocks
+    r = solve_nonassociative(w, global_=given)
+    assert r.global_search is not None and r.global_search.options is given
+    assert all(d.bounds is not None and d.bounds.policy == "uniform" for d in r.global_search.directions)
