@@ -33,6 +33,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+from comparison.inputs import read_input_file
 from comparison.wall import StoreySpec, WallSpec
 from macro.checks import friction, magnitude
 
@@ -109,8 +110,7 @@ def load_scene(path: str | Path) -> WallSpec:
     """
     path = Path(path)
     try:
-        with path.open("rb") as fh:
-            data = fh.read(MAX_SCENE_BYTES + 1)
+        data = read_input_file(path, MAX_SCENE_BYTES)
     except OSError as exc:
         raise SceneError(f"scene {path}: cannot read ({exc.strerror or exc})") from None
     if len(data) > MAX_SCENE_BYTES:

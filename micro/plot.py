@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
+import os
+import uuid
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -174,9 +178,45 @@ def plot_velocities(
     if marks:  # one row over the axes, the title above it
         ax.legend(fontsize=8, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=marks, frameon=False)
     ax.set_title(title, pad=24 if marks else 6)
+    try:
+        return save_figure(fig, path, bbox_inches="tight")
+    finally:
+        plt.close(fig)
+
+
+def save_figure(fig: Any, path: str | Path, **savefig: Any) -> Path:
+    """Write ``fig`` to ``path`` whole or not at all, in the format its name ends with.
+
+    The image is rendered in memory, written to a temporary file beside
+    ``path`` and renamed over it: a disk that fills up (or any error) leaves
+    no file, where ``savefig`` left a 0-byte or cut one; a name that is only an
+    extension (``.png``) is written as it is (``savefig`` made it
+    ``.png.png``).
+
+    Args:
+        fig: a matplotlib figure.
+        path: the image file; its extension (``.png``, ``.pdf``, ``.svg``)
+            is the format, matplotlib's default format where it has none.
+        **savefig: passed on to ``fig.savefig`` (``dpi``, ``bbox_inches``).
+
+    Returns:
+        The written path.
+    """
     out = Path(path)
-    fig.savefig(out, bbox_inches="tight")
-    plt.close(fig)
+    name = out.name
+    fmt = name.rsplit(".", 1)[1].lower() if "." in name else None
+    buf = io.BytesIO()
+    fig.savefig(buf, format=fmt, **savefig)
+    tmp = out.with_name(f".{name}.{uuid.uuid4().hex[:8]}.tmp")
+    try:
+        _write_new(tmp, buf.getvalue())
+        os.replace(tmp, out)
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        if isinstance(exc, OSError) and exc.errno is not None:  # named as the file asked for, not the temporary
+            raise OSError(exc.errno, exc.strerror, str(out)) from None
+        raise
     return out
 
 
@@ -222,3 +262,10 @@ def plot_mechanism(
         hinge=hinge,
         hinge_label=hinge_label,
     )
+
+
+def _write_new(path: Path, data: bytes) -> None:
+    """Create ``path`` (it must not exist) holding ``data``; mode 0o666 less the umask, as ``savefig``'s."""
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o666)
+    with os.fdopen(fd, "wb") as fh:
+        fh.write(data)

@@ -2,7 +2,7 @@
 
 import sys
 
-from comparison.cli.app import main
+from comparison.cli import main
 
 if __name__ == "__main__":
     sys.exit(main())

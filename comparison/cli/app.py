@@ -13,7 +13,6 @@ Warnings (e.g. an unreadable cache entry) are one line each, ``xcheck: warning: 
 from __future__ import annotations
 
 import argparse
-import errno
 import os
 import sys
 import warnings
@@ -23,6 +22,7 @@ from importlib import metadata
 
 from comparison.cli import macro, micro, references, report, stability, sweep
 from comparison.cli.options import (
+    DISK_FULL,
     EXIT_BROKEN_PIPE,
     EXIT_CODES,
     EXIT_FAILED,
@@ -30,10 +30,6 @@ from comparison.cli.options import (
     EXIT_USAGE,
     UsageError,
 )
-
-#: The errors of an output that cannot take more (``> /dev/full``, a full disk or quota, a file too large):
-#: one line and :data:`~comparison.cli.options.EXIT_FAILED`, not a traceback.
-DISK_FULL = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 
 class Parser(argparse.ArgumentParser):
@@ -68,13 +64,16 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``xcheck`` console script."""
-    parser = build_parser()
     args_given = sys.argv[1:] if argv is None else list(argv)
-    if not args_given:
-        parser.print_help(sys.stderr)
-        return EXIT_USAGE
+    if sys.stdout is None:  # started with its standard output closed (``>&-``): nothing could be said
+        print("xcheck: error: cannot write the output: standard output is closed", file=sys.stderr)
+        return EXIT_FAILED
     with _one_line_warnings():
         try:
+            parser = build_parser()
+            if not args_given:
+                parser.print_help(sys.stderr)
+                return EXIT_USAGE
             args = parser.parse_args(args_given)
             code = int(args.handler(args) or 0)
             sys.stdout.flush()  # a closed pipe shows here, not at exit

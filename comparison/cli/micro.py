@@ -153,16 +153,17 @@ def run(args: argparse.Namespace) -> int:
         result = micro.solve_associative(wall, time_limit=time_limit)
     else:
         result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
+    plot_error = None
     if args.plot is not None and result.ok:
         from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_mechanism
 
-        _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
+        plot_error = _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
     if args.json:
-        print(_json(result.summary(), args, spec, plotted=result.ok))
+        print(_json(result.summary(), args, spec, plotted=result.ok and plot_error is None))
     else:
         _print_associative(result, args.verbosity)
-    return EXIT_OK if result.ok else EXIT_FAILED
+    return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
 
 
 def _options_apply(args: argparse.Namespace) -> None:
@@ -205,12 +206,21 @@ def _print_associative(result: LimitResult, verbosity: int) -> None:
         print("  contacts of the mechanism: " + ", ".join(f"{n} {k}" for k, n in rec.contact_states.items()))
 
 
-def _write_plot(draw: Callable[[], object], path: str) -> None:
-    """Draw a plot; a file that cannot be written is bad input."""
+def _write_plot(draw: Callable[[], object], path: str) -> str | None:
+    """Draw a plot (whole or not at all: :func:`micro.plot.save_figure`); why it could not be written
+    (``None``: written). Not bad input (the folder was checked before solving; a full disk is not the
+    user's input): the result is printed all the same, then :func:`_plot_failed`."""
     try:
         draw()
     except OSError as exc:
-        raise UsageError(f"--plot: cannot write {path!r} ({exc.strerror})") from None
+        return f"--plot: cannot write {path!r} ({exc.strerror or exc})"
+    return None
+
+
+def _plot_failed(message: str) -> int:
+    """After the result: one line saying why the plot is missing, and :data:`EXIT_FAILED`."""
+    print(f"xcheck: error: {message}", file=sys.stderr)
+    return EXIT_FAILED
 
 
 def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool, **extra: str) -> str:
@@ -322,6 +332,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         lowest=LOWEST_CHOICES[lowest], **given,
     )
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
+    plot_error = None
     if args.plot is not None and mechanism is not None:
         from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_velocities
@@ -333,18 +344,18 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             f"non-associative micro λ = {result.load_factor:.4f} (iterated LP; the lowest not searched or not "
             f"found), {result.direction}, {result.blocks} blocks"
         )
-        _write_plot(
+        plot_error = _write_plot(
             lambda: plot_velocities(wall, mechanism.velocities, args.plot, title=title, direction=result.direction,
                                     **storey_marks(spec)),
             args.plot,
         )
     if args.json:
-        print(_json(result.summary(), args, spec, plotted=mechanism is not None))
+        print(_json(result.summary(), args, spec, plotted=mechanism is not None and plot_error is None))
     else:
         _print_nonassociative(result, args.verbosity)
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
-    return EXIT_OK if result.ok else EXIT_FAILED
+    return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
 
 
 def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:

@@ -8,12 +8,13 @@ solver, is a bug and ends with a traceback.
 from __future__ import annotations
 
 import argparse
+import errno
 import math
 import os
 import warnings
-from fractions import Fraction
 from pathlib import Path
 
+from comparison import numbers
 from comparison.progress import NORMAL, QUIET, VERBOSE
 from comparison.wall import WallSpec
 
@@ -28,6 +29,9 @@ EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
 #: The reader of the output went away (``xcheck macro --json | head``): 128 + SIGPIPE, as a shell reports it.
 EXIT_BROKEN_PIPE = 141
+#: The errors of an output that cannot take more (``> /dev/full``, a full disk or quota, a file too large):
+#: one line and :data:`EXIT_FAILED`, not a traceback, nor exit 2 (the input was fine).
+DISK_FULL = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 # Values of ``args.verbosity`` (``-q``/``--quiet``, default, ``-v``/``--verbose``), defined with the
 # progress display that long-running subcommands pass them down to: QUIET, NORMAL, VERBOSE.
@@ -72,9 +76,9 @@ def parse_fraction(name: str, text: str | float) -> float:
     if isinstance(text, (int, float)) and not isinstance(text, bool):
         return float(text)
     try:
-        fraction = Fraction(str(text).strip())
-    except (ValueError, ZeroDivisionError):
-        raise UsageError(f"{name} must be a number or a fraction such as 1/3, got {text!r}") from None
+        fraction = numbers.exact(name, str(text))
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     try:
         return float(fraction)
     except OverflowError:  # beyond the doubles (1e400): infinite, for the wall checks to refuse
@@ -91,8 +95,10 @@ def int_option(name: str, text: str, minimum: int = 1) -> int:
     """
     rule = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
     try:
-        value = Fraction(str(text).strip())
-    except (ValueError, ZeroDivisionError):
+        value = numbers.exact(name, str(text))
+    except numbers.OutOfRange as exc:
+        raise UsageError(str(exc)) from None
+    except ValueError:
         raise UsageError(f"{name} must be {rule}, got {text!r}") from None
     if value.denominator != 1 or value < minimum:
         raise UsageError(f"{name} must be {rule}, got {text!r}")

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from comparison.cli.options import (
+    DISK_FULL,
     UsageError,
     add_cache_options,
     add_command,
@@ -58,6 +59,8 @@ def run(args: argparse.Namespace) -> int:
             verbosity=args.verbosity,
         )
     except OSError as exc:
+        if exc.errno in DISK_FULL:  # not the input's fault: one line and exit 1 (comparison.cli.app)
+            raise OSError(exc.errno, exc.strerror, str(out)) from None
         raise UsageError(f"--out: cannot write {str(out)!r} ({exc.strerror})") from None
     valued = sum(c.value is not None for c in refs)
     print(f"wrote {out}: {len(refs)} cells, {valued} with a value")

@@ -9,10 +9,12 @@ Example::
 from __future__ import annotations
 
 import argparse
+import sys
 from typing import TYPE_CHECKING
 from urllib.parse import urlsplit
 
 from comparison.cli.options import (
+    EXIT_FAILED,
     UsageError,
     add_command,
     add_executor_options,
@@ -27,6 +29,9 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
 
 #: Bytes in a gigabyte (``--worker-memory`` is given in GB).
 GB = 1e9
+#: The largest ``--worker-memory`` (GB): a million gigabytes, beyond any machine (1e308 overflowed the
+#: conversion to bytes: an OverflowError traceback).
+MAX_WORKER_MEMORY_GB = 1e6
 #: The transports a ``dask.distributed`` scheduler listens on (``--scheduler tcp://host:8786``).
 SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
 
@@ -68,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck sweep``."""
     from comparison.progress import Progress
     from comparison.runner import ResultCache
+    from comparison.runner.executor.cluster import ClusterError
     from comparison.sweep import GridError, load_grid, run_sweep
 
     try:
@@ -77,12 +83,17 @@ def run(args: argparse.Namespace) -> int:
     workers = workers_from_args(args)
     if args.scheduler is not None and workers is not None:
         raise UsageError("--workers and --scheduler exclude each other (the cluster has its own workers)")
-    memory = in_range("--worker-memory", args.worker_memory, "a positive number of gigabytes", float("inf"))
+    memory = in_range("--worker-memory", args.worker_memory,
+                      f"a positive number of gigabytes, at most {MAX_WORKER_MEMORY_GB:g}", MAX_WORKER_MEMORY_GB)
     out = output_directory("--out", args.out)  # before an hour of computing, not after
     cache = ResultCache(cache_directory(args.cache))
     executor = _executor(workers, args.scheduler, None if memory is None else int(memory * GB))
-    with executor, Progress(args.verbosity) as progress:
-        done = run_sweep(grid, out, cache=cache, executor=executor, progress=progress)
+    try:
+        with executor, Progress(args.verbosity) as progress:
+            done = run_sweep(grid, out, cache=cache, executor=executor, progress=progress)
+    except ClusterError as exc:  # the scheduler went away mid-sweep: what finished is in the cache
+        print(f"xcheck: error: --scheduler: {exc}", file=sys.stderr)
+        return EXIT_FAILED
     print(f"table: {done.table}")
     print(f"meta: {done.meta}")
     return 1 if done.counts["failed"] else 0

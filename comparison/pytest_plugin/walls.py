@@ -11,13 +11,14 @@ from __future__ import annotations
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from comparison import numbers
 from comparison.cases import CASES, PaperCase, case, cases_in_table
+from comparison.inputs import read_input_file
 from comparison.wall import WallSpec
 
 #: The paper's tables that hold cases.
@@ -144,7 +145,7 @@ def walls_from_file(path: str | Path) -> tuple[UserWall, ...]:
     """
     p = Path(path)
     try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
+        data = tomllib.loads(read_input_file(p).decode("utf-8"))
     except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise ValueError(f"{p}: {exc}") from None
     walls = data.get("wall")
@@ -173,8 +174,10 @@ def _wall(where: str, w: Any) -> UserWall:
 def _fraction(name: str, text: str) -> float:
     """A number written as text in a walls file (``"1/3"``)."""
     try:
-        return float(Fraction(text.strip()))
-    except (ValueError, ZeroDivisionError, OverflowError):
+        return float(numbers.exact(name, text))
+    except numbers.OutOfRange:
+        raise
+    except (ValueError, OverflowError):  # not a number; beyond the doubles (1e400)
         raise ValueError(f"{name} must be a number or a fraction such as \"1/3\", got {text!r}") from None
 
 

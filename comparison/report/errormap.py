@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from comparison.sweep.table import number, read_table
+from micro.plot import save_figure
 
 #: Relative difference within which the two models agree (the LPs are solved to about 1e-6 relative):
 #: a wall is unsafe when the macro load factor exceeds the micro reference by more. Walls where both
@@ -196,9 +197,10 @@ def figure(cells: Sequence[MapCell], path: Path) -> Path:
         "numbers in %; * the associative LP is the reference (elsewhere the non-associative); grey: no micro result",
         fontsize=9,
     )
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    try:
+        return save_figure(fig, path, dpi=130)  # whole or not at all
+    finally:
+        plt.close(fig)
 
 
 def nonassoc_stops(path: Path) -> dict[str, int]:

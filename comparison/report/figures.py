@@ -93,10 +93,14 @@ def pyplot() -> Any:
 
 
 def save_figure(fig: Any, path: Path) -> Path:
-    """Write ``fig`` to ``path`` (tight bounding box) and close it."""
-    fig.savefig(path, bbox_inches="tight")
-    pyplot().close(fig)
-    return path
+    """Write ``fig`` to ``path`` (tight bounding box; whole or not at all, :func:`micro.plot.save_figure`)
+    and close it."""
+    from micro.plot import save_figure as save_whole
+
+    try:
+        return save_whole(fig, path, bbox_inches="tight")
+    finally:
+        pyplot().close(fig)
 
 
 def _legend_entries(axes: Any) -> dict[str, Any]:

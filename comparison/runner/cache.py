@@ -131,6 +131,7 @@ class ResultCache:
 
     def __init__(self, directory: Path) -> None:
         self.directory = Path(directory)
+        self.unwritable = False  # a store failed (warned once); later stores are tried again
 
     def path(self, spec: WallSpec, method: Method) -> Path:
         """The file of the record of ``method`` on ``spec``."""
@@ -177,10 +178,27 @@ class ResultCache:
 
         Returns:
             False when the record was not stored: its result was cut short by a
-            wall-clock limit (:func:`stopped_by_wall_clock`).
+            wall-clock limit (:func:`stopped_by_wall_clock`), or the cache cannot
+            be written (a full or read-only disk: warned once per cache, a
+            :class:`CacheWarning`). The caller keeps such a record for its run:
+            a result is never lost because the cache could not take it (a
+            report on a full cache disk computed all its results, then exited
+            with no report).
         """
         if stopped_by_wall_clock(record):
             return False
+        try:
+            self._store(spec, record, mechanism)
+        except OSError as exc:
+            if not self.unwritable:
+                warnings.warn(f"cannot write the cache {self.directory} ({exc.strerror or exc}); "
+                              "results are kept for this run only", CacheWarning, stacklevel=2)
+            self.unwritable = True
+            return False
+        return True
+
+    def _store(self, spec: WallSpec, record: Record, mechanism: MechanismRecord | None) -> None:
+        """:meth:`store`'s writes (arrays first, record last)."""
         path = self.path(spec, record.method)
         path.parent.mkdir(parents=True, exist_ok=True)
         stored: dict[str, Any] = {"format": CACHE_FORMAT, "record": record.to_dict(), "mechanism": None}
@@ -193,7 +211,6 @@ class ResultCache:
             write_atomic(npz, data)
             stored["mechanism"] = {"file": npz.name, "sha256": sha}
         write_atomic(path, json.dumps(stored, indent=1).encode())
-        return True
 
     def _read(self, path: Path) -> tuple[Record, MechanismRecord | None]:
         """Read and check one entry.

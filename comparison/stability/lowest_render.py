@@ -17,6 +17,7 @@ from comparison.stability.lowest import (
     LowestRun,
 )
 from comparison.stability.render import write_rows
+from micro.plot import save_figure
 
 #: Edges (per cent) of the histogram of the iterated LP's excess.
 BINS = (0.0, 0.01, 0.5, 1.0, 2.0, 5.0, 10.0, 25.0, 100.0)
@@ -234,9 +235,10 @@ def chart(over_global: Sequence[float], over_lowest: Mapping[str, Sequence[float
     import matplotlib.pyplot as plt
 
     fig = chart_figure(over_global, over_lowest)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    try:
+        return save_figure(fig, path, dpi=110)  # whole or not at all
+    finally:
+        plt.close(fig)
 
 
 def chart_figure(over_global: Sequence[float], over_lowest: Mapping[str, Sequence[float]]) -> Any:

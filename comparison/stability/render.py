@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from comparison.stability.study import GRID, MAX_SIMPLEX_ITERATIONS, StudyRun
+from micro.plot import save_figure
 
 #: The statuses a run of the study can end with (counted per setting), and their colours in the chart.
 STATUS_COLOURS = {
@@ -250,5 +251,7 @@ def _chart(runs: Sequence[StudyRun], s: dict[str, Any], path: Path) -> None:
     ax.set_title("non-associative / associative")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, dpi=110)  # whole or not at all
+    finally:
+        plt.close(fig)

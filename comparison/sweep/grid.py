@@ -48,10 +48,11 @@ import re
 import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from comparison import numbers
+from comparison.inputs import read_input_file
 from comparison.runner.methods import MACRO, Method
 from comparison.scene import _key_line, _table_line
 from macro import checks
@@ -153,7 +154,7 @@ def load_grid(path: str | Path) -> Grid:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_input_file(path).decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise GridError(f"grid {path}: cannot read ({getattr(exc, 'strerror', None) or exc})") from None
     return parse_grid(text, source=str(path), name=path.stem)
@@ -237,10 +238,11 @@ def _axis(axes: dict[str, Any], axis: str, src: _Source) -> tuple[float, ...]:
 def _number(name: str, value: object) -> object:
     """A fraction string (``"1/3"``) as a float; anything else as it is (the check words it)."""
     if isinstance(value, str):
+        fraction = numbers.exact(name, value)
         try:
-            return float(Fraction(value.strip()))
-        except (ValueError, ZeroDivisionError):
-            raise ValueError(f"{name} must be a number or a fraction such as 1/3, got {value!r}") from None
+            return float(fraction)
+        except OverflowError:  # beyond the doubles (1e400): infinite, for the axis check to refuse
+            return math.inf if fraction > 0 else -math.inf
     return value
 
 

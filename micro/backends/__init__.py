@@ -1,6 +1,7 @@
 """Back ends of the limit-analysis LP: one module per back end behind one small interface.
 
 ``base``      :class:`Status`, :class:`Outcome`, the independent re-check (imports no back end);
+``interrupt`` Ctrl-C during a solver's compiled code: the solver stopped by its own callback;
 ``registry``  :func:`make_backend`, the back ends by name (:data:`SOLVERS`, :data:`DEFAULT_SOLVER`);
 ``highs``     :class:`HighsBackend` and the :class:`PersistentHighsModel` it (and the iterated LP) runs on;
 ``clarabel``  Clarabel's settings and :class:`ClarabelStaticBackend` (the static form: ``clarabel-static``);

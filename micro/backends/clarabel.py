@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from micro.backends.base import Outcome, Status, recheck
+from micro.backends.interrupt import SolverStop, deferred_signals
 from micro.lp import LimitLP
 
 #: Clarabel settings of the static form (``clarabel-static``). With Clarabel's defaults
@@ -62,6 +63,20 @@ CLARABEL_RETRY: dict[str, Any] = {
 #: Native statuses after which a solve with the tight settings is retried
 #: (seen when base sliding governs exactly, a very degenerate optimum).
 RETRY_ON = ("AlmostSolved", "InsufficientProgress", "NumericalError")
+
+
+def solve_interruptibly(solver: Any) -> Any:
+    """``solver.solve()`` with Ctrl-C stopping Clarabel through its termination
+    callback (checked once per iteration) and raised once it has returned
+    (:mod:`micro.backends.interrupt`): without it a Ctrl-C waited for the
+    solve to end (9.3-9.7 s on a 90-row wall)."""
+    stop = SolverStop()
+    solver.set_termination_callback(lambda info: stop.requested)
+    try:
+        with deferred_signals(stop):
+            return solver.solve()
+    finally:
+        solver.unset_termination_callback()
 
 
 def clarabel_settings(opts: Mapping[str, Any]) -> Any:
@@ -171,4 +186,4 @@ class ClarabelStaticBackend:
     def _run(self, direction: int, settings: Any) -> Any:
         c = self.lp.cost(direction)[self.active]
         solver = self._cl.DefaultSolver(self.P, c, self.A, self.b, self.cones, settings)
-        return solver.solve()
+        return solve_interruptibly(solver)

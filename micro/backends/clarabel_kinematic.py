@@ -55,7 +55,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from micro.backends.base import Outcome, Status
-from micro.backends.clarabel import RETRY_ON, ClarabelStaticBackend, clarabel_settings
+from micro.backends.clarabel import RETRY_ON, ClarabelStaticBackend, clarabel_settings, solve_interruptibly
 from micro.backends.polish import checked_outcome
 from micro.lp import LimitLP
 
@@ -172,13 +172,13 @@ class ClarabelKinematicBackend:
             return Outcome(Status.UNBOUNDED, "no live load", info={"form": "kinematic"})
         t0 = time.perf_counter()
         solver = self.solver(direction)
-        sol = solver.solve()
+        sol = solve_interruptibly(solver)
         native = str(sol.status).split(".")[-1]
         iters = int(sol.iterations)
         extra: dict[str, Any] = {"form": "kinematic"}
         if native in RETRY_ON:
             solver = self.solver(direction, self.retry_settings)
-            sol = solver.solve()
+            sol = solve_interruptibly(solver)
             extra["fallback"] = f"{native}; re-solved with {CLARABEL_KINEMATIC_RETRY}"
             native = str(sol.status).split(".")[-1]
             iters += int(sol.iterations)

@@ -29,6 +29,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status, recheck
+from micro.backends.interrupt import SolverStop, deferred_signals
 from micro.lp import LimitLP
 
 if TYPE_CHECKING:
@@ -65,10 +66,10 @@ STALL_CALLS = 100
 
 
 class StallGuard:
-    """The simplex interrupt callback of a guarded model: counts the calls
-    per simplex iteration and interrupts the run at :data:`STALL_CALLS`.
-    Counts, not seconds: the same run stops at the same iteration on every
-    machine."""
+    """Counts the simplex interrupt callbacks of a guarded model per simplex
+    iteration and fires at :data:`STALL_CALLS` (:class:`RunCallback` then
+    interrupts the run). Counts, not seconds: the same run stops at the same
+    iteration on every machine."""
 
     def __init__(self, calls: int = STALL_CALLS) -> None:
         self.calls = calls
@@ -78,15 +79,48 @@ class StallGuard:
         """Before a run."""
         self.iteration, self.count, self.fired = -1, 0, False
 
-    def __call__(self, kind: Any, message: str, data_out: Any, data_in: Any, user_data: Any) -> None:
-        it = int(data_out.simplex_iteration_count)
-        if it != self.iteration:
-            self.iteration, self.count = it, 0
+    def tick(self, iteration: int) -> bool:
+        """One simplex interrupt callback at simplex iteration ``iteration``: whether the guard has fired."""
+        if iteration != self.iteration:
+            self.iteration, self.count = iteration, 0
         self.count += 1
         self.fired = self.fired or self.count >= self.calls
-        # set every call: HiGHS keeps the flag, and a flag left set from an
-        # interrupted run interrupted every later run of the model at once
-        data_in.user_interrupt = self.fired
+        return self.fired
+
+
+class RunCallback:
+    """The one HiGHS callback of a :class:`PersistentHighsModel` (its simplex
+    and interior-point interrupt callbacks): interrupts the run when a Ctrl-C
+    arrived (:attr:`stop`, :func:`~micro.backends.interrupt.deferred_signals`)
+    or the model's :class:`StallGuard` fired on a simplex iteration. It never
+    raises (:mod:`micro.backends.interrupt`: an exception unwound through
+    HiGHS left the model broken and the next run crashed the process).
+
+    Args:
+        simplex_type: HiGHS' code of the simplex interrupt callback (the guard counts those calls only).
+
+    Attributes:
+        guard: the stall guard (``None``: none).
+        stop: the run's stop request and any error kept from the callback.
+    """
+
+    def __init__(self, simplex_type: int) -> None:
+        self.simplex_type = simplex_type
+        self.guard: StallGuard | None = None
+        self.stop = SolverStop()
+
+    def __call__(self, kind: Any, message: str, data_out: Any, data_in: Any, user_data: Any) -> None:
+        try:
+            guard = self.guard
+            fired = (guard is not None and int(kind) == self.simplex_type
+                     and guard.tick(int(data_out.simplex_iteration_count)))
+            # set every call: HiGHS keeps the flag, and a flag left set from an
+            # interrupted run interrupted every later run of the model at once
+            data_in.user_interrupt = self.stop.requested or fired
+        except BaseException as exc:  # anything at all: HiGHS must never see it
+            self.stop.keep(exc)
+            with contextlib.suppress(BaseException):
+                data_in.user_interrupt = True
 
 
 #: Serialises :func:`quiet_highs`' swaps of file descriptor 1 between threads.
@@ -198,17 +232,27 @@ class PersistentHighsModel:
         m.a_matrix_.value_ = A.data.astype(np.float64)
         self._passed(h, h.passModel(m))
         self._highs = h
+        self._callback = self._listen(h)
         self.algorithm = algorithm
-        self.stall_guard: StallGuard | None = None
+
+    def _listen(self, h: Any) -> RunCallback:
+        """Give ``h`` its :class:`RunCallback` on the simplex and interior-point interrupts."""
+        kinds = self._hs.cb.HighsCallbackType
+        callback = RunCallback(int(kinds.kCallbackSimplexInterrupt))
+        h.setCallback(callback, None)
+        h.startCallback(kinds.kCallbackSimplexInterrupt)
+        h.startCallback(kinds.kCallbackIpmInterrupt)
+        return callback
+
+    @property
+    def stall_guard(self) -> StallGuard | None:
+        """The guard of :meth:`guard_stalls` (``None``: none)."""
+        return self._callback.guard
 
     def guard_stalls(self, calls: int = STALL_CALLS) -> None:
         """Interrupt every later simplex run that stalls (:data:`STALL_CALLS`);
         such a run ends ``solver_error`` with ``info["stalled"]``."""
-        guard = StallGuard(calls)
-        h = self._highs
-        h.setCallback(guard, None)
-        h.startCallback(self._hs.cb.HighsCallbackType.kCallbackSimplexInterrupt)
-        self.stall_guard = guard
+        self._callback.guard = StallGuard(calls)
 
     @classmethod
     def of(cls, lp: LimitLP, direction: int, *, algorithm: str = "ipm") -> PersistentHighsModel:
@@ -347,7 +391,7 @@ class PersistentHighsModel:
         h = quiet_highs()
         clone._passed(h, h.passModel(self._highs.getLp()))
         clone._highs = h
-        clone.stall_guard = None
+        clone._callback = clone._listen(h)
         clone.set_algorithm(algorithm)
         return clone
 
@@ -372,11 +416,15 @@ class PersistentHighsModel:
         if self.stall_guard is not None:
             self.stall_guard.reset()
         t0 = time.perf_counter()
-        h.run()
+        try:
+            with deferred_signals(self._callback.stop):  # Ctrl-C stops HiGHS through the callback, then raises
+                h.run()
+        finally:
+            if not presolve:
+                h.setOptionValue("presolve", "choose")
+        self._callback.stop.raise_kept()
         secs = time.perf_counter() - t0
         ms = h.getModelStatus()
-        if not presolve:
-            h.setOptionValue("presolve", "choose")
         info = h.getInfo()
         status = self.STATUS_MAP.get(ms.name, Status.SOLVER_ERROR)
         x = duals = None

@@ -51,7 +51,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from micro.backends.clarabel import clarabel_settings
+from micro.backends.clarabel import clarabel_settings, solve_interruptibly
 from micro.backends.normal_matrix import (
     InteriorPointSettings,
     InteriorPointStop,
@@ -342,7 +342,7 @@ class Projection:
             self.solver = clarabel.DefaultSolver(sp.identity(2 * P, format="csc"), q, A, b, cones, settings)
         else:
             self.solver.update(q=q, b=b)
-        sol = self.solver.solve()
+        sol = solve_interruptibly(self.solver)
         status = str(sol.status)
         seconds = time.perf_counter() - t0
         if status not in _SOLVED:

@@ -7,24 +7,101 @@ first; a task that raises comes back as ``failed``, one whose workers kept dying
 (Dask's ``KilledWorker``) as ``lost``; a task whose memory estimate exceeds a
 worker's memory limit (shared by its threads) is refused before submission. On
 an exception (Ctrl-C included) the submitted tasks are cancelled and the client
-closed.
+closed. A scheduler that goes away mid-run ends it with :class:`ClusterError` (the
+tasks that finished were handed out; none is labelled lost: the workers lived).
 """
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
+import logging
+import socket
+import threading
+import time
 import uuid
 from collections.abc import Iterator, Sequence
 from typing import Any
+from urllib.parse import urlsplit
 
 from comparison.runner.executor.base import Task, TaskOutcome, call, ordered
 
 #: Seconds to wait for the scheduler to answer and for at least one worker.
 CONNECT_SECONDS = 20.0
+#: Seconds for the first contact (:func:`check_scheduler`: the host resolved, the connection made, Dask's
+#: handshake and the scheduler's identity). Without it a silent TCP server held the client for over 400 s
+#: (Dask waits for the handshake without a limit), an HTTP server over 90 s, a server sending other bytes
+#: 40 s and then a traceback, and a closed port or an unknown host 21 s.
+HANDSHAKE_SECONDS = 4.0
 
 
 class ClusterError(RuntimeError):
-    """The scheduler cannot be reached, or has no worker."""
+    """The scheduler cannot be reached, is not a Dask scheduler, has no worker, or went away."""
+
+
+def check_scheduler(address: str, seconds: float = HANDSHAKE_SECONDS) -> None:
+    """Check that a Dask scheduler answers at ``address`` within ``seconds``: for ``tcp://``, the
+    host resolves and a connection is accepted; for every scheme, Dask's handshake comes back and the
+    peer calls itself a scheduler.
+
+    Raises:
+        ClusterError: ``"no Dask scheduler at {address} ({why})"``.
+    """
+    outcome: list[BaseException | None] = []
+
+    deadline = time.monotonic() + seconds
+
+    def probe() -> None:  # in a thread of its own: resolving a host has no time limit of its own
+        try:
+            if urlsplit(address).scheme == "tcp":
+                _tcp_connect(address, seconds)
+            left = max(deadline - time.monotonic(), 0.1)
+            asyncio.run(asyncio.wait_for(_identity(address, left), left))
+            outcome.append(None)
+        except BaseException as exc:  # noqa: BLE001 - reported below, whatever it is
+            outcome.append(exc)
+
+    thread = threading.Thread(target=probe, name="xcheck-scheduler-check", daemon=True)
+    thread.start()
+    thread.join(seconds + 0.5)
+    if not outcome:
+        raise ClusterError(f"no Dask scheduler at {address} (no answer within {seconds:g} s)")
+    exc = outcome[0]
+    if exc is None:
+        return
+    if isinstance(exc, ClusterError):
+        raise exc
+    if isinstance(exc, (TimeoutError, asyncio.TimeoutError)):
+        why = f"no Dask handshake within {seconds:g} s: not a Dask scheduler?"
+    elif isinstance(exc, socket.gaierror):
+        why = f"cannot resolve the host: {exc.strerror or exc}"
+    elif isinstance(exc, OSError):
+        why = exc.strerror or str(exc) or type(exc).__name__
+    else:
+        why = f"not a Dask scheduler: {type(exc).__name__}"
+    raise ClusterError(f"no Dask scheduler at {address} ({why})")
+
+
+def _tcp_connect(address: str, seconds: float) -> None:
+    """A plain TCP connection to ``tcp://host:port`` (a refused one says so at once; Dask retries it)."""
+    parts = urlsplit(address)
+    with socket.create_connection((parts.hostname or "", parts.port or 0), timeout=seconds):
+        pass
+
+
+async def _identity(address: str, seconds: float) -> None:
+    """Dask's handshake, then the peer's identity (``{"op": "identity"}``): a scheduler's type is ``Scheduler``."""
+    from distributed.comm import connect
+
+    comm = await connect(address, timeout=seconds)
+    try:
+        await comm.write({"op": "identity", "reply": True})
+        reply = await comm.read()
+    finally:
+        comm.abort()
+    kind = reply.get("type") if isinstance(reply, dict) else None
+    if kind != "Scheduler":
+        raise ClusterError(f"no Dask scheduler at {address} (it answers as {kind or 'something else'})")
 
 
 class DaskExecutor:
@@ -36,8 +113,9 @@ class DaskExecutor:
             worker memory limit over its threads; ``None`` when the workers have none).
 
     Raises:
-        ClusterError: no scheduler answers at ``address`` within
-            :data:`CONNECT_SECONDS`, or it has no worker.
+        ClusterError: no Dask scheduler answers at ``address`` within
+            :data:`HANDSHAKE_SECONDS` (:func:`check_scheduler`), or it has no
+            worker within :data:`CONNECT_SECONDS`.
         ImportError: ``dask.distributed`` is not installed.
 
     Attributes:
@@ -49,14 +127,18 @@ class DaskExecutor:
     def __init__(self, address: str, memory_per_worker: int | None = None) -> None:
         from distributed import Client
 
+        check_scheduler(address)
+        _quiet_client(True)
         try:
             self.client = Client(address, timeout=CONNECT_SECONDS, set_as_default=False)
         except (OSError, TimeoutError) as exc:
+            _quiet_client(False)
             raise ClusterError(f"no Dask scheduler at {address} ({type(exc).__name__}: {exc})") from None
         try:
             self.client.wait_for_workers(1, timeout=CONNECT_SECONDS)
         except (OSError, TimeoutError):
             self.client.close()
+            _quiet_client(False)
             raise ClusterError(f"the Dask scheduler at {address} has no worker after {CONNECT_SECONDS:g} s") from None
         workers = self.client.scheduler_info()["workers"].values()
         self.workers = sum(int(w.get("nthreads", 1)) for w in workers)
@@ -87,15 +169,22 @@ class DaskExecutor:
             self._futures.append(
                 self.client.submit(call, task.fn, task.args, key=key, pure=False, priority=int(task.cost))
             )
+        finished = 0
         for future in as_completed(self._futures, loop=self.client.loop):
             task = by_key[future.key]
             try:
                 ok, value, error, seconds = future.result()
             except Exception as exc:  # noqa: BLE001 - KilledWorker and other losses are the task's outcome
+                if _scheduler_lost(exc):
+                    raise ClusterError(
+                        f"the Dask scheduler at {self.where} went away after {finished} of {len(runnable)} "
+                        "tasks (the finished ones are kept; run again to go on)") from None
                 yield TaskOutcome(task, "lost", error=f"{type(exc).__name__}: {exc}")
+                finished += 1
                 continue
             finally:
                 future.release()
+            finished += 1
             yield TaskOutcome(task, "done" if ok else "failed", value, error, seconds)
         self._futures.clear()
 
@@ -105,3 +194,30 @@ class DaskExecutor:
             if kill and self._futures:
                 self.client.cancel(self._futures, force=True)
             self.client.close(timeout=CONNECT_SECONDS / 4)
+        _quiet_client(False)
+
+
+#: The loggers of ``dask.distributed`` that print tracebacks while the client loses its scheduler.
+_CLIENT_LOGGERS = ("distributed.client", "distributed.utils", "distributed.core", "distributed.comm",
+                   "distributed.batched")
+#: Their levels before :func:`_quiet_client` raised them.
+_SAVED_LEVELS: dict[str, int] = {}
+
+
+def _quiet_client(quiet: bool) -> None:
+    """Silence (or restore) :data:`_CLIENT_LOGGERS`: a scheduler killed mid-run printed the client's
+    reconnection tracebacks; the run says it in one line instead (:class:`ClusterError`)."""
+    for name in _CLIENT_LOGGERS:
+        log = logging.getLogger(name)
+        if quiet:
+            _SAVED_LEVELS.setdefault(name, log.level)
+            log.setLevel(logging.CRITICAL + 1)
+        elif name in _SAVED_LEVELS:
+            log.setLevel(_SAVED_LEVELS.pop(name))
+
+
+def _scheduler_lost(exc: BaseException) -> bool:
+    """Whether a task's exception says the client lost its scheduler (not that a worker died)."""
+    from distributed.client import FutureCancelledError
+
+    return isinstance(exc, FutureCancelledError) and "scheduler-connection-lost" in str(exc.reason)

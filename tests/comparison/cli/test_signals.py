@@ -11,6 +11,7 @@ which ``.ci/run`` runs after the fast suite.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -21,6 +22,8 @@ from pathlib import Path
 
 import psutil
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from comparison.sweep import read_table
 
@@ -181,6 +184,66 @@ def test_ctrl_c_stops_the_global_search_within_seconds() -> None:
         assert proc.poll() is None, "the search ended before it was interrupted"
         took = _ctrl_c(proc)
         assert took < GLOBAL_EXIT_SECONDS, f"{took:.1f} s after Ctrl-C"
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+
+
+#: How long a run may take to exit after Ctrl-C at any moment (seconds): the solver is stopped through its
+#: own callback (micro/backends/interrupt.py). Measured 0.03-0.6 s; before, a Ctrl-C inside HiGHS' callback
+#: crashed the process (SIGSEGV) and one outside a callback waited for the solve (4-5 s with Clarabel, over
+#: 60 s with HiGHS' interior point on a 90-row wall).
+SIGINT_EXIT_SECONDS = 2.0
+#: Commands interrupted at a random moment, with the span (seconds from the start) the moment is drawn in.
+#: The first is the non-associative solve whose Ctrl-C crashed; the others are single associative solves of
+#: 8,025 contacts (90 rows) in HiGHS' interior point and in Clarabel, each minutes and 4-6 s long.
+RANDOM_SIGINT = {
+    "nonassociative-lowest": (["micro", "--rows", "12", "--t", "0.1", "--m", "1", "--f", "0.4",
+                               "--friction", "nonassociative", "--lowest", "on"], 12.0),
+    "highs-ipm-90-rows": (["micro", "--rows", "90", "--t", "1", "--m", "1/3", "--f", "0.6",
+                           "--solver", "highs-ipm"], 6.0),
+    "clarabel-90-rows": (["micro", "--rows", "90", "--t", "1", "--m", "1/3", "--f", "0.6",
+                          "--solver", "clarabel"], 3.5),
+}  # fmt: skip
+#: Ctrl-Cs per run of the test (``XCHECK_SIGNAL_TRIES``): 10 keep it near a minute; the issue's
+#: measurement of 50 used the same test with ``XCHECK_SIGNAL_TRIES=50``.
+SIGNAL_TRIES = int(os.environ.get("XCHECK_SIGNAL_TRIES", "10"))
+
+
+def _loading_the_suite(proc: subprocess.Popen[bytes]) -> None:
+    """Wait until ``proc`` runs the suite's entry point (numpy, its first import, is mapped): a Ctrl-C
+    while Python itself still starts (its ``site`` module, the first ~0.1 s) is Python's, not ours."""
+    deadline = time.monotonic() + START_SECONDS
+    while time.monotonic() < deadline:
+        assert proc.poll() is None, proc.returncode
+        with contextlib.suppress(psutil.Error):
+            if any("_multiarray_umath" in m.path for m in psutil.Process(proc.pid).memory_maps()):
+                return
+        time.sleep(0.01)
+    raise AssertionError(f"the suite not loading after {START_SECONDS} s")
+
+
+@pytest.mark.processes
+@settings(max_examples=SIGNAL_TRIES, deadline=None, database=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(case=st.sampled_from(sorted(RANDOM_SIGINT)), moment=st.floats(0.0, 1.0))
+def test_ctrl_c_at_a_random_moment_exits_130_within_two_seconds(case: str, moment: float) -> None:
+    """Hypothesis draws the command and the moment (from loading the suite to deep in the solve):
+    never a crash or a traceback, always exit 130 within :data:`SIGINT_EXIT_SECONDS`."""
+    argv, span = RANDOM_SIGINT[case]
+    proc = _xcheck(*argv)
+    try:
+        _loading_the_suite(proc)
+        time.sleep(moment * span)
+        assert proc.poll() is None, f"{case} ended before its Ctrl-C"
+        t0 = time.monotonic()
+        os.killpg(proc.pid, signal.SIGINT)
+        code = proc.wait(EXIT_SECONDS)
+        took = time.monotonic() - t0
+        err = proc.stderr.read().decode() if proc.stderr else ""
+        assert code == 130, (case, moment * span, code, err[-3000:])
+        assert err.strip() == "xcheck: interrupted", err[-3000:]
+        assert took < SIGINT_EXIT_SECONDS, f"{case}: {took:.2f} s after Ctrl-C at {moment * span:.2f} s"
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)

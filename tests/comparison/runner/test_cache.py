@@ -195,17 +195,17 @@ def test_a_stored_mechanism_reads_back_equal(tmp_path: Path) -> None:
     np.testing.assert_array_equal(back.velocities, mine.velocities)
 
 
-class _StoppedByTheClock:
-    """An executor whose every task 'ran out of time': it returns ``stopped`` for each."""
+class _Returns:
+    """An executor that returns ``entry`` for every task (a result computed elsewhere)."""
 
     workers, memory_per_worker, where = 1, None, "test"
 
-    def __init__(self, stopped: object) -> None:
-        self.stopped = stopped
+    def __init__(self, entry: object) -> None:
+        self.entry = entry
 
     def run(self, tasks: Sequence[Task]) -> Iterator[TaskOutcome]:
         for task in tasks:
-            yield TaskOutcome(task, "done", self.stopped)
+            yield TaskOutcome(task, "done", self.entry)
 
 
 def test_a_result_stopped_by_the_clock_is_used_by_its_run_but_not_stored(tmp_path: Path) -> None:
@@ -214,8 +214,36 @@ def test_a_result_stopped_by_the_clock_is_used_by_its_run_but_not_stored(tmp_pat
     stopped = dataclasses.replace(record, result=dataclasses.replace(record.micro, status="time_limit"))
     runner = Runner(tmp_path)
     assert runner.cache is not None
-    done = prefetch(runner.cache, [(SPEC, MICRO_ASSOC)], _StoppedByTheClock((stopped, None)))  # type: ignore[arg-type]
+    done = prefetch(runner.cache, [(SPEC, MICRO_ASSOC)], _Returns((stopped, None)))  # type: ignore[arg-type]
     assert done.computed == 1 and list(done.unstored) == [(SPEC, MICRO_ASSOC)]
     assert (SPEC, MICRO_ASSOC) not in runner.cache
     runner.keep(done.unstored)
     assert runner.run(SPEC, MICRO_ASSOC) is stopped and runner.computed == 0  # not computed a second time
+
+
+def test_a_cache_that_cannot_be_written_warns_once_and_its_run_keeps_every_result(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A full or read-only cache disk (here: every write fails with ENOSPC): one warning, the records
+    stay with the run (before: the OSError ended the report with exit 1 and no report)."""
+    import errno
+
+    from comparison.runner import MACRO
+    from comparison.runner import cache as cache_module
+
+    entry = Runner(None)._entry(SPEC, MICRO_ASSOC)
+
+    def full(path: Path, data: bytes) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device", str(path))
+
+    monkeypatch.setattr(cache_module, "write_atomic", full)
+    runner = Runner(tmp_path)
+    assert runner.cache is not None
+    with pytest.warns(cache_module.CacheWarning, match="cannot write the cache .*No space left on device") as seen:
+        done = prefetch(runner.cache, [(SPEC, MICRO_ASSOC)], _Returns(entry))  # type: ignore[arg-type]
+        runner.keep(done.unstored)
+        macro_record = runner.run(SPEC, MACRO)  # computed here, its store fails too: no second warning
+    assert len(seen) == 1
+    assert done.computed == 1 and list(done.unstored) == [(SPEC, MICRO_ASSOC)]
+    assert runner.run(SPEC, MICRO_ASSOC) is entry[0] and runner.computed == 1  # the macro one only
+    assert macro_record.load_factor > 0 and runner.run(SPEC, MACRO) is macro_record

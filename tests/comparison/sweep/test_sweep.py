@@ -104,13 +104,13 @@ def _start(args: list[str], log: Path) -> subprocess.Popen[bytes]:
         return subprocess.Popen(args, stdout=fh, stderr=subprocess.STDOUT, start_new_session=True)
 
 
-@pytest.fixture(scope="module")
-def dask_scheduler(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    """A ``dask.distributed`` scheduler and one worker (two processes with its nanny) on 127.0.0.1."""
+@contextlib.contextmanager
+def _cluster(tmp: Path) -> Iterator[tuple[str, subprocess.Popen[bytes], subprocess.Popen[bytes]]]:
+    """A ``dask.distributed`` scheduler and one worker (two processes with its nanny) on 127.0.0.1:
+    ``(address, scheduler, worker)``, each process in a session of its own; ended on exit."""
     pytest.importorskip("distributed")
     from distributed import Client
 
-    tmp = tmp_path_factory.mktemp("dask")
     info = tmp / "scheduler.json"
     dask = [sys.executable, "-m", "dask"]
     common = ["--no-dashboard", "--host", "127.0.0.1"]
@@ -124,7 +124,7 @@ def dask_scheduler(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
         procs.append(_start([*dask, *worker], tmp / "w.log"))
         with Client(address, timeout=120) as client:
             client.wait_for_workers(1, timeout=120)
-        yield address
+        yield address, procs[0], procs[1]
     finally:
         for p in reversed(procs):
             with_group(p, signal.SIGTERM)
@@ -134,6 +134,13 @@ def dask_scheduler(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
             except subprocess.TimeoutExpired:
                 with_group(p, signal.SIGKILL)
                 p.wait(30)
+
+
+@pytest.fixture(scope="module")
+def dask_scheduler(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    """A ``dask.distributed`` scheduler and one worker on 127.0.0.1 (:func:`_cluster`)."""
+    with _cluster(tmp_path_factory.mktemp("dask")) as (address, _, _):
+        yield address
 
 
 def with_group(proc: subprocess.Popen[bytes], sig: int) -> None:
@@ -169,3 +176,50 @@ def test_an_unreachable_scheduler_is_one_line_exit_2(tmp_path: Path, capsys: pyt
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and "--scheduler: no Dask scheduler at" in err, err
     shutil.rmtree(tmp_path, ignore_errors=True)
+
+
+#: 16 walls of 9-150 blocks on the iterated LP (tenths of a second to seconds each): still running when
+#: the scheduler is killed.
+SIXTEEN = """
+name = "sixteen"
+[axes]
+t = [0.5, 1.0, 1.5, 2.0]
+m = ["1/3", "1/2"]
+rows = [6, 12]
+f = 0.6
+[[method]]
+kind = "micro-nonassoc"
+"""
+
+
+@pytest.mark.processes
+def test_a_scheduler_killed_mid_sweep_is_one_line_and_no_cell_is_called_worker_died(tmp_path: Path) -> None:
+    """Before: the client's reconnection tracebacks, and the unfinished cells in the table as
+    ``worker_died`` although the worker lived. After: one line, exit 1, no table (as after a kill of the
+    sweep itself); the finished cells are in the cache and a sweep started again computes only the rest."""
+    grid = tmp_path / "sixteen.toml"
+    grid.write_text(SIXTEEN)
+    cache, out = tmp_path / "cache", tmp_path / "out"
+    with _cluster(tmp_path) as (address, scheduler, worker):
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "comparison.cli", "sweep", str(grid), "--out", str(out), "--cache", str(cache),
+             "--quiet", "--scheduler", address], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            deadline = time.monotonic() + 120
+            while sum(1 for _ in cache.rglob("*.json")) < 2 and proc.poll() is None and time.monotonic() < deadline:
+                time.sleep(0.02)
+            with_group(scheduler, signal.SIGKILL)
+            _, err = proc.communicate(timeout=60)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+        assert worker.poll() is None  # the worker lived
+    lines = err.strip().splitlines()
+    assert proc.returncode == 1 and len(lines) == 1, err
+    assert lines[0].startswith(f"xcheck: error: --scheduler: the Dask scheduler at {address} went away after ")
+    assert not (out / "sixteen.csv").exists()
+    kept = sum(1 for _ in cache.rglob("*.json"))
+    assert 2 <= kept < 16, "killed too late to test"
+    code, rows, meta = _sweep(tmp_path, grid, cache, "--workers", "2")
+    assert code == 0 and meta["counts"]["cached"] == kept and meta["counts"]["computed"] == 16 - kept
+    assert all(r["status"] != "worker_died" for r in rows)

@@ -98,24 +98,30 @@ def test_time_limit_and_bad_algorithm() -> None:
 
 
 def test_stall_guard_counts_calls_per_iteration() -> None:
-    """The guard fires on calls without progress, never on iterations that advance."""
+    """The guard fires on calls without progress, never on iterations that advance;
+    the model's callback interrupts on simplex calls only and sets HiGHS' flag every call."""
     from types import SimpleNamespace
 
-    from micro.backends.highs import STALL_CALLS, StallGuard
+    from micro.backends.highs import STALL_CALLS, RunCallback, StallGuard
 
-    guard = StallGuard()
+    SIMPLEX, IPM = 1, 2
+    callback = RunCallback(SIMPLEX)
+    guard = callback.guard = StallGuard()
     flag = SimpleNamespace(user_interrupt=False)
     for it in range(1000):  # up to 7 calls per iteration were seen in normal runs
         for _ in range(7):
-            guard(0, "", SimpleNamespace(simplex_iteration_count=it), flag, None)
+            callback(SIMPLEX, "", SimpleNamespace(simplex_iteration_count=it), flag, None)
+    assert not flag.user_interrupt and not guard.fired
+    for _ in range(2 * STALL_CALLS):  # interior-point calls (no simplex count) are not counted
+        callback(IPM, "", SimpleNamespace(simplex_iteration_count=0, ipm_iteration_count=3), flag, None)
     assert not flag.user_interrupt and not guard.fired
     for _ in range(STALL_CALLS):
-        guard(0, "", SimpleNamespace(simplex_iteration_count=1000), flag, None)
+        callback(SIMPLEX, "", SimpleNamespace(simplex_iteration_count=1000), flag, None)
     assert flag.user_interrupt and guard.fired
     guard.reset()
     assert not guard.fired
     # HiGHS keeps the flag between runs: the next run's first call must clear it
-    guard(0, "", SimpleNamespace(simplex_iteration_count=0), flag, None)
+    callback(SIMPLEX, "", SimpleNamespace(simplex_iteration_count=0), flag, None)
     assert flag.user_interrupt is False
 
 
