@@ -35,6 +35,9 @@ MACRO_ANGLE_TOL = 1e-3
 #: Relative tolerance of the associative LP's λ: ten times the largest disagreement measured
 #: between the back ends (HiGHS IPM, HiGHS simplex, Clarabel, cvxpy) on the paper's walls (1.3e-6).
 ASSOC_RTOL = 1e-5
+#: The cell of the non-associative iterated LP's own λ (``load_factor`` is the value to quote: the lowest
+#: certified collapse state).
+ITERATED = "iterated_load_factor"
 #: Relative tolerance of the iterated LP's λ and band: it returns one point of a band of exact
 #: states, and the path to it moved λ by up to 0.25 % with another HiGHS interior point (IPX
 #: against HiPO, reference wall) and 0.35 % under machine load (Set 14).
@@ -102,15 +105,22 @@ def micro_cells(c: PaperCase, rec: Record) -> Iterator[Reference]:
     if method.kind == "micro-assoc":
         source = f"associative LP ({method.solver}), bottom course {method.first_course}, {method.head_joints} heads"
     else:
-        source = f"iterated LP, scheme {method.scheme}, bottom course {method.first_course}, {method.head_joints} heads"
+        bond = f"scheme {method.scheme}, bottom course {method.first_course}, {method.head_joints} heads"
+        quoted = "lowest certified collapse state" if nonassoc is not None and nonassoc.quoted == "lowest certified" \
+            else "iterated LP"
+        source = f"{quoted} (the value to quote), {bond}"
     status = rec.status if not rec.message or rec.result is not None else f"{rec.status}: {rec.message}"
-    cells = {LOAD_FACTOR: rec.load_factor}
-    if nonassoc is not None and nonassoc.mechanism_band is not None:
-        cells |= {"band_min": nonassoc.mechanism_band[0], "band_max": nonassoc.mechanism_band[1]}
-    for cell, value in cells.items():
+    cells = {LOAD_FACTOR: (rec.load_factor, source)}
+    if nonassoc is not None:  # the iterated LP's own fixed point and its mechanism's band beside it
+        iterated = f"iterated LP's own fixed point, {bond}"
+        cells[ITERATED] = (nonassoc.load_factor, iterated)
+        if nonassoc.mechanism_band is not None:
+            lo, hi = nonassoc.mechanism_band
+            cells |= {"band_min": (lo, iterated), "band_max": (hi, iterated)}
+    for cell, (value, said) in cells.items():
         ok = math.isfinite(value)
         yield Reference(
-            c.label, method.kind, cell, value if ok else None, _rel(value, rtol) if ok else None, source, status
+            c.label, method.kind, cell, value if ok else None, _rel(value, rtol) if ok else None, said, status
         )
 
 

@@ -5,7 +5,8 @@
 quantity): its value, its tolerance and where it comes from. Methods:
 
 * ``macro``, ``micro-assoc``, ``micro-nonassoc``: this package's results
-  (``micro-nonassoc`` also has the ends of its mechanism band, ``band_min`` and
+  (for ``micro-nonassoc`` the lowest certified collapse state, the value to quote; beside it the
+  iterated LP's own ``iterated_load_factor`` and the ends of its mechanism band, ``band_min`` and
   ``band_max``);
 * ``paper`` and ``orduna-micro``, ``orduna-macro``, ``debuhan-defelice``,
   ``speranza``: the values Argiento, Maione & Casapulla (2018) publish, with
