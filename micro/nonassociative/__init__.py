@@ -174,7 +174,9 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     build = time.perf_counter() - t0
     solved = [solve_chain(lp, d, r) for d in load_directions(o.directions, wall.mirror_symmetric)]
     results = tuple(res for res, _ in solved)
-    lowest = tuple(lowest_state(lp, res, r, model) for res, model in solved if res.converged) if r.lowest else ()
+    # without the iterated LP's model (a fused wall) the descent makes no proposal (micro.nonassociative.lowest)
+    lowest = tuple(lowest_state(lp, res, r, model, proposals=model is not None)
+                   for res, model in solved if res.converged) if r.lowest else ()
     del solved  # the models: the descent has taken over what it needs
     glob = _global_search(lp, results, lowest, o.global_) if isinstance(o.global_, GlobalOptions) else None
     solve_secs = time.perf_counter() - t0 - build

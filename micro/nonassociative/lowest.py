@@ -53,8 +53,14 @@ vertex is near a field of the pattern, so a short primal simplex finishes
 it. The polish's later rounds and the band's upper end start from the last
 force LP's vertex, a field of their pattern. A proposal's force LP whose
 warm run fails is not redone cold (its candidate is dropped); the lower end
-of the iterated LP's state and the band are. Without the iterated LP's model
-(a fused wall) the descent solves one Gilbert LP cold at the start's forces.
+of the iterated LP's state and the band are.
+
+A FUSED WALL. Where the iterated LP ran on the fused wall (its model is the
+bodies' LP, none is handed over), the descent takes the lower end of the
+certified state's own mechanism band (and its polish) and makes no proposal:
+on Set 10 (3,630 blocks) each Gilbert step on the unfused wall ran into the
+warm cap of 2 simplex iterations per row (40 s) and then cold (64-68 s), and
+each force LP into the primal cap, the reason the wall is fused.
 
 THE BUDGET. A descent may solve at most ``lowest_budget`` LPs per direction
 (:class:`~micro.nonassociative.options.NonAssociativeOptions`; then one more
@@ -156,11 +162,14 @@ class Descent:
             proposals' Gilbert steps run warm in it, and its basis, carried
             over to the force LP, starts the first lower end. ``None``: a
             model of its own, solved cold once.
+        proposals: whether the descent moves to other mechanisms (``False``:
+            the lower end of the start's own mechanism band and its polish
+            only).
     """
 
     def __init__(self, lp: LimitLP, direction: int, options: Recipe, budget: int | None = None,
-                 model: IterationModel | None = None) -> None:
-        self.lp, self.d, self.o, self.budget = lp, direction, options, budget
+                 model: IterationModel | None = None, *, proposals: bool = True) -> None:
+        self.lp, self.d, self.o, self.budget, self.proposals = lp, direction, options, budget, proposals
         self.forces = ForceLP(lp, direction, options.user_limit)
         self.mechanisms = MechanismLP(lp, direction, options.user_limit)
         self.forces.report = self.mechanisms.report = self._progress
@@ -324,13 +333,13 @@ class Descent:
         it = CollapseState(lam0, start.normal / fs, start.shear / fs, v0, "iterated")
         best = it if self.exact(it) else None
         path = [] if best is None else [best.load_factor]
-        model, _ = self.gilbert_model(it.n)
-        lower = self.polish(v0, "lower end", model.generator_basis())
+        start_basis = self.gilbert_model(it.n)[0].generator_basis() if self.proposals else None
+        lower = self.polish(v0, "lower end", start_basis)
         if lower is not None and (best is None or lower.load_factor < best.load_factor * (1.0 - LOWEST_TOL)):
             best = lower
             path.append(best.load_factor)
         moves: list[str] = []
-        released = self.released()
+        released = self.released() if self.proposals else np.zeros(0, dtype=bool)
         while best is not None and released.any() and len(moves) < LOWEST_MAX_MOVES and not self.spent():
             new = self.propose(best, released)
             if new is None or new.load_factor >= best.load_factor * (1.0 - LOWEST_TOL):
@@ -365,7 +374,7 @@ class Descent:
 
 
 def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe,
-                 model: IterationModel | None = None) -> LowestDirection:
+                 model: IterationModel | None = None, *, proposals: bool = True) -> LowestDirection:
     """The lowest certified state reached from a converged direction of the iterated LP.
 
     Args:
@@ -374,6 +383,7 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe,
         options: the recipe of the iterated LP (its options' ``lowest_budget``).
         model: the iterated LP's model of the direction after its last LP,
             taken over (:class:`Descent`); ``None``: the descent builds one.
+        proposals: whether the descent moves to other mechanisms (:class:`Descent`).
 
     Returns:
         The :class:`LowestDirection`.
@@ -383,5 +393,6 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe,
     """
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
-    return Descent(lp, direction_sign(start.direction), options, options.options.lowest_budget, model).run(start)
+    return Descent(lp, direction_sign(start.direction), options, options.options.lowest_budget, model,
+                   proposals=proposals).run(start)
 

@@ -238,3 +238,16 @@ def test_the_descent_runs_by_default_on_a_wall_of_any_size() -> None:
     r = solve_nonassociative(w)
     assert r.converged and r.lowest_state is not None and r.to_record().lowest_stop == "finished"
     check_states(w, r)
+
+
+def test_on_a_fused_wall_the_descent_takes_the_lower_end_of_its_band() -> None:
+    """Where the iterated LP ran on the fused wall (no model of the wall to take over), the descent takes
+    the lower end of the certified state's mechanism band and makes no proposal."""
+    (t, m), _ = TABLE7["set12"]
+    w = wall(t, m)
+    r = solve_nonassociative(w, tuning=Tuning(fuse=True))
+    assert r.sequence.fusion is not None and r.converged
+    check_states(w, r)
+    low = r.lowest[0]
+    assert low.moves == () and low.stop == "finished"
+    assert low.load_factor <= r.mechanism_band[0] * (1 + 1e-7)
