@@ -92,8 +92,10 @@ def _tcp_connect(address: str, seconds: float) -> None:
 async def _identity(address: str, seconds: float) -> None:
     """Dask's handshake, then the peer's identity (``{"op": "identity"}``): a scheduler's type is ``Scheduler``."""
     from distributed.comm import connect
+    from distributed.security import Security
 
-    comm = await connect(address, timeout=seconds)
+    # the client's connection arguments from Dask's configuration (TLS certificates), as Client uses them
+    comm = await connect(address, timeout=seconds, **Security().get_connection_args("client"))
     try:
         await comm.write({"op": "identity", "reply": True})
         reply = await comm.read()
