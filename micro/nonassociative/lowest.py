@@ -175,7 +175,7 @@ class Descent:
         self.forces.report = self.mechanisms.report = self._progress
         self.forces.gate = self.mechanisms.gate = self.may_run
         self.gilbert: tuple[IterationModel, PersistentRuns] | None = None
-        if model is not None and model.lp is lp and model.generator_basis() is not None:
+        if model is not None and model.lp is lp and model.scheme == "a":  # a basis generator_basis carries over
             self.gilbert = self._runs(model, warm=True)
         self.seen: set[bytes] = set()
         self.out_of_budget = False
@@ -395,4 +395,3 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe,
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
     return Descent(lp, direction_sign(start.direction), options, options.options.lowest_budget, model,
                    proposals=proposals).run(start)
-
