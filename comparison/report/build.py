@@ -27,8 +27,20 @@ from comparison.report.findings import findings
 from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
+from comparison.report.robustness import bond_variants_table, robustness_table
 from comparison.report.scaling import scaling_figure
-from comparison.report.tables import all_tables
+from comparison.report.tables import (
+    Table,
+    all_cases,
+    failure_modes,
+    histories,
+    sensitivity,
+    speed_accuracy,
+    table5,
+    table7,
+    table8,
+    table9,
+)
 from comparison.report.text import document
 from comparison.report.timings import write_timings
 from comparison.runner import MACRO, Prefetched, Runner, prefetch
@@ -139,3 +151,22 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], tables_dir: Path) -
     lowest_text = lowest.section(committed_table(tables_dir, LOWEST), out=out, number_=lowest_number)
     path.write_text(text + "\n" + error_map + "\n" + bond_text + "\n" + lowest_text)
     return path
+
+
+def all_tables(res: Results) -> dict[str, Table]:
+    """Every table of the report, by name."""
+    builders = (
+        table5,
+        table7,
+        bond_variants_table,
+        table8,
+        table9,
+        all_cases,
+        failure_modes,
+        sensitivity,
+        speed_accuracy,
+        histories,
+    )
+    tables = [build(res) for build in builders]
+    robust = robustness_table(res)
+    return {t.name: t for t in (*tables, *([robust] if robust is not None else []))}

@@ -6,6 +6,7 @@ import math
 
 from comparison.cases import cases_in_table
 from comparison.report.results import Results
+from comparison.report.robustness import robustness_table
 from comparison.report.tables import delta, published
 
 #: A mechanism band "comes within" a published value when its lower end is at most this much above it.
@@ -104,7 +105,17 @@ def table7_finding(res: Results) -> str:
     )
 
 
+def robustness_finding(res: Results) -> str | None:
+    """Which conclusions hold in every bond the suite builds (the robustness table's note)."""
+    t = robustness_table(res)
+    if t is None:
+        return None
+    return ("* **Under every bond?** " + t.note.split(" Bonds:")[0]
+            + " (`robustness` below: the bottom course starting with a full or a half block, head joints with "
+            "or without friction).")
+
+
 def findings(res: Results) -> str:
     """The headline findings, one bullet each."""
-    lines = [rows_finding(res), beyond_table7_finding(res), table7_finding(res)]
+    lines = [rows_finding(res), beyond_table7_finding(res), table7_finding(res), robustness_finding(res)]
     return "\n".join(line for line in lines if line is not None)
