@@ -164,7 +164,9 @@ def test_cli_leads_with_the_lowest_certified_state(capsys: pytest.CaptureFixture
     assert main([*args, "-q"]) == 0
     assert capsys.readouterr().out.strip() == "0.691108"
     assert main(args) == 0
-    first, second = capsys.readouterr().out.splitlines()[:2]
+    out = capsys.readouterr().out
+    first, second = out.splitlines()[:2]
+    assert "nan" not in out  # issue 44, item 6: the warm/cold difference of a certified state was printed as nan
     assert first.startswith("lambda = 0.691108 (+x): the lowest certified collapse state") and "finished" in first
     assert "iterated LP" in second and "lambda = 0.708622" in second and "[0.694899, 0.710055]" in second
     assert main([*args, "--lowest", "3"]) == 0
