@@ -403,12 +403,24 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
             )
 
 
+def _lowest_note(result: NonAssociativeResult) -> str:
+    """Why the value printed first is not a finished descent's (``""`` when every direction's finished)."""
+    if not result.lowest:
+        return "the lowest certified state was not searched (--lowest off)"
+    if result.lowest_state is None:
+        why = "; ".join(x.message for x in result.lowest if x.message) or "none found"
+        return f"the descent found no exact state ({why})"
+    spent = [x for x in result.lowest if x.stop == "budget"]
+    if spent:
+        return (f"the descent spent its budget of {spent[0].budget} LPs: the lowest state found so far, not "
+                "finished; --lowest N raises it")
+    return ""
+
+
 def _print_answer(result: NonAssociativeResult) -> None:
     """The first line: the value to quote, what it is, and where the descent did not finish, why."""
     low = result.lowest_state
-    note = result.lowest_note.replace("(lowest=False)", "(--lowest off)")
-    if note and "budget" in note:
-        note += "; --lowest N raises it"
+    note = _lowest_note(result)
     if low is not None:
         n = len(low.moves)
         how = f"{low.lps} LPs" + (f", {n} move{'s' if n > 1 else ''}" if n else "")

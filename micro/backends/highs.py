@@ -43,10 +43,8 @@ DUAL_SIGN = -1.0
 #: default 1e-7 gave "Optimal" with unscaled residuals of 1e-3.
 SIMPLEX_TOLERANCE = 1e-10
 ALGORITHMS = ("ipm", "simplex")
-#: HiGHS' ``simplex_strategy`` values: the dual simplex (its default) and the
-#: primal simplex (for a run from a basis that is primal feasible or nearly:
-#: from a basis mapped out of another LP's, the dual simplex took 13,073
-#: iterations where the primal took 906 on the 1,230-block wall).
+#: HiGHS' ``simplex_strategy`` values: the dual simplex (its default) and the primal one (from a basis
+#: carried over from another LP: 906 iterations where the dual took 13,073 on the 1,230-block wall).
 DUAL_STRATEGY, PRIMAL_STRATEGY = 1, 4
 #: ``HighsBasisStatus`` codes of :meth:`PersistentHighsModel.basis_arrays`.
 LOWER, BASIC, UPPER = 0, 1, 2
@@ -54,37 +52,43 @@ LOWER, BASIC, UPPER = 0, 1, 2
 _ITERATIONS_MAX = 2**31 - 1
 #: A guarded run (:meth:`PersistentHighsModel.guard_stalls`) is interrupted
 #: when HiGHS calls its simplex interrupt callback this often without the
-#: iteration count advancing. Measured on scheme (b)'s third LP of the
-#: 1,230-block wall, an infeasible LP whose infeasibility the warm dual
-#: simplex does not detect: the dual objective climbs through 0 near
-#: iteration 9,000 and on to 2e9, and from iteration ~23,970 ("possibly dual
-#: unbounded", "possibly singular basis") single iterations took 800-1,333
-#: calls and many seconds each (40 iterations in the next 510 s), against at
-#: most 7 calls per iteration in every normal run. HiGHS' own
-#: ``objective_bound`` does not stop it (its exact dual objective is -inf there).
+#: iteration count advancing. On scheme (b)'s infeasible third LP of the
+#: 1,230-block wall single iterations took 800-1,333 calls and seconds each
+#: from iteration ~23,970 ("possibly singular basis"), against at most 7 calls
+#: per iteration in every normal run; HiGHS' ``objective_bound`` did not stop it.
 STALL_CALLS = 100
 
 
 class StallGuard:
     """Counts the simplex interrupt callbacks of a guarded model per simplex
     iteration and fires at :data:`STALL_CALLS` (:class:`RunCallback` then
-    interrupts the run). Counts, not seconds: the same run stops at the same
-    iteration on every machine."""
+    interrupts the run), or, with :attr:`excess` set, once the calls beyond
+    one per iteration add up to it over the run. Counts, not seconds: the
+    same run stops at the same iteration on every machine.
+
+    Attributes:
+        excess: the most callbacks beyond one per iteration a run may make
+            (``None``: no such limit; :meth:`PersistentHighsModel.limit_excess_calls`).
+    """
 
     def __init__(self, calls: int = STALL_CALLS) -> None:
         self.calls = calls
+        self.excess: int | None = None
         self.reset()
 
     def reset(self) -> None:
         """Before a run."""
-        self.iteration, self.count, self.fired = -1, 0, False
+        self.iteration, self.count, self.fired, self.extra = -1, 0, False, 0
 
     def tick(self, iteration: int) -> bool:
         """One simplex interrupt callback at simplex iteration ``iteration``: whether the guard has fired."""
         if iteration != self.iteration:
             self.iteration, self.count = iteration, 0
+        else:
+            self.extra += 1
         self.count += 1
-        self.fired = self.fired or self.count >= self.calls
+        self.fired = (self.fired or self.count >= self.calls
+                      or (self.excess is not None and self.extra > self.excess))
         return self.fired
 
 
@@ -253,6 +257,15 @@ class PersistentHighsModel:
         """Interrupt every later simplex run that stalls (:data:`STALL_CALLS`);
         such a run ends ``solver_error`` with ``info["stalled"]``."""
         self._callback.guard = StallGuard(calls)
+
+    def limit_excess_calls(self, excess: int | None) -> None:
+        """Interrupt the next runs once their simplex interrupt callbacks beyond
+        one per iteration add up to ``excess`` (``None``: no such limit; the
+        model must be guarded, :meth:`guard_stalls`)."""
+        guard = self._callback.guard
+        if guard is None:
+            raise ValueError("limit_excess_calls needs a guarded model (guard_stalls)")
+        guard.excess = excess
 
     @classmethod
     def of(cls, lp: LimitLP, direction: int, *, algorithm: str = "ipm") -> PersistentHighsModel:

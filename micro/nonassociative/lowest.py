@@ -103,6 +103,7 @@ from micro.nonassociative.states import (
     PersistentRuns,
     restricted_columns,
 )
+from micro.nonassociative.tuning import INTERPENETRATION
 from micro.results import DIR_NAME, DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
@@ -123,7 +124,8 @@ PROPOSAL_STEPS = 6
 #: Contact kinds whose friction a proposal releases.
 RELEASED_KINDS = (HEAD,)
 #: Largest residual of :func:`verify_collapse_state` (every entry but the
-#: slipping-point count) of a state the descent keeps.
+#: slipping-point count and the closing rates, :meth:`Descent.exact`) of a
+#: state the descent keeps.
 EXACT_TOL = 1e-6
 @dataclass(frozen=True, eq=False)
 class CollapseState:
@@ -219,9 +221,13 @@ class Descent:
                                mechanism=mechanism_from_duals(self.lp, state.v, self.d))
 
     def exact(self, state: CollapseState) -> bool:
-        """Every residual of :func:`verify_collapse_state` is at most :data:`EXACT_TOL`."""
+        """Every residual of :func:`verify_collapse_state` is at most :data:`EXACT_TOL`, but the closing
+        rates, read as the simplex duals' noise up to
+        :data:`~micro.nonassociative.tuning.INTERPENETRATION` of the largest rate as the certificate
+        reads them (the iterated LP's certified state of Table 5's Set 3 closes at 1.6e-6)."""
         res = verify_collapse_state(self.lp, self.as_result(state))
-        return all(v <= EXACT_TOL for k, v in res.items() if k != "slipping_points")
+        return all(v <= (INTERPENETRATION if k == "interpenetration" else EXACT_TOL)
+                   for k, v in res.items() if k != "slipping_points")
 
     # ------------------------------------------------------------ polish
     def settle(self, f: ForceField, v: FloatArray, origin: str) -> CollapseState | None:

@@ -85,6 +85,20 @@ class Recipe:
         if self.progress is not None:
             self.progress(event)
 
+    def solver_description(self) -> str:
+        """Which solver does what in the iterated LP, e.g. ``"clarabel (start,
+        certificate) + highs-simplex (iterated) + highs-ipm (cold check)"``."""
+        t = self.tuning
+        roles = [("clarabel" if t.start == "interior" else "highs-ipm+crossover", "start")]
+        if t.certify or t.mechanism_band:
+            roles.append(("clarabel", "certificate"))
+        roles.append(("highs-simplex", "iterated" + (", fused" if self.fuse else "")))
+        roles.append(("highs-ipm", "cold check"))
+        by_solver: dict[str, list[str]] = {}
+        for solver, role in roles:
+            by_solver.setdefault(solver, []).append(role)
+        return " + ".join(f"{solver} ({', '.join(r)})" for solver, r in by_solver.items())
+
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready: the options and the knobs, with the resolved values in place of theirs."""
         resolved = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)

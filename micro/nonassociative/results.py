@@ -245,14 +245,12 @@ class LowestDirection:
 
 @dataclass(frozen=True, eq=False)
 class NonAssociativeResult:
-    """Result of the non-associative analysis.
-
-    The properties describe the governing direction (:attr:`governing`):
-    the one with the smallest load factor, or the first that did not
-    converge.
+    """Result of the non-associative analysis. The value to quote is :attr:`quoted_load_factor`. The
+    properties describe the governing direction (:attr:`governing`): the one with the smallest load
+    factor, or the first that did not converge.
 
     Attributes:
-        load_factor: governing ``lambda`` (NaN unless every direction converged).
+        load_factor: the iterated LP's governing ``lambda`` (NaN unless every direction converged).
         direction: governing direction (``""`` unless converged).
         status: :data:`CONVERGED` only if every direction converged, else the
             status of the first direction that did not.
@@ -401,45 +399,21 @@ class NonAssociativeResult:
 
     @property
     def quoted(self) -> str:
-        """Which load factor to quote: :data:`QUOTED_LOWEST` where the descent
-        found a certified state in every direction, else :data:`QUOTED_ITERATED`
-        (``""`` when the run failed)."""
-        if not self.ok:
-            return ""
-        return QUOTED_LOWEST if self.lowest_state is not None else QUOTED_ITERATED
+        """Which load factor to quote: :data:`QUOTED_LOWEST`, else :data:`QUOTED_ITERATED` (``""``: failed)."""
+        return "" if not self.ok else QUOTED_LOWEST if self.lowest_state is not None else QUOTED_ITERATED
 
     @property
     def quoted_load_factor(self) -> float:
-        """The load factor to quote (:attr:`quoted`): the lowest certified
-        collapse state, else the iterated LP's; NaN when the run failed."""
-        if not self.ok:
-            return math.nan
-        return self.lowest_load_factor if self.lowest_state is not None else self.load_factor
-
-    @property
-    def lowest_note(self) -> str:
-        """Why the quoted value is not a finished descent's, in words (``""``
-        when the descent finished in every direction, or the run failed)."""
-        if not self.ok:
-            return ""
-        if not self.lowest:
-            return "the lowest certified state was not searched (lowest=False)"
-        low = self.lowest_state
-        if low is None:
-            why = "; ".join(x.message for x in self.lowest if x.message) or "none found"
-            return f"the descent found no exact state ({why})"
-        spent = [x for x in self.lowest if x.stop == BUDGET]
-        if spent:
-            return (f"the descent spent its budget of {spent[0].budget} LPs: the lowest state found so far, "
-                    "not finished")
-        return ""
+        """The load factor to quote (:attr:`quoted`); NaN when the run failed."""
+        return math.nan if not self.ok else self.lowest_load_factor if self.lowest_state is not None \
+            else self.load_factor
 
     def to_record(self) -> NonAssociativeRecord:
         """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form
         (see :mod:`micro.records`)."""
         q = self.sequence
         return NonAssociativeRecord(
-            solver=solver_description(self.recipe), **record_fields(self, self.governing.mechanism),
+            solver=self.recipe.solver_description(), **record_fields(self, self.governing.mechanism),
             scheme=self.scheme, relaxation=self.relaxation, converged=self.converged, stop_reason=q.stop_reason,
             lambda_band=q.lambda_band, mechanism_band=q.mechanism_band, last_load_factor=q.last_load_factor,
             associative_load_factor=self.associative_load_factor, cold_load_factor=q.cold_load_factor,
@@ -486,21 +460,6 @@ class NonAssociativeResult:
         }
 
 
-def solver_description(recipe: Recipe) -> str:
-    """Which solver does what in the iterated LP, e.g. ``"clarabel (start,
-    certificate) + highs-simplex (iterated) + highs-ipm (cold check)"``."""
-    t = recipe.tuning
-    roles = [("clarabel" if t.start == "interior" else "highs-ipm+crossover", "start")]
-    if t.certify or t.mechanism_band:
-        roles.append(("clarabel", "certificate"))
-    roles.append(("highs-simplex", "iterated" + (", fused" if recipe.fuse else "")))
-    roles.append(("highs-ipm", "cold check"))
-    by_solver: dict[str, list[str]] = {}
-    for solver, role in roles:
-        by_solver.setdefault(solver, []).append(role)
-    return " + ".join(f"{solver} ({', '.join(r)})" for solver, r in by_solver.items())
-
-
 def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirection, ...]) -> dict[str, Any]:
     """The record fields of the descent (:class:`micro.NonAssociativeRecord`).
 
@@ -509,12 +468,8 @@ def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirecti
         lowest: the descent of every direction (empty when it did not run).
 
     Returns:
-        ``lowest_load_factor``, ``lowest_direction``, ``lowest_band``,
-        ``lowest_moves`` (accepted proposals of the governing direction),
-        ``lowest_lps`` and ``lowest_seconds`` (summed over the directions),
-        ``lowest_status`` (``""`` when it did not run, ``"found"``, or
-        ``"failed"`` when some direction has no state) and ``lowest_stop``
-        (``""``, ``"finished"``, or ``"budget"`` when some direction spent its budget).
+        The ``lowest_*`` fields (:class:`micro.records.NonAssociativeRecord`); LPs and seconds summed over
+        the directions, ``"failed"`` when some direction has no state, ``"budget"`` when one spent its budget.
     """
     status = "" if not lowest else FOUND if governing is not None else FAILED
     stop = "" if not lowest else BUDGET if any(low.stop == BUDGET for low in lowest) else FINISHED

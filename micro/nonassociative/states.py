@@ -67,6 +67,12 @@ REFINED = 1e-12
 #: iterations (1.6 s, against 0.34 s cold) on 150 blocks and more than eight
 #: minutes on the 1,230-block wall.
 WARM_ITERATIONS = 2
+#: Callbacks beyond one per simplex iteration a primal run may make
+#: (:meth:`~micro.backends.highs.PersistentHighsModel.limit_excess_calls`):
+#: on Ref, Set 2 and the p = 1 wall of Table 5 every primal run that solved
+#: made at most 54, those that failed 59-4,478 (one of them 97 s in slow
+#: iterations of 40-60 callbacks each, against 0.5-2 s for a run that solves).
+PRIMAL_EXCESS_CALLS = 200
 #: Simplex iterations per row a primal run from a carried-over basis may
 #: take: on the 1,230-block wall those that solve took 0.2-0.36 per row
 #: (790-1,330), and those that did not ended "Unknown" after 0.46 or had
@@ -254,12 +260,14 @@ class PersistentRuns:
         m = self.model
         if primal:
             m.set_algorithm("simplex", primal=True)
+            m.limit_excess_calls(PRIMAL_EXCESS_CALLS)
         m.limit_next_run(self.time_limit)
         m.limit_iterations(math.ceil(PRIMAL_ITERATIONS * m.n_rows) if primal else self.cap)
         out = m.run()
         m.limit_iterations(None)
         if primal:
             m.set_algorithm("simplex")
+            m.limit_excess_calls(None)
         return out
 
     def _cold(self) -> Outcome:
