@@ -134,10 +134,31 @@ def _panel(ax: Any, panel: Sequence[Sequence[Wall | None]], column: str, norm: A
                 ax.text(b, a, f"{100 * grid[a, b]:+.0f}{star}", ha="center", va="center", fontsize=7)
     ax.set_facecolor("0.85")
     mesh = ax.pcolormesh(np.ma.masked_invalid(grid), cmap="RdBu_r", norm=norm, shading="nearest")
-    lo, hi = np.nanmin(grid, initial=np.inf), np.nanmax(grid, initial=-np.inf)
-    if min(grid.shape) >= 2 and lo < AGREEMENT < hi:
-        ax.contour(np.ma.masked_invalid(grid), levels=[AGREEMENT], colors="k", linewidths=1.5)
+    for (a0, b0), (a1, b1) in _unsafe_edges(grid):
+        ax.plot([b0, b1], [a0, a1], color="k", lw=1.8, solid_capstyle="butt")
     return mesh
+
+
+def _unsafe_edges(grid: Any) -> list[tuple[tuple[float, float], tuple[float, float]]]:
+    """The cell sides between an unsafe cell (above :data:`AGREEMENT`) and a neighbour with a value that is
+    not, as ``((row, column), (row, column))`` ends in the heat map's coordinates (cell centres on integers):
+    the line where the macro value turns unsafe, drawn along the cells it separates."""
+    rows, cols = grid.shape
+    out = []
+    for a in range(rows):
+        for b in range(cols):
+            if not grid[a, b] > AGREEMENT:
+                continue
+            for da, db in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                na, nb = a + da, b + db
+                if 0 <= na < rows and 0 <= nb < cols and math.isfinite(grid[na, nb]) and not grid[na, nb] > AGREEMENT:
+                    if da:  # a horizontal side between the rows
+                        y = a + da / 2
+                        out.append(((y, b - 0.5), (y, b + 0.5)))
+                    else:
+                        x = b + db / 2
+                        out.append(((a - 0.5, x), (a + 0.5, x)))
+    return out
 
 
 def _title(axis: str, value: float | str) -> str:
@@ -179,7 +200,7 @@ def scatter(ws: Sequence[Wall], macro_columns: Sequence[str], path: Path) -> Pat
         return None
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(5.2, 5.0), layout="constrained")
-    top = 0.0
+    top, low = 0.0, math.inf
     for k, (column, (na, asc)) in enumerate(points.items()):
         colour = f"C{k}"
         if na:
@@ -188,13 +209,16 @@ def scatter(ws: Sequence[Wall], macro_columns: Sequence[str], path: Path) -> Pat
             ax.scatter(*zip(*asc, strict=True), s=16, facecolors="none", edgecolors=colour,
                        label=f"{column} (assoc. reference)")
         top = max([top, *(max(p) for p in na + asc)])
+        low = min([low, *(min(p) for p in na + asc)])
     top *= 1.05
+    low = 0.9 * low
     ax.plot([0, top], [0, top], "k-", lw=1, label="1:1 (macro = micro)")
+    at = low + 0.2 * (top - low)
     for factor, where in ((1.1, "right"), (0.9, "left")):
         ax.plot([0, top], [0, factor * top], "k:", lw=0.8)
-        ax.text(0.25 * top, factor * 0.25 * top, f" {100 * (factor - 1):+.0f} % ", ha=where, va="center", fontsize=7)
-    ax.set_xlim(0, top)
-    ax.set_ylim(0, top)
+        ax.text(at, factor * at, f" {100 * (factor - 1):+.0f} % ", ha=where, va="center", fontsize=7)
+    ax.set_xlim(low, top)
+    ax.set_ylim(low, top)
     ax.set_aspect("equal")
     ax.set_xlabel("λ micro (reference)")
     ax.set_ylabel("λ macro")
@@ -214,11 +238,13 @@ def histogram(ws: Sequence[Wall], macro_columns: Sequence[str], path: Path) -> P
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(6.0, 3.6), layout="constrained")
     lo, hi = min(every), max(every)
-    edges = np.histogram_bin_edges(every, bins="auto")
-    if not MIN_BINS < len(edges) <= MAX_BINS:
-        edges = np.linspace(lo, hi, min(MAX_BINS, max(MIN_BINS, len(every))) + 1)
-    if hi - lo < 1e-9:
-        edges = np.array([lo - 0.5, hi + 0.5])
+    auto = np.histogram_bin_edges(every, bins="auto")
+    bins = len(auto) - 1 if MIN_BINS <= len(auto) - 1 <= MAX_BINS else min(MAX_BINS, max(MIN_BINS, len(every)))
+    width = (hi - lo) / bins if hi - lo > 1e-9 else 1.0
+    # one bin centred on 0: the walls where the two agree (both sliding at f) sit on 0, not beside it
+    first = math.floor(lo / width - 0.5)
+    last = max(math.ceil(hi / width - 0.5), first + 1)
+    edges = (np.arange(first, last + 1) + 0.5) * width
     if edges[-1] > 0:
         ax.axvspan(0, edges[-1], color="tab:red", alpha=0.08, lw=0)
     for k, (column, ds) in enumerate(diffs.items()):

@@ -264,8 +264,10 @@ def _summary_table(ws: Sequence[Wall], sums: Mapping[str, Any], moving: Sequence
             na["walls"])
         parts += [f"above the associative LP (where there is no non-associative value) on {asc['unsafe']} of "
                   f"{asc['walls']}"] * bool(asc["walls"])
-        parts.append(f"{s['no_reference']} walls without a micro reference or a value of the column")
-        lines.append(f"* `{c}`: " + "; ".join(parts) + ".")
+        if s["no_reference"]:
+            parts.append(f"{s['no_reference']} walls without a micro reference or a value of the column")
+        if parts:
+            lines.append(f"* `{c}`: " + "; ".join(parts) + ".")
     return lines
 
 
