@@ -7,10 +7,15 @@ minutes. :func:`exact` refuses a decimal exponent beyond
 :data:`MAX_EXPONENT` before ``Fraction`` sees it; everything else reads as
 ``Fraction`` reads it (a fraction ``1/3``, a decimal, an exponent, ``_``
 between digits).
+
+:func:`received_number` reads the other way in: the value a user's model returned (to the pytest
+plugin, or as a sweep's column), a real number or a one-line ``TypeError`` naming where it came from.
 """
 
 from __future__ import annotations
 
+import math
+import numbers
 import re
 from fractions import Fraction
 
@@ -43,3 +48,24 @@ def exact(name: str, text: str) -> Fraction:
         return Fraction(text.strip())
     except (ValueError, ZeroDivisionError):
         raise ValueError(f"{name} must be a number or a fraction such as 1/3, got {text!r}") from None
+
+
+def received_number(where: str, value: object) -> float:
+    """``value`` as a float when it is a real number (a Python or NumPy integer or float; NaN allowed).
+
+    A model that returns ``None``, a string or an array is a bug of the test, named here rather than
+    turned into a number (``"0.5"``) or a bare ``TypeError``.
+
+    Args:
+        where: the case, the method and the call, e.g. ``"Set 12 / my model: xcheck_table.add"``.
+        value: what the model gave.
+
+    Raises:
+        TypeError: ``"{where} needs a number, got '0.5' (str)"``.
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{where} needs a number, got {value!r} ({type(value).__name__})")
+    try:
+        return float(value)
+    except OverflowError:  # an int beyond the doubles (10**400): infinite, outside every reference
+        return -math.inf if str(value).lstrip().startswith("-") else math.inf

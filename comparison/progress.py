@@ -8,7 +8,7 @@ verbosity the command line passes down:
   counts and ETA (tqdm's), elsewhere (a log, a pipe, CI) a status line each time
   another :data:`LOG_STEP` of the work is done or :data:`LOG_SECONDS` have passed
   since the last line, whichever comes first (done, cached, to go, elapsed,
-  ETA by count), then the closing summary (e.g. the paths written);
+  ETA), then the closing summary (e.g. the paths written);
 * ``VERBOSE`` (``--verbose``): the same, and one line per computation.
 
 While nothing finishes (one computation can run for minutes) a heartbeat
@@ -19,10 +19,14 @@ previous line (otherwise the plain line: the count moved); on a terminal it
 refreshes the bar (its elapsed time). Without it a report's log can stay
 silent for the minutes its largest walls take.
 
-The ETA counts computations, not their cost: the time elapsed times the
-computations to go over those done, as if the rest took as long on average
-as the finished ones. A report runs its largest walls first, so its ETA
-changes as the mix of what finished does.
+The ETA weighs each computation by its expected cost (the run passes it to
+:meth:`Progress.start` and :meth:`Progress.advance`: the seconds a wall of its
+blocks takes, or the time it took last time; see
+:func:`comparison.runner.pool.expected_seconds`): the time elapsed times the
+cost to go over the cost done. Counting instead, as if every computation took
+as long as the average finished one, a report that runs its largest walls
+first said "14 of 88 done, ETA 1 h 26 min" two minutes before its end. Where
+no cost is known the status line says ``ETA by count``.
 """
 
 from __future__ import annotations
@@ -79,6 +83,8 @@ class Progress:
         self._clock = clock
         self._bar: tqdm | None = None
         self._what, self._total, self._done, self._cached = "", 0, 0, 0
+        self._cost_total: float | None = None
+        self._cost_done = 0.0
         self._start = self._last = self._finished = 0.0
         self._last_done = 0
         self._heartbeat = heartbeat
@@ -102,11 +108,15 @@ class Progress:
             else:
                 print(text, file=self.stream, flush=True)
 
-    def start(self, total: int, what: str, cached: int = 0) -> None:
+    def start(self, total: int, what: str, cached: int = 0, cost: float | None = None) -> None:
         """Begin ``total`` steps labelled ``what`` (``cached``: the plan's entries already done, for the
-        status lines); no bar when there is nothing to do."""
+        status lines; ``cost``: the steps' expected cost in all, which the ETA weighs by, each step
+        then giving its own to :meth:`advance`; ``None``: the ETA counts steps); no bar when there is
+        nothing to do."""
         self.close()
         self._what, self._total, self._done, self._cached = what, total, 0, cached
+        self._cost_total = cost if cost is not None and cost > 0 else None
+        self._cost_done = 0.0
         self._start = self._last = self._finished = self._clock()
         self._last_done = 0
         if self.show_bar and total > 0:
@@ -138,13 +148,16 @@ class Progress:
                     self.say(line)
                     self._last, self._last_done = now, self._done
 
-    def advance(self, line: str = "") -> None:
-        """One step done; ``line`` says what (printed when verbose)."""
+    def advance(self, line: str = "", cost: float | None = None) -> None:
+        """One step done; ``line`` says what (printed when verbose), ``cost`` its expected cost (see
+        :meth:`start`; ``None``: the average step's)."""
         with self._lock:
-            self._advance(line)
+            self._advance(line, cost)
 
-    def _advance(self, line: str) -> None:
+    def _advance(self, line: str, cost: float | None) -> None:
         self._done += 1
+        if self._cost_total is not None:
+            self._cost_done += self._cost_total / max(self._total, 1) if cost is None else max(cost, 0.0)
         now = self._finished = self._clock()
         if self._bar is not None:
             self._bar.update(1)
@@ -157,12 +170,18 @@ class Progress:
                 self._last, self._last_done = now, self._done
 
     def status(self, now: float | None = None) -> str:
-        """``"micro: 12 of 88 done (14 %), 40 cached, 76 to go; 2 min 05 s elapsed, ETA by count 21 min 40 s"``
-        (the ETA: module docstring)."""
+        """``"micro: 12 of 88 done (14 %), 40 cached, 76 to go; 2 min 05 s elapsed, ETA 3 min 40 s"``
+        (the ETA: module docstring; ``ETA by count ...`` without costs)."""
         now = self._clock() if now is None else now
         elapsed = now - self._start
         left = max(self._total - self._done, 0)
-        eta = f"by count {duration(elapsed / self._done * left)}" if self._done else "unknown"
+        if not self._done:
+            eta = "unknown"
+        elif self._cost_total is not None and self._cost_done > 0:
+            to_go = max(self._cost_total - self._cost_done, 0.0) if left else 0.0
+            eta = duration(elapsed / self._cost_done * to_go)
+        else:
+            eta = f"by count {duration(elapsed / self._done * left)}"
         share = 100 * self._done // self._total if self._total else 100
         return (f"{self._what}: {self._done} of {self._total} done ({share} %), {self._cached} cached, {left} to go; "
                 f"{duration(elapsed)} elapsed, ETA {eta}")

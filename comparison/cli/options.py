@@ -13,10 +13,15 @@ import math
 import os
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING
+from urllib.parse import urlsplit
 
 from comparison import numbers
 from comparison.progress import NORMAL, QUIET, VERBOSE
 from comparison.wall import WallSpec
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    from comparison.runner.executor import Executor
 
 #: Exit codes of ``xcheck`` (documented in the README and in ``xcheck --help``).
 EXIT_OK = 0
@@ -296,3 +301,58 @@ def workers_from_args(args: argparse.Namespace) -> int | None:
         warnings.warn(f"--workers {args.workers}: this machine has {cpus} CPUs; using {cpus} workers", stacklevel=2)
         return cpus
     return workers
+
+
+#: The transports a ``dask.distributed`` scheduler listens on (``--scheduler tcp://host:8786``).
+SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
+
+
+def add_scheduler_option(parser: argparse.ArgumentParser) -> None:
+    """``--scheduler ADDRESS``: every micro computation a task on that ``dask.distributed`` cluster."""
+    parser.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="a dask.distributed scheduler, e.g. tcp://host:8786: every micro computation becomes a Dask task",
+    )
+
+
+def scheduler_address(text: str) -> str:
+    """``text`` when it is a scheduler address ``SCHEME://HOST:PORT`` (:data:`SCHEDULER_SCHEMES`), checked
+    before any connection is tried (a bad one would wait for the connection's time-out).
+
+    Raises:
+        UsageError: another scheme (``http://``), no host, or a port that is not a number in 1..65535.
+    """
+    rule = f"an address SCHEME://HOST:PORT such as tcp://127.0.0.1:8786 (SCHEME {', '.join(SCHEDULER_SCHEMES)})"
+    parts = urlsplit(text.strip())
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    if (parts.scheme not in SCHEDULER_SCHEMES or not parts.hostname or port is None or not 0 < port < 65536
+            or parts.path not in ("", "/") or parts.query or parts.fragment):
+        raise UsageError(f"--scheduler must be {rule}, got {text!r}")
+    return text.strip()
+
+
+def executor_from_args(workers: int | None, scheduler: str | None, memory: int | None) -> Executor:
+    """The executor ``--workers`` and ``--scheduler`` ask for (``memory``: bytes one computation may use);
+    a scheduler that cannot be reached is bad input.
+
+    Raises:
+        UsageError: both options, a malformed address, no Dask scheduler answering there, or
+            ``dask.distributed`` missing.
+    """
+    from comparison.runner.executor import make_executor
+    from comparison.runner.executor.cluster import ClusterError
+
+    if scheduler is not None and workers is not None:
+        raise UsageError("--workers and --scheduler exclude each other (the cluster has its own workers)")
+    if scheduler is not None:
+        scheduler_address(scheduler)
+    try:
+        return make_executor(workers, scheduler, memory)
+    except ImportError:  # pragma: no cover - dask is in the [dask] extra
+        raise UsageError("--scheduler needs dask.distributed: pip install 'xcheck-masonry[dask]'") from None
+    except ClusterError as exc:
+        raise UsageError(f"--scheduler: {exc}") from None

@@ -3,14 +3,19 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+import sys
 from pathlib import Path
 
 from comparison.cli.options import (
+    EXIT_FAILED,
     UsageError,
     add_cache_options,
     add_command,
     add_executor_options,
+    add_scheduler_option,
     cache_dir_from_args,
+    executor_from_args,
     output_directory,
     workers_from_args,
 )
@@ -35,6 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--quick", action="store_true", help="the micro model on the small walls only (under a minute)")
     add_cache_options(p)
     add_executor_options(p)
+    add_scheduler_option(p)
     p.set_defaults(handler=run)
 
 
@@ -59,6 +65,7 @@ def run(args: argparse.Namespace) -> int:
     """
     from comparison.report import build_report
     from comparison.report.committed import BadTable, check_tables
+    from comparison.runner.executor.cluster import ClusterError
 
     out = output_directory("--out", args.out)
     tables = None if args.tables is None else readable_directory("--tables", args.tables)
@@ -66,13 +73,24 @@ def run(args: argparse.Namespace) -> int:
         check_tables(out if tables is None else tables)
     except BadTable as exc:
         raise UsageError(f"{'--tables' if tables is not None else '--out'}: {exc}") from None
-    path = build_report(
-        out,
-        quick=args.quick,
-        cache_dir=cache_dir_from_args(args),
-        verbosity=args.verbosity,
-        workers=workers_from_args(args),
-        tables_dir=tables,
-    )
+    cache_dir, workers = cache_dir_from_args(args), workers_from_args(args)
+    if args.scheduler is not None and cache_dir is None:
+        raise UsageError("--scheduler and --no-cache exclude each other (the cluster's results come back "
+                         "through the result cache)")
+    executor = None if args.scheduler is None else executor_from_args(workers, args.scheduler, None)
+    try:
+        with executor if executor is not None else contextlib.nullcontext():
+            path = build_report(
+                out,
+                quick=args.quick,
+                cache_dir=cache_dir,
+                verbosity=args.verbosity,
+                workers=workers,
+                tables_dir=tables,
+                executor=executor,
+            )
+    except ClusterError as exc:  # the scheduler went away: what finished is in the cache
+        print(f"xcheck: error: --scheduler: {exc}", file=sys.stderr)
+        return EXIT_FAILED
     print(f"wrote {path}")
     return 0

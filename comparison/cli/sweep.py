@@ -10,30 +10,25 @@ from __future__ import annotations
 
 import argparse
 import sys
-from typing import TYPE_CHECKING
-from urllib.parse import urlsplit
 
 from comparison.cli.options import (
     EXIT_FAILED,
     UsageError,
     add_command,
     add_executor_options,
+    add_scheduler_option,
     cache_directory,
+    executor_from_args,
     in_range,
     output_directory,
     workers_from_args,
 )
-
-if TYPE_CHECKING:  # pragma: no cover - typing only
-    from comparison.runner.executor import Executor
 
 #: Bytes in a gigabyte (``--worker-memory`` is given in GB).
 GB = 1e9
 #: The largest ``--worker-memory`` (GB): a million gigabytes, beyond any machine (1e308 overflowed the
 #: conversion to bytes: an OverflowError traceback).
 MAX_WORKER_MEMORY_GB = 1e6
-#: The transports a ``dask.distributed`` scheduler listens on (``--scheduler tcp://host:8786``).
-SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -42,18 +37,17 @@ def register(sub: argparse._SubParsersAction) -> None:
         sub,
         "sweep",
         help="run the models over a grid of walls (local processes or a Dask cluster)",
-        description="Reads a grid file (axes, bonds, methods; see examples/sweeps/) and writes one CSV table "
-        "and its JSON metadata into --out. Micro results go through the result cache: a sweep run again "
-        "computes only what is missing.",
+        description="Reads a grid file (axes, bonds, methods; see examples/sweeps/) and writes into --out one "
+        "CSV table, its JSON metadata and a validation page (NAME.md: summary, error map, scatter, histogram, "
+        "worst walls, time against blocks, with its PNG figures). Micro results go through the result cache: "
+        "a sweep run again computes only what is missing.",
     )
     p.add_argument("grid", metavar="GRID.toml", help="the grid file")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory (GRID's name .csv and .json)")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="output directory (GRID's name .csv, .json, .md and its figures NAME-*.png)")
+    p.add_argument("--no-report", action="store_true", help="write the table and metadata only, no page")
     add_executor_options(p)
-    p.add_argument(
-        "--scheduler",
-        metavar="ADDRESS",
-        help="a dask.distributed scheduler, e.g. tcp://host:8786: every micro computation becomes a Dask task",
-    )
+    add_scheduler_option(p)
     p.add_argument(
         "--worker-memory",
         metavar="GB",
@@ -81,53 +75,19 @@ def run(args: argparse.Namespace) -> int:
     except GridError as exc:
         raise UsageError(str(exc)) from None
     workers = workers_from_args(args)
-    if args.scheduler is not None and workers is not None:
-        raise UsageError("--workers and --scheduler exclude each other (the cluster has its own workers)")
     memory = in_range("--worker-memory", args.worker_memory,
                       f"a positive number of gigabytes, at most {MAX_WORKER_MEMORY_GB:g}", MAX_WORKER_MEMORY_GB)
     out = output_directory("--out", args.out)  # before an hour of computing, not after
     cache = ResultCache(cache_directory(args.cache))
-    executor = _executor(workers, args.scheduler, None if memory is None else int(memory * GB))
+    executor = executor_from_args(workers, args.scheduler, None if memory is None else int(memory * GB))
     try:
         with executor, Progress(args.verbosity) as progress:
-            done = run_sweep(grid, out, cache=cache, executor=executor, progress=progress)
+            done = run_sweep(grid, out, cache=cache, executor=executor, progress=progress, page=not args.no_report)
     except ClusterError as exc:  # the scheduler went away mid-sweep: what finished is in the cache
         print(f"xcheck: error: --scheduler: {exc}", file=sys.stderr)
         return EXIT_FAILED
     print(f"table: {done.table}")
     print(f"meta: {done.meta}")
+    if done.page is not None:
+        print(f"page: {done.page}")
     return 1 if done.counts["failed"] else 0
-
-
-def scheduler_address(text: str) -> str:
-    """``text`` when it is a scheduler address ``SCHEME://HOST:PORT`` (:data:`SCHEDULER_SCHEMES`), checked
-    before any connection is tried (a bad one would wait for the connection's time-out).
-
-    Raises:
-        UsageError: another scheme (``http://``), no host, or a port that is not a number in 1..65535.
-    """
-    rule = f"an address SCHEME://HOST:PORT such as tcp://127.0.0.1:8786 (SCHEME {', '.join(SCHEDULER_SCHEMES)})"
-    parts = urlsplit(text.strip())
-    try:
-        port = parts.port
-    except ValueError:
-        port = None
-    if (parts.scheme not in SCHEDULER_SCHEMES or not parts.hostname or port is None or not 0 < port < 65536
-            or parts.path not in ("", "/") or parts.query or parts.fragment):
-        raise UsageError(f"--scheduler must be {rule}, got {text!r}")
-    return text.strip()
-
-
-def _executor(workers: int | None, scheduler: str | None, memory: int | None) -> Executor:
-    """The executor the options ask for; a scheduler that cannot be reached is bad input."""
-    from comparison.runner.executor import make_executor
-    from comparison.runner.executor.cluster import ClusterError
-
-    if scheduler is not None:
-        scheduler_address(scheduler)
-    try:
-        return make_executor(workers, scheduler, memory)
-    except ImportError:  # pragma: no cover - dask is in the [dask] extra
-        raise UsageError("--scheduler needs dask.distributed: pip install 'xcheck-masonry[dask]'") from None
-    except ClusterError as exc:
-        raise UsageError(f"--scheduler: {exc}") from None

@@ -171,9 +171,8 @@ def generate(
             todo = [item for item in runs if item not in runner.cache]
             cached = len(runs) - len(todo)
             progress.say(f"plan: {len(runs)} micro computations: {cached} cached, {len(todo)} to compute")
-            progress.start(len(todo), "micro", cached=cached)
             with LocalExecutor(os.cpu_count() or 1) as executor:
-                runner.keep(prefetch(runner.cache, todo, executor, progress).unstored)
+                runner.keep(prefetch(runner.cache, todo, executor, progress, cached=cached).unstored)
     cells: list[Reference] = []
     for c in CASES:
         cells += published_cells(c)

@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from comparison.cases import PaperCase, case
+from comparison.numbers import received_number
 
 #: The data file inside the package.
 DATA_FILE = "references.json"
@@ -97,27 +98,6 @@ class Reference:
         if self.value is None or self.tolerance is None:
             raise MissingReference(f"{self.name}: no reference value ({self.status or 'not computed'})")
         return self.tolerance + rel * math.fabs(self.value) + abs
-
-
-def received_number(where: str, value: object) -> float:
-    """``value`` as a float when it is a real number (a Python or NumPy integer or float; NaN allowed).
-
-    A model that returns ``None``, a string or an array is a bug of the test, named here rather than
-    turned into a number (``"0.5"``) or a bare ``TypeError``.
-
-    Args:
-        where: the case, the method and the call, e.g. ``"Set 12 / my model: xcheck_table.add"``.
-        value: what the model gave.
-
-    Raises:
-        TypeError: ``"{where} needs a number, got '0.5' (str)"``.
-    """
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{where} needs a number, got {value!r} ({type(value).__name__})")
-    try:
-        return float(value)
-    except OverflowError:  # an int beyond the doubles (10**400): infinite, outside every reference
-        return -math.inf if str(value).lstrip().startswith("-") else math.inf
 
 
 def widening(name: str, value: object) -> float:

@@ -24,11 +24,35 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from comparison.report.errormap import wall_values
 from comparison.report.tables import plain
+from comparison.sweep.table import number, read_table
 
 #: Table 9's set for each overloading ratio p of the sweep.
 SETS = {0.0: "Set 15", 1.0: "Set 16", 8.0: "Set 17"}
+#: Micro statuses whose load factor counts.
+REFERENCE_STATUS = {"micro-nonassoc": "converged", "micro-assoc": "optimal"}
+
+
+def wall_values(path: Path) -> dict[tuple[str, ...], dict[str, Any]]:
+    """Per wall of a sweep table, keyed ``(t, m, rows, storeys, f, p)`` as the table writes them: the
+    macro load factor (``"macro"``), the micro ones that count as references (``"micro-assoc"``,
+    ``"micro-nonassoc"``; NaN otherwise), the blocks of those (``"blocks"``), and how the iterated LP
+    ended (``"nonassoc_status"``, ``"nonassoc_lps"``; ``""`` and 0 without it). Micro rows: the bond
+    with a full first course."""
+    walls: dict[tuple[str, ...], dict[str, Any]] = {}
+    for row in read_table(path):
+        key = (row["t"], row["m"], row["rows"], row["storeys"], row["f"], row["p"])
+        w = walls.setdefault(key, {"macro": math.nan, "micro-assoc": math.nan, "micro-nonassoc": math.nan,
+                                   "blocks": 0, "nonassoc_status": "", "nonassoc_lps": 0})
+        kind = row["kind"]
+        if kind == "macro" and row["status"] == "optimal":
+            w["macro"] = number(row["load_factor"])
+        elif REFERENCE_STATUS.get(kind) == row["status"] and row["first_course"] == "full":
+            w[kind] = number(row["load_factor"])
+            w["blocks"] = max(w["blocks"], int(row["blocks"] or 0))
+        if kind == "micro-nonassoc" and row["first_course"] == "full":
+            w["nonassoc_status"], w["nonassoc_lps"] = str(row["status"]), int(row["iterations"] or 0)
+    return walls
 
 
 @dataclass(frozen=True)
@@ -72,8 +96,7 @@ class BondRow:
 
 
 def load(path: Path) -> list[BondRow]:
-    """The walls of the sweep table (read as the error map's, :func:`~comparison.report.errormap.wall_values`),
-    by p then rows."""
+    """The walls of the sweep table (:func:`wall_values`), by p then rows."""
     rows = [BondRow(float(p), int(o), w["blocks"], w["macro"], w["micro-assoc"], w["micro-nonassoc"],
                     w["nonassoc_status"], w["nonassoc_lps"])
             for (_t, _m, o, _n, _f, p), w in wall_values(path).items()]

@@ -2,8 +2,9 @@
 
 :func:`build_report` makes the :class:`~comparison.report.plan.Plan` (every
 wall and method the report needs), computes the missing cache entries of the
-plan in local worker processes (:class:`~comparison.runner.executor.LocalExecutor`,
-with a progress bar), reads the whole plan into
+plan on an executor (local worker processes,
+:class:`~comparison.runner.executor.LocalExecutor`, or a Dask cluster, with a progress
+display whose ETA weighs each computation by its expected cost), reads the whole plan into
 :class:`~comparison.report.results.Results`, and renders the tables, figures
 and text from them into ``REPORT.md``, one CSV per table, ``report.json`` (every
 number shown) and the figures; the sections of the tables committed with the
@@ -12,6 +13,7 @@ report read them from its tables directory (:mod:`comparison.report.committed`).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import time
@@ -42,9 +44,9 @@ from comparison.report.tables import (
     table9,
 )
 from comparison.report.text import document
-from comparison.report.timings import write_timings
+from comparison.report.timings import previous_seconds, write_timings
 from comparison.runner import MACRO, Prefetched, Runner, prefetch
-from comparison.runner.executor import LocalExecutor
+from comparison.runner.executor import Executor, LocalExecutor
 
 
 def build_report(
@@ -55,6 +57,7 @@ def build_report(
     verbosity: int = NORMAL,
     workers: int | None = None,
     tables_dir: Path | None = None,
+    executor: Executor | None = None,
 ) -> Path:
     """Compute everything and write ``REPORT.md``, CSVs, ``report.json`` and the figures.
 
@@ -66,6 +69,9 @@ def build_report(
             :func:`comparison.runner.default_cache_dir`.
         verbosity: what the progress display shows (see :mod:`comparison.progress`).
         workers: processes for the missing micro computations (default: the number of CPUs).
+        executor: where the missing micro computations run instead (e.g. a
+            :class:`~comparison.runner.executor.cluster.DaskExecutor`; the caller opens and closes it);
+            needs ``cache_dir`` (the results come back through the cache).
         tables_dir: where the committed tables the report reads and does not recompute are
             (:mod:`comparison.report.committed`; default ``out_dir``); a missing one is a warning and
             its section says so.
@@ -74,31 +80,40 @@ def build_report(
         The path of ``REPORT.md``.
 
     Raises:
-        ValueError: ``out_dir`` or ``cache_dir`` cannot be written, or a committed table of ``tables_dir``
-            cannot be read whole (:class:`~comparison.report.committed.BadTable`; checked before any work).
+        ValueError: ``out_dir`` or ``cache_dir`` cannot be written, a committed table of ``tables_dir``
+            cannot be read whole (:class:`~comparison.report.committed.BadTable`; checked before any work), or
+            an ``executor`` without ``cache_dir``.
+        comparison.runner.executor.cluster.ClusterError: the executor's scheduler went away (what finished
+            is in the cache).
     """
     start = time.perf_counter()
     writable_directory("out_dir", out_dir)
     check_tables(out_dir if tables_dir is None else Path(tables_dir))
     if cache_dir is not None:
         writable_directory("cache_dir", cache_dir)
+    elif executor is not None:
+        raise ValueError("executor: the report needs its cache_dir to take the results back")
     plan = build_plan(quick)
     runs = [it for it in plan.items() if not it.skip]
     processes = workers or os.cpu_count() or 1
+    where = executor.where if executor is not None else f"{processes} processes"
     with Progress(verbosity) as progress:
         runner = Runner(cache_dir, progress.advance)
         pending = runs if runner.cache is None else plan.pending(runner.cache)
         progress.say(
             f"plan: {len(plan.macro_specs())} macro solves and {len(runs)} micro computations: "
             f"{len(runs) - len(pending)} cached, {len(pending)} to compute"
-            + ("" if runner.cache is None else f" in {processes} processes")
+            + ("" if runner.cache is None else f" on {where}")
         )
-        progress.start(len(pending), "micro", cached=len(runs) - len(pending))
         prefetched = Prefetched()
         if runner.cache is not None and pending:
-            with LocalExecutor(processes) as executor:
-                prefetched = prefetch(runner.cache, [(it.spec, it.method) for it in pending], executor, progress)
+            items = [(it.spec, it.method) for it in pending]
+            known = previous_seconds(out_dir, items)
+            with LocalExecutor(processes) if executor is None else contextlib.nullcontext(executor) as ex:
+                prefetched = prefetch(runner.cache, items, ex, progress, cached=len(runs) - len(pending), known=known)
             runner.keep(prefetched.unstored)
+        else:
+            progress.start(len(pending), "micro", cached=len(runs) - len(pending))
         results = compute(plan, runner)
         progress.close()
         meta = {"quick": quick, "methods": [m.label for m in [MACRO, *plan.methods]]}
@@ -139,7 +154,7 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], tables_dir: Path) -
     for tb in tables.values():
         tb.write_csv(out / f"{tb.name}.csv")
     error_map, error_numbers = errormap.write(out, committed_table(tables_dir, ERRORMAP), number=len(figure_list) + 1)
-    lowest_number = len(figure_list) + (2 if error_numbers else 1)
+    lowest_number = len(figure_list) + len(error_numbers.get("figures", ())) + 1
     bond_text, bond_rows = bond.section(committed_table(tables_dir, BOND))
     tables_json = {k: v.records() for k, v in tables.items()}
     (out / "report.json").write_text(json.dumps(

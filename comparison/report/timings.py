@@ -10,8 +10,9 @@ the report on another machine changes nothing else.
 from __future__ import annotations
 
 import json
+import math
 import platform
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -99,3 +100,16 @@ def write_timings(
         f"{table.markdown()}\n\n{scaling.markdown()}\n"
     )
     return path
+
+
+def previous_seconds(out: Path, items: Sequence[tuple[WallSpec, Method]]) -> dict[tuple[WallSpec, Method], float]:
+    """The seconds each of ``items`` took in the report last written into ``out`` (its ``timings.json``,
+    by wall and method): the expected cost of computing it again after a code change, for the progress
+    display's ETA. Empty without that file (or one that cannot be read)."""
+    try:
+        rows = json.loads((out / "timings.json").read_text(encoding="utf-8"))["timings"]
+        took = {(r["wall"], r["method"]): float(r["total s"]) for r in rows if r.get("total s") is not None}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return {}
+    found = {(spec, m): took.get((spec.name, m.label), math.nan) for spec, m in items}
+    return {k: s for k, s in found.items() if math.isfinite(s) and s > 0}

@@ -8,7 +8,7 @@ record finished before it: a restart computes only the rest.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from comparison.progress import Progress
@@ -29,13 +29,31 @@ def approximate_blocks(spec: WallSpec) -> int:
     return int(round(spec.rows * (spec.length / spec.block_length + 0.5)))
 
 
-def compute_task(spec: WallSpec, method: Method) -> Task:
-    """The task that computes ``method`` on ``spec``: its cost is the wall's blocks, its memory their estimate."""
+#: The seconds a micro computation is expected to take, ``a * blocks ** b`` per kind (``(a, b)``): fitted
+#: to the run times of a full report (every micro record, 50 to 7,575 blocks). Only their ratios matter:
+#: they order the work (largest first) and weigh the progress display's ETA.
+COST_MODEL: Mapping[str, tuple[float, float]] = {"micro-assoc": (7.5e-5, 1.32), "micro-nonassoc": (3.1e-4, 1.54)}
+#: The macro model's expected seconds (a millisecond, whatever the wall).
+MACRO_SECONDS = 1e-3
+
+
+def expected_seconds(spec: WallSpec, method: Method) -> float:
+    """The seconds ``method`` is expected to take on ``spec``, from its blocks (:data:`COST_MODEL`)."""
+    if method.kind not in COST_MODEL:
+        return MACRO_SECONDS
+    a, b = COST_MODEL[method.kind]
+    return a * max(approximate_blocks(spec), 1) ** b
+
+
+def compute_task(spec: WallSpec, method: Method, seconds: float | None = None) -> Task:
+    """The task that computes ``method`` on ``spec``: its cost the seconds it is expected to take (``seconds``,
+    e.g. what it took last time, else :func:`expected_seconds`), its memory the blocks' estimate."""
     from micro.geometry import estimate_bytes
 
     blocks = approximate_blocks(spec)
     memory = 0 if method.kind == "macro" else estimate_bytes(blocks)
-    return Task((spec, method), compute, (spec, method), blocks, memory, f"{spec.name or 'wall'}: {method.label}")
+    cost = seconds if seconds is not None and seconds > 0 else expected_seconds(spec, method)
+    return Task((spec, method), compute, (spec, method), cost, memory, f"{spec.name or 'wall'}: {method.label}")
 
 
 @dataclass(frozen=True)
@@ -56,16 +74,35 @@ class Prefetched:
 
 
 def prefetch(
-    cache: ResultCache, items: Sequence[Item], executor: Executor, progress: Progress | None = None
+    cache: ResultCache,
+    items: Sequence[Item],
+    executor: Executor,
+    progress: Progress | None = None,
+    *,
+    cached: int = 0,
+    known: Mapping[Item, float] | None = None,
 ) -> Prefetched:
     """Compute the records of ``items`` on ``executor`` and store each in ``cache`` as it arrives.
 
     A failure is kept in the result, never raised: the other items go on.
+
+    Args:
+        cache: where the records go.
+        items: the (wall, method) pairs to compute.
+        executor: where they run.
+        progress: started here on ``items`` (``"micro"``), its ETA weighted by each one's expected seconds
+            (:func:`compute_task`), and advanced as each ends.
+        cached: the entries of the run already in the cache (for the progress display's lines).
+        known: seconds some items took before (a previous run's), their expected cost.
     """
     computed = 0
     failures: dict[Item, TaskOutcome] = {}
     unstored: dict[Item, Entry] = {}
-    for outcome in executor.run([compute_task(spec, method) for spec, method in items]):
+    known = known or {}
+    tasks = [compute_task(spec, method, known.get((spec, method))) for spec, method in items]
+    if progress is not None:
+        progress.start(len(tasks), "micro", cached=cached, cost=sum(t.cost for t in tasks))
+    for outcome in executor.run(tasks):
         key: Item = outcome.task.key  # type: ignore[assignment]
         if outcome.ok:
             record, mechanism = outcome.value
@@ -77,5 +114,5 @@ def prefetch(
             failures[key] = outcome
             line = f"{outcome.task.label}: {outcome.kind}: {outcome.error}"
         if progress is not None:
-            progress.advance(line)
+            progress.advance(line, cost=outcome.task.cost)
     return Prefetched(computed, failures, unstored)

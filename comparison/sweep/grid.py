@@ -33,10 +33,17 @@ Format (see ``examples/sweeps/``)::
                                        # (default; scheme b: "vertex")
     max_blocks = 600                   # this method on walls of at most 600 blocks
 
+    [[method]]
+    kind = "user"                      # your own macro model, as an extra macro column
+    name = "my model"                  # its column's name (default: the function's)
+    function = "my_model:load_factor"  # module:function(t, m, rows, f, p, storeys) -> lambda,
+                                       # the module found beside the grid file first
+
 A range is ``{ from, to, step }`` or ``{ from, to, num }`` (``num`` values,
 evenly spaced; at most :data:`MAX_AXIS_VALUES`). Every wall is every combination of the axes' values (a
 combination whose rows do not split equally over its storeys is recorded as
-``not_applicable``); every micro method runs on every bond of every wall; a grid
+``not_applicable``); every micro method runs on every bond of every wall, a macro or user
+model once per wall (:mod:`~comparison.sweep.usermodel`); a grid
 of more than :data:`MAX_CELLS` cells is refused. A malformed file raises
 :class:`GridError`, one line naming the file, the key and its line.
 """
@@ -55,6 +62,7 @@ from comparison import numbers
 from comparison.inputs import read_input_file
 from comparison.runner.methods import MACRO, Method
 from comparison.scene import _key_line, _table_line
+from comparison.sweep.usermodel import UserModel, resolve
 from macro import checks
 
 #: The axes, each with its check (the wall vocabulary) and its default (``None``: required).
@@ -73,7 +81,10 @@ METHOD_KEYS: dict[str, set[str]] = {
     "macro": {"kind"},
     "micro-assoc": {"kind", "solver", "max_blocks"},
     "micro-nonassoc": {"kind", "scheme", "selection", "max_blocks"},
+    "user": {"kind", "name", "function"},
 }
+#: The kinds of method that give one value per wall (the micro methods give one per bond).
+PER_WALL = ("macro", "user")
 #: Schemes of the iterated LP.
 SCHEMES = ("a", "b")
 #: The most values one axis may expand to (a range with a tiny step is a typo, not a sweep).
@@ -96,11 +107,12 @@ class GridMethod:
     """One method of a sweep.
 
     Attributes:
-        method: the method (bond options left at their defaults: the bond is an axis).
+        method: the method (bond options left at their defaults: the bond is an axis), or a user's
+            macro model.
         max_blocks: run it on walls of at most this many blocks (``None``: the grid's limit).
     """
 
-    method: Method
+    method: Method | UserModel
     max_blocks: int | None = None
 
 
@@ -157,11 +169,12 @@ def load_grid(path: str | Path) -> Grid:
         text = read_input_file(path).decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise GridError(f"grid {path}: cannot read ({getattr(exc, 'strerror', None) or exc})") from None
-    return parse_grid(text, source=str(path), name=path.stem)
+    return parse_grid(text, source=str(path), name=path.stem, folder=path.parent)
 
 
-def parse_grid(text: str, source: str = "<grid>", name: str = "sweep") -> Grid:
-    """Parse the text of a grid file; see :func:`load_grid`."""
+def parse_grid(text: str, source: str = "<grid>", name: str = "sweep", folder: Path | None = None) -> Grid:
+    """Parse the text of a grid file; see :func:`load_grid`. ``folder``: where a user model's module is
+    looked for first (the grid file's folder)."""
     try:
         data: dict[str, Any] = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -179,7 +192,7 @@ def parse_grid(text: str, source: str = "<grid>", name: str = "sweep") -> Grid:
     limits = _table(data, "limits", src, required=False)
     _known(limits, {"max_blocks"}, "limits", src)
     max_blocks = _max_blocks(limits, "limits", 0, src)
-    grid = Grid(label, axes, bond, _methods(data, src), max_blocks)
+    grid = Grid(label, axes, bond, _methods(data, src, folder), max_blocks)
     count = cell_count(grid)
     if count > MAX_CELLS:
         sizes = " x ".join(f"{len(v):,} {k}" for k, v in axes.items() if len(v) > 1)
@@ -194,7 +207,7 @@ def cell_count(grid: Grid) -> int:
     of every micro method; counted without building them."""
     walls = math.prod(len(v) for v in grid.axes.values())
     bonds = math.prod(len(v) for v in grid.bond.values())
-    return walls * sum(1 if gm.method.kind == "macro" else bonds for gm in grid.methods)
+    return walls * sum(1 if gm.method.kind in PER_WALL else bonds for gm in grid.methods)
 
 
 def _table(data: dict[str, Any], table: str, src: _Source, *, required: bool = True) -> dict[str, Any]:
@@ -289,22 +302,25 @@ def _max_blocks(entry: dict[str, Any], table: str, index: int, src: _Source) -> 
         raise src.error(f"{table}.{exc}", table, "max_blocks", index) from None
 
 
-def _methods(data: dict[str, Any], src: _Source) -> tuple[GridMethod, ...]:
+def _methods(data: dict[str, Any], src: _Source, folder: Path | None) -> tuple[GridMethod, ...]:
     entries = data.get("method")
     if not entries:
         raise GridError(f"grid {src.source}: no [[method]] given; a sweep needs at least one")
     if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
         raise src.error("method must be an array of tables, written [[method]]", "", "method")
-    methods = [_method(entry, i, src) for i, entry in enumerate(entries)]
-    seen: set[Method] = set()
+    methods = [_method(entry, i, src, folder) for i, entry in enumerate(entries)]
+    seen: set[str] = set()
     for i, gm in enumerate(methods):
-        if gm.method in seen:
+        if gm.method.label in seen:
+            if gm.method.kind == "user":
+                why = f"method {i + 1}: the name {gm.method.label!r} is another method's"
+                raise src.error(why, "method", "name", i)
             raise src.error(f"method {i + 1}: the same method twice ({gm.method.label})", "method", None, i)
-        seen.add(gm.method)
+        seen.add(gm.method.label)
     return tuple(methods)
 
 
-def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
+def _method(entry: dict[str, Any], index: int, src: _Source, folder: Path | None) -> GridMethod:
     import micro
 
     kind = entry.get("kind")
@@ -314,6 +330,8 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
     _known(entry, METHOD_KEYS[kind], "method", src, index)
     if kind == "macro":
         return GridMethod(MACRO)
+    if kind == "user":
+        return GridMethod(_user(entry, index, src, folder))
     options: dict[str, Any] = {}
     for key, choices in (("solver", micro.SOLVERS), ("scheme", SCHEMES),
                          ("selection", micro.nonassociative.SELECTIONS)):
@@ -331,3 +349,21 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
         raise src.error(f"method.{exc}", "method", "selection", index) from None
     method = Method(kind, tuning=tuple(changed.items()))
     return GridMethod(method, _max_blocks(entry, "method", index, src))
+
+
+def _user(entry: dict[str, Any], index: int, src: _Source, folder: Path | None) -> UserModel:
+    """A user's model: ``function`` resolved (imported) now, so that a bad one is refused before any work."""
+    if "function" not in entry:
+        raise src.error("method.function is missing: a user model needs 'module:function'", "method", None, index)
+    target = entry["function"]
+    if not isinstance(target, str):
+        raise src.error(f"method.function must be 'module:function', got {target!r}", "method", "function", index)
+    try:
+        function = resolve(target, folder)
+    except ValueError as exc:
+        raise src.error(f"method.{exc}", "method", "function", index) from None
+    name = entry.get("name", target.partition(":")[2].strip())
+    try:
+        return UserModel(name, function, target.strip())
+    except ValueError as exc:
+        raise src.error(f"method.{exc}", "method", "name", index) from None

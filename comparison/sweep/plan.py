@@ -15,7 +15,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from comparison.runner import Method, approximate_blocks
-from comparison.sweep.grid import Grid, GridMethod
+from comparison.sweep.grid import PER_WALL, Grid, GridMethod
+from comparison.sweep.usermodel import UserModel
 from comparison.wall import WallSpec
 from macro.checks import UNEQUAL_STOREYS
 
@@ -62,11 +63,11 @@ class Cell:
     Attributes:
         index: position in the grid's order.
         point: the wall's parameters.
-        method: the method, bond options included.
+        method: the method, bond options included, or a user's macro model.
         spec: the micro wall the method runs on, storeys that differ in
             nothing merged (see :func:`micro_spec`); ``None`` for the macro
-            model (its side is vectorised over the points) and when the
-            parameters make no wall.
+            model (its side is vectorised over the points), a user's model
+            and when the parameters make no wall.
         blocks: blocks of the micro wall, approximately (0 for the macro model).
         skip: ``""``, or :data:`NOT_APPLICABLE` / :data:`NOT_RUN`.
         message: why it is skipped.
@@ -74,7 +75,7 @@ class Cell:
 
     index: int
     point: WallPoint
-    method: Method
+    method: Method | UserModel
     spec: WallSpec | None
     blocks: int = 0
     skip: str = ""
@@ -83,7 +84,14 @@ class Cell:
     @property
     def micro(self) -> bool:
         """A micro method's cell."""
-        return self.method.kind != "macro"
+        return self.method.kind not in PER_WALL
+
+    @property
+    def item(self) -> tuple[WallSpec, Method] | None:
+        """What the runner computes for a micro cell with a wall (its cache key), else ``None``."""
+        if self.spec is None or not isinstance(self.method, Method) or not self.micro:
+            return None
+        return self.spec, self.method
 
 
 def micro_spec(spec: WallSpec) -> WallSpec:
@@ -110,7 +118,7 @@ def cells(grid: Grid) -> list[Cell]:
     """The cells of ``grid``, numbered in its order (a micro wall is built once per wall, none for the macro model)."""
     out: list[Cell] = []
     bonds = list(itertools.product(grid.bond["first_course"], grid.bond["head_joints"]))
-    micro = any(gm.method.kind != "macro" for gm in grid.methods)
+    micro = any(gm.method.kind not in PER_WALL for gm in grid.methods)
     points = wall_points(grid)
     no_wall = unbuildable(points)
     for k, point in enumerate(points):
@@ -118,7 +126,7 @@ def cells(grid: Grid) -> list[Cell]:
         why = why or no_wall.get(k, "")
         spec = micro_spec(point.spec()) if micro and not why else None
         for gm in grid.methods:
-            if gm.method.kind == "macro":
+            if isinstance(gm.method, UserModel) or gm.method.kind == "macro":
                 out.append(Cell(len(out), point, gm.method, None, skip=NOT_APPLICABLE if why else "", message=why))
                 continue
             for fc, hj in bonds:

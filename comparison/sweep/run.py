@@ -1,4 +1,5 @@
-"""Run a sweep: the macro side in one vectorised call, the micro side on an executor through the cache.
+"""Run a sweep: the macro side in one vectorised call, the micro side on an executor through the cache,
+then its validation page.
 
 The micro cells go through the report's content-addressed cache (keyed by the
 wall, the method and its options, and the code version): a cell in the cache is
@@ -6,11 +7,16 @@ read, the others are computed on the executor, largest walls first, and stored
 as each arrives. A sweep killed at any point and started again computes only
 what is missing, and two sweeps that share walls compute them once. A cell
 whose computation fails, whose worker dies, or whose memory estimate exceeds a
-worker's memory is recorded with that status; the sweep goes on.
+worker's memory is recorded with that status; the sweep goes on. A user's
+macro model (:mod:`~comparison.sweep.usermodel`) runs in this process, once
+per wall. The page (:mod:`~comparison.sweep.page`) is drawn from the table
+alone, so a sweep resumed from the cache writes the same page.
 """
 
 from __future__ import annotations
 
+import contextlib
+import csv
 import math
 import time
 from collections.abc import Sequence
@@ -21,12 +27,13 @@ from typing import Any
 import numpy as np
 
 from comparison.progress import Progress
-from comparison.runner import Prefetched, Record, ResultCache, code_version, prefetch
+from comparison.runner import Method, Prefetched, Record, ResultCache, code_version, prefetch
 from comparison.runner.executor import Executor
 from comparison.runner.methods import PACKAGES
 from comparison.sweep.grid import Grid
 from comparison.sweep.plan import Cell, cells
-from comparison.sweep.table import machine, versions, write_meta, write_table
+from comparison.sweep.table import machine, number, read_table, versions, write_meta, write_table
+from comparison.sweep.usermodel import UserModel
 
 #: The status of a cell whose computation gave no record, by the executor's outcome.
 FAILURE_STATUS = {"failed": "error", "lost": "worker_died", "refused": "refused_memory"}
@@ -39,9 +46,12 @@ class SweepRun:
     Attributes:
         table: the CSV table.
         meta: the JSON metadata.
-        counts: cells by what happened to them (``macro``, ``cached``, ``computed``, ``failed``, ``skipped``).
+        counts: cells by what happened to them (``macro``, ``user`` (a user model's cells), ``cached``,
+            ``computed``, ``failed`` (a micro computation, or a user model that raised or gave no number),
+            ``skipped``).
         macro_walls_per_second: speed of the vectorised macro side.
         micro_seconds: wall time of the micro computations.
+        page: the validation page (``None``: not asked for).
     """
 
     table: Path
@@ -49,36 +59,46 @@ class SweepRun:
     counts: dict[str, int]
     macro_walls_per_second: float
     micro_seconds: float
+    page: Path | None = None
 
 
-def run_sweep(grid: Grid, out_dir: Path, *, cache: ResultCache, executor: Executor, progress: Progress) -> SweepRun:
-    """Compute every cell of ``grid`` and write ``<name>.csv`` and ``<name>.json`` into ``out_dir``."""
+def run_sweep(
+    grid: Grid, out_dir: Path, *, cache: ResultCache, executor: Executor, progress: Progress, page: bool = True
+) -> SweepRun:
+    """Compute every cell of ``grid`` and write ``<name>.csv`` and ``<name>.json`` into ``out_dir``, and
+    with ``page`` the validation page ``<name>.md`` and its figures (:func:`~comparison.sweep.page.write_page`)."""
     start = time.perf_counter()
     plan = cells(grid)
+    known = previous_seconds(out_dir / f"{grid.name}.csv")  # before the table is written again
     rows: dict[int, dict[str, Any]] = {}
     macro_rate = _macro_side(plan, rows)
+    user_failed = _user_side(plan, rows)
     runnable = [c for c in plan if c.micro and not c.skip]
-    items = {c.index: (c.spec, c.method) for c in runnable if c.spec is not None}
+    items = {c.index: c.item for c in runnable if c.item is not None}
     cached = {i for i, item in items.items() if item in cache}
     pending = list(dict.fromkeys(item for i, item in items.items() if i not in cached))
     skipped = sum(1 for c in plan if c.skip)
+    users = sum(1 for c in plan if isinstance(c.method, UserModel) and not c.skip)
     progress.say(
-        f"plan: {len(plan)} cells: {len(plan) - len(runnable) - skipped} macro (one vectorised call), "
-        f"{len(runnable)} micro ({len(cached)} cached, {len(pending)} to compute on {executor.where}), "
+        f"plan: {len(plan)} cells: {len(plan) - len(runnable) - skipped - users} macro (one vectorised call), "
+        + (f"{users} of user models, " if users else "")
+        + f"{len(runnable)} micro ({len(cached)} cached, {len(pending)} to compute on {executor.where}), "
         f"{skipped} skipped"
     )
-    progress.start(len(pending), "micro", cached=len(cached))
     t0 = time.perf_counter()
-    done = prefetch(cache, pending, executor, progress)
+    wanted = {cell.item: cell for cell in reversed(runnable)}  # the first cell of each item
+    seconds = {item: known[_row_key(wanted[item])] for item in pending if _row_key(wanted[item]) in known}
+    done = prefetch(cache, pending, executor, progress, cached=len(cached), known=seconds)
     micro_seconds = time.perf_counter() - t0
     progress.close()
     rows.update({c.index: _micro_row(c, cache, done, c.index in cached) for c in plan if c.micro})
     counts = {
         "cells": len(plan),
-        "macro": sum(1 for c in plan if not c.micro and not c.skip),
+        "macro": sum(1 for c in plan if not c.micro and not c.skip) - users,
+        "user": users,
         "cached": len(cached),
         "computed": done.computed,
-        "failed": len(done.failures),
+        "failed": len(done.failures) + user_failed,
         "skipped": skipped,
     }
     table = write_table((rows[c.index] for c in plan), out_dir / f"{grid.name}.csv")
@@ -94,27 +114,55 @@ def run_sweep(grid: Grid, out_dir: Path, *, cache: ResultCache, executor: Execut
         "seconds": time.perf_counter() - start,
     }
     path = write_meta(meta, out_dir / f"{grid.name}.json")
+    written = None
+    if page:
+        from comparison.sweep.page import write_page
+
+        written = write_page(table, out_dir, grid.name).path
     progress.say(
         f"{counts['computed']} computed, {counts['cached']} cached, {counts['failed']} failed, "
         f"{counts['skipped']} skipped in {meta['seconds']:.1f} s: {table}"
     )
-    return SweepRun(table, path, counts, macro_rate, micro_seconds)
+    return SweepRun(table, path, counts, macro_rate, micro_seconds, written)
+
+
+def _row_key(cell: Cell) -> tuple[str, str]:
+    """A cell's wall and method as the table writes them (how :func:`previous_seconds` finds it)."""
+    return cell.point.label, cell.method.label
+
+
+def previous_seconds(table: Path) -> dict[tuple[str, str], float]:
+    """The seconds each micro cell of an earlier run of the same sweep took, by ``(wall, method)``: the
+    expected cost of computing it again (after a code change), for the progress display's ETA. Empty
+    without an earlier table (or one that cannot be read)."""
+    try:
+        rows = read_table(table) if table.is_file() else []
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return {}
+    out: dict[tuple[str, str], float] = {}
+    for row in rows:
+        if row.get("kind", "").startswith("micro") and row.get("blocks"):
+            with contextlib.suppress(ValueError):
+                s = number(row.get("seconds", ""))
+                if math.isfinite(s) and s > 0:
+                    out[(row.get("wall", ""), row.get("method", ""))] = s
+    return out
 
 
 def _inputs(cell: Cell) -> dict[str, Any]:
     """The columns that say what the cell is."""
     p, m = cell.point, cell.method
-    micro = cell.micro
+    micro = m if isinstance(m, Method) and cell.micro else None
     return {
         "cell": cell.index,
         "wall": p.label,
         **{k: getattr(p, k) for k in ("t", "m", "rows", "f", "p", "storeys")},
         "method": m.label,
         "kind": m.kind,
-        "solver": m.solver if m.kind == "micro-assoc" else None,
-        "scheme": m.scheme if m.kind == "micro-nonassoc" else None,
-        "first_course": m.first_course if micro else None,
-        "head_joints": m.head_joints if micro else None,
+        "solver": micro.solver if micro is not None and micro.kind == "micro-assoc" else None,
+        "scheme": micro.scheme if micro is not None and micro.kind == "micro-nonassoc" else None,
+        "first_course": micro.first_course if micro is not None else None,
+        "head_joints": micro.head_joints if micro is not None else None,
         "blocks": cell.blocks or None,
     }
 
@@ -128,7 +176,7 @@ def _macro_side(plan: Sequence[Cell], rows: dict[int, dict[str, Any]]) -> float:
     import macro
     from macro.sweep import MECHANISMS
 
-    todo = [c for c in plan if not c.micro]
+    todo = [c for c in plan if c.method.kind == "macro"]
     rows.update({c.index: _skipped(c) for c in todo if c.skip})
     todo = [c for c in todo if not c.skip]
     seconds = 0.0
@@ -162,17 +210,37 @@ def _macro_side(plan: Sequence[Cell], rows: dict[int, dict[str, Any]]) -> float:
     return len(todo) / seconds if seconds > 0 else math.nan
 
 
+def _user_side(plan: Sequence[Cell], rows: dict[int, dict[str, Any]]) -> int:
+    """The rows of the user models' cells, each model called once per wall in this process; how many
+    raised or gave no number."""
+    failed = 0
+    for cell in plan:
+        model = cell.method
+        if not isinstance(model, UserModel):
+            continue
+        if cell.skip:
+            rows[cell.index] = _skipped(cell)
+            continue
+        p = cell.point
+        lam, status, message, seconds = model.evaluate(p.t, p.m, p.rows, p.f, p.p, p.storeys, where=p.label)
+        failed += status != "optimal"
+        rows[cell.index] = {**_inputs(cell), "load_factor": lam, "status": status, "seconds": seconds,
+                            "cached": False, "message": message}
+    return failed
+
+
 def _micro_row(cell: Cell, cache: ResultCache, done: Prefetched, cached: bool) -> dict[str, Any]:
     """The row of a micro cell: skipped, failed, or its record (from the cache, or computed and not stored)."""
     if cell.skip:
         return _skipped(cell)
-    assert cell.spec is not None
-    outcome = done.failures.get((cell.spec, cell.method))
+    item = cell.item
+    assert item is not None
+    outcome = done.failures.get(item)
     if outcome is not None:
         status = FAILURE_STATUS[outcome.kind]
         return {**_skipped(cell), "status": status, "seconds": outcome.seconds, "message": outcome.error}
-    unstored = done.unstored.get((cell.spec, cell.method))
-    record = unstored[0] if unstored is not None else cache.load(cell.spec, cell.method)
+    unstored = done.unstored.get(item)
+    record = unstored[0] if unstored is not None else cache.load(*item)
     if record is None:  # pragma: no cover - stored (or kept) by prefetch a moment ago
         raise RuntimeError(f"cell {cell.index} ({cell.point.label}, {cell.method.label}) missing from the cache")
     return {**_inputs(cell), **_record_fields(record), "cached": cached}

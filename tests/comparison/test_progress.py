@@ -154,3 +154,72 @@ def test_the_heartbeat_says_nothing_finished_only_when_the_count_did_not_move() 
         "nothing finished for 1 min 20 s",
     ]
     assert not any("still running" in line for line in lines)
+
+
+def test_the_eta_weighs_each_computation_by_its_expected_cost() -> None:
+    """Issue 43: a report runs its largest walls first, and an ETA by count said "14 of 88 done, ETA 1 h 26 min"
+    two minutes before the end. Fed 14 computations of cost 100 (done first, 100 s each) and 74 of cost 1,
+    the weighted ETA is the cost to go at the rate so far (74 s), where the count gave 7,400 s."""
+    stream, clock = io.StringIO(), Clock()
+    costs = [100.0] * 14 + [1.0] * 74
+    with Progress(NORMAL, stream, clock=clock, heartbeat=None) as p:
+        p.start(len(costs), "micro", cost=sum(costs))
+        for cost in costs[:14]:
+            clock.now += cost
+            p.advance(cost=cost)
+        line = p.status()
+        for cost in costs[14:]:
+            clock.now += cost
+            p.advance(cost=cost)
+        last = p.status()
+    assert line == "micro: 14 of 88 done (15 %), 0 cached, 74 to go; 23 min 20 s elapsed, ETA 1 min 14 s"
+    assert last.endswith("24 min 34 s elapsed, ETA 0 s")
+    # the same run counted: what the issue's log showed
+    counted = Progress(NORMAL, io.StringIO(), clock=clock, heartbeat=None)
+    counted.start(88, "micro")
+    counted._done, counted._start = 14, clock.now - 1400
+    assert counted.status(clock.now).endswith("ETA by count 2 h 03 min")
+
+
+def test_prefetch_weighs_the_eta_by_blocks_or_by_the_time_a_computation_took_before(tmp_path) -> None:
+    """The cost of a computation is the seconds a wall of its blocks is expected to take
+    (:func:`~comparison.runner.pool.expected_seconds`), or the time it took before where the run knows it;
+    the largest start first and the display is started on their sum."""
+    from collections.abc import Iterator, Sequence
+
+    from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, ResultCache, prefetch
+    from comparison.runner.executor import Task, TaskOutcome
+    from comparison.runner.pool import expected_seconds
+    from comparison.wall import WallSpec
+
+    big = WallSpec.from_paper(t=1, m=1 / 3, rows=60, f=0.6, p=0, storeys=3, name="big")
+    small = [WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75 + k / 100, p=0, storeys=1, name=f"s{k}")
+             for k in range(20)]
+    assert expected_seconds(big, MICRO_NONASSOC) > 10 * expected_seconds(big, MICRO_ASSOC)
+    assert expected_seconds(big, MICRO_ASSOC) > 30 * expected_seconds(small[0], MICRO_ASSOC)
+    stream, clock = io.StringIO(), Clock()
+
+    class Serial:
+        """One worker, largest first, each task taking its expected cost on the clock; every task fails
+        (nothing to store)."""
+
+        workers, memory_per_worker, where = 1, None, "test"
+        seen: list[Task] = []
+
+        def run(self, tasks: Sequence[Task]) -> Iterator[TaskOutcome]:
+            for task in sorted(tasks, key=lambda t: t.cost, reverse=True):
+                self.seen.append(task)
+                clock.now += task.cost
+                yield TaskOutcome(task, "failed", error="x")
+
+    items = [(s, MICRO_ASSOC) for s in small] + [(big, MICRO_NONASSOC)]
+    with Progress(NORMAL, stream, clock=clock, heartbeat=None) as p:
+        done = prefetch(ResultCache(tmp_path), items, Serial(), p, cached=3,  # type: ignore[arg-type]
+                        known={(small[0], MICRO_ASSOC): 1000.0})
+    assert len(done.failures) == 21
+    assert [t.key for t in Serial.seen[:2]] == [(small[0], MICRO_ASSOC), (big, MICRO_NONASSOC)]
+    assert Serial.seen[0].cost == 1000.0 and Serial.seen[1].cost == expected_seconds(big, MICRO_NONASSOC)
+    lines = stream.getvalue().splitlines()
+    # after the first (1,000 s, as it took before): the rest is expected to take 18 s, not 20 x 1,000 s
+    assert lines[0] == "micro: 1 of 21 done (4 %), 3 cached, 20 to go; 16 min 40 s elapsed, ETA 18 s"
+    assert lines[1] == "micro: 4 of 21 done (19 %), 3 cached, 17 to go; 16 min 58 s elapsed, ETA 0 s"

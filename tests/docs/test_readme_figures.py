@@ -216,11 +216,11 @@ def _errormap(m: re.Match[str]) -> list[Figure]:
     part = summary["all"]
     cells = errormap_cells()
     limit = tomllib.loads((ROOT / "examples" / "sweeps" / "errormap.toml").read_text())["limits"]["max_blocks"]
-    with_ref = [c for c in cells if math.isfinite(c.error)]
-    from comparison.report.errormap import AGREEMENT
+    with_ref = [c for c in cells if math.isfinite(c.error("macro"))]
+    from comparison.sweep.compare import AGREEMENT
 
     def above_from(rows: int) -> bool:
-        return all(c.error > AGREEMENT for c in with_ref if c.rows >= rows and c.m < 1)
+        return all(c.error("macro") > AGREEMENT for c in with_ref if c.rows >= rows and c.m < 1)
 
     first = min(r for r in {c.rows for c in with_ref} if above_from(r))
     fs = {c.f for c in cells}

@@ -31,7 +31,7 @@ class Task:
         key: identifies the task to its caller (any hashable).
         fn: a module-level function (picklable by reference).
         args: its positional arguments (picklable).
-        cost: the order of the work (e.g. blocks): the largest tasks start first.
+        cost: the work it is expected to be (e.g. seconds): the largest tasks start first.
         memory: estimated peak memory in bytes (0: unknown, never refused).
         label: a short name for progress lines.
     """

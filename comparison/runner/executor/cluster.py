@@ -2,7 +2,7 @@
 
 The scheduler is given by its address (``tcp://host:port``); its workers need
 only this package installed (a task's function is imported there by name).
-Tasks are submitted with their cost as Dask priority, so the largest start
+Tasks are submitted with their rank by cost as Dask priority, so the largest start
 first; a task that raises comes back as ``failed``, one whose workers kept dying
 (Dask's ``KilledWorker``) as ``lost``; a task whose memory estimate exceeds a
 worker's memory limit (shared by its threads) is refused before submission. On
@@ -165,11 +165,11 @@ class DaskExecutor:
             return
         run_id = uuid.uuid4().hex[:8]
         by_key: dict[str, Task] = {}
-        for i, task in enumerate(runnable):
+        for i, task in enumerate(runnable):  # largest first: the first the highest priority
             key = f"xcheck-{run_id}-{i}"
             by_key[key] = task
             self._futures.append(
-                self.client.submit(call, task.fn, task.args, key=key, pure=False, priority=int(task.cost))
+                self.client.submit(call, task.fn, task.args, key=key, pure=False, priority=len(runnable) - i)
             )
         finished = 0
         for future in as_completed(self._futures, loop=self.client.loop):

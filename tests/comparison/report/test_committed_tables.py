@@ -16,7 +16,8 @@ import pytest
 from comparison.cli import main
 from comparison.report import build_report
 from comparison.report.committed import BOND, ERRORMAP, LOWEST, BadTable, check_tables, read_committed
-from comparison.report.errormap import figure, load
+from comparison.report.errormap import load
+from comparison.sweep.figures import error_map
 
 REPORTS = Path(__file__).resolve().parents[3] / "reports"
 
@@ -90,5 +91,6 @@ def test_a_table_cut_at_a_line_without_its_metadata_still_draws(tmp_path: Path) 
     """Without the metadata to count against, a table cut at a line break is read as it is: its section
     quotes what it holds, and the figure of a grid with one column no longer fails in ``contour``."""
     tables = _tables(tmp_path, ERRORMAP, _lines(ERRORMAP, 40))
-    cells = load(tables / ERRORMAP)
-    assert figure(cells, tmp_path / "e.png").stat().st_size > 0
+    walls = load(tables / ERRORMAP)
+    drawn = error_map(walls, "macro", tmp_path / "e.png")
+    assert drawn is not None and drawn.stat().st_size > 0

@@ -154,7 +154,9 @@ def test_quick_report_numbers_the_error_map_and_the_lowest_figure(quick_report_d
     images = re.findall(r"!\[([^\]]*)\]\(([^)]+)\)", text)
     assert [label for label, _ in images] == [f"Figure {i}" for i in range(1, len(images) + 1)]
     names = [name for _, name in images]
-    assert names[-2:] == ["errormap.png", "lowest.png"]
+    assert names[-5:] == ["errormap-map.png", "errormap-scatter.png", "errormap-histogram.png", "errormap-time.png",
+                          "lowest.png"]
+    assert all((quick_report_dir / name).stat().st_size > 0 for name in names)
     for i in range(1, len(images) + 1):
         assert f"**Figure {i}.** " in text
     assert "README" not in text

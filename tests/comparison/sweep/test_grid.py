@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import sys
 from dataclasses import replace
 from fractions import Fraction
 from pathlib import Path
@@ -137,6 +138,80 @@ def test_a_malformed_grid_is_one_line_naming_the_key_exit_2(
     assert not (tmp_path / "out").exists()
 
 
+USER = GOOD + """[[method]]
+kind = "user"
+name = "mine"
+function = "mine:lam"
+"""
+
+
+def test_a_user_model_is_found_beside_the_grid_and_runs_once_per_wall(tmp_path: Path) -> None:
+    (tmp_path / "mine.py").write_text("def lam(t, m, rows, f, p, storeys):\n    return min(f, 1 / t) / 2\n")
+    (tmp_path / "g.toml").write_text(USER)
+    g = load_grid(tmp_path / "g.toml")
+    user = g.methods[-1].method
+    assert user.kind == "user" and user.label == "mine" and user.key() == {"kind": "user", "name": "mine",
+                                                                          "function": "mine:lam"}
+    cs = cells(g)
+    mine = [c for c in cs if c.method.label == "mine"]
+    assert len(mine) == 2 * 2 * 3 * 2 and all(c.spec is None and not c.micro and c.item is None for c in mine)
+    assert user.evaluate(2.0, 1 / 3, 12, 0.6, 0.0, 1)[:3] == (0.25, "optimal", "")  # type: ignore[union-attr]
+    assert str(tmp_path) not in sys.path  # the grid's folder is on the path only to import the model
+
+
+def test_what_a_user_model_gives_becomes_its_cells_status() -> None:
+    """The plugin's convention: a real number is the value; NaN or infinite is ``failed``; a string, None or
+    an exception is ``error`` with a message naming the wall and the model, never a number."""
+    from comparison.sweep.usermodel import UserModel
+
+    def model(value: object) -> UserModel:
+        def fn(t: float, m: float, rows: int, f: float, p: float, storeys: int) -> object:
+            if value == "raise":
+                raise ZeroDivisionError("no")
+            return value
+        return UserModel("m", fn)
+
+    assert model(0.5).evaluate(1, 1, 6, 0.6, 0, 1, "w")[:3] == (0.5, "optimal", "")
+    lam, status, message, _ = model(float("nan")).evaluate(1, 1, 6, 0.6, 0, 1, "w")
+    assert status == "failed" and "nan" in message
+    assert model("0.5").evaluate(1, 1, 6, 0.6, 0, 1, "wall 7")[1:3] == (
+        "error", "wall 7 / m needs a number, got '0.5' (str)")
+    lam, status, message, _ = model("raise").evaluate(1, 1, 6, 0.6, 0, 1, "w")
+    assert status == "error" and message.startswith("ZeroDivisionError: no") and lam != lam
+
+
+@pytest.mark.parametrize(
+    ("edit", "words"),
+    [
+        (('function = "mine2:lam"\n', ""), ["line 21", "method.function is missing"]),
+        (("mine2:lam", "nosuchmodule_i43:lam"), ["line 24", "cannot import 'nosuchmodule_i43'", "ModuleNotFound"]),
+        (("mine2:lam", "mine2:nothing"), ["line 24", "mine2 has no 'nothing'"]),
+        (("mine2:lam", "mine2:VALUE"), ["line 24", "is not callable (float)"]),
+        (("mine2:lam", "mine2"), ["line 24", "function must be 'module:function', got 'mine2'"]),
+        (("mine2:lam", "broken:lam"), ["line 24", "cannot import 'broken'", "SyntaxError"]),
+        (('name = "mine"', 'name = "macro"'), ["line 23", "the name 'macro' is another method's"]),
+        (('name = "mine"', 'name = "a|b"'), ["line 23", "name must be a non-empty text"]),
+    ],
+)
+def test_a_bad_user_model_is_one_line_exit_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], edit: tuple[str, str], words: list[str]
+) -> None:
+    # modules of names of their own: Python keeps a module imported once (another test's mine.py)
+    (tmp_path / "mine2.py").write_text("VALUE = 0.5\ndef lam(t, m, rows, f, p, storeys):\n    return 0.5\n")
+    (tmp_path / "broken.py").write_text("def lam(:\n")
+    path = tmp_path / "bad.toml"
+    base = USER.replace("mine:", "mine2:")
+    text = base.replace(*edit)
+    assert text != base
+    path.write_text(text)
+    assert main(["sweep", str(path), "--out", str(tmp_path / "out"), "--cache", str(tmp_path / "c")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"xcheck: error: grid {path}"), err
+    for w in words:
+        assert w in err, (w, err)
+    assert not (tmp_path / "out").exists()
+
+
 def test_missing_grid_file_and_bad_options(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["sweep", str(tmp_path / "none.toml"), "--out", str(tmp_path)]) == 2
     assert "cannot read" in capsys.readouterr().err
@@ -195,7 +270,7 @@ def test_a_bad_scheduler_address_is_refused_before_connecting(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], address: str
 ) -> None:
     """Issue 31, item 3: these waited for the connection's time-out (about 40 s), then a traceback and exit 1."""
-    from comparison.cli.sweep import scheduler_address
+    from comparison.cli.options import scheduler_address
 
     good = tmp_path / "g.toml"
     good.write_text(GOOD)
