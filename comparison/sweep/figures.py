@@ -28,6 +28,8 @@ from micro.plot import save_figure
 DPI = 130
 #: The heat map writes each cell's difference on it up to this many cells a side.
 ANNOTATE = 12
+#: A cell whose colour lies this far from the map's middle (0 to 0.5) gets its number in white.
+DARK = 0.3
 #: The error map's least width, inches (its title's two lines).
 MIN_WIDTH = 7.5
 #: The histogram's bins: 'auto' (numpy's) unless it gives fewer than the first or more than the second.
@@ -131,7 +133,9 @@ def _panel(ax: Any, panel: Sequence[Sequence[Wall | None]], column: str, norm: A
             grid[a, b] = w.error(column)
             if annotate:
                 star = "" if w.reference_kind == "non-assoc" else "*"
-                ax.text(b, a, f"{100 * grid[a, b]:+.0f}{star}", ha="center", va="center", fontsize=7)
+                dark = abs(float(norm(grid[a, b])) - 0.5) > DARK  # white on the deep reds and blues
+                ax.text(b, a, f"{100 * grid[a, b]:+.0f}{star}", ha="center", va="center", fontsize=7,
+                        color="w" if dark else "k")
     ax.set_facecolor("0.85")
     mesh = ax.pcolormesh(np.ma.masked_invalid(grid), cmap="RdBu_r", norm=norm, shading="nearest")
     for (a0, b0), (a1, b1) in _unsafe_edges(grid):
