@@ -59,8 +59,8 @@ A FUSED WALL. Where the iterated LP ran on the fused wall (its model is the
 bodies' LP, none is handed over), the descent takes the lower end of the
 certified state's own mechanism band (and its polish) and makes no proposal:
 on Set 10 (3,630 blocks) each Gilbert step on the unfused wall ran into the
-warm cap of 2 simplex iterations per row (40 s) and then cold (64-68 s), and
-each force LP into the primal cap, the reason the wall is fused.
+warm cap and then cold, and each force LP into the primal cap, the reason the
+wall is fused (measurements: ``docs/research/2026-11-26-warm-descent.md``).
 
 THE BUDGET. A descent may solve at most ``lowest_budget`` LPs per direction
 (:class:`~micro.nonassociative.options.NonAssociativeOptions`; then one more

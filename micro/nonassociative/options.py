@@ -20,8 +20,8 @@ from micro.results import Directions, check_directions
 
 #: Default of :attr:`NonAssociativeOptions.lowest_budget`: LPs per direction.
 #: The descent (its own rules end it after one accepted move) solved at most
-#: 46 LPs on the 178 walls of ``xcheck stability --lowest``; on the walls of
-#: Table 5 it solves 10-25.
+#: 74 LPs on the 178 walls of ``xcheck stability --lowest`` (Set 13 with a half
+#: first course); on the walls of Table 5 it solves 4-61.
 LOWEST_BUDGET = 100
 
 
