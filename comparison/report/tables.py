@@ -187,9 +187,28 @@ def table5(res: Results) -> Table:
     set4 = next(res.macro[c.spec()] for c in cases_in_table("5") if c.case == "4")
     t.note = (
         f"Set 4, λ with the hinge at storeys 1, 2, 3: paper {', '.join(f'{x:.3f}' for x in SET4_HINGE_LOAD_FACTORS)}; "
-        f"ours {', '.join(f'{h.rocking_load_factor:.4f}' for h in set4.hinges)}."
+        f"ours {', '.join(f'{h.rocking_load_factor:.4f}' for h in set4.hinges)}.\n\n" + _table5_micro(res)
     )
     return t
+
+
+def _table5_micro(res: Results) -> str:
+    """The rigid-block values of Table 5's walls, the value to quote first: one sentence under the table."""
+    parts = []
+    for c in cases_in_table("5"):
+        rec = res.nonassoc_record(c.spec())
+        if rec is None:
+            continue
+        if math.isfinite(rec.load_factor):
+            iterated = rec.iterated_load_factor
+            beside = f" (iterated LP {iterated:.4f})" if math.isfinite(iterated) else ""
+            parts.append(f"{c.label} {rec.load_factor:.4f}{beside}")
+        else:
+            parts.append(f"{c.label} {rec.status or 'no value'}")
+    if not parts:
+        return ""
+    return (f"The micro model on these walls, {res.plan.reference.column} λ: " + "; ".join(parts)
+            + " (against the macro λ: All cases below).")
 
 
 def table7(res: Results) -> Table:

@@ -23,7 +23,8 @@ def rigid(case):
 
 @pytest.mark.parametrize("case", paper_cases("7", known_gaps={"11": "too crude"}))
 def test_table7(case, xcheck_references, xcheck_table):
-    lam = 0.7 if case.label == "Set 12" else xcheck_references.value(case, "orduna-micro")
+    mine = {"Set 11": 0.66, "Set 12": 0.7, "Set 14": 0.25}  # a model of one's own, too crude on Set 11
+    lam = mine.get(case.label) or xcheck_references.value(case, "orduna-micro")
     xcheck_table.add(case, lam, "mine")
     xcheck_references.check(case, "micro-nonassoc", lam, rel=0.02)
 
@@ -58,13 +59,14 @@ def test_downstream_run_table_and_failure_message(tmp_path: Path) -> None:
         tmp_path, "--xcheck-cases", "Ref,Set 12", "--xcheck-table", "t.csv", "--xcheck-against", "orduna-micro"
     )
     out = run.stdout
-    # Orduña's values against the iterated LP within 2 %: Sets 12 (0.70 here) and 13 pass, Set 14 fails,
-    # Set 11 is a known gap; test_any_wall passes on Ref and Set 12
+    # against the micro value to quote (the lowest certified state) within 2 %: Set 12 (0.70 here) and
+    # Orduña's Set 13 pass, Set 14 (0.25 here) fails, Set 11 (0.66 here) is a known gap; test_any_wall
+    # passes on Ref and Set 12
     assert run.returncode == 1, out
     assert "1 failed, 4 passed, 2 skipped, 1 xfailed" in out  # test_own_wall_references skips paper cases
-    ref = References.load().get("Set 14", "micro-nonassoc")  # 0.2684 ± 0.0013
+    ref = References.load().get("Set 14", "micro-nonassoc")  # 0.2658 ± 0.0053
     assert ref.value is not None
-    assert f"Set 14 / micro-nonassoc / load_factor: 0.2600 outside {ref.value:.4f} ± {ref.allowed(0.02):.4f}" in out
+    assert f"Set 14 / micro-nonassoc / load_factor: 0.2500 outside {ref.value:.4f} ± {ref.allowed(0.02):.4f}" in out
     assert "xcheck: your values against the references" in out
     table = (tmp_path / "t.csv").read_text().splitlines()
     assert table[0] == "wall,method,λ,orduna-micro λ,Δ % vs orduna-micro"

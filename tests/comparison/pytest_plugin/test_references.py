@@ -67,7 +67,7 @@ def test_check_failure_names_case_method_and_cell(refs: References) -> None:
     with pytest.raises(ReferenceMismatch) as err:
         refs.check("Set 12", "micro-nonassoc", 0.7021 if ref.value > 0.71 else ref.value - 2 * ref.tolerance)
     assert str(err.value).startswith("Set 12 / micro-nonassoc / load_factor: ")
-    assert f"outside {ref.value:.4f} ± {ref.tolerance:.4f} (iterated LP" in str(err.value)
+    assert f"outside {ref.value:.4f} ± {ref.tolerance:.4f} (lowest certified collapse state" in str(err.value)
     with pytest.raises(ReferenceMismatch, match=r"Set 12 / paper / load_factor: 0\.7500 outside 0\.6500 ± 0\.0375"):
         refs.check("Set 12", "paper", 0.75, rel=0.05)  # 0.005 rounding + 5 % of 0.65
     with pytest.raises(ReferenceMismatch, match="nan outside"):
