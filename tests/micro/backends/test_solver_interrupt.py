@@ -22,6 +22,11 @@ from micro.backends.interrupt import SolverStop, deferred_signals
 #: each case defines ``TICK`` (called at every simplex interrupt callback) before this runs.
 MODEL = """
 import signal, sys
+# the child's Ctrl-C as a fresh interpreter's, whatever the test process left to inherit (an ignored
+# or blocked SIGINT stays so across exec)
+INHERITED = (signal.getsignal(signal.SIGINT), signal.SIGINT in signal.pthread_sigmask(signal.SIG_BLOCK, []))
+signal.signal(signal.SIGINT, signal.default_int_handler)
+signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 import numpy as np
 from comparison.wall import WallSpec
 import micro
@@ -58,7 +63,7 @@ def test_ctrl_c_inside_highs_stops_the_run_and_raises_after_it() -> None:
         MODEL
         try:
             m.run()
-            print("no interrupt")
+            print("no interrupt", calls[0], "calls; inherited SIGINT handler and blocked:", INHERITED)
         except KeyboardInterrupt:
             print("interrupted after", calls[0], "calls")
         TICK = lambda n: None
