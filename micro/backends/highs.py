@@ -43,8 +43,7 @@ DUAL_SIGN = -1.0
 #: default 1e-7 gave "Optimal" with unscaled residuals of 1e-3.
 SIMPLEX_TOLERANCE = 1e-10
 ALGORITHMS = ("ipm", "simplex")
-#: HiGHS' ``simplex_strategy`` values: the dual simplex (its default) and the primal one (from a basis
-#: carried over from another LP: 906 iterations where the dual took 13,073 on the 1,230-block wall).
+#: HiGHS' ``simplex_strategy`` values: the dual simplex (its default), the primal one (from a carried-over basis).
 DUAL_STRATEGY, PRIMAL_STRATEGY = 1, 4
 #: ``HighsBasisStatus`` codes of :meth:`PersistentHighsModel.basis_arrays`.
 LOWER, BASIC, UPPER = 0, 1, 2
@@ -259,9 +258,8 @@ class PersistentHighsModel:
         self._callback.guard = StallGuard(calls)
 
     def limit_excess_calls(self, excess: int | None) -> None:
-        """Interrupt the next runs once their simplex interrupt callbacks beyond
-        one per iteration add up to ``excess`` (``None``: no such limit; the
-        model must be guarded, :meth:`guard_stalls`)."""
+        """Interrupt the next runs once their simplex callbacks beyond one per iteration add up to
+        ``excess`` (``None``: no limit; the model must be guarded, :meth:`guard_stalls`)."""
         guard = self._callback.guard
         if guard is None:
             raise ValueError("limit_excess_calls needs a guarded model (guard_stalls)")
@@ -336,17 +334,15 @@ class PersistentHighsModel:
         self._highs.clearSolver()
 
     def basis_arrays(self) -> tuple[NDArray[np.int8], NDArray[np.int8]]:
-        """The current basis as ``HighsBasisStatus`` codes (:data:`LOWER`,
-        :data:`BASIC`, :data:`UPPER`, ...) of the columns and of the rows:
-        arrays another model's basis can be built from."""
+        """The current basis as ``HighsBasisStatus`` codes (:data:`LOWER`, :data:`BASIC`, :data:`UPPER`,
+        ...) of the columns and of the rows: arrays another model's basis can be built from."""
         b = self._highs.getBasis()
         return (np.fromiter((int(c) for c in b.col_status), dtype=np.int8, count=len(b.col_status)),
                 np.fromiter((int(r) for r in b.row_status), dtype=np.int8, count=len(b.row_status)))
 
     def set_basis_arrays(self, cols: NDArray[np.int8], rows: NDArray[np.int8]) -> None:
-        """Start the next run from the basis of these status codes (one per
-        column and row, as :meth:`basis_arrays` gives them); HiGHS repairs a
-        singular one with slack columns."""
+        """Start the next run from the basis of these status codes (one per column and row, as
+        :meth:`basis_arrays` gives them); HiGHS repairs a singular one with slack columns."""
         status = self._hs.HighsBasisStatus
         codes = {int(c): c for c in (status.kLower, status.kBasic, status.kUpper, status.kZero, status.kNonbasic)}
         b = self._hs.HighsBasis()

@@ -60,7 +60,7 @@ bodies' LP, none is handed over), the descent takes the lower end of the
 certified state's own mechanism band (and its polish) and makes no proposal:
 on Set 10 (3,630 blocks) each Gilbert step on the unfused wall ran into the
 warm cap and then cold, and each force LP into the primal cap, the reason the
-wall is fused (measurements: ``docs/research/2026-11-26-warm-descent.md``).
+wall is fused (measured on the warm descent's research page, ``docs/research/``).
 
 THE BUDGET. A descent may solve at most ``lowest_budget`` LPs per direction
 (:class:`~micro.nonassociative.options.NonAssociativeOptions`; then one more
