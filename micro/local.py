@@ -22,16 +22,19 @@ them and the wall does not hold them in, and (2) carry at most
 loads). A block moves when some corner of it moves faster than
 :data:`MOVING_TOL` of the fastest corner of the wall. On the 12-wall grid that
 showed it (t = 1/2, 1, 3/2; m = 1/3, 1/2; rows 8, 16; f = 0.65) the four local
-mechanisms move one block each, 0.10-0.78 % of the wall's weight; the other
-walls' mechanisms move 27-100 % of it (both friction models), so the share
-alone separates them by a factor of 2.5 below and 13 above the threshold.
-Condition (1) keeps the rule from depending on the wall's size: with the
-piece held, the next mechanism of the 32-long, 16-row wall of that grid
-(non-associative) is the wedge of the three end blocks of courses 14-16,
-1.2 % of its weight, the same wedge and the same ``lambda`` (0.5234) as in the
-8-long, 8-row wall where it is 4.7 %: a mechanism of the wall's corner, not of a
-loose piece, in both. Condition (2) keeps a whole top course that slides (a
-mechanism of the wall) from counting as local on a short wall.
+mechanisms (both friction models) move one block each, the top course's cut end
+piece, 0.10-0.78 % of the wall's weight. The other walls' mechanisms move
+22-100 % of it but one: at ``lambda = f`` the non-associative state of the
+16-long, 8-row wall slides the end blocks of courses 7 and 8 together, 2.7 %
+of its weight, a mechanism of the wall (the top course is carried by course 7)
+that condition (1) tells apart however small its share. Condition (1) also
+keeps the rule from depending on the wall's size: with the piece held, the next
+mechanism of the 32-long, 16-row wall of that grid (non-associative) is the
+wedge of the three end blocks of courses 14-16, 1.2 % of its weight, the same
+wedge and the same ``lambda`` (0.5234) as in the 8-long, 8-row wall where it is
+4.7 %: a mechanism of the wall's corner in both. Condition (2) keeps a whole top
+course that slides (a mechanism of the wall) from counting as local on a short
+wall.
 
 The wall's own mechanism is the same analysis with the local blocks held to
 the block that carries them (:func:`micro.hold_blocks`); the comparison with
@@ -54,7 +57,7 @@ from micro.records import json_number
 FloatArray = NDArray[np.float64]
 
 #: A mechanism is local when its moving blocks carry at most this share of the wall's dead load
-#: (module docstring: the grid's local mechanisms move at most 0.8 %, its wall mechanisms at least 27 %).
+#: (module docstring: the grid's local mechanisms move at most 0.8 %, its wall mechanisms 2.7 % or more).
 LOCAL_WEIGHT_SHARE = 0.02
 #: A block moves when a corner of it moves faster than this fraction of the fastest corner (the accuracy
 #: of an interior point's duals, as :data:`micro.mechanism.CONTACT_STATE_TOL`).
