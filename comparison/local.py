@@ -45,6 +45,49 @@ def quoted_load_factor(result: MicroResult) -> float:
     return result.quoted_load_factor if isinstance(result, NonAssociativeResult) else result.load_factor
 
 
+@dataclass(frozen=True)
+class LocalRecord:
+    """A local mechanism and the wall's own value, flat, for the records, the cache and the tables.
+
+    Attributes:
+        description: what moves (:attr:`micro.LocalMechanism.description`).
+        load_factor: the local mechanism's ``lambda`` (the block model's value to quote).
+        weight_share: the moving blocks' share of the dead load.
+        blocks: the moving blocks.
+        wall_load_factor: the wall's own ``lambda`` (NaN when not found: ``status`` says why).
+        held: the blocks held for it.
+        rounds: held analyses run.
+        status: :attr:`WallMechanism.status`.
+        message: why the wall's own value is missing.
+    """
+
+    description: str
+    load_factor: float
+    weight_share: float
+    blocks: tuple[int, ...]
+    wall_load_factor: float
+    held: tuple[int, ...]
+    rounds: int
+    status: str
+    message: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON form (NaN -> ``None``, tuples -> lists)."""
+        return {"description": self.description, "load_factor": json_number(self.load_factor),
+                "weight_share": json_number(self.weight_share), "blocks": list(self.blocks),
+                "wall_load_factor": json_number(self.wall_load_factor), "held": list(self.held),
+                "rounds": self.rounds, "status": self.status, "message": self.message}
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> LocalRecord:
+        """The record :meth:`to_dict` wrote."""
+        def num(x: Any) -> float:
+            return math.nan if x is None else float(x)
+
+        return cls(d["description"], num(d["load_factor"]), num(d["weight_share"]), tuple(d["blocks"]),
+                   num(d["wall_load_factor"]), tuple(d["held"]), int(d["rounds"]), d["status"], d.get("message", ""))
+
+
 @dataclass(frozen=True, eq=False)
 class WallMechanism:
     """The block model's governing mechanism and the wall's own.
@@ -83,6 +126,14 @@ class WallMechanism:
     def local_load_factor(self) -> float:
         """The local mechanism's load factor (NaN when nothing local governs)."""
         return self.local.load_factor if self.local is not None else math.nan
+
+    def to_record(self) -> LocalRecord | None:
+        """The flat :class:`LocalRecord` (``None`` when nothing local governs)."""
+        if self.local is None:
+            return None
+        loc = self.local
+        return LocalRecord(loc.description, loc.load_factor, loc.weight_share, loc.blocks, self.load_factor,
+                           self.held, self.rounds, self.status, self.message)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: ``wall_load_factor``, ``local_mechanism`` (object or ``None``) and how it was found."""
