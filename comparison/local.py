@@ -187,6 +187,7 @@ def solve_wall_mechanism(wall: micro.BlockWall, solve: Solve, *, first: MicroRes
         again = local_mechanism(hw.wall, result)
         if again is None:
             return WallMechanism(local, base, result, held, hw, rounds)
+        left = again.description
         held = tuple(sorted(set(held) | set(hw.original_blocks(again.blocks))))
     return WallMechanism(local, base, result, hw.held, hw, max_rounds, LOCAL_LEFT,
-                         f"the held wall's mechanism is still local after {max_rounds} rounds: {again.description}")
+                         f"the held wall's mechanism is still local after {max_rounds} rounds: {left}")

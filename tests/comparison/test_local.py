@@ -14,7 +14,7 @@ import pytest
 
 import micro
 from comparison.cases import case
-from comparison.local import WALL, solve_wall_mechanism
+from comparison.local import FAILED, LOCAL_LEFT, WALL, solve_wall_mechanism
 from comparison.wall import WallSpec
 
 SOLVES = {"associative": micro.solve_associative,
@@ -79,3 +79,31 @@ def test_max_rounds_refused(bad: object) -> None:
     wall = WallSpec.from_paper(t=1.5, m=0.5, rows=8, f=0.65).to_micro()
     with pytest.raises(ValueError, match="max_rounds must be a positive integer"):
         solve_wall_mechanism(wall, micro.solve_associative, max_rounds=bad)  # type: ignore[arg-type]
+
+
+def test_held_analysis_that_fails_says_so() -> None:
+    """A held analysis that fails (here a time limit no solve can meet) gives status ``failed``, a NaN wall
+    value and the reason, never the block model's value in its place."""
+    wall = WallSpec.from_paper(t=1.5, m=0.5, rows=8, f=0.65).to_micro()
+    first = micro.solve_associative(wall)
+    wm = solve_wall_mechanism(wall, functools.partial(micro.solve_associative, time_limit=1e-9), first=first)
+    assert wm.local is not None and wm.status == FAILED and math.isnan(wm.load_factor)
+    assert wm.message.startswith("the analysis of the held wall failed: time_limit")
+    assert wm.to_dict()["wall_load_factor"] is None
+
+
+def test_rounds_are_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
+    """When every held wall's mechanism is local again, the loop stops after ``max_rounds`` held analyses
+    with status ``local after the last round`` and no wall value (the detection is forced local here)."""
+    import comparison.local as local
+
+    wall = WallSpec.from_paper(t=1.5, m=0.5, rows=8, f=0.65).to_micro()
+
+    def always_local(w: micro.BlockWall, result: object) -> micro.LocalMechanism:
+        top = w.n_blocks - 1
+        return micro.LocalMechanism((top,), 0.001, 0.3, "+x", f"block {top} tips over alone")
+
+    monkeypatch.setattr(local, "local_mechanism", always_local)
+    wm = solve_wall_mechanism(wall, micro.solve_associative, max_rounds=2)
+    assert wm.status == LOCAL_LEFT and wm.rounds == 2 and math.isnan(wm.load_factor)
+    assert len(wm.held) == 2 and wm.message.startswith("the held wall's mechanism is still local after 2 rounds")

@@ -115,7 +115,7 @@ def test_threshold_edges() -> None:
     r = micro.solve_associative(wall)
     mech, lam = r.mechanism, r.load_factor
     part = 0.5 / 64.0
-    assert LOCAL_WEIGHT_SHARE > part
+    assert part < LOCAL_WEIGHT_SHARE
     assert find_local(wall, mech, lam, "+x", share=part) is not None
     assert find_local(wall, mech, lam, "+x", share=part * (1 - 1e-9)) is None
     assert find_local(wall, mech, lam, "+x", share=0.0) is None
