@@ -107,3 +107,22 @@ def test_rounds_are_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
     wm = solve_wall_mechanism(wall, micro.solve_associative, max_rounds=2)
     assert wm.status == LOCAL_LEFT and wm.rounds == 2 and math.isnan(wm.load_factor)
     assert len(wm.held) == 2 and wm.message.startswith("the held wall's mechanism is still local after 2 rounds")
+
+
+def test_record_keeps_the_local_mechanism() -> None:
+    """The runner's record of a local wall carries the local mechanism and the wall's own value, through
+    its JSON form (the cache) unchanged; ``wall_load_factor`` is the held analysis', ``load_factor`` the
+    block model's."""
+    from comparison.runner import MICRO_NONASSOC, Record
+    from comparison.runner.runner import compute
+
+    spec = WallSpec.from_paper(t=1.5, m=0.5, rows=8, f=0.65)
+    rec, _ = compute(spec, MICRO_NONASSOC)
+    assert rec.local is not None
+    assert rec.load_factor == pytest.approx(1 / 3, rel=1e-7) == rec.local.load_factor
+    assert rec.wall_load_factor == rec.local.wall_load_factor > rec.load_factor + 0.01
+    back = Record.from_dict(rec.to_dict())
+    assert back.local == rec.local and back.wall_load_factor == rec.wall_load_factor
+    plain, _ = compute(case("13").spec(), MICRO_NONASSOC)
+    assert plain.local is None and plain.wall_load_factor == plain.load_factor
+    assert Record.from_dict(plain.to_dict()).local is None
