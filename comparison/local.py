@@ -39,12 +39,6 @@ Solve = Callable[[micro.BlockWall], MicroResult]
 WALL, LOCAL_LEFT, FAILED = "wall", "local after the last round", "failed"
 
 
-def quoted_load_factor(result: MicroResult) -> float:
-    """The value to quote of a micro result (the non-associative method's lowest certified state where the
-    descent found one)."""
-    return result.quoted_load_factor if isinstance(result, NonAssociativeResult) else result.load_factor
-
-
 @dataclass(frozen=True)
 class LocalRecord:
     """A local mechanism and the wall's own value, flat, for the records, the cache and the tables.
@@ -120,7 +114,7 @@ class WallMechanism:
     def load_factor(self) -> float:
         """The wall's own load factor (the value to quote of :attr:`result`; NaN unless :attr:`status` is
         :data:`WALL`): the value compared with the macro model."""
-        return quoted_load_factor(self.result) if self.status == WALL else math.nan
+        return self.result.load_factor if self.status == WALL else math.nan
 
     @property
     def local_load_factor(self) -> float:

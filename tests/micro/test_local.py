@@ -55,7 +55,7 @@ def test_nonassociative_piece_tips_over_alone(length: float, block_length: float
     piece = _piece(wall)
     assert wall.block_lengths[piece] == pytest.approx(width)
     r = micro.solve_nonassociative(wall)
-    assert r.quoted_load_factor == pytest.approx(width, rel=1e-7)
+    assert r.load_factor == pytest.approx(width, rel=1e-7)
     loc = local_mechanism(wall, r)
     assert loc is not None
     assert loc.blocks == (piece,)
@@ -89,7 +89,7 @@ def test_held_piece_gives_the_walls_own_mechanism(solve, length: float, block_le
     held = hold_blocks(wall, loc.blocks)
     r = solve(held.wall)
     assert r.ok
-    lam = getattr(r, "quoted_load_factor", r.load_factor)
+    lam = r.load_factor
     assert lam > loc.load_factor + 0.01
     assert local_mechanism(held.wall, r) is None
 

@@ -55,7 +55,7 @@ def test_paper_walls_are_not_local(method: str, name: str) -> None:
 
     wm = solve_wall_mechanism(wall, solve)
     assert wm.local is None and len(calls) == 1 and wm.result is wm.result_local and wm.held == ()
-    quoted = getattr(wm.result, "quoted_load_factor", wm.result.load_factor)
+    quoted = wm.result.load_factor
     assert wm.load_factor == quoted and math.isnan(wm.local_load_factor)
     assert wm.to_dict() == {"wall_load_factor": quoted, "local_mechanism": None}
 
