@@ -3,8 +3,11 @@
 The *macro columns* are the paper's macro model (``macro``) and the user's models
 (:mod:`~comparison.sweep.usermodel`), each with its value on every wall. The
 *micro reference* of a wall in a bond is the non-associative method's value where
-it converged (the table's ``load_factor``: the value to quote, its lowest
-certified collapse state where the descent found one; the iterated LP's own
+it converged (the table's ``wall_load_factor``: the value to quote, its lowest
+certified collapse state where the descent found one, of the wall's own
+mechanism: where a local mechanism governs the block model, a cut end piece of
+the top course that tips over alone, the analysis with it held, and the table's
+``load_factor`` in a table without that column; the iterated LP's own
 value is the ``iterated_load_factor`` column), else the associative LP's (an
 upper bound of the non-associative load factor, so that a macro value above it is
 unsafe for certain). The difference of a column is
@@ -21,7 +24,7 @@ from __future__ import annotations
 import math
 import statistics
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
@@ -57,8 +60,12 @@ class Wall:
         first_course, head_joints: the bond of its micro values (``""`` when the sweep ran no micro method).
         blocks: blocks of its micro wall (0 when none was built).
         macro: each macro column's value on it, by name (NaN where it gave none).
-        assoc: the associative LP's load factor (NaN when not run or failed).
-        nonassoc: the non-associative method's value to quote where it converged (NaN otherwise).
+        assoc: the associative LP's load factor (NaN when not run or failed): the wall's own.
+        nonassoc: the non-associative method's value to quote where it converged (NaN otherwise): the wall's
+            own.
+        local: by micro kind, the local mechanism that governs the block model there and its load factor
+            (``(description, lambda)``; empty when none). ``assoc`` and ``nonassoc`` are then the wall's own
+            values (the table's ``wall_load_factor``), not the local ones.
     """
 
     t: float
@@ -73,6 +80,7 @@ class Wall:
     macro: Mapping[str, float]
     assoc: float
     nonassoc: float
+    local: Mapping[str, tuple[str, float]] = field(default_factory=dict)
 
     @property
     def reference(self) -> float:
@@ -130,23 +138,30 @@ def walls(rows: Sequence[Mapping[str, str]]) -> list[Wall]:
         key = tuple(row[k] for k in _PARAMS)
         w = points.setdefault(key, {"macro": dict.fromkeys(macro_cols, math.nan), "bonds": {}})
         kind, ok = row["kind"], success(row["kind"], row["status"])
-        lam = number(row["load_factor"]) if ok else math.nan
+        # the micro value compared is the wall's own (a table before local mechanisms has load_factor only)
+        value = row["load_factor"] if kind in MACRO_KINDS else row.get("wall_load_factor") or row["load_factor"]
+        lam = number(value) if ok else math.nan
         if kind in MACRO_KINDS:
             w["macro"][row["method"]] = lam
             continue
         bond = w["bonds"].setdefault((row.get("first_course") or "full", row.get("head_joints") or "frictional"),
-                                     {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0})
+                                     {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0,
+                                                      "local": {}})
         if row.get("blocks"):
             bond["blocks"] = max(bond["blocks"], int(float(row["blocks"])))
         if kind in ("micro-assoc", "micro-nonassoc") and math.isfinite(lam) and not math.isfinite(bond[kind]):
             bond[kind] = lam  # the first method of its kind in the grid's order
+            if row.get("local_mechanism"):
+                bond["local"][kind] = (row["local_mechanism"], number(row.get("local_load_factor", "")))
     out = []
     for key, w in points.items():
         t, m, o, f, p, n = (number(x) for x in key)
         params = (t, m, int(o), f, p, int(n))
-        bonds = w["bonds"] or {("", ""): {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0}}
+        bonds = w["bonds"] or {("", ""): {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0,
+                                          "local": {}}}
         for (fc, hj), b in sorted(bonds.items(), key=lambda kv: _bond_order(kv[0])):
-            out.append(Wall(*params, fc, hj, b["blocks"], dict(w["macro"]), b["micro-assoc"], b["micro-nonassoc"]))
+            out.append(Wall(*params, fc, hj, b["blocks"], dict(w["macro"]), b["micro-assoc"], b["micro-nonassoc"],
+                            b["local"]))
     return out
 
 

@@ -179,6 +179,7 @@ def render(
         if bad:
             lines += ["", f"{h2} Worst walls" + ("" if len(macro_columns) == 1 else f": {c}"), "",
                       *_worst_table(bad, c, moving)]
+    lines += _local_section(ws, moving, h2)
     timing = figure(figures.time_against_blocks(rows, out_dir / f"{prefix}-time.png"), _time_caption(source))
     if timing:
         lines += ["", f"{h2} Time against blocks", *timing]
@@ -339,6 +340,28 @@ def _worst_table(bad: Sequence[Wall], column: str, moving: Sequence[str]) -> lis
         values = " | ".join(shown(a, w.value(a)) for a in axes)
         lines.append(f"| {values} | {w.blocks or '–'} | {w.macro[column]:.4f} | {w.reference:.4f} "
                      f"| {w.reference_kind} | {_pct(w.error(column))} |")
+    return lines
+
+
+def _local_section(ws: Sequence[Wall], moving: Sequence[str], h2: str) -> list[str]:
+    """The walls whose block model a local mechanism governs (a cut end piece of the top course that tips
+    over alone): what moves, its λ, and the wall's own λ that the comparisons above use instead (no section
+    when there are none)."""
+    local = [w for w in ws if w.local]
+    if not local:
+        return []
+    axes = _wall_axes(moving)
+    head = " | ".join(SYMBOLS[a] for a in axes)
+    lines = ["", f"{h2} Local mechanisms", "",
+             "The block model of these walls collapses first by a local mechanism, a mechanism of loose "
+             "pieces, not of the wall (docs/micro/walls.md). Every comparison on this page uses the wall's own "
+             "λ, the same analysis with the pieces held to the block below (the table's `wall_load_factor`).",
+             "", f"| {head} | method | what moves | λ local | λ wall's own |", "|---" * (len(axes) + 4) + "|"]
+    for w in local:
+        values = " | ".join(shown(a, w.value(a)) for a in axes)
+        for kind, (what, lam) in sorted(w.local.items()):
+            own = w.nonassoc if kind == "micro-nonassoc" else w.assoc
+            lines.append(f"| {values} | {kind} | {what} | {lam:.4f} | {own:.4f} |")
     return lines
 
 
