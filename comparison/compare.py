@@ -67,7 +67,7 @@ def above(value: float, reference: float) -> bool:
 
 
 def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
-          certified_load_factor: float = math.nan, *, searched: bool = False,
+          certified_load_factor: float = math.nan, *, found_load_factor: float = math.nan,
           global_lower_bound: float = math.nan) -> tuple[str | None, str | None]:
     """The verdict on a macro λ and its proof (module docstring), from what the micro model proved.
 
@@ -75,8 +75,9 @@ def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
         macro_load_factor: the macro model's λ (NaN: it gave none, no verdict).
         associative_load_factor: the associative LP's λ (NaN: not run or failed).
         certified_load_factor: the lowest λ of a certified collapse state found (NaN: none).
-        searched: the non-associative solve ran and converged, so that a macro λ below its states is
-            "not refuted" (without it, and no proof, there is no verdict).
+        found_load_factor: the lowest λ of the non-associative states found, certified or not (the value to
+            quote of a converged solve; NaN: the solve did not run or failed). A macro λ not above it is "not
+            refuted"; without it, or above an uncertified one, and no proof, there is no verdict.
         global_lower_bound: the lower bound of a global search that closed (NaN: none; pass only a bound of
             status :data:`GLOBAL_CLOSED`).
 
@@ -87,9 +88,9 @@ def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
         >>> from comparison.compare import judge
         >>> judge(0.61, 0.505)
         ('unsafe', 'associative bound')
-        >>> judge(0.4914, 0.5564, 0.4895, searched=True)
+        >>> judge(0.4914, 0.5564, 0.4895, found_load_factor=0.4895)
         ('unsafe', 'certified state')
-        >>> judge(0.6481, 0.7303, 0.6911, searched=True)
+        >>> judge(0.6481, 0.7303, 0.6911, found_load_factor=0.6911)
         ('not refuted', None)
         >>> judge(0.6481, 0.7303)  # the non-associative solve failed: nothing proves either way
         (None, None)
@@ -102,7 +103,9 @@ def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
         return UNSAFE, CERTIFIED_STATE
     if above(global_lower_bound, macro_load_factor):
         return SAFE, GLOBAL_BOUND
-    return (NOT_REFUTED, None) if searched else (None, None)
+    if math.isfinite(found_load_factor) and not above(macro_load_factor, found_load_factor):
+        return NOT_REFUTED, None
+    return None, None
 
 
 @dataclass(frozen=True)
@@ -343,9 +346,9 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         t_nonassoc = time.perf_counter() - t0
     values = _micro_values(nonassoc, notes)
     certified = values["certified_load_factor"]
-    verdict, proof = judge(lam_macro, lam_assoc, certified, searched=nonassoc is not None and nonassoc.ok,
-                           global_lower_bound=values["closed_bound"])
     micro_lam = values["micro_load_factor"]
+    verdict, proof = judge(lam_macro, lam_assoc, certified, found_load_factor=micro_lam,
+                           global_lower_bound=values["closed_bound"])
     failed = not macro_ok or not assoc.ok or (nonassoc is not None and not nonassoc.ok)
     return Comparison(
         status=FAILED if failed else OK,
@@ -385,8 +388,10 @@ def _micro_values(result: micro.NonAssociativeResult | None, notes: list[str]) -
         notes.append(f"the non-associative solve failed (status {result.status}: {result.message}); "
                      "no collapse state to compare")
         return out
+    from micro.nonassociative.results import QUOTED_LOWEST
+
     quoted, iterated = _nonassociative_values(result)
-    certified = result.quoted == "lowest certified" or result.stop_reason == "certified"
+    certified = result.quoted == QUOTED_LOWEST or result.stop_reason == "certified"
     if not certified:
         notes.append(f"the value quoted is the iterated LP's, whose state is not certified (it stopped "
                      f"{result.stop_reason}): no proof by a certified state")
@@ -434,9 +439,13 @@ def verdict_sentence(c: Comparison) -> str:
                 f"{c.micro_load_factor:.4f}, {_percent(macro_lam, c.micro_load_factor)}); {bound}.")
     if not math.isfinite(macro_lam):
         return "No verdict for this wall: the macro model gave no load factor."
-    return (f"No verdict for this wall: the macro λ {lam} is not above the associative bound"
-            + (f" {c.associative_load_factor:.4f}" if math.isfinite(c.associative_load_factor) else "")
-            + " and no collapse state was found to compare it with (" + "; ".join(c.diagnostics) + ").")
+    bound = f" {c.associative_load_factor:.4f}" if math.isfinite(c.associative_load_factor) else ""
+    if math.isfinite(c.micro_load_factor):  # above a state that is not certified
+        return (f"No verdict for this wall: the macro λ {lam} is not above the associative bound{bound}, and the "
+                f"state it lies above ({c.micro_load_factor:.4f}, "
+                f"{_percent(macro_lam, c.micro_load_factor)}) is not certified (" + "; ".join(c.diagnostics) + ").")
+    return (f"No verdict for this wall: the macro λ {lam} is not above the associative bound{bound}, and no "
+            "collapse state was found to compare it with (" + "; ".join(c.diagnostics) + ").")
 
 
 def _percent(value: float, reference: float) -> str:

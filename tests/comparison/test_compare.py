@@ -120,15 +120,16 @@ def test_a_failed_solve_leaves_only_what_was_proven(monkeypatch: pytest.MonkeyPa
     [
         ((0.61, 0.505), {}, ("unsafe", "associative bound")),
         ((0.5, 0.5 * (1 + 0.5 * ACCURACY)), {}, (None, None)),  # within the accuracy: not above the bound
-        ((0.5 * (1 + 2 * ACCURACY), 0.6, 0.5), {"searched": True}, ("unsafe", "certified state")),
-        ((0.5 * (1 + 0.5 * ACCURACY), 0.6, 0.5), {"searched": True}, ("not refuted", None)),  # agrees with it
-        ((0.45, 0.6, 0.5), {"searched": True}, ("not refuted", None)),
-        ((0.45, 0.6, 0.5), {"searched": True, "global_lower_bound": 0.49}, ("safe", "global bound")),
-        ((0.45, 0.6, 0.5), {"searched": True, "global_lower_bound": 0.45}, ("not refuted", None)),
-        ((0.45, 0.6, 0.5), {"searched": False}, (None, None)),
-        ((0.45, 0.6), {"searched": True}, ("not refuted", None)),  # converged, but no certified state
-        ((math.nan, 0.6, 0.5), {"searched": True}, (None, None)),  # the macro model failed
-        ((0.7, math.nan, 0.5), {"searched": True}, ("unsafe", "certified state")),  # the associative LP failed
+        ((0.5 * (1 + 2 * ACCURACY), 0.6, 0.5), {"found_load_factor": 0.5}, ("unsafe", "certified state")),
+        ((0.5 * (1 + 0.5 * ACCURACY), 0.6, 0.5), {"found_load_factor": 0.5}, ("not refuted", None)),  # agrees
+        ((0.45, 0.6, 0.5), {"found_load_factor": 0.5}, ("not refuted", None)),
+        ((0.45, 0.6, 0.5), {"found_load_factor": 0.5, "global_lower_bound": 0.49}, ("safe", "global bound")),
+        ((0.45, 0.6, 0.5), {"found_load_factor": 0.5, "global_lower_bound": 0.45}, ("not refuted", None)),
+        ((0.45, 0.6, 0.5), {}, (None, None)),  # no non-associative value: nothing to be below
+        ((0.45, 0.6), {"found_load_factor": 0.5}, ("not refuted", None)),  # below a state not certified
+        ((0.55, 0.6), {"found_load_factor": 0.5}, (None, None)),  # above a state not certified: no proof
+        ((math.nan, 0.6, 0.5), {"found_load_factor": 0.5}, (None, None)),  # the macro model failed
+        ((0.7, math.nan, 0.5), {"found_load_factor": 0.5}, ("unsafe", "certified state")),  # no associative LP
     ],
 )
 def test_judge(args: tuple[float, ...], kwargs: dict[str, Any], expected: tuple[str | None, str | None]) -> None:
