@@ -263,7 +263,7 @@ def _json_number(value: float) -> float | None:
 def _nonassociative_values(result: micro.NonAssociativeResult) -> tuple[float, float]:
     """``(the value to quote, the iterated LP's λ)`` of a non-associative result (the one place that reads
     them by name)."""
-    return result.quoted_load_factor, result.load_factor
+    return result.load_factor, result.iterated_load_factor
 
 
 @overload

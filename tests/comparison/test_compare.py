@@ -65,7 +65,7 @@ def test_the_models_values_are_theirs(set12: Comparison) -> None:
     assert set12.macro_load_factor == macro.solve(SET12.to_macro()).load_factor
     assert set12.macro_mechanism == set12.macro_result.mechanism  # type: ignore[union-attr]
     na = set12.nonassociative_result
-    assert na is not None and set12.micro_load_factor == na.quoted_load_factor
+    assert na is not None and set12.micro_load_factor == na.load_factor
     assert set12.associative_load_factor == pytest.approx(na.associative_load_factor, rel=1e-6)
     assert set12.local_mechanism is None and set12.blocks == 54
 
