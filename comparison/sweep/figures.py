@@ -272,8 +272,9 @@ def scatter(ws: Sequence[Wall], macro_columns: Sequence[str], path: Path) -> Pat
     ax.set_ylim(low, top)
     ax.set_aspect("equal")
     ax.set_xlabel("λ micro (reference)")
-    ax.set_ylabel("λ macro")
-    ax.legend(fontsize=7, loc="upper left")
+    ax.set_ylabel("λ " + ", λ ".join(points))  # each macro column by its name
+    # below the axes, clear of the points (which fill the square along its diagonal)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncols=2, frameon=False)
     ax.set_title("Above the 1:1 line: the macro value is unsafe", fontsize=9)
     return _save(fig, path)
 
