@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
-from comparison.compare import ACCURACY, judge
+from comparison.compare import ACCURACY, ASSOCIATIVE_BOUND, judge
 from comparison.sweep.grid import BOND
 from comparison.sweep.table import number
 from micro.nonassociative.results import QUOTED_LOWEST
@@ -126,7 +126,7 @@ def verdict_label(verdict: str | None, proof: str | None) -> str:
     """``"unsafe, by a certified state"``, ``"not refuted"``, ``"no verdict"``, ... (:data:`VERDICT_LABELS`)."""
     if verdict is None:
         return "no verdict"
-    return f"{verdict}, by {'the ' if proof == 'associative bound' else 'a '}{proof}" if proof else verdict
+    return f"{verdict}, by {'the ' if proof == ASSOCIATIVE_BOUND else 'a '}{proof}" if proof else verdict
 
 
 def verdicts(ws: Sequence[Wall], column: str) -> dict[str, int]:
