@@ -137,6 +137,10 @@ def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
         states = "" if band is None else f"; its mechanism's collapse states: lambda in [{band[0]:.6f}, {band[1]:.6f}]"
         lines.append(f"  iterated LP:         lambda = {c.iterated_load_factor:.6f}{states}")
         lines.append(f"  difference:          (macro - micro) / micro = {c.difference_percent:+.2f} %")
+    loc = c.local_mechanism
+    if loc is not None:
+        lines.append(f"  local mechanism:     {loc['description']} at lambda = {loc['load_factor']:.6f} "
+                     f"({loc['method']} micro, the block model's); the values above are the wall's own, with it held")
     if c.global_status:
         lines.append(f"  global search:       {c.global_status}, proven lower bound {c.global_lower_bound:.6f}")
     lines.extend(f"  note: {d}" for d in c.diagnostics)
@@ -158,10 +162,10 @@ def _plot(c: Comparison, path: str) -> tuple[str | None, bool]:
     from micro.plot import plot_mechanism, plot_velocities
 
     marks = storey_marks(c.wall, c.macro_result)
-    wall = c.wall.to_micro(first_course=c.options.first_course, head_joints=c.options.head_joints)
     na = c.nonassociative_result
     title = f"macro λ = {c.macro_load_factor:.4f}: {c.verdict or 'no verdict'}" + (f" ({c.proof})" if c.proof else "")
-    if na is not None and na.ok:
+    if na is not None and na.ok and c.nonassociative_wall is not None:
+        nwall = c.nonassociative_wall
         low = na.lowest_state
         state = low.state if low is not None and low.state is not None else na.governing
         direction = low.direction if low is not None else na.direction
@@ -169,10 +173,11 @@ def _plot(c: Comparison, path: str) -> tuple[str | None, bool]:
             return None, False
         velocities = state.mechanism.velocities
         title += f"\nnon-associative micro λ = {c.micro_load_factor:.4f} ({c.micro_quoted}), {direction}"
-        return _write_plot(lambda: plot_velocities(wall, velocities, path, title=title, direction=direction,
+        return _write_plot(lambda: plot_velocities(nwall, velocities, path, title=title, direction=direction,
                                                    **marks), path), True
     assoc = c.associative_result
-    if assoc is not None and assoc.ok:
+    if assoc is not None and assoc.ok and c.associative_wall is not None:
+        awall = c.associative_wall
         title += f"\nassociative micro λ = {c.associative_load_factor:.4f}"
-        return _write_plot(lambda: plot_mechanism(wall, assoc, path, title=title, **marks), path), True
+        return _write_plot(lambda: plot_mechanism(awall, assoc, path, title=title, **marks), path), True
     return None, False
