@@ -211,32 +211,8 @@ def state_from_document(doc: Any, source: str = "<document>") -> CollapseStateDa
     blocks = r.array(top["blocks"], "blocks", minimum=1)
     points = r.array(top["points"], "points")
     nb, npt = len(blocks), len(points)
-    vertices, centroid, weight, dead, live = [], [], [], [], []
-    for i, rec in enumerate(blocks):
-        where = f"blocks[{i}]"
-        b = r.obj(rec, where, required=_BLOCK_KEYS)
-        verts = r.array(b["vertices"], f"{where}.vertices", minimum=3)
-        vertices.append(np.array([r.vector(v, f"{where}.vertices[{k}]", 2) for k, v in enumerate(verts)]))
-        centroid.append(r.vector(b["centroid"], f"{where}.centroid", 2))
-        weight.append(r.number(b["weight"], f"{where}.weight", minimum=0.0))
-        dead.append(r.vector(b["dead"], f"{where}.dead", 3))
-        live.append(r.vector(b["live"], f"{where}.live", 3))
-    pa, pb, position, normal, tangent, mu = [], [], [], [], [], []
-    for i, rec in enumerate(points):
-        where = f"points[{i}]"
-        p = r.obj(rec, where, required=_POINT_KEYS)
-        a, b = r.pair(p["blocks"], f"{where}.blocks", nb)
-        pa.append(a)
-        pb.append(b)
-        position.append(r.vector(p["position"], f"{where}.position", 2))
-        nv, tv = r.vector(p["normal"], f"{where}.normal", 2), r.vector(p["tangent"], f"{where}.tangent", 2)
-        if abs(math.hypot(*nv) - 1.0) > UNIT_TOL:
-            r.fail(f"{where}.normal", f"must be a unit vector, its length is {math.hypot(*nv):.9g}")
-        if abs(math.hypot(*tv) - 1.0) > UNIT_TOL or abs(nv[0] * tv[0] + nv[1] * tv[1]) > UNIT_TOL:
-            r.fail(f"{where}.tangent", "must be a unit vector orthogonal to the normal")
-        normal.append(nv)
-        tangent.append(tv)
-        mu.append(r.number(p["mu"], f"{where}.mu", minimum=0.0))
+    vertices, centroid, weight, dead, live = _blocks(r, blocks)
+    pa, pb, position, normal, tangent, mu = _points(r, points, nb)
     forces = [r.vector(top[k], k, npt) for k in ("normal_forces", "shear_forces", "opening_rates", "slip_rates")]
     vel = r.array(top["velocities"], "velocities")
     if len(vel) != nb:
@@ -262,6 +238,43 @@ def state_from_document(doc: Any, source: str = "<document>") -> CollapseStateDa
     )
 
 
+def _blocks(r: _Reader, blocks: list) -> tuple[list, list, list, list, list]:
+    """``(vertices, centroid, weight, dead, live)`` of the ``blocks`` entries, each checked."""
+    vertices, centroid, weight, dead, live = [], [], [], [], []
+    for i, rec in enumerate(blocks):
+        where = f"blocks[{i}]"
+        b = r.obj(rec, where, required=_BLOCK_KEYS)
+        verts = r.array(b["vertices"], f"{where}.vertices", minimum=3)
+        vertices.append(np.array([r.vector(v, f"{where}.vertices[{k}]", 2) for k, v in enumerate(verts)]))
+        centroid.append(r.vector(b["centroid"], f"{where}.centroid", 2))
+        weight.append(r.number(b["weight"], f"{where}.weight", minimum=0.0))
+        dead.append(r.vector(b["dead"], f"{where}.dead", 3))
+        live.append(r.vector(b["live"], f"{where}.live", 3))
+    return vertices, centroid, weight, dead, live
+
+
+def _points(r: _Reader, points: list, n_blocks: int) -> tuple[list, list, list, list, list, list]:
+    """``(a, b, position, normal, tangent, mu)`` of the ``points`` entries, each checked (unit normals,
+    tangents orthogonal to them, blocks that exist)."""
+    pa, pb, position, normal, tangent, mu = [], [], [], [], [], []
+    for i, rec in enumerate(points):
+        where = f"points[{i}]"
+        p = r.obj(rec, where, required=_POINT_KEYS)
+        a, b = r.pair(p["blocks"], f"{where}.blocks", n_blocks)
+        pa.append(a)
+        pb.append(b)
+        position.append(r.vector(p["position"], f"{where}.position", 2))
+        nv, tv = r.vector(p["normal"], f"{where}.normal", 2), r.vector(p["tangent"], f"{where}.tangent", 2)
+        if abs(math.hypot(*nv) - 1.0) > UNIT_TOL:
+            r.fail(f"{where}.normal", f"must be a unit vector, its length is {math.hypot(*nv):.9g}")
+        if abs(math.hypot(*tv) - 1.0) > UNIT_TOL or abs(nv[0] * tv[0] + nv[1] * tv[1]) > UNIT_TOL:
+            r.fail(f"{where}.tangent", "must be a unit vector orthogonal to the normal")
+        normal.append(nv)
+        tangent.append(tv)
+        mu.append(r.number(p["mu"], f"{where}.mu", minimum=0.0))
+    return pa, pb, position, normal, tangent, mu
+
+
 def _short(value: Any) -> str:
     """A value for a message, cut to 40 characters."""
     text = repr(value) if not isinstance(value, (dict, list)) else type(value).__name__.replace("dict", "an object") \
@@ -283,7 +296,8 @@ class _Reader:
             self.fail(where, f"must be an object, got {_short(value)}")
         for key in value:
             if key not in required and key not in optional:
-                self.fail(f"{where}.{key}" if where else key, f"is not a key of the format (keys: "
+                name = key if key.isidentifier() else json.dumps(key)  # a newline in a key stays on one line
+                self.fail(f"{where}.{name}" if where else name, f"is not a key of the format (keys: "
                           f"{', '.join(required + optional)})")
         for key in required:
             if key not in value:
