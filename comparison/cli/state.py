@@ -58,7 +58,7 @@ def write_state_file(args: argparse.Namespace, result: Any, wall: BlockWall, spe
     if not result.ok:
         return f"--state: no collapse state to write ({result.status})"
     source = {"wall": spec.name or None, "paper_parameters": spec.paper_parameters(),
-              "first_course": args.first_course, "head_joints": args.head_joints}
+              **{k: getattr(args, k) for k in ("first_course", "head_joints") if hasattr(args, k)}}
     try:
         micro.write_state(result, args.state, wall=wall, source=source)
     except OSError as exc:

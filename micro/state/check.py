@@ -32,8 +32,9 @@ SCALES. Each residual is relative to the state's own scale, so a state in any un
 ``l`` the largest block (the diagonal of its bounding box; moments by ``F l``),
 ``R`` the largest rate (opening or slip, from the velocities), and ``W`` the largest of the power
 balance's three terms. A point is pressed when ``n > PRESSED * F`` and slips when
-``|ds| > SLIPPING * R``. The tolerances are named below with what they were measured against;
-``docs/files.md`` lists them.
+``|ds| > SLIPPING * R``. The tolerances are named below; ``docs/files.md`` lists them, and the residuals
+of the report's walls they were set against are on the research page
+``docs/research/2026-11-28-collapse-state-files.md``.
 """
 
 from __future__ import annotations
@@ -53,29 +54,28 @@ from micro.state.file import read_state
 
 FloatArray = NDArray[np.float64]
 
-#: Equilibrium: largest unbalanced force of a block over ``F`` (moment over ``F l``). The iterated LP
-#: accepts a final state up to 1e-6 block weights (``EQUILIBRIUM_RESIDUAL``); a load factor raised by
-#: 1 % leaves ``0.01 lambda`` of a block's live load.
+#: Equilibrium: largest unbalanced force of a block over ``F`` (moment over ``F l``); the iterated LP's
+#: bound on a final state (``EQUILIBRIUM_RESIDUAL``, block weights, and ``F`` is at least one).
 EQUILIBRIUM_TOL = 1e-6
 #: No tension and Coulomb: largest violation over ``F``.
 FORCE_TOL = 1e-6
 #: Compatibility: the file's rates against those of its velocities, over ``R`` (rounding only).
 COMPATIBILITY_TOL = 1e-9
 #: Interpenetration: closing rate (associative: below the dilatancy) over ``R``: the certificate's and
-#: the descent's reading of the simplex duals' noise (``micro.nonassociative.tuning.INTERPENETRATION``;
-#: the certified state of Table 5's Set 3 closes at 1.6e-6), so that every state they certify passes.
-#: A closing point that carries force fails ``opening`` and ``power`` at their tolerances.
+#: the descent's reading of the simplex duals' noise (``micro.nonassociative.tuning.INTERPENETRATION``),
+#: so that every state they certify passes. A closing point that carries force fails ``opening`` and
+#: ``power`` at their tolerances.
 INTERPENETRATION_TOL = INTERPENETRATION
 #: Dilatancy where sliding: ``|dn - delta|`` at pressed slipping points, over ``R``. An interior point's
-#: mechanism misses it by its complementarity gap over ``n``: up to 3e-6 on the 7,575-block Set 15
-#: (associative LP, ``normal-ipm``) at points pressed by more than 1e-4 of ``F``, 3e-4 at 1e-8.
+#: mechanism misses it by its complementarity gap over ``n``, hence :data:`PRESSED` and this tolerance,
+#: ten times the largest seen on the report's walls (the research page of the module docstring).
 DILATANCY_TOL = 1e-4
 #: Opening only where ``n = 0``: ``n |dn - delta|`` over ``F R``.
 OPENING_TOL = 1e-6
 #: Friction against the slip at the yield line: ``|s ds + mu n |ds||`` over ``F R``.
 FRICTION_TOL = 1e-6
-#: Power balance: work of the loads minus the friction law's dissipation, over ``W``. A load factor
-#: raised by 1 % breaks it by about 1e-2.
+#: Power balance: work of the loads minus the friction law's dissipation, over ``W``: the descent's
+#: acceptance of a state's energy balance (``EXACT_TOL``). A load factor raised by 1 % breaks it by 1e-2.
 POWER_TOL = 1e-6
 #: The mechanism: the live load's work at least this share of its blocks' absolute works.
 MECHANISM_TOL = 1e-6
