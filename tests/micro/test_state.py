@@ -105,6 +105,31 @@ def test_velocities_do_unit_work_and_rates_are_those_of_the_velocities(solved, f
     assert abs(Bn[:, :].toarray()[0::3] - lp.Bn.toarray()[0::3]).max() < 1e-12
 
 
+@pytest.mark.parametrize("friction", FRICTIONS)
+def test_a_state_in_minus_x_holds_its_live_load_as_applied(friction: str, tmp_path: Path) -> None:
+    """The cut wall is not its own mirror image: its -x state is another state, live loads pushing to -x."""
+    wall = _wall("cut")
+    solve = micro.solve_associative if friction == "associative" else micro.solve_nonassociative
+    result = solve(wall, directions="-x")
+    back = read_state(write_state(result, tmp_path / "minus.json", wall=wall))
+    assert back.direction == "-x" and np.all(back.live[:, 0] <= 0) and back.live[:, 0].sum() < 0
+    assert verify_state(back).passed
+    assert float(back.live.ravel() @ back.velocities.ravel()) == pytest.approx(1.0, rel=1e-9)
+
+
+@pytest.mark.parametrize("friction", FRICTIONS)
+@pytest.mark.parametrize("bond", [("half", "frictional"), ("full", "frictionless"), ("half", "frictionless")])
+@pytest.mark.parametrize("name", ["set12", "set14"])
+def test_the_bond_variants_of_table_7_verify(name: str, bond: tuple[str, str], friction: str) -> None:
+    """The report's other bonds: a half block first, and frictionless head joints (mu = 0 at their points)."""
+    wall = table7_wall(name, first_course=bond[0], head_joints=bond[1])
+    result = micro.solve_associative(wall) if friction == "associative" else micro.solve_nonassociative(wall)
+    state = collapse_state(result, wall)
+    assert (0.0 in state.mu) == (bond[1] == "frictionless")
+    check = verify_state(parse_state(state_file.dumps_state(state)))
+    assert check.passed, check.worst.describe()
+
+
 # --------------------------------------------------------------------------- tampered states
 @pytest.mark.parametrize("friction", FRICTIONS)
 @pytest.mark.parametrize("name", WALLS)

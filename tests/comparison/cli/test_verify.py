@@ -155,7 +155,14 @@ def test_the_state_option_is_checked_before_solving(tmp_path: Path, capsys: pyte
 def test_the_json_names_the_state_written(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     path = tmp_path / "s.json"
     assert main(["micro", *SET12, "--state", str(path), "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["state"] == str(path)
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["state"] == str(path)
+    jsonschema = pytest.importorskip("jsonschema")
+    schemas = Path(__file__).parents[3] / "docs" / "schemas"
+    assert list(jsonschema.Draft202012Validator(json.loads((schemas / "micro.schema.json").read_text()))
+                .iter_errors(doc)) == []
+    assert list(jsonschema.Draft202012Validator(json.loads((schemas / "state.schema.json").read_text()))
+                .iter_errors(json.loads(path.read_text()))) == []
     assert main(["micro", *SET12, "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["state"] is None
 
