@@ -83,12 +83,13 @@ def test_the_state_written_is_the_value_to_quote(solved, friction: str) -> None:
     if friction == "associative":
         assert state.load_factor == result.load_factor and state.source["state"] == "associative LP"
     else:
-        assert state.load_factor == result.quoted_load_factor == result.lowest_load_factor
+        assert state.load_factor == result.load_factor == result.lowest_load_factor
         assert state.source["state"] == "lowest certified"
-        assert state.load_factor < result.load_factor  # Set 13: the descent moved below the iterated LP
+        assert state.load_factor < result.iterated_load_factor  # Set 13: the descent moved below the iterated LP
     plain = micro.solve_nonassociative(wall, lowest=False)
     iterated = collapse_state(plain, wall)
-    assert iterated.load_factor == plain.load_factor and iterated.source["state"] == "iterated LP"
+    assert iterated.load_factor == plain.load_factor == plain.iterated_load_factor
+    assert iterated.source["state"] == "iterated LP"
     assert verify_state(iterated).passed
 
 
