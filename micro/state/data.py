@@ -180,8 +180,8 @@ def with_rates(state: CollapseStateData) -> CollapseStateData:
     dn, ds = Bn.T @ y, Bs.T @ y
     scale = max(float(np.max(np.abs(dn), initial=0.0)), float(np.max(np.abs(ds), initial=0.0)))
     states = classify_rates(dn, ds, CONTACT_STATE_TOL * scale)
-    return dataclasses.replace(state, opening_rate=dn, slip_rate=ds,
-                    contact_state=tuple(CONTACT_STATE_NAMES[k] for k in states))
+    names = tuple(CONTACT_STATE_NAMES[k] for k in states)
+    return dataclasses.replace(state, opening_rate=dn, slip_rate=ds, contact_state=names)
 
 
 def _governing(result: Any) -> tuple[DirectionResult, float, str, str]:

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from micro_walls import table7_wall
+from micro_walls import table7_wall, three_storey_wall
 
 import micro
 import micro.files
@@ -127,6 +127,17 @@ def test_the_bond_variants_of_table_7_verify(name: str, bond: tuple[str, str], f
     result = micro.solve_associative(wall) if friction == "associative" else micro.solve_nonassociative(wall)
     state = collapse_state(result, wall)
     assert (0.0 in state.mu) == (bond[1] == "frictionless")
+    check = verify_state(parse_state(state_file.dumps_state(state)))
+    assert check.passed, check.worst.describe()
+
+
+@pytest.mark.parametrize("friction", FRICTIONS)
+def test_a_wall_with_floor_loads_verifies(friction: str) -> None:
+    """Three storeys of unequal thickness with floor loads: dead loads beyond the weight, live moments."""
+    wall = three_storey_wall()
+    result = micro.solve_associative(wall) if friction == "associative" else micro.solve_nonassociative(wall)
+    state = collapse_state(result, wall)
+    assert np.any(state.live[:, 2] != 0) and np.any(-state.dead[:, 1] > state.weight)
     check = verify_state(parse_state(state_file.dumps_state(state)))
     assert check.passed, check.worst.describe()
 
