@@ -43,24 +43,26 @@ def check_state_path(args: argparse.Namespace) -> None:
         raise UsageError(f"--state: the folder of {args.state!r} does not exist")
 
 
-def write_state_file(args: argparse.Namespace, result: Any, wall: BlockWall, spec: WallSpec) -> str | None:
+def write_state_file(args: argparse.Namespace, result: Any, wall: BlockWall,
+                     spec: WallSpec) -> tuple[str | None, str | None]:
     """Write the state of ``result`` to ``args.state`` (when given and the result has one).
 
     Returns:
-        Why it could not be written (``None``: written, or not asked for). A failed result has no state:
-        ``"--state: no collapse state to write (...)"``; a file that cannot be written (a full disk) is not
-        bad input: the caller prints the result, then this line, and exits with 1.
+        ``(the path written, why it could not be)``, ``None`` where not: ``(None, None)`` without
+        ``--state``. A failed result has no state (``"--state: no collapse state to write (...)"``); a
+        file that cannot be written (a full disk) is not bad input: the caller prints the result, then
+        this line, and exits with 1 (:func:`~comparison.cli.options.exit_after_outputs`).
     """
     if args.state is None:
-        return None
+        return None, None
     import micro
 
     if not result.ok:
-        return f"--state: no collapse state to write ({result.status})"
+        return None, f"--state: no collapse state to write ({result.status})"
     source = {"wall": spec.name or None, "paper_parameters": spec.paper_parameters(),
               **{k: getattr(args, k) for k in ("first_course", "head_joints") if hasattr(args, k)}}
     try:
         micro.write_state(result, args.state, wall=wall, source=source)
     except OSError as exc:
-        return f"--state: cannot write {args.state!r} ({exc.strerror or exc})"
-    return None
+        return None, f"--state: cannot write {args.state!r} ({exc.strerror or exc})"
+    return args.state, None
