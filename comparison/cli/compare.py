@@ -19,14 +19,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from comparison.cli.options import (
-    EXIT_FAILED,
-    EXIT_OK,
     QUIET,
     VERBOSE,
     UsageError,
     add_command,
     add_wall_options,
     choice,
+    exit_after_outputs,
     in_range,
     int_option,
     wall_from_args,
@@ -91,7 +90,6 @@ def options_from_args(args: argparse.Namespace) -> CompareOptions:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck compare``."""
-    from comparison.cli.micro import _plot_failed
     from comparison.compare import compare
 
     options = options_from_args(args)
@@ -117,9 +115,7 @@ def run(args: argparse.Namespace) -> int:
         print(format_comparison(result, verbose=args.verbosity >= VERBOSE))
         if args.plot is not None and not drawn:
             print(f"  no plot written to {args.plot}: no micro mechanism")
-    if plot_error:
-        return _plot_failed(plot_error)
-    return EXIT_OK if result.status == "ok" else EXIT_FAILED
+    return exit_after_outputs(result.status == "ok", plot_error)
 
 
 def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
