@@ -11,12 +11,15 @@ import os
 from pathlib import Path
 
 
-def writable_directory(name: str, path: str | os.PathLike[str]) -> Path:
+def writable_directory(name: str, path: str | os.PathLike[str], *, create: bool = True) -> Path:
     """``path`` as a directory this process can write into, created (with its parents) if missing.
 
     Args:
         name: the parameter, as the caller spells it (``--out``, ``cache_dir``).
         path: the directory.
+        create: False to check only, creating nothing (a command checks every input before it makes a
+            folder, so that bad input leaves nothing behind): the directory, or the nearest folder above
+            it that exists, must be a directory this process can write into.
 
     Raises:
         ValueError: ``"{name}: cannot write to {path!r} (reason)"``: the path
@@ -29,6 +32,15 @@ def writable_directory(name: str, path: str | os.PathLike[str]) -> Path:
     directory = Path(path)
     if directory.exists() and not directory.is_dir():
         raise ValueError(f"{name}: cannot write to {str(directory)!r} (it is a file, not a directory)")
+    if not create:
+        existing = next(p for p in (Path(os.path.abspath(directory)), *Path(os.path.abspath(directory)).parents)
+                        if p.exists() or p == p.parent)
+        if not existing.is_dir():
+            raise ValueError(f"{name}: cannot write to {str(directory)!r} ({str(existing)!r} is a file, not a "
+                             "directory)")
+        if not os.access(existing, os.W_OK | os.X_OK):
+            raise ValueError(f"{name}: cannot write to {str(directory)!r} (permission denied)")
+        return directory
     try:
         directory.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
