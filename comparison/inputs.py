@@ -25,15 +25,21 @@ _KINDS = (
 )
 
 
-def read_input_file(path: str | os.PathLike[str], max_bytes: int | None = None) -> bytes:
+def read_input_file(path: str | os.PathLike[str], max_bytes: int | None = None, *,
+                    follow_symlinks: bool = True) -> bytes:
     """The bytes of the regular file ``path`` (at most ``max_bytes + 1`` of them, so that a caller
-    can tell a file longer than ``max_bytes``).
+    can tell a file longer than ``max_bytes``; a sparse file of gigabytes costs no more).
+
+    Args:
+        follow_symlinks: False to refuse a symbolic link as the last part of ``path`` (``ELOOP``), for
+            folders the suite writes itself and never links (the result cache).
 
     Raises:
         OSError: the file cannot be opened or read, or is not a regular file
             (``strerror``: ``"not a regular file: a named pipe"`` and the like).
     """
-    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    nofollow = 0 if follow_symlinks else getattr(os, "O_NOFOLLOW", 0)
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | nofollow | getattr(os, "O_CLOEXEC", 0))
     try:
         mode = os.fstat(fd).st_mode
         if not stat.S_ISREG(mode):

@@ -33,14 +33,14 @@ How an entry is read, so that no file in the cache folder can hang a run or
 exhaust its memory (a cache folder is shared, synced, restored from backups):
 
 * a file is opened without following a symbolic link and without blocking
-  (``O_NOFOLLOW | O_NONBLOCK``), and only a regular file is read: a FIFO, a
-  directory, a device, a symbolic link (to ``/dev/zero``, or a loop), an
-  unreadable file or a kind folder that is a file is a :class:`CacheWarning`
+  (:func:`comparison.inputs.read_input_file`), and only a regular file is read:
+  a FIFO, a directory, a device, a symbolic link (to ``/dev/zero``, or a loop),
+  an unreadable file or a kind folder that is a file is a :class:`CacheWarning`
   and a recompute, like a truncated entry;
 * a record file is read only up to :data:`MAX_RECORD_BYTES`, a mechanism file
-  up to :data:`MAX_MECHANISM_BYTES` (its arrays, unpacked, likewise), checked on
-  the open file's size before a byte is read and again while reading: a larger
-  file (a 3 GB sparse file) is refused the same way.
+  up to :data:`MAX_MECHANISM_BYTES` (its arrays, unpacked, likewise, checked
+  before they are unpacked): a larger file (a 3 GB sparse file) is refused the
+  same way after that many bytes.
 
 Reading an entry therefore holds at most one record file, one mechanism file
 and its arrays at a time (:data:`MAX_RECORD_BYTES` + 2 x
@@ -64,7 +64,6 @@ import hashlib
 import io
 import json
 import os
-import stat
 import tempfile
 import warnings
 import zipfile
@@ -75,6 +74,7 @@ from typing import Any
 
 import numpy as np
 
+from comparison.inputs import read_input_file
 from comparison.runner.methods import PACKAGES, Method
 from comparison.runner.records import MechanismRecord, Record
 from comparison.wall import WallSpec
@@ -93,10 +93,6 @@ MAX_RECORD_BYTES = 1 << 20
 #: blocks' velocities, 24 bytes a block: 169 kB compressed for the report's largest wall (7,575 blocks);
 #: 64 MiB is 2.8 million blocks, far beyond what the micro methods solve.
 MAX_MECHANISM_BYTES = 64 << 20
-#: How a cache file is opened: read-only, never through a symbolic link, never waiting on a FIFO.
-_OPEN_FLAGS = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
-#: Bytes read at a time.
-_CHUNK = 1 << 16
 
 #: Statuses and stop reasons of a result cut short by a wall-clock limit: not stored.
 WALL_CLOCK_STOPS = frozenset({"time_limit", "time_budget"})
@@ -188,6 +184,21 @@ def stopped_by_wall_clock(record: Record) -> bool:
 
 class _Corrupt(Exception):
     """An entry on disk that cannot be read (the message says why)."""
+
+
+def _read_capped(path: Path, limit: int) -> bytes:
+    """The bytes of the regular file ``path``, not through a symbolic link, read without blocking and at
+    most ``limit`` (+ 1) of them.
+
+    Raises:
+        FileNotFoundError: no such file.
+        OSError: it cannot be opened, is a symbolic link or is not a regular file (the message says which).
+        _Corrupt: larger than ``limit``.
+    """
+    data = read_input_file(path, limit, follow_symlinks=False)
+    if len(data) > limit:
+        raise _Corrupt(f"more than the {limit:,} bytes a cache file may have")
+    return data
 
 
 class ResultCache:
@@ -294,7 +305,7 @@ class ResultCache:
                 that is a file).
             _Corrupt: a record or arrays that cannot be read (not a regular file, too large, damaged).
         """
-        raw = read_regular(path, MAX_RECORD_BYTES)
+        raw = _read_capped(path, MAX_RECORD_BYTES)
         try:
             stored = json.loads(raw)
             if stored.get("format") != CACHE_FORMAT:
@@ -316,7 +327,7 @@ class ResultCache:
             npz = path.with_name(ref["file"])
             if npz.parent != path.parent:
                 raise _Corrupt(f"its mechanism file {ref['file']!r} is not beside it")
-            data = read_regular(npz, MAX_MECHANISM_BYTES)
+            data = _read_capped(npz, MAX_MECHANISM_BYTES)
         except (OSError, KeyError, TypeError, ValueError) as exc:
             raise _Corrupt(f"its mechanism file cannot be read: {exc}") from None
         if hashlib.sha256(data).hexdigest() != ref.get("sha256"):
@@ -334,39 +345,3 @@ class ResultCache:
         except Exception as exc:  # noqa: BLE001 - whatever damaged arrays raise
             raise _Corrupt(f"its mechanism file {npz.name} cannot be read: {type(exc).__name__}: {exc}") from None
 
-
-def read_regular(path: Path, limit: int) -> bytes:
-    """The bytes of ``path`` when it is a regular file of at most ``limit`` bytes, read without following a
-    symbolic link or waiting on a FIFO, in chunks (at most ``limit`` + one chunk held).
-
-    Raises:
-        FileNotFoundError: no such file.
-        OSError: it cannot be opened (no permission, a symbolic link, a folder on the path that is a file).
-        _Corrupt: not a regular file, or larger than ``limit`` (as its size says, or as it is read).
-    """
-    fd = os.open(path, _OPEN_FLAGS)
-    try:
-        info = os.fstat(fd)
-        if not stat.S_ISREG(info.st_mode):
-            raise _Corrupt(f"not a regular file ({_file_type(info.st_mode)})")
-        if info.st_size > limit:
-            raise _Corrupt(f"{info.st_size:,} bytes, more than the {limit:,} a cache file may have")
-        chunks, size = [], 0
-        while size <= limit:
-            chunk = os.read(fd, _CHUNK)
-            if not chunk:
-                return b"".join(chunks)
-            chunks.append(chunk)
-            size += len(chunk)
-        raise _Corrupt(f"more than the {limit:,} bytes a cache file may have")
-    finally:
-        os.close(fd)
-
-
-def _file_type(mode: int) -> str:
-    """A file's type in words."""
-    for test, name in ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a device"),
-                       (stat.S_ISBLK, "a device"), (stat.S_ISSOCK, "a socket")):
-        if test(mode):
-            return name
-    return "a special file"

@@ -131,9 +131,7 @@ def test_a_kind_folder_that_is_a_file_is_warned_and_recomputed(stored: Path) -> 
     assert record.load_factor == pytest.approx(0.75, abs=1e-6) and runner.computed == 1
 
 
-def test_a_record_over_its_size_cap_is_refused_unread(stored: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """The caps are checked on the open file's size before reading, and again while reading (a file that
-    grows)."""
+def test_a_record_over_its_size_cap_is_refused(stored: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(cache_module, "MAX_RECORD_BYTES", stored.stat().st_size - 1)
     _recomputed(stored.parent.parent, "more than the")
     assert MAX_RECORD_BYTES >= 1 << 20 and MAX_MECHANISM_BYTES >= 1 << 26
