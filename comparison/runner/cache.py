@@ -58,13 +58,11 @@ environment variable ``XCHECK_CACHE``, else ``$XDG_CACHE_HOME/xcheck``
 from __future__ import annotations
 
 import ast
-import contextlib
 import errno
 import hashlib
 import io
 import json
 import os
-import tempfile
 import warnings
 import zipfile
 from dataclasses import asdict
@@ -75,6 +73,7 @@ from typing import Any
 import numpy as np
 
 from comparison.inputs import read_input_file
+from comparison.outputs import write_atomic
 from comparison.runner.methods import PACKAGES, Method
 from comparison.runner.records import MechanismRecord, Record
 from comparison.wall import WallSpec
@@ -155,25 +154,6 @@ def _wall_key(spec: WallSpec) -> dict[str, Any]:
     d = asdict(spec)
     d.pop("name", None)
     return d
-
-
-def write_atomic(path: Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a unique temporary file, flushed and renamed.
-
-    A reader sees the old file or the new one, never a part of either; two
-    writers each rename a whole file of their own.
-    """
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
 
 
 def stopped_by_wall_clock(record: Record) -> bool:
