@@ -25,6 +25,10 @@ _KINDS = (
 )
 
 
+#: Bytes read at a time when a file is read up to a cap.
+_CHUNK = 1 << 20
+
+
 def read_input_file(path: str | os.PathLike[str], max_bytes: int | None = None, *,
                     follow_symlinks: bool = True) -> bytes:
     """The bytes of the regular file ``path`` (at most ``max_bytes + 1`` of them, so that a caller
@@ -48,7 +52,17 @@ def read_input_file(path: str | os.PathLike[str], max_bytes: int | None = None, 
         os.set_blocking(fd, True)
         with os.fdopen(fd, "rb") as fh:
             fd = -1  # the file object closes it
-            return fh.read() if max_bytes is None else fh.read(max_bytes + 1)
+            if max_bytes is None:
+                return fh.read()
+            # in chunks: ``read(max_bytes + 1)`` would allocate the whole cap for a file of a few bytes
+            chunks, size = [], 0
+            while size <= max_bytes:
+                chunk = fh.read(min(_CHUNK, max_bytes + 1 - size))
+                if not chunk:
+                    break
+                chunks.append(chunk)
+                size += len(chunk)
+            return b"".join(chunks)
     finally:
         if fd >= 0:
             os.close(fd)

@@ -44,8 +44,8 @@ exhaust its memory (a cache folder is shared, synced, restored from backups):
 
 Reading an entry therefore holds at most one record file, one mechanism file
 and its arrays at a time (:data:`MAX_RECORD_BYTES` + 2 x
-:data:`MAX_MECHANISM_BYTES`, 129 MiB, as a hard bound; the largest real
-entry is under 0.2 MB), and nothing is kept between reads: checking a folder of
+:data:`MAX_MECHANISM_BYTES`, 129 MiB, as a hard bound; real entries are
+hundreds of times smaller), and nothing is kept between reads: checking a folder of
 thousands of entries takes the memory of one (no folder is ever listed).
 
 A run killed mid-write leaves at most a ``.*.tmp`` file, which no reader
@@ -84,13 +84,12 @@ from comparison.wall import WallSpec
 CACHE_FORMAT = 3
 
 #: The largest record file read (bytes). A record is scalars and the load factor of every LP of the
-#: iterated sequence: 1.4 kB (associative, 7,575 blocks) to 3.1 kB (non-associative, 300 blocks, 26 LPs)
-#: measured, and a few hundred LPs at most add about 10 kB. A thousand times the largest is room to spare
-#: and still a read no machine notices.
+#: iterated sequence, a few kB (docs/research/2026-11-28-cache-and-outputs.md measures them): a cap
+#: hundreds of times the largest refuses no real entry and bounds what a read holds.
 MAX_RECORD_BYTES = 1 << 20
-#: The largest mechanism file read, and the most its arrays may unpack to (bytes). The arrays are the
-#: blocks' velocities, 24 bytes a block: 169 kB compressed for the report's largest wall (7,575 blocks);
-#: 64 MiB is 2.8 million blocks, far beyond what the micro methods solve.
+#: The largest mechanism file read, and the most its arrays may unpack to (bytes): 24 bytes a block,
+#: 0.17 MB for the report's largest wall (7,575 blocks); 64 MiB is 2.8 million blocks, far beyond what
+#: the micro methods solve.
 MAX_MECHANISM_BYTES = 64 << 20
 
 #: Statuses and stop reasons of a result cut short by a wall-clock limit: not stored.
