@@ -47,8 +47,8 @@ def writable_directory(name: str, path: str | os.PathLike[str], *, create: bool 
     if directory.exists() and not directory.is_dir():
         raise ValueError(f"{name}: cannot write to {str(directory)!r} (it is a file, not a directory)")
     if not create:
-        existing = next(p for p in (Path(os.path.abspath(directory)), *Path(os.path.abspath(directory)).parents)
-                        if p.exists() or p == p.parent)
+        absolute = Path(os.path.abspath(directory))
+        existing = next(p for p in (absolute, *absolute.parents) if os.path.exists(p) or p == p.parent)
         if not existing.is_dir():
             raise ValueError(f"{name}: cannot write to {str(directory)!r} ({str(existing)!r} is a file, not a "
                              "directory)")
