@@ -6,23 +6,22 @@ with one line naming the parameter.
 
 Every text output (``.md``, ``.json``, ``.csv``, ``timings.json``; figures go
 through :func:`micro.plot.save_figure` the same way) is written whole or not
-at all (:func:`write_atomic`): into a temporary file beside it, flushed to
-disk, then renamed over its name. A full disk, a kill or an error mid-write
+at all (:func:`write_atomic`, :func:`micro.files.write_whole`): into a
+temporary file beside it, flushed to disk, then renamed over its name. A full disk, a kill or an error mid-write
 leaves the old file (or none) and no temporary file: never a cut-short page or
 a 0-byte JSON.
 """
 
 from __future__ import annotations
 
-import contextlib
 import csv
-import functools
 import io
 import os
-import tempfile
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
+
+from micro.files import write_whole
 
 
 def writable_directory(name: str, path: str | os.PathLike[str], *, create: bool = True) -> Path:
@@ -64,35 +63,8 @@ def writable_directory(name: str, path: str | os.PathLike[str], *, create: bool 
     return directory
 
 
-def write_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
-    """Write ``data`` to ``path`` through a unique temporary file in the same folder, flushed and renamed.
-
-    A reader sees the old file or the new one, never a part of either; two writers each rename a whole
-    file of their own; on any failure (a full disk: ``ENOSPC``) the temporary file is removed and the
-    error raised.
-    """
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        os.fchmod(fd, _file_mode())  # a temporary file is private (0600); the output is not
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-    return path
-
-
-@functools.cache
-def _file_mode() -> int:
-    """The mode ``open()`` gives a new file: ``0o666`` less the process's umask (read once)."""
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return 0o666 & ~mask
+#: Write bytes to a path whole or not at all (the suite's one writer, :func:`micro.files.write_whole`).
+write_atomic = write_whole
 
 
 def write_text(path: str | os.PathLike[str], text: str) -> Path:

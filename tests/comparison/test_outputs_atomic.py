@@ -56,7 +56,7 @@ def test_a_sweep_on_a_full_disk_leaves_the_last_whole_outputs_and_no_temporary_f
     done = subprocess.run([sys.executable, "-m", "comparison.cli", "sweep", str(grid), "--out", str(out), "--cache",
                            str(tmp_path / "c"), "-q"], preexec_fn=_limited, capture_output=True, text=True, env=env,
                           cwd=tmp_path, timeout=300)
-    assert done.returncode == 1 and done.stderr == "xcheck: error: cannot write the output: File too large\n"
+    assert done.returncode == 1 and done.stderr == f"xcheck: error: cannot write {out / 'full.csv'}: File too large\n"
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
 
 
