@@ -7,9 +7,9 @@ with one line naming the parameter.
 Every text output (``.md``, ``.json``, ``.csv``, ``timings.json``; figures go
 through :func:`micro.plot.save_figure` the same way) is written whole or not
 at all (:func:`write_atomic`, :func:`micro.files.write_whole`): into a
-temporary file beside it, flushed to disk, then renamed over its name. A full disk, a kill or an error mid-write
-leaves the old file (or none) and no temporary file: never a cut-short page or
-a 0-byte JSON.
+temporary file beside it, flushed to disk, then renamed over its name. A full
+disk, a kill or an error mid-write leaves the old file (or none) and no
+temporary file: never a cut-short page or a 0-byte JSON.
 """
 
 from __future__ import annotations
