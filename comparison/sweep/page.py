@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from comparison.outputs import write_text
 from comparison.sweep import figures
 from comparison.sweep.compare import (
     AGREEMENT,
@@ -96,7 +97,7 @@ def write_page(table: Path, out_dir: Path, name: str) -> Page:
     page = render(read_table(table), out_dir, title=f"Validation: {name}", intro=intro, prefix=name,
                   functions=_functions(meta), source=table.name)
     path = out_dir / f"{name}.md"
-    path.write_text(page.text, encoding="utf-8")
+    write_text(path, page.text)
     return Page(page.text, page.figures, page.numbers, path)
 
 
