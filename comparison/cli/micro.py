@@ -410,7 +410,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
             else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
         )
         print(f"status {result.status} after {result.iterations} LPs{window}: {result.message}")
-        if verbosity == QUIET:  # the failure line alone (README, "Exit codes")
+        if verbosity == QUIET:  # the failure line alone (docs/cli.md, "Exit codes")
             return
         _print_retry(result)
     _print_fusion(result)

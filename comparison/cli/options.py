@@ -23,7 +23,7 @@ from comparison.wall import WallSpec
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.runner.executor import Executor
 
-#: Exit codes of ``xcheck`` (documented in the README and in ``xcheck --help``).
+#: Exit codes of ``xcheck`` (documented in docs/cli.md, "Exit codes", in the README and in ``xcheck --help``).
 EXIT_OK = 0
 #: A method ran but gave no load factor (a solve that is not optimal, an iterated LP that did not converge),
 #: or the output could not be written (a full disk).
@@ -41,7 +41,7 @@ DISK_FULL = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 # Values of ``args.verbosity`` (``-q``/``--quiet``, default, ``-v``/``--verbose``), defined with the
 # progress display that long-running subcommands pass them down to: QUIET, NORMAL, VERBOSE.
 
-#: The exit codes, as ``xcheck --help`` shows them (the README has the same list).
+#: The exit codes, as ``xcheck --help`` shows them (docs/cli.md and the README have the same list).
 EXIT_CODES = """\
 exit codes:
   0    success: every method asked for gave its load factor

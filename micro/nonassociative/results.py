@@ -390,7 +390,7 @@ class NonAssociativeResult:
     def lowest_state(self) -> LowestDirection | None:
         """The lowest certified state over the directions (``None`` unless
         the run converged and every direction has one): the load factor a
-        safety assessment should quote (README, "Which load factor to quote")."""
+        safety assessment should quote (docs/micro/nonassociative.md, "Which value to quote")."""
         found = [low for low in self.lowest if low.found]
         if not self.converged or not found or len(found) < len(self.directions):
             return None

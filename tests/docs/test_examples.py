@@ -9,6 +9,10 @@ comment is marked:
 * ``<!-- skip-example: REASON -->``: not run (synopses with placeholders, installs, long runs);
 * ``<!-- expect-exit: N -->``: its commands must exit with ``N``.
 
+Every command that writes files names a folder of its own (``--out``), never the clone's committed
+``reports/``, skipped blocks included; and the committed tables copied into each example's folder are
+unchanged after it ran, so an example that wrote into ``reports/`` fails.
+
 A command written on several pages runs once (the first page, in the order README.md, docs/ sorted);
 its other blocks run only their other commands.
 
@@ -18,6 +22,7 @@ kept as it was measured (their commands are those of their date) and are not col
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import shlex
@@ -35,6 +40,8 @@ TIMEOUT = 120
 #: Fence languages that hold commands, and those that hold Python.
 SHELL = {"sh", "bash", "console", "shell"}
 PYTHON = {"python", "py"}
+#: The subcommands that write files, each given ``--out``.
+WRITERS = {"report", "stability", "sweep", "references"}
 MARK = re.compile(r"<!--\s*(skip-example|expect-exit)\s*:\s*(.*?)\s*-->")
 FENCE = re.compile(r"^```(\w*)\s*$")
 
@@ -134,6 +141,41 @@ def _folder(tmp_path: Path) -> Path:
     return tmp_path
 
 
+def _snapshot(folder: Path) -> dict[str, str]:
+    """Every file under ``folder/reports`` with the digest of its bytes."""
+    root = folder / "reports"
+    return {str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(root.rglob("*"))
+            if p.is_file()}  # fmt: skip
+
+
+def _split(argv: list[str]) -> list[list[str]]:
+    """The commands of a line chained with ``&&``."""
+    out: list[list[str]] = [[]]
+    for word in argv:
+        if word == "&&":
+            out.append([])
+        else:
+            out[-1].append(word)
+    return [c for c in out if c]
+
+
+def test_commands_that_write_name_their_own_folder() -> None:
+    """Every ``xcheck report|stability|sweep|references`` of the pages (skipped blocks too: a reader runs
+    them) names ``--out``, and not the clone's committed ``reports/``: without it ``report`` and
+    ``stability`` write into ``reports/`` and change the committed files."""
+    seen = 0
+    for b in SHELL_BLOCKS:
+        for line in commands(b.text):
+            for argv in _split(line):
+                if Path(argv[0]).name != "xcheck" or len(argv) < 2 or argv[1] not in WRITERS:
+                    continue
+                seen += 1
+                assert "--out" in argv, f"{b.id}: `{shlex.join(argv)}` names no --out folder"
+                out = Path(argv[argv.index("--out") + 1])
+                assert out.parts[0] != "reports", f"{b.id}: `{shlex.join(argv)}` writes into the committed reports/"
+    assert seen >= 8
+
+
 def test_examples_are_collected() -> None:
     """The collector sees the README's commands and Python, and every page's blocks are marked or runnable."""
     readme = [b for b in SHELL_BLOCKS if b.page == "README.md" and not b.skip]
@@ -153,6 +195,7 @@ def test_shell_example(block: Example, tmp_path: Path, cache: Path) -> None:
     if block.skip:
         pytest.skip(block.skip)
     folder = _folder(tmp_path)
+    committed = _snapshot(folder)
     env = {**os.environ, "XCHECK_CACHE": str(cache), "MPLBACKEND": "Agg"}
     for argv in commands(block.text):
         if FIRST[(*argv, f"exit {block.exit_code}")] != block.id:
@@ -167,6 +210,7 @@ def test_shell_example(block: Example, tmp_path: Path, cache: Path) -> None:
             f"{block.id}: `{shlex.join(argv)}` exited with {run.returncode}, expected {block.exit_code}\n"
             f"stdout: {run.stdout[-2000:]}\nstderr: {run.stderr[-2000:]}"
         )
+    assert _snapshot(folder) == committed, f"{block.id}: an example wrote into the committed reports/"
 
 
 @pytest.mark.parametrize("block", PYTHON_BLOCKS, ids=[b.id for b in PYTHON_BLOCKS])
@@ -174,6 +218,7 @@ def test_python_example(block: Example, tmp_path: Path, cache: Path) -> None:
     if block.skip:
         pytest.skip(block.skip)
     folder = _folder(tmp_path)
+    committed = _snapshot(folder)
     script = folder / "example.py"
     script.write_text(block.text + "\n", encoding="utf-8")
     env = {**os.environ, "XCHECK_CACHE": str(cache), "MPLBACKEND": "Agg"}
@@ -183,3 +228,4 @@ def test_python_example(block: Example, tmp_path: Path, cache: Path) -> None:
     except subprocess.TimeoutExpired:
         pytest.fail(f"{block.id}: ran over {TIMEOUT} s")
     assert run.returncode == block.exit_code, f"{block.id}: exited with {run.returncode}\n{run.stderr[-3000:]}"
+    assert _snapshot(folder) == committed, f"{block.id}: the example wrote into the committed reports/"
