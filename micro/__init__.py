@@ -21,18 +21,20 @@ Every result has a flat record (``result.to_record()``: a read-only mapping of i
 
 Layout: ``geometry`` (the wall), ``lp`` (the LP), ``backends`` (the solvers),
 ``mechanism``, ``results`` and ``records`` (what comes out), ``associative``
-and ``nonassociative`` (the two analyses), ``plot``. The method, its options and which
+and ``nonassociative`` (the two analyses), ``global_search`` (the proven global
+minimum, composed after a non-associative run: ``solve_global(lp, start=result)``),
+``plot``. The method, its options and which
 value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, global-search).
 """
 
 from micro.associative import solve_associative
 from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backend
 from micro.geometry import BlockWall, build_wall, estimate_bytes
+from micro.global_search import GlobalOptions, GlobalResult, solve_global
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
 from micro.nonassociative import (
     SCHEMES,
-    GlobalOptions,
     IterationRecord,
     NonAssociativeOptions,
     NonAssociativeResult,
@@ -52,6 +54,7 @@ __all__ = [
     "BlockWall",
     "DirectionResult",
     "GlobalOptions",
+    "GlobalResult",
     "IterationRecord",
     "LimitLP",
     "LimitResult",
@@ -70,6 +73,7 @@ __all__ = [
     "make_backend",
     "mechanism_from_duals",
     "solve_associative",
+    "solve_global",
     "solve_nonassociative",
     "verify_collapse_state",
 ]

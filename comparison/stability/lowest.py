@@ -13,6 +13,7 @@ number reproduces on another machine. Each run is one typed
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import time
@@ -222,16 +223,17 @@ def study_cases(quick: bool = False) -> list[LowestCase]:
 def run_case(case: LowestCase) -> LowestRun:
     """The iterated LP, the descent and (with ``case.nodes``) the global search on one wall."""
     import micro
-    from micro.nonassociative import GlobalOptions
+    from micro.global_search import GlobalOptions, global_fields, solve_global
 
     wall = case.wall.spec().to_micro(first_course=case.first_course, head_joints=case.head_joints)
     nan = math.nan
     try:
-        search = GlobalOptions(node_limit=case.nodes, time_limit=None, bounds=GLOBAL_BOUNDS) if case.nodes else None
-        r = micro.solve_nonassociative(wall, global_=search)
+        r = micro.solve_nonassociative(wall)
+        g = solve_global(wall, start=r, options=GlobalOptions(node_limit=case.nodes, time_limit=None,
+                                                                bounds=GLOBAL_BOUNDS)) if case.nodes else None
     except Exception as exc:  # noqa: BLE001 - recorded as the run's status
         return _failed(case, wall.n_blocks, f"error: {type(exc).__name__}: {exc}")
-    rec, g = r.to_record(), r.global_search
+    rec = r.to_record() if g is None else dataclasses.replace(r.to_record(), **global_fields(g))
     band = r.mechanism_band if r.converged and r.mechanism_band is not None else (nan, nan)
     return LowestRun(
         case, wall.n_blocks, r.status, r.load_factor, band, rec.lowest_load_factor, rec.lowest_moves,

@@ -41,14 +41,14 @@ Modules, one concept each:
 ``results``      the types: :class:`IterationRecord`, :class:`SequenceDiagnostics`,
                  :class:`LowestDirection`, :class:`NonAssociativeResult`;
 ``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
-``lowest``       the descent to the lowest certified collapse state (``options.lowest``);
-``global_search``  the mixed-integer search for the global minimum (``options.global_``): a
-                 subpackage (options and results, bounds, model, patterns, branch and bound, solvers).
+``lowest``       the descent to the lowest certified collapse state (``options.lowest``).
 
 After a converged run, the descent (on by default) reports the lowest
 certified collapse state it reaches (``lowest_load_factor``) beside the
-iterated LP's own fixed point (``load_factor``, unchanged); the global search
-(off by default) adds a proven lower bound (``global_lower_bound``) and the gap.
+iterated LP's own fixed point (``load_factor``, unchanged). The search for
+the global minimum is not part of this method: its caller composes it,
+``micro.global_search.solve_global(lp, start=result)``, for a proven lower
+bound and the gap.
 
 A sequence stops as ``converged`` (exactly, or certified), ``cycling``
 (``lambda_band`` is ``[min, max]`` over the cycle or the last window),
@@ -63,12 +63,11 @@ NaN; the last value and the band are reported beside it.
 from __future__ import annotations
 
 import time
-from typing import Any, Literal
+from typing import Any
 
 from micro.geometry import BlockWall, check_block_wall
-from micro.lp import LimitLP, assemble
+from micro.lp import assemble
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.global_search import GlobalOptions, GlobalResult, StartState, solve_global
 from micro.nonassociative.lowest import lowest_state
 from micro.nonassociative.options import LOWEST_BUDGET, NonAssociativeOptions
 from micro.nonassociative.pipeline import solve_chain
@@ -96,14 +95,14 @@ from micro.nonassociative.tuning import (
     Tuning,
     continuation_allowed,
 )
-from micro.results import DirectionResult, direction_sign, load_directions
+from micro.results import load_directions
 
 __all__ = [
     "CONVERGED", "CYCLING", "DEFAULT_RELAXATION", "FUSE_BLOCKS", "MAX_ITERATIONS", "SCHEMES", "SELECTIONS",
-    "SOLVER_FAILURE", "STATUSES", "TIME_LIMIT", "FusionDiagnostics", "GlobalOptions", "GlobalResult",
+    "SOLVER_FAILURE", "STATUSES", "TIME_LIMIT", "FusionDiagnostics",
     "IterationRecord", "LOWEST_BUDGET", "LPProgress", "LowestDirection", "NonAssociativeOptions",
     "NonAssociativeResult", "Progress", "Recipe", "SequenceDiagnostics", "TUNING_KNOBS", "Tuning",
-    "continuation_allowed", "detect_cycle", "lowest_state", "recipe_for", "solve_global", "solve_nonassociative",
+    "continuation_allowed", "detect_cycle", "lowest_state", "recipe_for", "solve_nonassociative",
     "verify_collapse_state"
 ]
 
@@ -178,7 +177,6 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     lowest = tuple(lowest_state(lp, res, r, model, proposals=model is not None)
                    for res, model in solved if res.converged) if r.lowest else ()
     del solved  # the models: the descent has taken over what it needs
-    glob = _global_search(lp, results, lowest, o.global_) if isinstance(o.global_, GlobalOptions) else None
     solve_secs = time.perf_counter() - t0 - build
     failing = [res for res in results if not res.converged]
     if failing:
@@ -191,17 +189,6 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
-        directions=results, recipe=r, message=msg, lowest=lowest, global_search=glob,
+        directions=results, recipe=r, message=msg, lowest=lowest,
     )
 
-
-def _global_search(lp: LimitLP, results: tuple[DirectionResult, ...], lowest: tuple[LowestDirection, ...],
-                   options: GlobalOptions) -> GlobalResult:
-    """The branch and bound over the directions solved, each started from the
-    lowest certified state (else the iterated LP's converged state)."""
-    starts = [StartState.from_iterated(lp, low.state) for low in lowest if low.state is not None]
-    have = {st.direction for st in starts}
-    starts += [StartState.from_iterated(lp, r) for r in results
-               if r.converged and direction_sign(r.direction) not in have]
-    which: Literal[1, -1, "both"] = "both" if len(results) > 1 else 1 if results[0].direction == "+x" else -1
-    return solve_global(lp, which, options, starts)

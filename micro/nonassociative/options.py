@@ -3,6 +3,8 @@
 The method itself (scheme, selections, fusing, tolerances) is not an option:
 its defaults are the report's method, and the research knobs live apart in
 :class:`~micro.nonassociative.tuning.Tuning` (``docs/micro/tuning.md``).
+Nor is the search for the global minimum: its caller composes it after the
+run (:func:`micro.global_search.solve_global` with ``start=result``).
 """
 
 from __future__ import annotations
@@ -15,7 +17,6 @@ from typing import Any
 import numpy as np
 
 from micro.backends.base import check_integer, finite_real
-from micro.nonassociative.global_search.results import GlobalOptions
 from micro.results import Directions, check_directions
 
 #: Default of :attr:`NonAssociativeOptions.lowest_budget`: LPs per direction.
@@ -49,13 +50,6 @@ class NonAssociativeOptions:
             that spends it returns the lowest certified state found so far
             (``lowest_stop="budget"``). It counts LPs, not seconds: the same
             wall stops at the same state on every machine.
-        global_: the search for the global minimum by branch and bound
-            (:mod:`micro.nonassociative.global_search`; walls of a few
-            blocks): ``False`` (the default) none, ``True`` with the
-            defaults of :class:`~micro.nonassociative.GlobalOptions`, or a
-            ``GlobalOptions`` with every setting of the search (time and node
-            limits, gap, big-M policy, HiGHS or SCIP). Stored as the
-            ``GlobalOptions`` or ``None``.
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -67,7 +61,6 @@ class NonAssociativeOptions:
     max_seconds: float | None = None
     lowest: bool = True
     lowest_budget: int = LOWEST_BUDGET
-    global_: GlobalOptions | bool | None = None
 
     def __post_init__(self) -> None:
         check_directions(self.directions)
@@ -79,10 +72,6 @@ class NonAssociativeOptions:
             if tl is not None:
                 object.__setattr__(self, name, float(tl))
         check_integer("lowest_budget", self.lowest_budget, 0)
-        g = self.global_
-        if not isinstance(g, (GlobalOptions, bool, np.bool_)) and g is not None:
-            raise ValueError(f"global_ must be True, False or a GlobalOptions, got {g!r}")
-        object.__setattr__(self, "global_", GlobalOptions() if g is True or g is np.True_ else g or None)
         if not isinstance(self.lowest, (bool, np.bool_)):
             raise ValueError(f"lowest must be True or False, got {self.lowest!r}")
         object.__setattr__(self, "lowest", bool(self.lowest))

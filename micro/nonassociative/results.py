@@ -7,7 +7,6 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from micro.nonassociative.global_search.results import GlobalResult, global_fields, global_summary
 from micro.nonassociative.recipe import Recipe
 from micro.records import NonAssociativeRecord, check_success, json_number
 from micro.results import DirectionResult, record_fields
@@ -267,8 +266,6 @@ class NonAssociativeResult:
         message: explanation when not converged.
         lowest: the lowest certified state of every converged direction
             (``lowest``; :mod:`micro.nonassociative.lowest`).
-        global_search: the branch and bound for the global minimum
-            (``global_``; :mod:`micro.nonassociative.global_search`), or ``None``.
     """
 
     load_factor: float
@@ -289,7 +286,6 @@ class NonAssociativeResult:
     recipe: Recipe = field(repr=False)
     message: str = ""
     lowest: tuple[LowestDirection, ...] = field(default=(), repr=False)
-    global_search: GlobalResult | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         check_success("NonAssociativeResult", self.status, self.load_factor)
@@ -424,7 +420,7 @@ class NonAssociativeResult:
             selection=q.selection, vertex_stop_reason="" if q.vertex_attempt is None else q.vertex_attempt.stop_reason,
             quoted_load_factor=self.quoted_load_factor, quoted=self.quoted,
             vertex_lambda_band=None if q.vertex_attempt is None else q.vertex_attempt.lambda_band,
-            **lowest_fields(self.lowest_state, self.lowest), **global_fields(self.global_search),
+            **lowest_fields(self.lowest_state, self.lowest),
             fused_bodies=0 if q.fusion is None else q.fusion.bodies,
             fused_points=0 if q.fusion is None else q.fusion.points,
             unfused_stop_reason="" if q.unfused_attempt is None else q.unfused_attempt.stop_reason,
@@ -433,8 +429,8 @@ class NonAssociativeResult:
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary: the record (:meth:`to_record`) with the
         contact states, the descent, options, history and directions as
-        nested objects (and, after a global search, its direction, nodes and
-        seconds beside its record keys). The contact states of the mechanism
+        nested objects (a global search composed after the run adds its keys:
+        :func:`micro.global_search.global_summary`). The contact states of the mechanism
         are the record's ``*_contacts`` keys (0 without one)."""
         num = json_number
         record = self.to_record().to_dict()
@@ -442,7 +438,6 @@ class NonAssociativeResult:
         return {
             **{k: record[k] for k in first}, **record,
             "lowest": [lowest_summary(low) for low in self.lowest],
-            **({} if self.global_search is None else global_summary(self.global_search)),
             "options": self.recipe.as_dict(),
             "history": [r.as_dict() for r in self.history],
             "directions": {

@@ -16,8 +16,8 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative.global_search import GlobalOptions, StartState, solve_global
-from micro.nonassociative.global_search.results import scip_available
+from micro.global_search import GlobalOptions, StartState, solve_global
+from micro.global_search.results import scip_available
 
 #: Nodes per search: enough to show that the bound does not move.
 NODES = 20

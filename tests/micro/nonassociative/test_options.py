@@ -26,7 +26,6 @@ def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, 
         (dict(max_seconds=0), "max_seconds"),
         (dict(lowest_budget=-1.0), "lowest_budget"),
         (dict(lowest_budget=float("inf")), "lowest_budget"),
-        (dict(global_="yes"), "global_"),
         (dict(lowest="yes"), "lowest"),
     ],
 )
@@ -125,15 +124,17 @@ def test_the_recipe_composes_the_options_and_the_tuning() -> None:
     assert names <= set(d) and d["relaxation"] == 0.6 and d["fuse"] is False and d["time_limit"] == 30.0
 
 
-def test_one_global_options_object_reaches_the_search() -> None:
-    """Every setting of the global search, the solver included, travels in one GlobalOptions: ``True`` is
-    its defaults, a GlobalOptions is kept as given, ``False`` is no search."""
-    from micro.nonassociative import GlobalOptions
+def test_the_global_search_is_composed_after_the_run_not_an_option() -> None:
+    """The iterated LP's options hold no global search (``global_`` is an unknown option, naming the
+    options); its caller composes it from the result: every setting travels in one GlobalOptions, kept as
+    given, and the search runs the result's directions."""
+    from micro.global_search import GlobalOptions, solve_global
 
-    assert micro.NonAssociativeOptions(global_=True).global_ == GlobalOptions()
-    assert micro.NonAssociativeOptions(global_=False).global_ is None
-    given = GlobalOptions(node_limit=3, time_limit=None, bounds="uniform")
     w = WallSpec.from_paper(t=1, m=1, rows=2, f=0.6).to_micro()  # 5 blocks
-    r = solve_nonassociative(w, global_=given)
-    assert r.global_search is not None and r.global_search.options is given
-    assert all(d.bounds is not None and d.bounds.policy == "uniform" for d in r.global_search.directions)
+    with pytest.raises(TypeError, match="unknown option"):
+        solve_nonassociative(w, global_=True)
+    r = solve_nonassociative(w)
+    given = GlobalOptions(node_limit=3, time_limit=None, bounds="uniform")
+    g = solve_global(w, start=r, options=given)
+    assert g.options is given and [d.direction for d in g.directions] == [d.direction for d in r.directions]
+    assert all(d.bounds is not None and d.bounds.policy == "uniform" for d in g.directions)

@@ -1,6 +1,6 @@
 """The global search's types: its options, a contact pattern, the big-M bounds, the results.
 
-A types module: it imports no module of the search (:mod:`~micro.nonassociative.global_search`
+A types module: it imports no module of the search (:mod:`~micro.global_search`
 computes; this module only describes what goes in and comes out).
 """
 
@@ -201,7 +201,7 @@ class GlobalDirection:
         pattern: its contact pattern, or ``None``.
         pattern_band: least and greatest ``lambda`` over the force fields of
             that pattern (any of them forms a collapse state with the mechanism).
-        residuals: its check (:func:`micro.nonassociative.global_search.pattern.collapse_residuals`).
+        residuals: its check (:func:`micro.global_search.pattern.collapse_residuals`).
         bounds: the big-M bounds used, or ``None``.
         binaries: binary columns of the model.
         nodes: branch-and-bound nodes.

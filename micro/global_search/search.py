@@ -2,9 +2,9 @@
 
 The MIP's own solution is never reported as it stands: its binaries (the
 contact pattern) are rounded and the state is rebuilt by the two LPs of the
-pattern (:func:`micro.nonassociative.global_search.pattern.force_state` and
-:func:`~micro.nonassociative.global_search.pattern.mechanism`), then checked by
-:func:`~micro.nonassociative.global_search.pattern.collapse_residuals`. The rebuilt load factor is
+pattern (:func:`micro.global_search.pattern.force_state` and
+:func:`~micro.global_search.pattern.mechanism`), then checked by
+:func:`~micro.global_search.pattern.collapse_residuals`. The rebuilt load factor is
 the least of the pattern, so it is at most the MIP's (up to HiGHS'
 feasibility tolerances on the big-M rows, which it removes).
 """
@@ -18,13 +18,13 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.global_search import highs as gh
+from micro.global_search.bounds import BoundError, big_m
+from micro.global_search.model import Layout, build_mip, pattern_of, solution_vector
+from micro.global_search.pattern import collapse_residuals, force_state, is_collapse_state, mechanism
+from micro.global_search.results import BigM, GlobalOptions, Pattern
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
-from micro.nonassociative.global_search import highs as gh
-from micro.nonassociative.global_search.bounds import BoundError, big_m
-from micro.nonassociative.global_search.model import Layout, build_mip, pattern_of, solution_vector
-from micro.nonassociative.global_search.pattern import collapse_residuals, force_state, is_collapse_state, mechanism
-from micro.nonassociative.global_search.results import BigM, GlobalOptions, Pattern
 
 FloatArray = NDArray[np.float64]
 
@@ -125,7 +125,7 @@ def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts
     """The branch and bound by HiGHS, or by SCIP on the same model (``opts.solver``)."""
     start = None if inc is None else solution_vector(lp, layout, inc.pattern, inc.n, inc.s, inc.load_factor, inc.v)
     if opts.solver == "scip":
-        from micro.nonassociative.global_search import scip
+        from micro.global_search import scip
 
         m, xs = scip.from_model(h)
         if start is not None:
