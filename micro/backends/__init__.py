@@ -8,6 +8,11 @@
 ``clarabel_kinematic``  :class:`ClarabelKinematicBackend` (the kinematic form, ``clarabel``);
 ``normal_ipm``  :class:`NormalIpmBackend` (``normal-ipm``), the suite's interior point on the normal
               equations, over ``normal_matrix`` (:class:`NormalMatrix`, CHOLMOD);
+``normal_qp``  :class:`LeastDistanceQP` (the least-distance QP on the normal equations) and
+              :class:`ClarabelLeastDistance`: the proximal projection's solvers;
+``roles``     which back end plays which part in the non-associative method (the interior-point LP,
+              the persistent LP of the iterated LP and the descent, the projection): a back end for
+              the iterated LP is named there;
 ``polish``    :func:`polish_equilibrium`, the kinematic form's forces corrected onto exact equilibrium;
 ``cvxpy_``    :class:`CvxpyBackend`, the readable reference formulation.
 """

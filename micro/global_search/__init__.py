@@ -121,7 +121,7 @@ def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "bot
     lp = wall_or_lp if isinstance(wall_or_lp, LimitLP) else assemble(wall_or_lp)
     if isinstance(start, NonAssociativeResult):
         if direction == "auto":
-            direction = "both" if len(start.directions) > 1 else direction_sign(start.directions[0].direction)
+            direction = "both" if len(start.directions) > 1 else 1 if start.directions[0].direction == "+x" else -1
         start = starts_from(lp, start)
     if direction in (1, -1):
         dirs: tuple[int, ...] = (int(direction),)

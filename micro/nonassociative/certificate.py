@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.clarabel import CLARABEL_RETRY, ClarabelStaticBackend
+from micro.backends.roles import INTERIOR_RETRY, InteriorLP
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
 from micro.nonassociative.states import point_states
@@ -52,7 +52,7 @@ StateTriple = tuple[FloatArray, FloatArray, float]
 #: Clarabel settings of the certificate LPs: their ends are checked for
 #: feasibility, so optimality to 1e-9 is enough (the tight settings stopped
 #: short on every certificate LP of the Table 7 walls and were retried).
-STATE_CLARABEL = CLARABEL_RETRY
+STATE_CLARABEL = INTERIOR_RETRY
 #: Relative slack of the test "the iterate's lambda lies in the mechanism band".
 BAND_SLACK = 1e-7
 
@@ -122,8 +122,8 @@ class Certificate:
         lp, d = self.lp, self.d
         restricted = dataclasses.replace(lp, col_upper=np.concatenate([*pattern, [np.inf]]))
         tl = None if not math.isfinite(time_limit) else float(time_limit)
-        direction = -d if sense > 0 else d  # ClarabelStaticBackend maximises direction * lambda_column
-        out = ClarabelStaticBackend(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)
+        direction = -d if sense > 0 else d  # InteriorLP maximises direction * lambda_column
+        out = InteriorLP(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)
         if out.status is not Status.OPTIMAL or out.n is None or out.s is None:
             return None, out
         return (np.asarray(out.n), np.asarray(out.s), d * (out.load_factor * direction)), out

@@ -32,8 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.clarabel import ClarabelStaticBackend
-from micro.backends.highs import PersistentHighsModel
+from micro.backends.roles import InteriorLP, PersistentLP
 from micro.lp import LimitLP
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
@@ -140,7 +139,7 @@ class LPSequence:
         """
         lp, P = self.lp, self.lp.n_points
         if self.recipe.tuning.start == "interior":
-            out = ClarabelStaticBackend(lp, time_limit=self.recipe.options.time_limit).solve(self.d)
+            out = InteriorLP(lp, time_limit=self.recipe.options.time_limit).solve(self.d)
             if out.ok and out.n is not None and out.s is not None:
                 return out, "clarabel", np.concatenate([out.n, out.s, [out.load_factor * self.d]])
             out, algo = self._associative_model().run(), "ipm"
@@ -151,9 +150,9 @@ class LPSequence:
         n, s = lp.forces(out.x[: 2 * P])
         return out, algo, np.concatenate([n, s, [out.x[lp.lam_col]]])
 
-    def _associative_model(self) -> PersistentHighsModel:
+    def _associative_model(self) -> PersistentLP:
         """The associative LP of this direction in generator form, for HiGHS' interior point."""
-        m = PersistentHighsModel.of(self.lp, +1, algorithm="ipm")
+        m = PersistentLP.of(self.lp, +1, algorithm="ipm")
         m.set_cost(self.lp.lam_col, -float(self.d))
         return m
 

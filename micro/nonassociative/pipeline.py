@@ -47,7 +47,7 @@ from numpy.typing import NDArray
 from scipy.sparse.csgraph import connected_components
 
 from micro.backends.base import Outcome
-from micro.backends.clarabel import ClarabelStaticBackend
+from micro.backends.roles import InteriorLP
 from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import checks
@@ -289,7 +289,7 @@ def fused_wall(lp: LimitLP, direction: int, recipe: Recipe) -> tuple[FusedLP, Ou
         ``(the fused LP, the associative outcome)``, or ``None`` where the
         associative LP fails or nothing moves (the wall itself must run).
     """
-    assoc = ClarabelStaticBackend(lp, time_limit=recipe.options.time_limit).solve(direction)
+    assoc = InteriorLP(lp, time_limit=recipe.options.time_limit).solve(direction)
     if not assoc.ok or assoc.duals is None:
         return None
     body, n_bodies = rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]))

@@ -14,6 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from micro.backends.roles import ROLE_NAMES
 from micro.nonassociative.options import NonAssociativeOptions
 from micro.nonassociative.tuning import SelectionName, Tuning
 
@@ -88,12 +89,12 @@ class Recipe:
     def solver_description(self) -> str:
         """Which solver does what in the iterated LP, e.g. ``"clarabel (start,
         certificate) + highs-simplex (iterated) + highs-ipm (cold check)"``."""
-        t = self.tuning
-        roles = [("clarabel" if t.start == "interior" else "highs-ipm+crossover", "start")]
+        t, interior, persistent = self.tuning, ROLE_NAMES["interior"], ROLE_NAMES["persistent"]
+        roles = [(interior if t.start == "interior" else f"{persistent}-ipm+crossover", "start")]
         if t.certify or t.mechanism_band:
-            roles.append(("clarabel", "certificate"))
-        roles.append(("highs-simplex", "iterated" + (", fused" if self.fuse else "")))
-        roles.append(("highs-ipm", "cold check"))
+            roles.append((interior, "certificate"))
+        roles.append((f"{persistent}-simplex", "iterated" + (", fused" if self.fuse else "")))
+        roles.append((f"{persistent}-ipm", "cold check"))
         by_solver: dict[str, list[str]] = {}
         for solver, role in roles:
             by_solver.setdefault(solver, []).append(role)

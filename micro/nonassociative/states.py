@@ -44,7 +44,7 @@ import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.highs import PersistentHighsModel
+from micro.backends.roles import PersistentLP
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
 from micro.nonassociative.tuning import INTERPENETRATION, STATE_RESIDUAL, TINY
@@ -210,7 +210,7 @@ class PersistentRuns:
         time_limit: seconds per run (``inf``: none).
     """
 
-    def __init__(self, model: PersistentHighsModel, time_limit: float) -> None:
+    def __init__(self, model: PersistentLP, time_limit: float) -> None:
         self.model, self.time_limit = model, time_limit
         if model.stall_guard is None:
             model.guard_stalls()  # a stalled run fails (and is recovered) instead of hanging
@@ -306,7 +306,7 @@ class ForceLP(PersistentRuns):
     """
 
     def __init__(self, lp: LimitLP, direction: int, time_limit: float = math.inf) -> None:
-        super().__init__(PersistentHighsModel.of(lp, direction, algorithm="simplex"), time_limit)
+        super().__init__(PersistentLP.of(lp, direction, algorithm="simplex"), time_limit)
         self.lp, self.d = lp, direction
         self._cols = np.arange(2 * lp.n_points)
         self._gen = lp.A[:, : 2 * lp.n_points].tocsc()
@@ -365,7 +365,7 @@ class MechanismLP(PersistentRuns):
         upper = np.full(ne + 2 * P, np.inf)
         row_lo = np.concatenate([np.zeros(2 * P), [1.0]])
         row_up = np.concatenate([np.full(P, np.inf), np.zeros(P), [1.0]])
-        model = PersistentHighsModel(A, np.zeros(ne + 2 * P), lower, upper, row_lo, row_up, algorithm="simplex")
+        model = PersistentLP(A, np.zeros(ne + 2 * P), lower, upper, row_lo, row_up, algorithm="simplex")
         super().__init__(model, time_limit)
         self.lp, self.d = lp, direction
         self._q = ne + np.arange(2 * P)
