@@ -15,11 +15,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Literal
 
 from comparison.cases import cases_in_table
@@ -265,12 +262,3 @@ def run_cases(cases: Sequence[LowestCase], processes: int = 2) -> list[LowestRun
             assert isinstance(i, int)
             done[i] = outcome.value if outcome.ok else _failed(cases[i], 0, f"{outcome.kind}: {outcome.error}")
     return [done[i] for i in range(len(cases))]
-
-
-def main_lowest(out: str | os.PathLike[str] = "reports", *, processes: int = 2, quick: bool = False) -> dict[str, Path]:
-    """Run the study and write ``lowest.md``, ``lowest.csv`` and ``lowest.png`` to ``out``."""
-    from comparison.stability.lowest_render import write_lowest
-
-    t0 = time.perf_counter()
-    runs = run_cases(study_cases(quick), processes)
-    return write_lowest(runs, Path(out), seconds=time.perf_counter() - t0, processes=processes)

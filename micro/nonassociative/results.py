@@ -183,7 +183,7 @@ def diagnostics(d: DirectionResult) -> SequenceDiagnostics:
     Raises:
         ValueError: ``d`` is not a result of the iterated LP.
     """
-    if d.sequence is None:
+    if not isinstance(d.sequence, SequenceDiagnostics):
         raise ValueError(f"direction {d.direction} is not a result of the iterated LP")
     return d.sequence
 
