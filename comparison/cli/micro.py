@@ -153,6 +153,8 @@ def run(args: argparse.Namespace) -> int:
     if args.solver is None:  # the library's default back end
         result = micro.solve_associative(wall, time_limit=time_limit)
     else:
+        if missing := micro.backends.missing_extra(args.solver):  # an optional extra not installed
+            raise UsageError(missing)
         result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
     plot_error = None
     if args.plot is not None and result.ok:
