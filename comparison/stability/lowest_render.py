@@ -85,7 +85,7 @@ def _intro(runs: Sequence[LowestRun], seconds: float, processes: int) -> list[st
         f"{groups['table7']} Table 7 walls (4 bond variants), {groups['grid']} walls of the stability grid, "
         f"{groups['tiny']} tiny walls (2-4 rows, {tiny_blocks} blocks). Every wall: the iterated LP with its defaults "
         "(scheme a, relaxation 0.6, certified), then the descent to the lowest certified collapse state "
-        "(`micro.nonassociative.lowest`; every state it keeps passes `verify_collapse_state`). The global "
+        "(`micro.nonassociative.descent.lowest`; every state it keeps passes `verify_collapse_state`). The global "
         "search (branch and bound, HiGHS, started from the lowest state; `micro.global_search`) "
         f"runs on Table 7's walls in their default bond ({TABLE7_NODES} nodes per direction) and on every wall "
         f"of at most {GLOBAL_MAX_BLOCKS} blocks ({GLOBAL_NODES:,} nodes per direction; big-M bounds "

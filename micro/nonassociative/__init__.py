@@ -40,8 +40,9 @@ Modules, one concept each:
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
 ``results``      the types: :class:`IterationRecord`, :class:`SequenceDiagnostics`,
                  :class:`LowestDirection`, :class:`NonAssociativeResult`;
-``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
-``lowest``       the descent to the lowest certified collapse state (``options.lowest``).
+``descent``      the descent to the lowest certified collapse state (``options.lowest``): a
+                 subpackage, ``lowest`` (the walk) and ``states`` (the two LPs of a contact
+                 pattern: least ``lambda``, a compatible mechanism).
 
 After a converged run, the descent (on by default) reports the lowest
 certified collapse state it reaches (``lowest_load_factor``) beside the
@@ -68,7 +69,7 @@ from typing import Any
 from micro.geometry import BlockWall, check_block_wall
 from micro.lp import assemble
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.lowest import lowest_state
+from micro.nonassociative.descent.lowest import lowest_state
 from micro.nonassociative.options import LOWEST_BUDGET, NonAssociativeOptions
 from micro.nonassociative.pipeline import solve_chain
 from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
@@ -173,7 +174,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     build = time.perf_counter() - t0
     solved = [solve_chain(lp, d, r) for d in load_directions(o.directions, wall.mirror_symmetric)]
     results = tuple(res for res, _ in solved)
-    # without the iterated LP's model (a fused wall) the descent makes no proposal (micro.nonassociative.lowest)
+    # without the iterated LP's model (a fused wall) the descent makes no proposal (its module docstring)
     lowest = tuple(lowest_state(lp, res, r, model, proposals=model is not None)
                    for res, model in solved if res.converged) if r.lowest else ()
     del solved  # the models: the descent has taken over what it needs

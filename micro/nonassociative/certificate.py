@@ -42,10 +42,10 @@ from micro.backends.base import Outcome, Status
 from micro.backends.roles import INTERIOR_RETRY, InteriorLP
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
-from micro.nonassociative.states import point_states
 from micro.nonassociative.tuning import INTERPENETRATION, TINY
 
 FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
 #: ``(n, s, lambda)`` of a state found by a certificate LP.
 StateTriple = tuple[FloatArray, FloatArray, float]
 
@@ -55,6 +55,38 @@ StateTriple = tuple[FloatArray, FloatArray, float]
 STATE_CLARABEL = INTERIOR_RETRY
 #: Relative slack of the test "the iterate's lambda lies in the mechanism band".
 BAND_SLACK = 1e-7
+
+
+def point_states(dn: FloatArray, ds: FloatArray, max_noise: float) -> tuple[BoolArray, BoolArray, BoolArray] | None:
+    """Which points of a mechanism open and which slip, by the one rule for
+    "this rate is zero" (the certificate's pattern and the descent's
+    :func:`~micro.nonassociative.descent.states.restricted_columns`).
+
+    A rate is zero below :data:`~micro.mechanism.STATE_TOL` of the largest,
+    the rule of :func:`~micro.nonassociative.checks.verify_collapse_state`, so
+    that a state built on the pattern passes its slip-at-yield check (a
+    former margin of 10 x the dual noise let states slip at 1.01e-6 of the
+    largest rate with friction below yield). Closing rates up to
+    ``max_noise`` of the largest are read as the dual noise of a simplex
+    mechanism at closed points (down to -1.1e-5 seen on Set 4, where exact
+    duals give >= 0); beyond it the mechanism interpenetrates.
+
+    Args:
+        dn, ds: ``(P,)`` opening and slip rates.
+        max_noise: largest closing rate, relative to the largest rate, read as noise.
+
+    Returns:
+        ``(opening, slipping with ds > 0, slipping with ds < 0)`` masks, or
+        ``None`` when a point closes by more than ``max_noise``.
+    """
+    scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)), 1e-300)
+    noise = max(-float(np.min(dn, initial=0.0)), 0.0) / scale
+    if noise > max_noise:
+        return None
+    tol = STATE_TOL * scale
+    opening = dn > tol
+    return opening, (ds > tol) & ~opening, (ds < -tol) & ~opening
+
 
 
 @dataclass(frozen=True, eq=False)

@@ -120,7 +120,7 @@ class IterationModel:
         """The current basis carried over to the generator LP of the same wall
         (columns ``[g+, g-, lambda]``, ``n = g+ + g-``, ``s = mu (g+ - g-)``,
         :mod:`micro.lp`): the start of a descent LP
-        (:class:`~micro.nonassociative.states.ForceLP`) without a cold solve.
+        (:class:`~micro.nonassociative.descent.states.ForceLP`) without a cold solve.
 
         Each point keeps its number of basic columns: ``n`` and ``s`` basic
         (a sticking point) make both generators basic; one of them basic

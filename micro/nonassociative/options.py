@@ -43,7 +43,7 @@ class NonAssociativeOptions:
             depends on time: the same wall gives the same numbers everywhere.
         lowest: after a converged run, descend to the lowest certified
             collapse state (``lowest_load_factor``, the value to quote;
-            :mod:`micro.nonassociative.lowest`); ``False``: the iterated
+            :mod:`micro.nonassociative.descent.lowest`); ``False``: the iterated
             LP's state only.
         lowest_budget: the most LPs the descent may solve per direction
             (one more gives the band of the state it returns); a descent

@@ -10,9 +10,9 @@ import pytest
 import micro
 from comparison.wall import WallSpec
 from micro.nonassociative import Tuning, solve_nonassociative, verify_collapse_state
-from micro.nonassociative.lowest import EXACT_TOL, LOWEST_TOL, Descent, lowest_state
+from micro.nonassociative.descent.lowest import EXACT_TOL, LOWEST_TOL, Descent, lowest_state
+from micro.nonassociative.descent.states import ForceLP, refine, restricted_columns
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.states import ForceLP, refine, restricted_columns
 
 #: Table 7 of the paper (single storey, 12 rows, f = 0.75): (t, m) and the
 #: lowest certified load factor the descent reaches (full first course,

@@ -13,7 +13,7 @@ collapse load is therefore ``min lambda`` over admissible fields and
 mechanisms with ``L(v, n) <= lambda``, a bilinear problem, and:
 
 * with ``v`` fixed it is the LP of the band's LOWER END
-  (:class:`~micro.nonassociative.states.ForceLP`);
+  (:class:`~micro.nonassociative.descent.states.ForceLP`);
 * with ``n`` fixed, ``min_v L(v, n)`` is the dual of Gilbert's LP
   ``|s| <= mu nbar`` with ``nbar = n``. At the lower end ``(n_lo, lambda_lo)``
   it returns ``lambda_lo`` itself: the lower end is a fixed point of the
@@ -23,7 +23,7 @@ mechanisms with ``L(v, n) <= lambda``, a bilinear problem, and:
 Alternating the two is the convex-concave procedure on this problem. POLISH
 (:meth:`Descent.polish`) does it with a choice: among the mechanisms
 compatible with the current state it takes the one
-(:class:`~micro.nonassociative.states.MechanismLP`) that restricts least of
+(:class:`~micro.nonassociative.descent.states.MechanismLP`) that restricts least of
 the columns whose reduced cost says they would lower ``lambda``. The next
 lower end is never higher (the current state is one of its fields); polish
 stops at a state that no compatible mechanism improves.
@@ -92,10 +92,7 @@ from micro.geometry import HEAD
 from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.model import IterationModel
-from micro.nonassociative.recipe import LPProgress, Recipe
-from micro.nonassociative.results import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
-from micro.nonassociative.states import (
+from micro.nonassociative.descent.states import (
     Basis,
     ForceField,
     ForceLP,
@@ -103,6 +100,9 @@ from micro.nonassociative.states import (
     PersistentRuns,
     restricted_columns,
 )
+from micro.nonassociative.model import IterationModel
+from micro.nonassociative.recipe import LPProgress, Recipe
+from micro.nonassociative.results import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
 from micro.nonassociative.tuning import INTERPENETRATION
 from micro.results import DIR_NAME, DirectionResult, direction_sign
 
