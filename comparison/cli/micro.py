@@ -335,7 +335,8 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     if args.global_:  # composed after the run, from its states; its limits: --node-limit, and --time-limit
         from micro.global_search import GlobalOptions, solve_global
 
-        limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes, "time_limit": time_limit}
+        limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes,
+                                                                    "direction_time_limit": time_limit}
         search = solve_global(wall, start=result, options=GlobalOptions(**limits))
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     plot_error = None

@@ -226,7 +226,7 @@ def run_case(case: LowestCase) -> LowestRun:
     nan = math.nan
     try:
         r = micro.solve_nonassociative(wall)
-        g = solve_global(wall, start=r, options=GlobalOptions(node_limit=case.nodes, time_limit=None,
+        g = solve_global(wall, start=r, options=GlobalOptions(node_limit=case.nodes, direction_time_limit=None,
                                                                 bounds=GLOBAL_BOUNDS)) if case.nodes else None
     except Exception as exc:  # noqa: BLE001 - recorded as the run's status
         return _failed(case, wall.n_blocks, f"error: {type(exc).__name__}: {exc}")

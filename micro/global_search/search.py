@@ -115,8 +115,8 @@ def _configure(h: gh.Model, opts: GlobalOptions) -> None:
     h.setOptionValue("random_seed", int(opts.seed))
     h.setOptionValue("mip_feasibility_tolerance", MIP_FEASIBILITY)
     h.setOptionValue("primal_feasibility_tolerance", MIP_FEASIBILITY)
-    if opts.time_limit is not None:
-        h.setOptionValue("time_limit", float(opts.time_limit))
+    if opts.direction_time_limit is not None:
+        h.setOptionValue("time_limit", float(opts.direction_time_limit))
     if opts.node_limit is not None:
         h.setOptionValue("mip_max_nodes", int(opts.node_limit))
 
@@ -130,7 +130,7 @@ def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts
         m, xs = scip.from_model(h)
         if start is not None:
             scip.set_start(m, xs, start)
-        return scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.time_limit, mip_gap=opts.mip_gap,
+        return scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.direction_time_limit, mip_gap=opts.mip_gap,
                                abs_gap=MIP_ABS_GAP, feasibility=MIP_FEASIBILITY, seed=opts.seed, log=opts.log)
     if start is not None:
         gh.set_start(h, start)

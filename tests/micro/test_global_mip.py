@@ -156,7 +156,8 @@ def test_uniform_bounds_same_answer() -> None:
     assert a.load_factor == pytest.approx(b.load_factor, abs=1e-9)
 
 
-@pytest.mark.parametrize("kw, word", [(dict(time_limit=0), "time_limit"), (dict(time_limit=-1.0), "time_limit"),
+@pytest.mark.parametrize("kw, word", [(dict(direction_time_limit=0), "direction_time_limit"),
+                                      (dict(direction_time_limit=-1.0), "direction_time_limit"),
                                       (dict(node_limit=0), "node_limit"), (dict(node_limit=1.5), "node_limit"),
                                       (dict(mip_gap=1.0), "mip_gap"), (dict(bounds="tight"), "bounds"),
                                       (dict(seed=-1), "seed"), (dict(solver="gurobi"), "solver")])
@@ -191,7 +192,7 @@ def test_ctrl_c_stops_scip_within_seconds() -> None:
             "from micro.global_search import GlobalOptions, solve_global\n"
             "lp = micro.assemble(WallSpec.from_paper(t=2, m=1/3, rows=6, f=0.6).to_micro())\n"
             "print('searching', flush=True)\n"
-            "solve_global(lp, 1, GlobalOptions(solver='scip', time_limit=120))\n")
+            "solve_global(lp, 1, GlobalOptions(solver='scip', direction_time_limit=120))\n")
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:

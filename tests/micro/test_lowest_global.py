@@ -35,7 +35,7 @@ def test_lowest_reaches_the_proven_global_minimum(name: str, make, exact: float 
     # a node limit, not a time limit: the test ends alike on every machine
     wall = make()
     r = micro.solve_nonassociative(wall)
-    g = micro.solve_global(wall, start=r, options=micro.GlobalOptions(time_limit=None, node_limit=NODES))
+    g = micro.solve_global(wall, start=r, options=micro.GlobalOptions(direction_time_limit=None, node_limit=NODES))
     assert r.converged and g is not None and g.status == "optimal", g and g.message
     lam_it, lam_low = r.load_factor, r.lowest_load_factor
     assert lam_low <= lam_it * (1 + 1e-12)

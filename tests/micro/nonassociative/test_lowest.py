@@ -182,8 +182,8 @@ def test_lowest_state_needs_a_final_state() -> None:
 
 @pytest.mark.parametrize("bad", [0, -1.0, math.inf, "10", True])
 def test_global_time_limit_is_checked(bad: object) -> None:
-    with pytest.raises(ValueError, match="time_limit must be a positive number"):
-        micro.GlobalOptions(time_limit=bad)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="direction_time_limit must be a positive number"):
+        micro.GlobalOptions(direction_time_limit=bad)  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize("name, bad, message", [
