@@ -14,7 +14,7 @@ and with non-associative (zero-dilatancy) friction by the iterated LP of
 Gilbert, Casapulla & Ahmed (2006) with :func:`solve_nonassociative`::
 
     result = micro.solve_nonassociative(wall)   # the report's method
-    result.load_factor, result.status, result.lowest_load_factor, result.history
+    result.load_factor, result.status, result.iterated_load_factor, result.history  # quote the first
 
 Every result has a flat record (``result.to_record()``: a read-only mapping of its fields,
 ``record["load_factor"]``; ``record.to_dict()`` is its JSON form).

@@ -345,10 +345,10 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         from micro.plot import plot_velocities
 
         title = (
-            f"non-associative micro λ = {result.quoted_load_factor:.4f} (lowest certified; iterated LP "
-            f"{result.load_factor:.4f}), {result.direction}, {result.blocks} blocks"
+            f"non-associative micro λ = {result.load_factor:.4f} (lowest certified; iterated LP "
+            f"{result.iterated_load_factor:.4f}), {result.direction}, {result.blocks} blocks"
             if result.quoted == "lowest certified" else
-            f"non-associative micro λ = {result.load_factor:.4f} (iterated LP; the lowest not searched or not "
+            f"non-associative micro λ = {result.iterated_load_factor:.4f} (iterated LP; the lowest not searched or not "
             f"found), {result.direction}, {result.blocks} blocks"
         )
         plot_error = _write_plot(
@@ -383,14 +383,14 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int, search: 
     """The result in words, the value to quote first (the lowest certified collapse state, else the
     iterated LP's, saying why): λ alone when quiet, every LP when verbose."""
     if result.ok and verbosity == QUIET:
-        print(f"{result.quoted_load_factor:.6f}")
+        print(f"{result.load_factor:.6f}")
         return
     if result.ok:
         _print_answer(result)
         band = result.mechanism_band
         states = "" if band is None else f"; its mechanism's collapse states: lambda in [{band[0]:.6f}, {band[1]:.6f}]"
         print(f"  iterated LP (Gilbert et al., scheme {result.scheme}, relaxation {result.relaxation:g}): "
-              f"lambda = {result.load_factor:.6f}, converged in {result.iterations} LPs ({result.stop_reason})"
+              f"lambda = {result.iterated_load_factor:.6f}, converged in {result.iterations} LPs ({result.stop_reason})"
               f"{states}")
         print(f"  associative lambda = {result.associative_load_factor:.6f}")
         _print_retry(result)
@@ -449,7 +449,7 @@ def _print_answer(result: NonAssociativeResult) -> None:
         print(f"lambda = {low.load_factor:.6f} ({low.direction}): the lowest certified collapse state, "
               f"non-associative friction ({done})")
     else:
-        print(f"lambda = {result.load_factor:.6f} ({result.direction}): the iterated LP's collapse state, "
+        print(f"lambda = {result.iterated_load_factor:.6f} ({result.direction}): the iterated LP's collapse state, "
               f"non-associative friction; {note}")
 
 

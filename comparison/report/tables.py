@@ -119,10 +119,10 @@ def iterated_cell(rec: Record | None) -> str | None:
     """The non-associative iterated LP's own load factor (4 decimals), with the band of its mechanism's
     collapse states (``"0.7144 (0.7017-0.7176)"``); ``None`` without a converged iterated LP."""
     na = None if rec is None else rec.nonassoc
-    if na is None or not math.isfinite(na.load_factor):
+    if na is None or not math.isfinite(na.iterated_load_factor):
         return None
     states = band_cell(na.mechanism_band)
-    return f"{na.load_factor:.4f}" + ("" if states is None else f" ({states})")
+    return f"{na.iterated_load_factor:.4f}" + ("" if states is None else f" ({states})")
 
 
 def band_cell(band: tuple[float, float] | None) -> str | None:

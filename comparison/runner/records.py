@@ -70,14 +70,12 @@ class Record:
         """The result's load factor, the value to quote (NaN when skipped or failed): for the
         non-associative method the lowest certified collapse state where the descent found one,
         else the iterated LP's (:attr:`iterated_load_factor`)."""
-        if isinstance(self.result, NonAssociativeRecord):
-            return self.result.quoted_load_factor
         return math.nan if self.result is None else self.result.load_factor
 
     @property
     def iterated_load_factor(self) -> float:
         """The non-associative iterated LP's own load factor (NaN for the other methods, or when it failed)."""
-        return self.result.load_factor if isinstance(self.result, NonAssociativeRecord) else math.nan
+        return self.result.iterated_load_factor if isinstance(self.result, NonAssociativeRecord) else math.nan
 
     @property
     def status(self) -> str:

@@ -258,5 +258,5 @@ def _record_fields(record: Record) -> dict[str, Any]:
         band, mband = na.lambda_band or (None, None), na.mechanism_band or (None, None)
         fields.update(associative_load_factor=na.associative_load_factor, band_lo=band[0], band_hi=band[1])
         fields.update(mechanism_band_lo=mband[0], mechanism_band_hi=mband[1])
-        fields.update(quoted=na.quoted, iterated_load_factor=na.load_factor, lowest_stop=na.lowest_stop)
+        fields.update(quoted=na.quoted, iterated_load_factor=na.iterated_load_factor, lowest_stop=na.lowest_stop)
     return fields

@@ -111,7 +111,7 @@ def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "bot
 
         >>> iterated = micro.solve_nonassociative(wall)
         >>> started = solve_global(micro.assemble(wall), start=iterated, options=GlobalOptions(node_limit=100))
-        >>> started.load_factor <= iterated.quoted_load_factor + 1e-9
+        >>> started.load_factor <= iterated.load_factor + 1e-9
         True
     """
     opts = GlobalOptions() if options is None else options

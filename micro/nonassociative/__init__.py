@@ -45,11 +45,12 @@ Modules, one concept each:
                  pattern: least ``lambda``, a compatible mechanism).
 
 After a converged run, the descent (on by default) reports the lowest
-certified collapse state it reaches (``lowest_load_factor``) beside the
-iterated LP's own fixed point (``load_factor``, unchanged). The search for
-the global minimum is not part of this method: its caller composes it,
+certified collapse state it reaches (``lowest_load_factor``), which is then the
+value to quote (``load_factor``), beside the iterated LP's own fixed point
+(``iterated_load_factor``, unchanged by the descent). The search for the
+global minimum is not part of this method: its caller composes it,
 ``micro.global_search.solve_global(lp, start=result)``, for a proven lower
-bound and the gap.
+bound (``global_lower_bound``) and the gap.
 
 A sequence stops as ``converged`` (exactly, or certified), ``cycling``
 (``lambda_band`` is ``[min, max]`` over the cycle or the last window),
@@ -187,7 +188,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         g = min(results, key=lambda res: res.load_factor)
         lam, direction, status, msg = g.load_factor, g.direction, CONVERGED, ""
     return NonAssociativeResult(
-        load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
+        iterated_load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
         directions=results, recipe=r, message=msg, lowest=lowest,

@@ -134,7 +134,7 @@ def test_the_global_search_is_composed_after_the_run_not_an_option() -> None:
     with pytest.raises(TypeError, match="unknown option"):
         solve_nonassociative(w, global_=True)
     r = solve_nonassociative(w)
-    given = GlobalOptions(node_limit=3, time_limit=None, bounds="uniform")
+    given = GlobalOptions(node_limit=3, direction_time_limit=None, bounds="uniform")
     g = solve_global(w, start=r, options=given)
     assert g.options is given and [d.direction for d in g.directions] == [d.direction for d in r.directions]
     assert all(d.bounds is not None and d.bounds.policy == "uniform" for d in g.directions)
