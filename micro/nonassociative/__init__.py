@@ -35,14 +35,14 @@ Modules, one concept each:
                  wall or on its fused bodies (the blocks that move as one rigid body);
 ``selections``   the selections (vertex, proximal, continuation), one object each behind one
                  interface, and the stops (the exact stop, the settle test, cycles);
-``proximal``     the proximal selection's projection, a QP, and its interior point;
+``proximal``     the proximal selection's projection (its QP solved by the back ends);
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
 ``results``      the types: :class:`IterationRecord`, :class:`SequenceDiagnostics`,
-                 :class:`LowestDirection`, :class:`NonAssociativeResult`;
+                 :class:`NonAssociativeResult`;
 ``descent``      the descent to the lowest certified collapse state (``options.lowest``): a
                  subpackage, ``lowest`` (the walk) and ``states`` (the two LPs of a contact
-                 pattern: least ``lambda``, a compatible mechanism).
+                 pattern: least ``lambda``, a compatible mechanism), ``results`` (its type).
 
 After a converged run, the descent (on by default) reports the lowest
 certified collapse state it reaches (``lowest_load_factor``), which is then the
@@ -71,6 +71,7 @@ from micro.geometry import BlockWall, check_block_wall
 from micro.lp import assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.descent.lowest import lowest_state
+from micro.nonassociative.descent.results import LowestDirection
 from micro.nonassociative.options import LOWEST_BUDGET, NonAssociativeOptions
 from micro.nonassociative.pipeline import solve_chain
 from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
@@ -83,7 +84,6 @@ from micro.nonassociative.results import (
     TIME_LIMIT,
     FusionDiagnostics,
     IterationRecord,
-    LowestDirection,
     NonAssociativeResult,
     SequenceDiagnostics,
 )

@@ -92,6 +92,7 @@ from micro.geometry import HEAD
 from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
+from micro.nonassociative.descent.results import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
 from micro.nonassociative.descent.states import (
     Basis,
     ForceField,
@@ -102,7 +103,6 @@ from micro.nonassociative.descent.states import (
 )
 from micro.nonassociative.model import IterationModel
 from micro.nonassociative.recipe import LPProgress, Recipe
-from micro.nonassociative.results import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
 from micro.nonassociative.tuning import INTERPENETRATION
 from micro.results import DIR_NAME, DirectionResult, direction_sign
 
