@@ -24,7 +24,7 @@ from micro.backends.registry import missing_extra
 #: :data:`comparison.runner.NONASSOC_MAX_LPS`) ...
 NONASSOC_MAX_BLOCKS = 2000
 #: ... and on the paper's walls of at most this many: Set 10 (3,630 blocks)
-#: runs fused with the continuation (:data:`micro.nonassociative.tuning.FUSE_BLOCKS`,
+#: runs fused with the continuation (:data:`micro.nonassociative.config.FUSE_BLOCKS`,
 #: 475 s); the 7,575-block Table 9 walls stay out (their first LPs take minutes
 #: and no method here has settled on them, see ``docs/micro/nonassociative.md``).
 NONASSOC_MAX_BLOCKS_CASES = 4000

@@ -26,9 +26,9 @@ Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
 
 Modules, one concept each:
 
-``options``      :class:`NonAssociativeOptions`, what a user sets;
-``tuning``       :class:`Tuning`, the research knobs, and the policy constants;
-``recipe``       :class:`Recipe`, both resolved for one wall (what the modules read);
+``config``       :class:`NonAssociativeOptions` (what a user sets), :class:`Tuning` (the research
+                 knobs, the policy constants) and :class:`Recipe` (both resolved for one wall:
+                 every value a stage reads is one of its fields);
 ``model``        the persistent HiGHS model of one direction and its updates;
 ``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
 ``pipeline``     one direction: which sequences run (the vertex one, the proximal retry), on the
@@ -70,11 +70,24 @@ from typing import Any
 from micro.geometry import BlockWall, check_block_wall
 from micro.lp import assemble
 from micro.nonassociative.checks import verify_collapse_state
+from micro.nonassociative.config import (
+    DEFAULT_RELAXATION,
+    FUSE_BLOCKS,
+    LOWEST_BUDGET,
+    SCHEMES,
+    SELECTIONS,
+    TUNING_KNOBS,
+    LPProgress,
+    NonAssociativeOptions,
+    Progress,
+    Recipe,
+    Tuning,
+    continuation_allowed,
+    recipe_for,
+)
 from micro.nonassociative.descent.lowest import lowest_state
 from micro.nonassociative.descent.results import LowestDirection
-from micro.nonassociative.options import LOWEST_BUDGET, NonAssociativeOptions
 from micro.nonassociative.pipeline import solve_chain
-from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
 from micro.nonassociative.results import (
     CONVERGED,
     CYCLING,
@@ -88,15 +101,6 @@ from micro.nonassociative.results import (
     SequenceDiagnostics,
 )
 from micro.nonassociative.selections import detect_cycle
-from micro.nonassociative.tuning import (
-    DEFAULT_RELAXATION,
-    FUSE_BLOCKS,
-    SCHEMES,
-    SELECTIONS,
-    TUNING_KNOBS,
-    Tuning,
-    continuation_allowed,
-)
 from micro.results import load_directions
 
 __all__ = [
@@ -117,7 +121,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     With no options this is the method of ``xcheck report`` on every wall:
     scheme (a), the vertex sequence and the proximal one where it cycles, the
     fused wall with the continuation where both fail (and from the start on
-    walls of more than :data:`~micro.nonassociative.tuning.FUSE_BLOCKS`
+    walls of more than :data:`~micro.nonassociative.config.FUSE_BLOCKS`
     blocks), the certificate, and a bounded descent to the lowest certified
     state.
 

@@ -19,7 +19,7 @@ fields, not only the LP's optimal ones.
 The load factors of these states form an interval, the MECHANISM BAND: its
 ends are two LPs (min and max ``lambda``), solved by an interior point, no
 basis. An iterate's ``lambda`` is certified when it lies in the band
-(relative slack :data:`~micro.nonassociative.tuning.BAND_SLACK`), and the
+(relative slack :data:`~micro.nonassociative.config.BAND_SLACK`), and the
 state at ``lambda`` is the convex combination of the two end states
 (equilibrium is linear). A feasibility LP at fixed ``lambda`` would be one LP
 instead of two, but HiGHS' interior point stopped with "Solve error" when
@@ -42,7 +42,7 @@ from micro.backends.base import Outcome, Status
 from micro.backends.roles import INTERIOR_RETRY, InteriorLP
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
-from micro.nonassociative.tuning import INTERPENETRATION, TINY
+from micro.nonassociative.config import INTERPENETRATION, TINY
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]

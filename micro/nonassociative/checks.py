@@ -10,8 +10,8 @@ from numpy.typing import NDArray
 
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
+from micro.nonassociative.config import TINY
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.tuning import TINY
 from micro.results import DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]

@@ -8,7 +8,7 @@ selection: ``nbar`` moved by ``beta`` towards its projection,
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
-simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`).
+simplex iterations (:data:`~micro.nonassociative.config.COLD_SWITCH_PIVOTS`).
 Every decision counts work (iterations, LPs), never seconds: the path and its
 numbers are the same on a loaded or slower machine; only the optional user
 stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
@@ -36,8 +36,8 @@ from micro.backends.roles import InteriorLP, PersistentLP
 from micro.lp import LimitLP
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
+from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, TINY, LPProgress, Recipe
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.recipe import LPProgress, Recipe
 from micro.nonassociative.results import (
     CONVERGED,
     CONVERGED_STOPS,
@@ -50,7 +50,6 @@ from micro.nonassociative.results import (
     SequenceDiagnostics,
 )
 from micro.nonassociative.selections import exact_stop, selection_for, window_band
-from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL, TINY
 from micro.results import DIR_NAME, DirectionResult
 
 FloatArray = NDArray[np.float64]
@@ -104,7 +103,7 @@ class LPSequence:
                  iterate0: tuple[Outcome, str, FloatArray | None] | None = None) -> None:
         self.lp, self.d, self.recipe, self.start = lp, direction, recipe, start
         self.iterate0 = iterate0
-        self.certificate = Certificate(lp, direction, recipe.tuning.scheme)
+        self.certificate = Certificate(lp, direction, recipe.scheme)
         self.history: list[IterationRecord] = []
         self.fallbacks = 0
         self.c0 = 0.0
@@ -138,8 +137,8 @@ class LPSequence:
             layout ``[n, s, d * lambda]`` (``None`` unless optimal).
         """
         lp, P = self.lp, self.lp.n_points
-        if self.recipe.tuning.start == "interior":
-            out = InteriorLP(lp, time_limit=self.recipe.options.time_limit).solve(self.d)
+        if self.recipe.start == "interior":
+            out = InteriorLP(lp, time_limit=self.recipe.time_limit).solve(self.d)
             if out.ok and out.n is not None and out.s is not None:
                 return out, "clarabel", np.concatenate([out.n, out.s, [out.load_factor * self.d]])
             out, algo = self._associative_model().run(), "ipm"
@@ -185,7 +184,7 @@ class LPSequence:
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
         if failed is not None and failed.status is Status.TIME_LIMIT:
             return self._fail("time_limit", f"LP {len(self.history) - 1} hit the time limit of "
-                              f"{self.recipe.options.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
+                              f"{self.recipe.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
         if failed is not None or self.final is None:
             status = failed.native_status if failed is not None else ""
             return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold ({status})",
@@ -222,9 +221,9 @@ class LPSequence:
             n_prev2, n_prev, lam_prev = n_prev, n, lam
             if stop is not None:
                 return stop
-            if r.tuning.max_simplex_iterations is not None and self.pivots >= r.tuning.max_simplex_iterations:
+            if r.max_simplex_iterations is not None and self.pivots >= r.max_simplex_iterations:
                 return "work_budget", window_band(self.lams), None
-            if r.options.max_seconds is not None and time.perf_counter() - t_start > r.options.max_seconds:
+            if r.max_seconds is not None and time.perf_counter() - t_start > r.max_seconds:
                 return "time_budget", window_band(self.lams), None
         return "max_iterations", window_band(self.lams), None
 
@@ -241,7 +240,7 @@ class LPSequence:
         102,000 and over 108,000 simplex iterations, 260-360 s, against cold
         ones of 40-65 s). A run stopped by the user's ``time_limit`` is returned as it is (the
         sequence ends)."""
-        user = self.recipe.options.time_limit
+        user = self.recipe.time_limit
         cold = k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
                           and self.cold_streak < self.streak_length)
         if cold:
@@ -267,12 +266,12 @@ class LPSequence:
         last forces alone (no relaxation). What still fails is restarted cold
         (HiGHS "Unknown" on near-degenerate rows)."""
         out, algo = failed, ""
-        if k > 1 and self.recipe.tuning.scheme == "b":
-            out, algo = model.fallback_a_step(n_prev, self.recipe.options.time_limit, self.warm_limit), "fallback-a"
+        if k > 1 and self.recipe.scheme == "b":
+            out, algo = model.fallback_a_step(n_prev, self.recipe.time_limit, self.warm_limit), "fallback-a"
             self.fallbacks += 1
         elif k > 1 and failed.status is Status.INFEASIBLE and self.recipe.beta < 1.0:
             model.set_capacity(n_prev, alpha, alpha, self.c0)
-            out, algo = model.warm(self.recipe.options.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
+            out, algo = model.warm(self.recipe.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
         if not out.ok:
             out, algo = restart(model.model), "ipm-restart"
         # the failed run's work counts (the work budget, the history)
@@ -322,7 +321,7 @@ class LPSequence:
         if exact is not None:
             return exact, None, None
         due = self.rule.certificate_due(self.lams, k, self.last_try)
-        certify = self.recipe.tuning.certify and alpha_done and algo != "fallback-a" and due
+        certify = self.recipe.certify and alpha_done and algo != "fallback-a" and due
         if certify and self._try_certificate(k, v, lam):
             return "certified", None, None
         stop = self.rule.no_progress(self.lams, self.dns, alpha_done)
@@ -388,7 +387,7 @@ class LPSequence:
         if status == CONVERGED and state.equilibrium > EQUILIBRIUM_RESIDUAL:
             status, stop = SOLVER_FAILURE, "equilibrium_residual"
             msg = f"equilibrium residual {state.equilibrium:.2e} block weights at the final iterate"
-        if status == CONVERGED and r.tuning.mechanism_band and self.mechanism_band is None and r.tuning.scheme == "a":
+        if status == CONVERGED and r.mechanism_band and self.mechanism_band is None and r.scheme == "a":
             self.mechanism_band = self.certificate.certify(v, lam, time_limit=r.user_limit).band
         msg = msg or self._message(status, stop, band)
         if cold_note:
@@ -416,8 +415,8 @@ class LPSequence:
         if status in (MAX_ITERATIONS, TIME_LIMIT):
             r, lps = self.recipe, len(self.history) - 1
             msg = {"max_iterations": f"no convergence in {r.max_iterations} iterations",
-                   "work_budget": f"work budget of {r.tuning.max_simplex_iterations} simplex iterations spent after "
+                   "work_budget": f"work budget of {r.max_simplex_iterations} simplex iterations spent after "
                                   f"{lps} LPs",
-                   }.get(stop, f"time budget of {r.options.max_seconds} s spent after {lps} LPs")
+                   }.get(stop, f"time budget of {r.max_seconds} s spent after {lps} LPs")
             return msg + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else "")
         return stop if status != CONVERGED else ""

@@ -52,11 +52,10 @@ from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
+from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, Recipe
 from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.model import IterationModel
-from micro.nonassociative.recipe import Recipe
 from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
-from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL
 from micro.results import DirectionResult
 
 FloatArray = NDArray[np.float64]
@@ -107,7 +106,7 @@ def solve_direction(lp: LimitLP, direction: int, recipe: Recipe,
     if first.status not in RETRY_STATUSES:
         return first, vertex.model
     start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
-    retry = dataclasses.replace(recipe, selection="proximal", max_iterations=recipe.tuning.retry_iterations,
+    retry = dataclasses.replace(recipe, selection="proximal", max_iterations=recipe.retry_iterations,
                                 continuation=False)
     again = LPSequence(lp, direction, retry, start=start, iterate0=vertex.iterate0)
     second = again.run()
@@ -161,7 +160,7 @@ def solve_chain(lp: LimitLP, direction: int, recipe: Recipe) -> Solved:
     if recipe.fuse:
         return solve_fused(lp, direction, recipe)
     first, model = solve_direction(lp, direction, recipe)
-    if (not recipe.tuning.fused_retry or recipe.continuation or recipe.tuning.scheme != "a"
+    if (not recipe.fused_retry or recipe.continuation or recipe.scheme != "a"
             or not recipe.selection.startswith("vertex+") or first.status not in RETRY_STATUSES):
         return first, model
     third, _ = solve_fused(lp, direction, dataclasses.replace(recipe, fuse=True, continuation=True))
@@ -289,7 +288,7 @@ def fused_wall(lp: LimitLP, direction: int, recipe: Recipe) -> tuple[FusedLP, Ou
         ``(the fused LP, the associative outcome)``, or ``None`` where the
         associative LP fails or nothing moves (the wall itself must run).
     """
-    assoc = InteriorLP(lp, time_limit=recipe.options.time_limit).solve(direction)
+    assoc = InteriorLP(lp, time_limit=recipe.time_limit).solve(direction)
     if not assoc.ok or assoc.duals is None:
         return None
     body, n_bodies = rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]))
@@ -335,7 +334,7 @@ def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: 
             message=f"on the fused wall ({n_bodies} bodies): {r.message}",
             sequence=dataclasses.replace(seq, fusion=fusion))
     v = mechanism.velocities.ravel()
-    cert = Certificate(lp, direction, recipe.tuning.scheme).certify(v, lam, time_limit=recipe.user_limit)
+    cert = Certificate(lp, direction, recipe.scheme).certify(v, lam, time_limit=recipe.user_limit)
     t_cert = cert.seconds
     if cert.forces is None:
         if cert.band is None:

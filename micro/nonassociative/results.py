@@ -8,8 +8,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from micro.nonassociative.config import Recipe
 from micro.nonassociative.descent.results import LowestDirection, lowest_fields, lowest_summary
-from micro.nonassociative.recipe import Recipe
 from micro.records import NonAssociativeRecord, check_success, json_number
 from micro.results import DirectionResult, record_fields
 
@@ -219,7 +219,7 @@ class NonAssociativeResult:
         mirror_symmetric: one direction solved.
         directions: per-direction results (each with its ``sequence``).
         recipe: what ran: the options and the tuning, resolved for the wall
-            (:class:`~micro.nonassociative.recipe.Recipe`).
+            (:class:`~micro.nonassociative.config.Recipe`).
         message: explanation when not converged.
         lowest: the lowest certified state of every converged direction
             (``lowest``; :mod:`micro.nonassociative.descent.lowest`).

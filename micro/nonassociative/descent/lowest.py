@@ -63,7 +63,7 @@ warm cap and then cold, and each force LP into the primal cap, the reason the
 wall is fused (measured on the warm descent's research page, ``docs/research/``).
 
 THE BUDGET. A descent may solve at most ``lowest_budget`` LPs per direction
-(:class:`~micro.nonassociative.options.NonAssociativeOptions`; then one more
+(:class:`~micro.nonassociative.config.NonAssociativeOptions`; then one more
 for the band of the state it returns). It counts LPs, not seconds, so it
 stops at the same state on every machine; one that spends its budget returns
 the lowest certified state found so far with ``stop="budget"``
@@ -92,6 +92,7 @@ from micro.geometry import HEAD
 from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
+from micro.nonassociative.config import INTERPENETRATION, LPProgress, Recipe
 from micro.nonassociative.descent.results import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
 from micro.nonassociative.descent.states import (
     Basis,
@@ -102,8 +103,6 @@ from micro.nonassociative.descent.states import (
     restricted_columns,
 )
 from micro.nonassociative.model import IterationModel
-from micro.nonassociative.recipe import LPProgress, Recipe
-from micro.nonassociative.tuning import INTERPENETRATION
 from micro.results import DIR_NAME, DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
@@ -223,7 +222,7 @@ class Descent:
     def exact(self, state: CollapseState) -> bool:
         """Every residual of :func:`verify_collapse_state` is at most :data:`EXACT_TOL`, but the closing
         rates, read as the simplex duals' noise up to
-        :data:`~micro.nonassociative.tuning.INTERPENETRATION` of the largest rate as the certificate
+        :data:`~micro.nonassociative.config.INTERPENETRATION` of the largest rate as the certificate
         reads them (the iterated LP's certified state of Table 5's Set 3 closes at 1.6e-6)."""
         res = verify_collapse_state(self.lp, self.as_result(state))
         return all(v <= (INTERPENETRATION if k == "interpenetration" else EXACT_TOL)
@@ -399,5 +398,5 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe,
     """
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
-    return Descent(lp, direction_sign(start.direction), options, options.options.lowest_budget, model,
+    return Descent(lp, direction_sign(start.direction), options, options.lowest_budget, model,
                    proposals=proposals).run(start)

@@ -47,7 +47,7 @@ from micro.backends.base import Outcome, Status
 from micro.backends.roles import PersistentLP
 from micro.lp import LimitLP
 from micro.nonassociative.certificate import point_states
-from micro.nonassociative.tuning import INTERPENETRATION, STATE_RESIDUAL, TINY
+from micro.nonassociative.config import INTERPENETRATION, STATE_RESIDUAL, TINY
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -87,11 +87,11 @@ SPARSITY_WEIGHT = 1e-3
 def restricted_columns(lp: LimitLP, v: FloatArray) -> BoolArray | None:
     """The generator columns (``[g+ (P), g- (P)]``) the mechanism ``v`` forbids
     (rates read by :func:`~micro.nonassociative.certificate.point_states`, closing rates up to
-    :data:`~micro.nonassociative.tuning.INTERPENETRATION` as noise).
+    :data:`~micro.nonassociative.config.INTERPENETRATION` as noise).
 
     Returns:
         The ``(2P,)`` mask, or ``None`` when ``v`` makes points interpenetrate
-        beyond :data:`~micro.nonassociative.tuning.INTERPENETRATION` or
+        beyond :data:`~micro.nonassociative.config.INTERPENETRATION` or
         does no live-load work.
     """
     dn = lp.Bn.T @ v
@@ -286,7 +286,7 @@ class ForceLP(PersistentRuns):
         """The field of least (``sense=+1``) or greatest (``-1``) ``lambda``
         that uses no restricted column; ``None`` when there is none (or the
         LP failed, or its field misses equilibrium by more than
-        :data:`~micro.nonassociative.tuning.STATE_RESIDUAL`). ``start``,
+        :data:`~micro.nonassociative.config.STATE_RESIDUAL`). ``start``,
         ``primal``, ``cold``: how it runs (:meth:`PersistentRuns.run`)."""
         lp, P = self.lp, self.lp.n_points
         upper = np.where(restricted, 0.0, lp.col_upper[: 2 * P])

@@ -18,8 +18,8 @@ from micro.nonassociative import (
     verify_collapse_state,
 )
 from micro.nonassociative.certificate import Certificate, CertificateResult
+from micro.nonassociative.config import Recipe
 from micro.nonassociative.pipeline import fuse, rigid_bodies
-from micro.nonassociative.recipe import Recipe
 
 EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
 
@@ -129,7 +129,7 @@ def test_fuse_option_is_a_flag() -> None:
 
 def _capped(r: Recipe, cap: int) -> Recipe:
     """``r`` with its sequence and the proximal retry capped at ``cap`` LPs each."""
-    return dataclasses.replace(r, max_iterations=cap, tuning=dataclasses.replace(r.tuning, retry_iterations=cap))
+    return dataclasses.replace(r, max_iterations=cap, retry_iterations=cap)
 
 
 def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int) -> list[tuple[int, bool]]:

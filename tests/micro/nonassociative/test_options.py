@@ -106,19 +106,22 @@ def test_the_descent_runs_by_default_on_every_size() -> None:
 
 
 def test_the_recipe_composes_the_options_and_the_tuning() -> None:
-    """The recipe holds the user's options and the tuning as given (a new knob or option reaches the
-    modules with no other edit), with the few choices resolved for the wall beside them; its JSON form
-    names every option and knob once, the resolved values in place of the unresolved ones."""
+    """The recipe holds the user's options and the tuning as given, the few choices resolved for the
+    wall, and every option and knob a stage reads as a field of the same name and value (one hop from
+    what a user sets to what a stage reads); its JSON form names every option and knob once, the
+    resolved values in place of the unresolved ones."""
     import dataclasses
 
     from micro.nonassociative import recipe_for
-    from micro.nonassociative.recipe import Recipe
+    from micro.nonassociative.config import READ
 
     options, tuning = micro.NonAssociativeOptions(max_iterations=7, time_limit=30), Tuning(scheme="b", fuse=None)
     r = recipe_for(100, options, tuning)
     assert r.options is options and r.tuning is tuning
     assert (r.selection, r.beta, r.fuse, r.continuation, r.max_iterations) == ("vertex", 0.6, False, False, 7)
-    assert len(dataclasses.fields(Recipe)) <= 12 and len(dataclasses.fields(Tuning)) <= 12
+    assert (r.time_limit, r.scheme, r.lowest_budget) == (30.0, "b", options.lowest_budget)
+    assert READ and all(getattr(r, n) == getattr(options if hasattr(options, n) else tuning, n) for n in READ)
+    assert len(dataclasses.fields(Tuning)) <= 12
     d = r.as_dict()
     names = {f.name for cls in (micro.NonAssociativeOptions, Tuning) for f in dataclasses.fields(cls)}
     assert names <= set(d) and d["relaxation"] == 0.6 and d["fuse"] is False and d["time_limit"] == 30.0
@@ -138,3 +141,15 @@ def test_the_global_search_is_composed_after_the_run_not_an_option() -> None:
     g = solve_global(w, start=r, options=given)
     assert g.options is given and [d.direction for d in g.directions] == [d.direction for d in r.directions]
     assert all(d.bounds is not None and d.bounds.policy == "uniform" for d in g.directions)
+
+
+def test_no_stage_reads_the_options_or_the_tuning_through_the_recipe() -> None:
+    """A stage reads ``recipe.time_limit``, never ``recipe.options.time_limit`` or ``recipe.tuning.scheme``:
+    one hop, so that what a stage reads is listed in one place (the recipe's fields)."""
+    import re
+    from pathlib import Path
+
+    root = Path(micro.__file__).parent / "nonassociative"
+    hops = [f"{p.name}: {m}" for p in root.rglob("*.py") if p.name != "config.py"
+            for m in re.findall(r"\w+\.(?:options|tuning)\.\w+", p.read_text(encoding="utf-8"))]
+    assert not hops, hops
