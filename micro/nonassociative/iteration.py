@@ -1,4 +1,4 @@
-"""The iterated LP for one load direction: the start, the loop and its warm/cold policy, the finish.
+"""The iterated LP for one load direction: the start, the loop, the finish.
 
 Iterate 0 is the associative LP (:meth:`LPSequence._start`); its normal forces
 give the first ``nbar``. Iterate ``k >= 1`` rebuilds every point's yield
@@ -8,7 +8,10 @@ selection: ``nbar`` moved by ``beta`` towards its projection,
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
-simplex iterations (:data:`~micro.nonassociative.config.COLD_SWITCH_PIVOTS`).
+simplex iterations: when is the warm/cold policy's
+(:class:`~micro.nonassociative.warm_cold.WarmColdPolicy`), which this loop
+asks and tells of every run; the loop's own state (the iterates, the last
+good state, the work spent) stays here.
 Every decision counts work (iterations, LPs), never seconds: the path and its
 numbers are the same on a loaded or slower machine; only the optional user
 stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
@@ -50,31 +53,12 @@ from micro.nonassociative.results import (
     SequenceDiagnostics,
 )
 from micro.nonassociative.selections import exact_stop, selection_for, window_band
+from micro.nonassociative.warm_cold import COLD, WARM, WarmColdPolicy
 from micro.results import DIR_NAME, DirectionResult
 
 FloatArray = NDArray[np.float64]
 NAN = math.nan
-COLD = "ipm+crossover+simplex"
 
-# The warm/cold policy: every decision is taken on deterministic work measures
-# (simplex and interior-point iteration counts, LP counts), never on seconds:
-# a loaded or slower machine follows the same path to the same numbers.
-#: On large walls a warm dual simplex can cost more than a cold solve (7,575
-#: blocks: 78,000-104,000 simplex iterations, 170-200 s, against 45 s for
-#: interior point + crossover; 1,230 blocks: 514-1,423, 2-6 x faster than
-#: cold). Scheme (a) solves an iterate cold while the last warm run took more
-#: than this many simplex iterations per equilibrium row of the wall ...
-COLD_SWITCH_PIVOTS = 2.0
-#: ... and goes back to warm after this many cold iterates in a row, a number
-#: doubled each time the warm run after a cold streak is slow again (or stopped
-#: at its limit below).
-COLD_STREAK = 3
-#: A warm run that takes more than this many simplex iterations per
-#: equilibrium row is stuck (seen: 13 s to declare a 150-block LP
-#: infeasible): it is stopped and recovered ...
-WARM_LIMIT_PIVOTS = 10.0
-#: ... with at least this many iterations on small walls.
-MIN_WARM_LIMIT = 20_000
 #: The exact stop's ``max(|s| - mu n, 0) / max n`` accepted as "Coulomb holds".
 COULOMB_TOL = 1e-6
 #: Relative warm/cold difference of the final iterate beyond which the run is
@@ -108,20 +92,16 @@ class LPSequence:
         self.fallbacks = 0
         self.c0 = 0.0
         self.mechanism_band: Band | None = None
-        # the loop's state
+        # the loop's state: the iterates' lambda and steps, the last good state, the work spent
         self.lams: list[float] = []
         self.dns: list[float] = []
         self.final: tuple[FloatArray, FloatArray, FloatArray, float] | None = None  # (v, n, s, lambda)
-        # the warm/cold policy, in simplex iterations (module docstring)
-        self.cold_switch = COLD_SWITCH_PIVOTS * lp.n_eq
-        self.warm_limit = max(MIN_WARM_LIMIT, math.ceil(WARM_LIMIT_PIVOTS * lp.n_eq))
-        self.warm_pivots, self.cold_streak, self.pivots = 0, 0, 0
-        self.streak_length = COLD_STREAK
+        self.pivots = 0
         self.last_try = -(10**9)
         self.model: IterationModel | None = None
-        # how an iterate goes on (vertex, proximal, continuation)
+        # how an iterate goes on (vertex, proximal, continuation), and whether it is solved warm or cold
         self.rule = selection_for(recipe, lp, direction)
-        self.warm_limit = self.rule.warm_limit(self.warm_limit)
+        self.policy = WarmColdPolicy(lp.n_eq, self.rule)
         fused = lp.n_eq != 3 * lp.wall.n_blocks  # the LP of a fused wall (fewer bodies than blocks)
         self.stage = ("fused " if fused else "") + self.rule.name
 
@@ -227,32 +207,25 @@ class LPSequence:
                 return "time_budget", window_band(self.lams), None
         return "max_iterations", window_band(self.lams), None
 
-    # ------------------------------------------------- warm / cold policy
+    # ------------------------------------------------- solving an iterate
     def _solve(self, model: IterationModel, k: int, n_prev: FloatArray, alpha: float) -> tuple[Outcome, str]:
-        """Solve iterate ``k``: the first LP, and later ones in cold mode, by
-        interior point + crossover + dual-simplex clean-up; the others by a
-        warm dual simplex (limited to :attr:`warm_limit` simplex iterations).
-        Scheme (a) is in cold mode while the last warm run took more than
-        :attr:`cold_switch` simplex iterations, for at most
-        :attr:`streak_length` cold iterates in a row (:data:`COLD_STREAK`,
-        doubled each time the warm run after a cold streak is slow again,
-        or stopped at :attr:`warm_limit`: Set 10, 3,630 blocks, warm runs of
-        102,000 and over 108,000 simplex iterations, 260-360 s, against cold
-        ones of 40-65 s). A run stopped by the user's ``time_limit`` is returned as it is (the
-        sequence ends)."""
+        """Solve iterate ``k``, warm or cold as :attr:`policy` says
+        (:class:`~micro.nonassociative.warm_cold.WarmColdPolicy`): cold by
+        interior point + crossover + dual-simplex clean-up, warm by a dual
+        simplex from the last basis, limited to the policy's ``warm_limit``
+        simplex iterations. A run stopped by the user's ``time_limit`` is
+        returned as it is (the sequence ends); another failure is recovered."""
         user = self.recipe.time_limit
-        cold = k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
-                          and self.cold_streak < self.streak_length)
-        if cold:
+        if self.policy.cold(k):
             model.model.limit_next_run(user)
             out, algo = restart(model.model), COLD
             model.model.limit_next_run(user)  # re-armed for a recovery run after it
         else:
-            out, algo = model.warm(user, self.warm_limit), "simplex-warm"
+            out, algo = model.warm(user, self.policy.warm_limit), WARM
         if out.ok or out.status is Status.TIME_LIMIT:
             return out, algo
-        if algo == "simplex-warm" and out.status is Status.ITERATION_LIMIT:
-            self._slow_warm(int(out.simplex_iterations))  # a warm run stopped at its limit was slow
+        if algo == WARM and out.status is Status.ITERATION_LIMIT:
+            self.policy.slow_warm(int(out.simplex_iterations))  # a warm run stopped at its limit was slow
         return self._recover(model, k, out, n_prev, alpha)
 
     def _recover(self, model: IterationModel, k: int, failed: Outcome, n_prev: FloatArray,
@@ -267,11 +240,11 @@ class LPSequence:
         (HiGHS "Unknown" on near-degenerate rows)."""
         out, algo = failed, ""
         if k > 1 and self.recipe.scheme == "b":
-            out, algo = model.fallback_a_step(n_prev, self.recipe.time_limit, self.warm_limit), "fallback-a"
+            out, algo = model.fallback_a_step(n_prev, self.recipe.time_limit, self.policy.warm_limit), "fallback-a"
             self.fallbacks += 1
         elif k > 1 and failed.status is Status.INFEASIBLE and self.recipe.beta < 1.0:
             model.set_capacity(n_prev, alpha, alpha, self.c0)
-            out, algo = model.warm(self.recipe.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
+            out, algo = model.warm(self.recipe.time_limit, self.policy.warm_limit), "simplex-warm-unrelaxed"
         if not out.ok:
             out, algo = restart(model.model), "ipm-restart"
         # the failed run's work counts (the work budget, the history)
@@ -281,20 +254,10 @@ class LPSequence:
             ipm_iterations=out.ipm_iterations + failed.ipm_iterations), algo
 
     def _account(self, model: IterationModel, k: int, out: Outcome, algo: str) -> None:
-        """Book a good iterate's work for the warm/cold policy and the work budget."""
+        """Book a good iterate's work for the work budget and the warm/cold policy."""
         self.pivots += int(out.simplex_iterations)
-        if algo == "simplex-warm":
-            self._slow_warm(int(out.simplex_iterations))
-        elif algo == COLD:
-            self.cold_streak += k > 1
+        self.policy.account(k, int(out.simplex_iterations), warm=algo == WARM, cold=algo == COLD)
         model.keep_basis()
-
-    def _slow_warm(self, pivots: int) -> None:
-        """Book a warm run of ``pivots`` simplex iterations: a slow one right
-        after a cold streak doubles the next streak."""
-        if pivots > self.cold_switch and self.cold_streak >= self.streak_length:
-            self.streak_length *= 2
-        self.warm_pivots, self.cold_streak = pivots, 0
 
     # ------------------------------------------------------ one iterate
     def _step(self, k: int, lam: float, lam_prev: float, n: FloatArray, n_prev: FloatArray, s: FloatArray,
