@@ -1,12 +1,12 @@
 """One load direction: which sequences run, on the wall or on its fused bodies, and their joint result.
 
 :func:`solve_chain` is what :func:`micro.solve_nonassociative` runs on a
-direction: the fused wall (``fuse``), or the wall's own sequences
-(:func:`solve_direction`: the vertex sequence, and the proximal one where it
-fails) and, where those fail too, the fused wall with the continuation
-(``fused_retry``). One sequence is
-:class:`~micro.nonassociative.iteration.LPSequence` with its
-:mod:`~micro.nonassociative.selections` object.
+direction: the fused wall (``fuse``), or the fallback chain :data:`STAGES`, a
+list of :class:`Stage` run in order, each where the ones before it failed:
+the vertex sequence, the proximal one (``"vertex+proximal"``), the fused wall
+with the continuation (``fused_retry``). A new stage is one entry of that
+list. One sequence is :class:`~micro.nonassociative.iteration.LPSequence`
+with its :mod:`~micro.nonassociative.selections` object.
 
 THE FUSED WALL. On a large wall most contacts of the collapse mechanism
 neither open nor slip (Set 10, 3,630 blocks: 8,335 of 10,710 contacts move
@@ -38,6 +38,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -82,38 +83,116 @@ FUSE_RIGID_TOL = 1e-5
 Solved = tuple[DirectionResult, IterationModel | None]
 
 
-def solve_direction(lp: LimitLP, direction: int, recipe: Recipe,
-                    start: FloatArray | None = None) -> Solved:
-    """The iterated LP on one load direction with ``recipe.selection``.
+@dataclass(frozen=True, eq=False)
+class Attempt:
+    """What the stages of a direction have given so far.
 
-    ``"vertex+proximal"`` runs the vertex sequence, and where it ends with a
-    status of :data:`RETRY_STATUSES` the proximal sequence (at most
-    ``tuning.retry_iterations`` LPs), its
-    ``nbar`` started from the vertex sequence's last normal forces rather
-    than the associative LP's. The second result is
-    returned with the vertex sequence in ``sequence.vertex_attempt``, and
-    the LPs and seconds of both. ``start``: normal forces to start the
-    (first) sequence's ``nbar`` from (:class:`LPSequence`).
-
-    Returns:
-        The result and the model of the sequence that gave it (:data:`Solved`).
+    Attributes:
+        result: the joined result (the LPs and seconds of every stage that ran).
+        model: the model of the sequence that gave it (:data:`Solved`).
+        sequence: the last sequence run on the wall's own LP (its associative
+            LP is reused by the next sequence there), or ``None``.
     """
-    if not recipe.selection.startswith("vertex+"):
-        only = LPSequence(lp, direction, recipe, start=start)
-        return only.run(), only.model
-    vertex = LPSequence(lp, direction, dataclasses.replace(recipe, selection="vertex"), start=start)
-    first = vertex.run()
-    if first.status not in RETRY_STATUSES:
-        return first, vertex.model
+
+    result: DirectionResult
+    model: IterationModel | None
+    sequence: LPSequence | None = None
+
+
+@dataclass(frozen=True)
+class Stage:
+    """One stage of the fallback chain of a direction (:data:`STAGES`).
+
+    Attributes:
+        name: what it is.
+        applies: whether the recipe has this stage at all.
+        run: ``(lp, direction, recipe, the attempt so far or None, start) -> the new attempt``; a
+            stage after the first runs only where the attempt so far ended with one of
+            :data:`RETRY_STATUSES`, and joins its result to it.
+    """
+
+    name: str
+    applies: Callable[[Recipe], bool]
+    run: Callable[[LimitLP, int, Recipe, Attempt | None, FloatArray | None], Attempt]
+
+
+def _first_sequence(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt | None,
+                    start: FloatArray | None) -> Attempt:
+    """The first sequence: the recipe's selection (the vertex one of ``"vertex+proximal"``), its
+    ``nbar`` started from ``start`` (:class:`LPSequence`)."""
+    selection = "vertex" if recipe.selection.startswith("vertex+") else recipe.selection
+    seq = LPSequence(lp, direction, dataclasses.replace(recipe, selection=selection), start=start)
+    return Attempt(seq.run(), seq.model, seq)
+
+
+def _proximal_retry(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt | None,
+                    start: FloatArray | None) -> Attempt:
+    """The proximal sequence (at most ``retry_iterations`` LPs), its ``nbar`` started from the vertex
+    sequence's last normal forces rather than the associative LP's; its result is the direction's,
+    with the vertex sequence in ``sequence.vertex_attempt`` and the LPs and seconds of both."""
+    assert before is not None and before.sequence is not None
+    first = before.result
     start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
     retry = dataclasses.replace(recipe, selection="proximal", max_iterations=recipe.retry_iterations,
                                 continuation=False)
-    again = LPSequence(lp, direction, retry, start=start, iterate0=vertex.iterate0)
+    again = LPSequence(lp, direction, retry, start=start, iterate0=before.sequence.iterate0)
     second = again.run()
     assert second.sequence is not None
     message = second.message if second.converged else f"proximal: {second.message}; vertex: {first.message}"
-    return joined(first, second, second, message=message,
-                  sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence)), again.model
+    return Attempt(joined(first, second, second, message=message,
+                          sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence)),
+                   again.model, again)
+
+
+def _fused_continuation(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt | None,
+                        start: FloatArray | None) -> Attempt:
+    """The fused wall with the continuation, where the wall's own sequences failed. A certified run is
+    the direction's result, with the wall's sequences in ``sequence.unfused_attempt``; a failed one
+    leaves the wall's result, its message extended. Either way the LPs and seconds of all runs count.
+    It certified the two error-map walls (882 and 1,314 blocks) on which the vertex and the proximal
+    sequences end at their caps."""
+    assert before is not None
+    first = before.result
+    third, _ = solve_fused(lp, direction, dataclasses.replace(recipe, fuse=True, continuation=True))
+    assert first.sequence is not None and third.sequence is not None
+    if not third.converged:
+        return Attempt(joined(first, third, first,
+                              message=f"{first.message}; the fused wall with the continuation: {third.message}"),
+                       before.model)
+    return Attempt(joined(first, third, third,
+                          sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence)), None)
+
+
+def _retries(recipe: Recipe) -> bool:
+    """``"vertex+proximal"``: the vertex sequence is followed where it fails."""
+    return recipe.selection.startswith("vertex+")
+
+
+#: The fallback chain of a direction, in order: each stage runs where the ones before it ended with
+#: one of :data:`RETRY_STATUSES` (and where the recipe has it). A new stage is one entry here.
+STAGES: tuple[Stage, ...] = (
+    Stage("vertex sequence (or the recipe's one selection)", lambda r: True, _first_sequence),
+    Stage("proximal retry", _retries, _proximal_retry),
+    Stage("fused wall with the continuation",
+          lambda r: _retries(r) and r.fused_retry and not r.continuation and r.scheme == "a", _fused_continuation),
+)
+
+
+def run_stages(lp: LimitLP, direction: int, recipe: Recipe, stages: tuple[Stage, ...] = STAGES,
+               start: FloatArray | None = None) -> Solved:
+    """The stages of ``stages`` that ``recipe`` has, each where the attempt so far ended with one of
+    :data:`RETRY_STATUSES`.
+
+    Returns:
+        The direction's result and the model of the sequence that gave it (:data:`Solved`).
+    """
+    done: Attempt | None = None
+    for stage in stages:
+        if not stage.applies(recipe) or (done is not None and done.result.status not in RETRY_STATUSES):
+            continue
+        done = stage.run(lp, direction, recipe, done, start)
+    assert done is not None, "the first stage applies to every recipe"
+    return done.result, done.model
 
 
 def joined(first: DirectionResult, second: DirectionResult, result: DirectionResult,
@@ -126,7 +205,7 @@ def joined(first: DirectionResult, second: DirectionResult, result: DirectionRes
 
 def solve_fused(lp: LimitLP, direction: int, recipe: Recipe) -> Solved:
     """The iterated LP of one direction on the fused wall
-    (:func:`fused_wall`): the sequences run on
+    (:func:`fused_wall`): the wall's sequences (the stages but the fused one) run on
     the bodies' LP, and :func:`on_the_wall` makes
     their state the wall's, or rejects it. Where the associative LP fails, or
     nothing moves, the wall itself runs instead."""
@@ -134,42 +213,26 @@ def solve_fused(lp: LimitLP, direction: int, recipe: Recipe) -> Solved:
     unfused = dataclasses.replace(recipe, fuse=False)
     made = fused_wall(lp, direction, recipe)
     if made is None:
-        return solve_direction(lp, direction, unfused)
+        return run_stages(lp, direction, unfused, SEQUENCES)
     fused, assoc = made
     t_fuse = time.perf_counter() - t0
     # the continuation starts from the wall's associative forces at the points kept
     start = np.maximum(np.asarray(assoc.n)[fused.points], 0.0) if recipe.continuation and assoc.n is not None else None
-    r, _ = solve_direction(fused.lp, direction, unfused, start=start)
+    r, _ = run_stages(fused.lp, direction, unfused, SEQUENCES, start)
     return on_the_wall(lp, direction, fused, assoc, r, recipe, t0, t_fuse), None  # its model is the bodies' LP
 
 
+#: The stages that run on the fused wall (the sequences: no second fusing).
+SEQUENCES = STAGES[:2]
+
+
 def solve_chain(lp: LimitLP, direction: int, recipe: Recipe) -> Solved:
-    """One load direction as ``recipe`` asks: the fused wall (``fuse``), or
-    the wall's own sequences (:func:`solve_direction`) and, where those of
-    ``"vertex+proximal"`` (scheme (a)) both end
-    ``cycling`` or ``max_iterations``, the fused wall with the continuation
-    (``fused_retry``).
-
-    It certified the two error-map walls (882 and 1,314 blocks) on which the
-    vertex and the proximal sequences end at their caps.
-
-    A certified third run is returned with the wall's sequences in
-    ``sequence.unfused_attempt``; a failed one leaves the wall's result,
-    its message extended. Either way the LPs and seconds of all runs count.
-    """
+    """One load direction as ``recipe`` asks: the fused wall (``fuse``: walls of more than
+    :data:`~micro.nonassociative.config.FUSE_BLOCKS` blocks), or the fallback chain
+    (:data:`STAGES`) on the wall."""
     if recipe.fuse:
         return solve_fused(lp, direction, recipe)
-    first, model = solve_direction(lp, direction, recipe)
-    if (not recipe.fused_retry or recipe.continuation or recipe.scheme != "a"
-            or not recipe.selection.startswith("vertex+") or first.status not in RETRY_STATUSES):
-        return first, model
-    third, _ = solve_fused(lp, direction, dataclasses.replace(recipe, fuse=True, continuation=True))
-    assert first.sequence is not None and third.sequence is not None
-    if not third.converged:
-        return joined(first, third, first,
-                      message=f"{first.message}; the fused wall with the continuation: {third.message}"), model
-    return joined(first, third, third,
-                  sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence)), None
+    return run_stages(lp, direction, recipe)
 
 
 def rigid_bodies(lp: LimitLP, velocities: FloatArray, tol: float = FUSE_RIGID_TOL) -> tuple[IntArray, int]:
