@@ -30,9 +30,12 @@ Modules, one concept each:
                  knobs, the policy constants) and :class:`Recipe` (both resolved for one wall:
                  every value a stage reads is one of its fields);
 ``model``        the persistent HiGHS model of one direction and its updates;
-``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
-``pipeline``     one direction: which sequences run (the vertex one, the proximal retry), on the
-                 wall or on its fused bodies (the blocks that move as one rigid body);
+``iteration``    the sequence of one direction: start, loop, finish;
+``warm_cold``    when the sequence solves an iterate warm and when cold (counted in simplex iterations);
+``pipeline``     one direction: the fallback chain as a list of stages (the vertex sequence, the
+                 proximal retry, the fused wall with the continuation);
+``fusion``       the fused wall: the blocks that move as one rigid body joined, their LP, and
+                 its state made the wall's;
 ``selections``   the selections (vertex, proximal, continuation), one object each behind one
                  interface, and the stops (the exact stop, the settle test, cycles);
 ``proximal``     the proximal selection's projection (its QP solved by the back ends);

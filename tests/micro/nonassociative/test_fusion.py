@@ -14,13 +14,14 @@ from comparison.wall import WallSpec
 from micro.backends.clarabel import ClarabelStaticBackend
 from micro.nonassociative import (
     Tuning,
+    fusion,
     pipeline,
     solve_nonassociative,
     verify_collapse_state,
 )
 from micro.nonassociative.certificate import Certificate, CertificateResult
 from micro.nonassociative.config import Recipe
-from micro.nonassociative.pipeline import fuse, rigid_bodies
+from micro.nonassociative.fusion import fuse, rigid_bodies
 
 EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
 
@@ -113,7 +114,7 @@ def test_a_state_the_wall_rejects_is_a_failure(monkeypatch: pytest.MonkeyPatch) 
         def certify(self, v: np.ndarray, lam: float, *, time_limit: float = math.inf) -> CertificateResult:
             return CertificateResult(None, None, 0.0, 0)
 
-    monkeypatch.setattr(pipeline, "Certificate", Rejecting)  # the wall's certificate only
+    monkeypatch.setattr(fusion, "Certificate", Rejecting)  # the wall's certificate only
     r = solve_nonassociative(wall(), tuning=Tuning(fuse=True), lowest=False, directions="+x")
     d = r.directions[0]
     assert not r.converged and math.isnan(r.load_factor) and d.normal is None
