@@ -1,8 +1,8 @@
 """The fused wall: the blocks a mechanism moves as one rigid body joined, their LP, and its state made the wall's.
 
 THE FUSED WALL. On a large wall most contacts of the collapse mechanism
-neither open nor slip (Set 10, 3,630 blocks: 8,335 of 10,710 contacts move
-at less than 1e-5 of the largest rate in the associative mechanism), yet
+neither open nor slip (on Set 10, most of its contacts; the count is on
+``docs/research/2026-11-28-house.md``), yet
 every LP carries all their forces and the warm dual simplex wanders through
 their statically indeterminate fields. :func:`rigid_bodies` joins the blocks
 linked by such RIGID contacts into bodies (those linked to the ground into
@@ -51,13 +51,13 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 #: A contact is rigid, and the blocks it joins are fused into one body, when
-#: its opening and slip rates in the
-#: associative mechanism (Clarabel's interior point) are below this fraction
-#: of the largest rate. That mechanism has no clean zero: on Set 10 (10,710
-#: contacts) 27 contacts are rigid at 1e-8, 2,598 at 1e-7, 7,189 at 1e-6,
-#: 8,335 at 1e-5 and 9,148 at 1e-4. At 1e-4 the fused Set 9 converged at the
-#: very end of its mechanism band, where the certificate of the whole wall
-#: missed it by 4e-7; at 1e-5 both Sets 2 and 9 are certified on the wall.
+#: its opening and slip rates in the associative mechanism (Clarabel's
+#: interior point) are below this fraction of the largest rate. That mechanism
+#: has no clean zero, so the threshold is a choice: the largest at which the
+#: fused states of the paper's walls that need fusing are still certified on
+#: the whole wall (a looser one fuses blocks that move, and the state lands at
+#: the end of its band where the wall's certificate misses it). The counts per
+#: threshold: ``docs/research/2026-11-28-house.md`` ("Figures moved from the code").
 FUSE_RIGID_TOL = 1e-5
 
 
@@ -75,8 +75,8 @@ def rigid_bodies(lp: LimitLP, velocities: FloatArray, tol: float = FUSE_RIGID_TO
         joined to the ground by rigid contacts (at rest). A block with a
         contact that is not rigid is a body of its own, so that the sequence
         can shift a crack of the associative mechanism by a block (fused up
-        to its moving contacts, Set 9 ended at the LP cap: 775 bodies, λ in
-        [0.3900, 0.3929] after 40 proximal LPs; as here, certified).
+        to its moving contacts, Set 9 ended at the LP cap; as here, it is
+        certified: ``docs/research/2026-11-28-house.md``).
     """
     wall = lp.wall
     nb = wall.n_blocks

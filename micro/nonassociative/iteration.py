@@ -107,8 +107,8 @@ class LPSequence:
 
     # ------------------------------------------------------------ iterate 0
     def _start(self) -> tuple[Outcome, str, FloatArray | None]:
-        """The associative LP (iterate 0): ``"interior"`` by Clarabel (tight
-        tolerances; 0.4 s on 1,230 blocks against 1.7 s for HiGHS IPM),
+        """The associative LP (iterate 0): ``"interior"`` by the interior-point role (Clarabel, tight
+        tolerances; faster than HiGHS IPM: ``docs/research/2026-11-28-house.md``),
         HiGHS IPM if Clarabel fails; ``"vertex"`` by HiGHS IPM + crossover +
         dual simplex (a basic optimal solution).
 

@@ -109,8 +109,8 @@ def _fused_continuation(lp: LimitLP, direction: int, recipe: Recipe, before: Att
     """The fused wall with the continuation, where the wall's own sequences failed. A certified run is
     the direction's result, with the wall's sequences in ``sequence.unfused_attempt``; a failed one
     leaves the wall's result, its message extended. Either way the LPs and seconds of all runs count.
-    It certified the two error-map walls (882 and 1,314 blocks) on which the vertex and the proximal
-    sequences end at their caps."""
+    Why it is in the chain (walls on which the vertex and the proximal sequences both end at their caps,
+    certified by it): ``docs/research/2026-11-24-fused-retry.md``."""
     assert before is not None
     first = before.result
     third, _ = solve_fused(lp, direction, dataclasses.replace(recipe, fuse=True, continuation=True))

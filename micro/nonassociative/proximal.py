@@ -50,10 +50,10 @@ PROJECTION_SOLVERS = ("normal-ipm", "clarabel")
 
 #: The proximal selection's margin below the LP's optimum: its QP asks for the
 #: field closest to ``nbar`` that carries ``lambda* (1 - PROX_MARGIN)``
-#: (:class:`Projection`). At 1e-5 Clarabel stopped at its
-#: iteration cap ("AlmostSolved", 200 iterations) on most QPs of Sets 2 and 9
-#: (the feasible set is too thin); at 1e-3 Set 9's sequence had not been
-#: certified after 40 LPs; at 1e-4 it was after 38 (and Set 2 after 21).
+#: (:class:`Projection`). Smaller, the feasible set is too thin for the QP's
+#: solvers; larger, the sequence settles too far from a collapse state to be
+#: certified within its cap: the values tried and what each gave are on
+#: ``docs/research/2026-11-24-proximal-selection.md``.
 PROX_MARGIN = 1e-4
 #: Clarabel settings of the proximal QP: a projection needs no more than
 #: 1e-8 (it only chooses the next ``nbar``; the certificate decides

@@ -9,9 +9,9 @@ loaded or slower machine follows the same path to the same numbers. The loop
 iterate, whether to go cold (:meth:`WarmColdPolicy.cold`) and how many
 simplex iterations a warm run may take (:attr:`WarmColdPolicy.warm_limit`),
 and tells it the work of every run (:meth:`WarmColdPolicy.account`,
-:meth:`WarmColdPolicy.slow_warm`). The measurements behind the constants are
-the notes beside each; the iterated LP's warm and cold runs are described on
-``docs/research/2026-11-23-iterated-lp.md``.
+:meth:`WarmColdPolicy.slow_warm`). The measurements behind the constants are on
+the research pages each names; the iterated LP's warm and cold runs are
+described on ``docs/research/2026-11-23-iterated-lp.md``.
 """
 
 from __future__ import annotations
@@ -26,19 +26,21 @@ WARM = "simplex-warm"
 # The warm/cold policy: every decision is taken on deterministic work measures
 # (simplex and interior-point iteration counts, LP counts), never on seconds:
 # a loaded or slower machine follows the same path to the same numbers.
-#: On large walls a warm dual simplex can cost more than a cold solve (7,575
-#: blocks: 78,000-104,000 simplex iterations, 170-200 s, against 45 s for
-#: interior point + crossover; 1,230 blocks: 514-1,423, 2-6 x faster than
-#: cold). Scheme (a) solves an iterate cold while the last warm run took more
-#: than this many simplex iterations per equilibrium row of the wall ...
+#: On large walls a warm dual simplex can cost more than a cold solve, on
+#: walls of about a thousand blocks it is several times faster
+#: (``docs/research/2026-11-24-lowest-certified-state.md``,
+#: ``docs/research/2026-11-25-nonassociative-profile.md``). Scheme (a) solves
+#: an iterate cold while the last warm run took more than this many simplex
+#: iterations per equilibrium row of the wall ...
 COLD_SWITCH_PIVOTS = 2.0
 #: ... and goes back to warm after this many cold iterates in a row, a number
 #: doubled each time the warm run after a cold streak is slow again (or stopped
 #: at its limit below).
 COLD_STREAK = 3
 #: A warm run that takes more than this many simplex iterations per
-#: equilibrium row is stuck (seen: 13 s to declare a 150-block LP
-#: infeasible): it is stopped and recovered ...
+#: equilibrium row is stuck (a small infeasible LP took seconds to be
+#: declared so: ``docs/research/2026-11-28-house.md``): it is stopped and
+#: recovered ...
 WARM_LIMIT_PIVOTS = 10.0
 #: ... with at least this many iterations on small walls.
 MIN_WARM_LIMIT = 20_000
@@ -59,9 +61,9 @@ class WarmColdPolicy:
     Scheme (a) solves an iterate cold while the last warm run took more than
     :attr:`cold_switch` simplex iterations, for at most :attr:`streak_length`
     cold iterates in a row (:data:`COLD_STREAK`, doubled each time the warm run
-    after a cold streak is slow again, or stopped at :attr:`warm_limit`: Set
-    10, 3,630 blocks, warm runs of 102,000 and over 108,000 simplex
-    iterations, 260-360 s, against cold ones of 40-65 s).
+    after a cold streak is slow again, or stopped at :attr:`warm_limit`: on
+    Set 10 warm runs after a cold streak were several times slower than cold
+    ones, ``docs/research/2026-11-28-house.md``).
 
     Args:
         n_eq: equilibrium rows of the LP (the counts are per row).

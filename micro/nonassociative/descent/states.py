@@ -63,20 +63,19 @@ FORCE_ZERO = 1e-9
 REFINE_STEPS = 3
 REFINED = 1e-12
 #: Simplex iterations per row a warm run may take before it is redone cold:
-#: after a large change of the pattern a warm dual simplex took 5,300
-#: iterations (1.6 s, against 0.34 s cold) on 150 blocks and more than eight
-#: minutes on the 1,230-block wall.
+#: after a large change of the pattern a warm dual simplex can cost several
+#: times a cold solve (``docs/research/2026-11-28-house.md``, "Figures moved
+#: from the code").
 WARM_ITERATIONS = 2
 #: Callbacks beyond one per simplex iteration a primal run may make
 #: (:meth:`~micro.backends.highs.PersistentHighsModel.limit_excess_calls`):
-#: on Ref, Set 2 and the p = 1 wall of Table 5 every primal run that solved
-#: made at most 54, those that failed 59-4,478 (one of them 97 s in slow
-#: iterations of 40-60 callbacks each, against 0.5-2 s for a run that solves).
+#: the runs that solve make few, those that fail many, slowly; the counts are
+#: on ``docs/research/2026-11-26-warm-descent.md`` and
+#: ``docs/research/2026-11-28-house.md``.
 PRIMAL_EXCESS_CALLS = 200
 #: Simplex iterations per row a primal run from a carried-over basis may
-#: take: on the 1,230-block wall those that solve took 0.2-0.36 per row
-#: (790-1,330), and those that did not ended "Unknown" after 0.46 or had
-#: not finished at 2.
+#: take: above the runs that solve, below those that did not
+#: (``docs/research/2026-11-28-house.md``).
 PRIMAL_ITERATIONS = 0.5
 #: Weight of every restricted column in the mechanism LP beside the
 #: reduced-cost weights (normalised to at most 1): among compatible
