@@ -17,7 +17,8 @@ described on ``docs/research/2026-11-23-iterated-lp.md``.
 from __future__ import annotations
 
 import math
-from typing import Protocol
+
+from micro.nonassociative.selections import Selection
 
 #: The algorithm names of a cold and of a warm run (the history's ``algorithm``).
 COLD = "ipm+crossover+simplex"
@@ -44,15 +45,6 @@ COLD_STREAK = 3
 WARM_LIMIT_PIVOTS = 10.0
 #: ... with at least this many iterations on small walls.
 MIN_WARM_LIMIT = 20_000
-
-
-class Selection(Protocol):
-    """What the policy reads of the selection of the sequence (:mod:`micro.nonassociative.selections`)."""
-
-    @property
-    def may_go_cold(self) -> bool: ...
-
-    def warm_limit(self, limit: int) -> int: ...
 
 
 class WarmColdPolicy:
