@@ -6,6 +6,7 @@ Example::
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --json
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --tuning scheme=b --tuning relaxation=0.5
     xcheck micro --t 2 --m 1/3 --rows 6 --f 0.6 --friction nonassociative --global --time-limit 60 --json
+    xcheck micro --t 1 --m 1/2 --rows 12 --f 0.75 --friction nonassociative --state set13.json
 """
 
 from __future__ import annotations
@@ -21,24 +22,25 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
+    from comparison.local import WallMechanism
     from comparison.wall import WallSpec
     from micro import BlockWall, LimitResult, NonAssociativeResult, Tuning
     from micro.global_search import GlobalResult
     from micro.nonassociative import LPProgress
 
 from comparison.cli.options import (
-    EXIT_FAILED,
-    EXIT_OK,
     QUIET,
     VERBOSE,
     UsageError,
     add_command,
     add_wall_options,
     choice,
+    exit_after_outputs,
     in_range,
     int_option,
     wall_from_args,
 )
+from comparison.cli.state import add_state_option, check_state_path, write_state_file
 
 #: Friction laws accepted by ``--friction``.
 FRICTION_LAWS = ("associative", "nonassociative")
@@ -88,6 +90,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "default 300)")
     g.add_argument("--json", action="store_true", help="print one JSON object")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
+    add_state_option(g)
     # ---- non-associative friction: the report's method; research knobs only through --tuning
     na = p.add_argument_group("non-associative friction (--friction nonassociative; the report's method)")
     na.add_argument("--max-iterations", default=None, metavar="N",
@@ -142,6 +145,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
     if args.plot is not None and not Path(args.plot).parent.is_dir():  # before minutes of solving, not after
         raise UsageError(f"--plot: the folder of {args.plot!r} does not exist")
+    check_state_path(args)
     spec = wall_from_args(args)
     try:
         wall = spec.to_micro(first_course=args.first_course, head_joints=args.head_joints)
@@ -150,23 +154,25 @@ def run(args: argparse.Namespace) -> int:
     _options_apply(args)
     if args.friction == "nonassociative":
         return _run_nonassociative(args, spec, wall, time_limit)
-    if args.solver is None:  # the library's default back end
-        result = micro.solve_associative(wall, time_limit=time_limit)
-    else:
-        if missing := micro.backends.missing_extra(args.solver):  # an optional extra not installed
-            raise UsageError(missing)
-        result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
+    solver = {} if args.solver is None else {"solver": args.solver}  # else the library's default back end
+    if args.solver is not None and (missing := micro.backends.missing_extra(args.solver)):  # an optional extra
+        raise UsageError(missing)
+    result = micro.solve_associative(wall, time_limit=time_limit, **solver)
+    own = _wall_mechanism(wall, result, lambda w: micro.solve_associative(w, time_limit=time_limit, **solver))
     plot_error = None
     if args.plot is not None and result.ok:
         from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_mechanism
 
         plot_error = _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
+    state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
-        print(_json(result.summary(), args, spec, plotted=result.ok and plot_error is None))
+        print(_json({**result.summary(), **own.to_dict()}, args, spec, plotted=result.ok and plot_error is None,
+                    state=state_written))
     else:
         _print_associative(result, args.verbosity)
-    return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
+        _print_local(own, args.verbosity)
+    return exit_after_outputs(result.ok, plot_error, state_error)
 
 
 def _options_apply(args: argparse.Namespace) -> None:
@@ -209,10 +215,34 @@ def _print_associative(result: LimitResult, verbosity: int) -> None:
         print("  contacts of the mechanism: " + ", ".join(f"{n} {k}" for k, n in rec.contact_states.items()))
 
 
+def _wall_mechanism(wall: BlockWall, result: Any, solve: Callable[[BlockWall], Any]) -> WallMechanism:
+    """The block model's result told apart from a local mechanism, and the wall's own
+    (:func:`comparison.local.solve_wall_mechanism`; the held wall is solved only where a local one governs)."""
+    from comparison.local import solve_wall_mechanism
+
+    return solve_wall_mechanism(wall, solve, first=result)
+
+
+def _print_local(own: WallMechanism, verbosity: int) -> None:
+    """Where a local mechanism governs, what moves and the wall's own load factor (the one compared with the
+    macro model): two lines after the result, none when quiet."""
+    if own.local is None or verbosity == QUIET:
+        return
+    loc = own.local
+    print(f"  local mechanism: {loc.description} (lambda = {loc.load_factor:.6f}, {loc.direction}, "
+          f"{100 * loc.weight_share:.2g} % of the weight): the block model's, not the wall's")
+    if math.isfinite(own.load_factor):
+        print(f"  the wall's own mechanism ({len(own.held)} block{'s' if len(own.held) != 1 else ''} held to "
+              f"the block below): wall lambda = {own.load_factor:.6f} ({own.result.direction}); compare this "
+              "with the macro model")
+    else:
+        print(f"  the wall's own mechanism: not found ({own.message})")
+
+
 def _write_plot(draw: Callable[[], object], path: str) -> str | None:
     """Draw a plot (whole or not at all: :func:`micro.plot.save_figure`); why it could not be written
     (``None``: written). Not bad input (the folder was checked before solving; a full disk is not the
-    user's input): the result is printed all the same, then :func:`_plot_failed`."""
+    user's input): the result is printed all the same, then :func:`~comparison.cli.options.exit_after_outputs`."""
     try:
         draw()
     except OSError as exc:
@@ -220,23 +250,18 @@ def _write_plot(draw: Callable[[], object], path: str) -> str | None:
     return None
 
 
-def _plot_failed(message: str) -> int:
-    """After the result: one line saying why the plot is missing, and :data:`EXIT_FAILED`."""
-    print(f"xcheck: error: {message}", file=sys.stderr)
-    return EXIT_FAILED
-
-
-def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool, **extra: str) -> str:
-    """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters)
-    and the options."""
+def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool,
+          state: str | None) -> str:
+    """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters),
+    the options and the files written (``plot``, ``state``; ``None`` where none)."""
     summary.update(
         wall=spec.name or None,
         paper_parameters=spec.paper_parameters(),
         friction=args.friction,
         first_course=args.first_course,
         head_joints=args.head_joints,
-        **extra,
         plot=args.plot if plotted else None,
+        state=state,
     )
     return json.dumps(summary)
 
@@ -327,10 +352,11 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             raise UsageError(f"--lowest must be on, off or a positive number of LPs, got {lowest!r}") from None
         lowest = "on"
     nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, minimum=1)
-    result = micro.solve_nonassociative(
-        wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
-        lowest=LOWEST_CHOICES[lowest], **given,
-    )
+    progress = _progress_line if args.verbosity >= VERBOSE else None
+    result = micro.solve_nonassociative(wall, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest],
+                                        **given)
+    own = _wall_mechanism(wall, result, lambda w: micro.solve_nonassociative(
+        w, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest], **given))
     search = None
     if args.global_:  # composed after the run, from its states; its limits: --node-limit, and --time-limit
         from micro.global_search import GlobalOptions, solve_global
@@ -356,14 +382,17 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
                                     **storey_marks(spec)),
             args.plot,
         )
+    state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
         summary = result.summary() if search is None else _with_global(result.summary(), search)
-        print(_json(summary, args, spec, plotted=mechanism is not None and plot_error is None))
+        print(_json({**summary, **own.to_dict()}, args, spec,
+                    plotted=mechanism is not None and plot_error is None, state=state_written))
     else:
         _print_nonassociative(result, args.verbosity, search)
+        _print_local(own, args.verbosity)
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
-    return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
+    return exit_after_outputs(result.ok, plot_error, state_error)
 
 
 def _with_global(summary: dict[str, Any], search: GlobalResult) -> dict[str, Any]:
