@@ -25,6 +25,7 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.local import WallMechanism
     from comparison.wall import WallSpec
     from micro import BlockWall, LimitResult, NonAssociativeResult, Tuning
+    from micro.global_search import GlobalResult
     from micro.nonassociative import LPProgress
 
 from comparison.cli.options import (
@@ -154,6 +155,8 @@ def run(args: argparse.Namespace) -> int:
     if args.friction == "nonassociative":
         return _run_nonassociative(args, spec, wall, time_limit)
     solver = {} if args.solver is None else {"solver": args.solver}  # else the library's default back end
+    if args.solver is not None and (missing := micro.backends.missing_extra(args.solver)):  # an optional extra
+        raise UsageError(missing)
     result = micro.solve_associative(wall, time_limit=time_limit, **solver)
     own = _wall_mechanism(wall, result, lambda w: micro.solve_associative(w, time_limit=time_limit, **solver))
     plot_error = None
@@ -349,14 +352,18 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             raise UsageError(f"--lowest must be on, off or a positive number of LPs, got {lowest!r}") from None
         lowest = "on"
     nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, minimum=1)
-    if args.global_:  # the search's limits: --node-limit, and --time-limit as for every LP
-        limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes, "time_limit": time_limit}
-        given["global_"] = micro.GlobalOptions(**limits)
     progress = _progress_line if args.verbosity >= VERBOSE else None
     result = micro.solve_nonassociative(wall, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest],
                                         **given)
     own = _wall_mechanism(wall, result, lambda w: micro.solve_nonassociative(
         w, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest], **given))
+    search = None
+    if args.global_:  # composed after the run, from its states; its limits: --node-limit, and --time-limit
+        from micro.global_search import GlobalOptions, solve_global
+
+        limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes,
+                                                                    "direction_time_limit": time_limit}
+        search = solve_global(wall, start=result, options=GlobalOptions(**limits))
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     plot_error = None
     if args.plot is not None and mechanism is not None:
@@ -377,17 +384,31 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         )
     state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
-        print(_json({**result.summary(), **own.to_dict()}, args, spec,
+        summary = result.summary() if search is None else _with_global(result.summary(), search)
+        print(_json({**summary, **own.to_dict()}, args, spec,
                     plotted=mechanism is not None and plot_error is None, state=state_written))
     else:
-        _print_nonassociative(result, args.verbosity)
+        _print_nonassociative(result, args.verbosity, search)
         _print_local(own, args.verbosity)
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
     return exit_after_outputs(result.ok, plot_error, state_error)
 
 
-def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
+def _with_global(summary: dict[str, Any], search: GlobalResult) -> dict[str, Any]:
+    """The run's summary with the global search's keys: its record keys in place, its direction, nodes and
+    seconds before ``options``."""
+    from micro.global_search import global_summary
+
+    out: dict[str, Any] = {}
+    for key, value in summary.items():
+        if key == "options":
+            out.update(global_summary(search))
+        out.setdefault(key, value)
+    return out
+
+
+def _print_nonassociative(result: NonAssociativeResult, verbosity: int, search: GlobalResult | None = None) -> None:
     """The result in words, the value to quote first (the lowest certified collapse state, else the
     iterated LP's, saying why): λ alone when quiet, every LP when verbose."""
     if result.ok and verbosity == QUIET:
@@ -402,7 +423,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
               f"{states}")
         print(f"  associative lambda = {result.associative_load_factor:.6f}")
         _print_retry(result)
-        _print_global(result)
+        _print_global(search)
     else:
         window = (
             ""
@@ -489,9 +510,8 @@ def _print_fusion(result: NonAssociativeResult) -> None:
           f"blocks at rest, {f.points:,} of {f.wall_points:,} contact points{took}")
 
 
-def _print_global(result: NonAssociativeResult) -> None:
+def _print_global(g: GlobalResult | None) -> None:
     """The global search, when it ran."""
-    g = result.global_search
     if g is not None:
         print(f"  global search ({g.status}): best lambda = {g.load_factor:.6f}, proven lower bound "
               f"{g.lower_bound:.6f}, gap {100 * g.gap:.2f} %, {g.seconds:.1f} s")

@@ -1,5 +1,9 @@
 """The reference formulation written with cvxpy expressions (one-shot back end).
 
+cvxpy is an optional extra (``pip install 'xcheck-masonry[cvxpy]'``): this
+module imports it when a back end is made, and says so in one line when it
+is missing.
+
 ::
 
     maximise   d * lam
@@ -42,6 +46,9 @@ from micro.backends.base import Outcome, Status, recheck
 from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT
 from micro.lp import LimitLP
 
+#: The one line said when cvxpy is not installed (it is the optional extra ``cvxpy``).
+MISSING = "the cvxpy back end needs cvxpy: pip install 'xcheck-masonry[cvxpy]'"
+
 
 class CvxpyBackend:
     """The cvxpy formulation (module docstring).
@@ -72,7 +79,10 @@ class CvxpyBackend:
 
     def __init__(self, lp: LimitLP, *, solver: str = "CLARABEL", tight: bool = True,
                  solver_options: dict[str, Any] | None = None) -> None:
-        import cvxpy as cp
+        try:
+            import cvxpy as cp
+        except ImportError:  # an optional extra since the package stopped depending on cvxpy
+            raise ModuleNotFoundError(MISSING) from None
 
         self._cp = cp
         self.lp = lp
