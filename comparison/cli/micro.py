@@ -25,10 +25,12 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
     from micro import BlockWall, LimitResult, NonAssociativeResult, Tuning
     from micro.nonassociative import LPProgress
 
+from comparison import numbers
 from comparison.cli.options import (
     EXIT_FAILED,
     EXIT_OK,
     QUIET,
+    SOLVER_COUNT_MAX,
     VERBOSE,
     UsageError,
     add_command,
@@ -90,14 +92,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     # ---- non-associative friction: the report's method; research knobs only through --tuning
     na = p.add_argument_group("non-associative friction (--friction nonassociative; the report's method)")
     na.add_argument("--max-iterations", default=None, metavar="N",
-                    help="cap on the LPs of a direction's first sequence (default: the library's, 100)")
+                    help="cap on the LPs of a direction's first sequence, 2..2,147,483,647 (default: the library's, "
+                    "100)")
     na.add_argument(
         "--lowest",
         default=None,
         metavar="on|off|N",
         help="the descent to the lowest certified collapse state, the value printed first (lowest_load_factor): "
         "on (default, at most 100 LPs per direction), N (on, at most N LPs per direction; one that spends them "
-        "prints the lowest state found so far and says so) or off (the iterated LP's state only)",
+        "prints the lowest state found so far and says so; N in 1..2,147,483,647) or off (the iterated LP's "
+        "state only)",
     )
     na.add_argument("--no-lowest", dest="lowest", action="store_const", const="off", help=argparse.SUPPRESS)
     na.add_argument(
@@ -112,8 +116,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--node-limit",
         default=None,
         metavar="N",
-        help="with --global: branch-and-bound nodes per direction (the same answer on every machine, unlike "
-        "--time-limit)",
+        help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647 (the same answer on every "
+        "machine, unlike --time-limit)",
     )
     na.add_argument(
         "--tuning",
@@ -287,12 +291,19 @@ def _knob_value(key: str, text: str, hint: Any) -> Any:
         if text.lower() not in flags:
             raise UsageError(f"--tuning {key} must be true or false, got {text!r}")
         return flags[text.lower()]
-    if kind in (int, float):
+    if kind is int:  # within HiGHS' integers here; the library's check words the knob's own minimum
         try:
-            return kind(text)
+            number = numbers.exact(f"--tuning {key}", text)
         except ValueError:
-            what = "an integer" if kind is int else "a number"
-            raise UsageError(f"--tuning {key} must be {what}, got {text!r}") from None
+            number = None
+        if number is None or number.denominator != 1 or abs(number) > SOLVER_COUNT_MAX:
+            raise UsageError(f"--tuning {key} must be an integer of at most {SOLVER_COUNT_MAX:,}, got {text!r}")
+        return int(number)
+    if kind is float:
+        try:
+            return float(numbers.exact(f"--tuning {key}", text))
+        except (ValueError, OverflowError):
+            raise UsageError(f"--tuning {key} must be a number ({numbers.NUMBER_RULE}), got {text!r}") from None
     return text
 
 
@@ -315,15 +326,16 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     # the options given; the others are the library's defaults
     given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit}
     if args.max_iterations is not None:
-        given["max_iterations"] = int_option("--max-iterations", args.max_iterations, minimum=2)
+        given["max_iterations"] = int_option("--max-iterations", args.max_iterations, 2, SOLVER_COUNT_MAX)
     lowest = args.lowest or "on"
     if lowest not in LOWEST_CHOICES:
         try:
-            given["lowest_budget"] = int_option("--lowest", lowest)
+            given["lowest_budget"] = int_option("--lowest", lowest, 1, SOLVER_COUNT_MAX)
         except UsageError:
-            raise UsageError(f"--lowest must be on, off or a positive number of LPs, got {lowest!r}") from None
+            raise UsageError(f"--lowest must be on, off or a number of LPs in 1..{SOLVER_COUNT_MAX:,}, "
+                             f"got {lowest!r}") from None
         lowest = "on"
-    nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, minimum=1)
+    nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, 1, SOLVER_COUNT_MAX)
     if args.global_:  # the search's limits: --node-limit, and --time-limit as for every LP
         limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes, "time_limit": time_limit}
         given["global_"] = micro.GlobalOptions(**limits)
