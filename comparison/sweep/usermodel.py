@@ -21,7 +21,6 @@ from __future__ import annotations
 import contextlib
 import importlib
 import math
-import re
 import sys
 import time
 from collections.abc import Callable, Iterator
@@ -29,20 +28,17 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
+from comparison.names import own_method
 from comparison.numbers import received_number
 from comparison.runner.executor.base import describe
-
-#: What a user model's name may not hold: it heads a Markdown table's column.
-_BAD_NAME = re.compile(r"[|\n\r`]")
-
 
 @dataclass(frozen=True)
 class UserModel:
     """A user's macro model: a callable ``(t, m, rows, f, p, storeys) -> λ`` under a name.
 
     Attributes:
-        name: the column's name in the table, the page and its figures (``"macro"`` and the micro
-            methods' labels are taken).
+        name: the column's name in the table, the page and its figures (:func:`comparison.names.own_method`:
+            ``"macro"`` and the micro methods' kinds and labels are taken).
         function: the callable.
         target: where it comes from, ``module:function`` (default: the callable's module and name).
     """
@@ -53,8 +49,7 @@ class UserModel:
     kind: ClassVar[str] = "user"
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name.strip() or _BAD_NAME.search(self.name):
-            raise ValueError(f"name must be a non-empty text without '|', '`' or line breaks, got {self.name!r}")
+        own_method("name", self.name)  # the suite's rule for names (comparison.names)
         if not callable(self.function):
             raise TypeError(f"{self.name}: function must be callable, got {self.function!r}")
         if not self.target:
