@@ -191,7 +191,9 @@ def save_figure(fig: Any, path: str | Path, **savefig: Any) -> Path:
     ``path`` and renamed over it: a disk that fills up (or any error) leaves
     no file, where ``savefig`` left a 0-byte or cut one; a name that is only an
     extension (``.png``) is written as it is (``savefig`` made it
-    ``.png.png``).
+    ``.png.png``). A symbolic link is written through, as ``open()`` writes
+    it: the file it points to is replaced (beside it, by the same rename)
+    and the link stays, where a rename over the link replaced the link.
 
     Args:
         fig: a matplotlib figure.
@@ -207,10 +209,11 @@ def save_figure(fig: Any, path: str | Path, **savefig: Any) -> Path:
     fmt = name.rsplit(".", 1)[1].lower() if "." in name else None
     buf = io.BytesIO()
     fig.savefig(buf, format=fmt, **savefig)
-    tmp = out.with_name(f".{name}.{uuid.uuid4().hex[:8]}.tmp")
+    target = Path(os.path.realpath(out)) if out.is_symlink() else out
+    tmp = target.with_name(f".{target.name}.{uuid.uuid4().hex[:8]}.tmp")
     try:
         _write_new(tmp, buf.getvalue())
-        os.replace(tmp, out)
+        os.replace(tmp, target)
     except BaseException as exc:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
