@@ -32,6 +32,7 @@ from comparison.names import own_method
 from comparison.numbers import received_number
 from comparison.runner.executor.base import describe
 
+
 @dataclass(frozen=True)
 class UserModel:
     """A user's macro model: a callable ``(t, m, rows, f, p, storeys) -> λ`` under a name.

@@ -14,7 +14,7 @@ from comparison.sweep.usermodel import UserModel
 
 
 def test_the_built_in_names_are_the_runners_kinds() -> None:
-    assert BUILT_IN == tuple(m.kind for m in (MACRO, MICRO_ASSOC, MICRO_NONASSOC))
+    assert tuple(m.kind for m in (MACRO, MICRO_ASSOC, MICRO_NONASSOC)) == BUILT_IN
 
 
 @pytest.mark.parametrize("name", ["my model", "wedge-2", "Set 12 (mine)", "λ model", "macros", "micro"])

@@ -76,22 +76,25 @@ def check_scheduler(address: str, seconds: float = HANDSHAKE_SECONDS) -> None:
         return
     if isinstance(exc, ClusterError):
         raise exc
+    raise ClusterError(f"no Dask scheduler at {address} ({_cause(address, exc, seconds)})")
+
+
+def _cause(address: str, exc: BaseException, seconds: float) -> str:
+    """Why the check of ``address`` failed with ``exc``, in words."""
     if isinstance(exc, socket.gaierror):
-        why = f"cannot resolve the host: {exc.strerror or exc}"
-    elif _speaks_http(address):  # Dask's bytes read as an HTTP request: a 400, or a wait for the request's end
-        why = "an HTTP server answers there, not a Dask scheduler: give the scheduler's own port (default 8786)"
-    elif isinstance(exc, (TimeoutError, asyncio.TimeoutError)):
-        why = f"no Dask handshake within {seconds:g} s: not a Dask scheduler?"
-    elif isinstance(exc, OSError) and exc.strerror:
-        why = exc.strerror
-    elif isinstance(exc, MemoryError):  # Dask read the peer's first bytes as the size of what follows
-        why = ("its answer is not Dask's protocol (its first bytes read as a message too large to hold): not a "
-               "Dask scheduler")
-    else:
-        message = " ".join(str(exc).split())
-        message = message if len(message) <= 160 else f"{message[:157]}..."
-        why = f"not a Dask scheduler? {type(exc).__name__}" + (f": {message}" if message else "")
-    raise ClusterError(f"no Dask scheduler at {address} ({why})")
+        return f"cannot resolve the host: {exc.strerror or exc}"
+    if _speaks_http(address):  # Dask's bytes read as an HTTP request: a 400, or a wait for the request's end
+        return "an HTTP server answers there, not a Dask scheduler: give the scheduler's own port (default 8786)"
+    if isinstance(exc, (TimeoutError, asyncio.TimeoutError)):
+        return f"no Dask handshake within {seconds:g} s: not a Dask scheduler?"
+    if isinstance(exc, OSError) and exc.strerror:
+        return exc.strerror
+    if isinstance(exc, MemoryError):  # Dask read the peer's first bytes as the size of what follows
+        return ("its answer is not Dask's protocol (its first bytes read as a message too large to hold): not a "
+                "Dask scheduler")
+    message = " ".join(str(exc).split())
+    message = message if len(message) <= 160 else f"{message[:157]}..."
+    return f"not a Dask scheduler? {type(exc).__name__}" + (f": {message}" if message else "")
 
 
 def _transport_problem(address: str) -> str:

@@ -7,6 +7,7 @@ settings), ``MemoryError`` (an HTTP server's answer read as a frame length of ex
 
 from __future__ import annotations
 
+import contextlib
 import socket
 import threading
 from collections.abc import Callable, Iterator
@@ -34,11 +35,8 @@ def _server(answer: Callable[[socket.socket], None]) -> Iterator[int]:
                 conn = server.accept()[0]
             except OSError:
                 return
-            with conn:
-                try:
-                    answer(conn)
-                except OSError:
-                    pass
+            with conn, contextlib.suppress(OSError):
+                answer(conn)
 
     threading.Thread(target=serve, daemon=True).start()
     yield server.getsockname()[1]
