@@ -66,6 +66,23 @@ def exact(name: str, text: str) -> Fraction:
         raise OutOfRange(f"{name} is out of range (too many digits), got {text[:20]!r}...") from None
 
 
+#: The largest denominator :func:`shortest` looks for, and how near (in units in the last place) the value
+#: must lie to the fraction: the noise of one or two divisions of numbers written in decimals.
+SIMPLE_DENOMINATOR = 10**6
+NOISE_ULPS = 4
+
+
+def shortest(x: float) -> float:
+    """``x``, or the double nearest a fraction of denominator at most :data:`SIMPLE_DENOMINATOR` when ``x`` lies
+    within :data:`NOISE_ULPS` of it: a ratio of numbers written in decimals printed as written
+    (``0.1 / 0.3`` is ``0.33333333333333337``; the wall's ``m`` is 1/3, ``0.3333333333333333``). For output
+    only: what is computed keeps its own value."""
+    if not math.isfinite(x) or x == 0.0:
+        return x
+    near = float(Fraction(x).limit_denominator(SIMPLE_DENOMINATOR))
+    return near if math.fabs(near - x) <= NOISE_ULPS * math.ulp(x) else x
+
+
 def received_number(where: str, value: object) -> float:
     """``value`` as a float when it is a real number (a Python or NumPy integer or float; NaN allowed).
 

@@ -3,13 +3,14 @@
 
 from __future__ import annotations
 
+import math
 import time
 from fractions import Fraction
 from pathlib import Path
 
 import pytest
 
-from comparison.numbers import MAX_EXPONENT, OutOfRange, exact
+from comparison.numbers import MAX_EXPONENT, OutOfRange, exact, shortest
 from comparison.pytest_plugin.walls import walls_from_file
 from comparison.sweep import GridError, parse_grid
 
@@ -67,3 +68,12 @@ def test_grid_and_walls_files_read_numbers_written_as_text_by_the_same_rule(tmp_
     walls.write_text(f'[[wall]]\nname = "a"\nt = 1\nm = "{text}"\nrows = 6\nf = 0.6\n', encoding="utf-8")
     with pytest.raises(ValueError, match=r"wall\[0\] \(a\): m must be a number or a fraction"):
         walls_from_file(walls)
+
+
+@pytest.mark.parametrize(("x", "printed"), [
+    (0.1 / 0.3, 1 / 3), (2.16 / (18 * 6 * 0.1), 0.2), (6.0 / 6.0, 1.0), (0.7, 0.7), (0.0, 0.0),
+    (math.pi, math.pi), (1 / 3 + 1e-9, 1 / 3 + 1e-9), (1e-300, 1e-300), (math.inf, math.inf),
+])
+def test_a_ratio_of_decimals_prints_as_written(x: float, printed: float) -> None:
+    assert shortest(x) == printed
+    assert math.fabs(shortest(x) - x) <= 4 * math.ulp(x) if math.isfinite(x) else shortest(x) == x
