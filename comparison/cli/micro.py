@@ -164,9 +164,10 @@ def run(args: argparse.Namespace) -> int:
 
         plot_error = _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
     if args.json:
-        print(_json(result.summary(), args, spec, plotted=result.ok and plot_error is None))
+        print(_json(result.summary(), args, spec, wall, plotted=result.ok and plot_error is None))
     else:
         _print_associative(result, args.verbosity)
+        _print_cut(wall, args.verbosity)
     return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
 
 
@@ -227,16 +228,24 @@ def _plot_failed(message: str) -> int:
     return EXIT_FAILED
 
 
-def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool, **extra: str) -> str:
-    """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters)
-    and the options."""
+def _print_cut(wall: BlockWall, verbosity: int) -> None:
+    """One line when the wall's end blocks are cut (``L`` not a whole number of half blocks), but when quiet."""
+    if wall.end_blocks_cut and verbosity != QUIET:
+        print(f"  L = {wall.half_blocks:.4g} half blocks, not a whole number: the last block of every course is "
+              "cut (docs/micro/walls.md)")
+
+
+def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, wall: BlockWall, *,
+          plotted: bool) -> str:
+    """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters;
+    whether its end blocks are cut) and the options."""
     summary.update(
         wall=spec.name or None,
         paper_parameters=spec.paper_parameters(),
+        end_blocks_cut=wall.end_blocks_cut,
         friction=args.friction,
         first_course=args.first_course,
         head_joints=args.head_joints,
-        **extra,
         plot=args.plot if plotted else None,
     )
     return json.dumps(summary)
@@ -362,9 +371,10 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             args.plot,
         )
     if args.json:
-        print(_json(result.summary(), args, spec, plotted=mechanism is not None and plot_error is None))
+        print(_json(result.summary(), args, spec, wall, plotted=mechanism is not None and plot_error is None))
     else:
         _print_nonassociative(result, args.verbosity)
+        _print_cut(wall, args.verbosity)
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
     return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
