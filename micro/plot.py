@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import re
 import uuid
 from collections.abc import Sequence
 from pathlib import Path
@@ -177,7 +178,7 @@ def plot_velocities(
     marks = len(ax.get_legend_handles_labels()[0])
     if marks:  # one row over the axes, the title above it
         ax.legend(fontsize=8, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=marks, frameon=False)
-    ax.set_title(title, pad=24 if marks else 6)
+    _fit_title(fig, ax, title, pad=24 if marks else 6)
     try:
         return save_figure(fig, path, bbox_inches="tight")
     finally:
@@ -221,6 +222,29 @@ def save_figure(fig: Any, path: str | Path, **savefig: Any) -> Path:
             raise OSError(exc.errno, exc.strerror, str(out)) from None
         raise
     return out
+
+
+def _fit_title(fig: Any, ax: Any, title: str, pad: float) -> None:
+    """``title`` over ``ax``, broken into lines at its commas and semicolons where it is wider than the axes:
+    a title one line wide ran under the colour bar beside the axes (``..., 54 blocks`` hidden)."""
+    text = ax.set_title(title, pad=pad)
+    renderer = fig.canvas.get_renderer()
+    room = ax.get_window_extent(renderer).width
+
+    def fits(candidate: str) -> bool:
+        text.set_text(candidate)
+        return bool(text.get_window_extent(renderer).width <= room)
+
+    if fits(title):
+        return
+    pieces = re.split(r"(?<=[,;]) ", title)
+    lines: list[str] = []
+    for piece in pieces:
+        if lines and fits(f"{lines[-1]} {piece}"):
+            lines[-1] = f"{lines[-1]} {piece}"
+        else:
+            lines.append(piece)
+    text.set_text("\n".join(lines))
 
 
 def plot_mechanism(
