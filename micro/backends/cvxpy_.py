@@ -158,7 +158,7 @@ def _interruptible_clarabel() -> Any:
     from cvxpy.reductions.solvers.conic_solvers.clarabel_conif import CLARABEL, dims_to_solver_cones
     from cvxpy.reductions.solvers.conic_solvers.conic_solver import ConicSolver
 
-    class InterruptibleClarabel(CLARABEL):  # type: ignore[misc]
+    class InterruptibleClarabel(CLARABEL):
         def name(self) -> str:
             return "CLARABEL (interruptible)"
 
