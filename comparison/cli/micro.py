@@ -6,6 +6,7 @@ Example::
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --json
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --tuning scheme=b --tuning relaxation=0.5
     xcheck micro --t 2 --m 1/3 --rows 6 --f 0.6 --friction nonassociative --global --time-limit 60 --json
+    xcheck micro --t 1 --m 1/2 --rows 12 --f 0.75 --friction nonassociative --state set13.json
 """
 
 from __future__ import annotations
@@ -14,21 +15,17 @@ import argparse
 import json
 import math
 import sys
-import types
-import typing
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
+    from comparison.local import WallMechanism
     from comparison.wall import WallSpec
-    from micro import BlockWall, LimitResult, NonAssociativeResult, Tuning
+    from micro import BlockWall, LimitResult, NonAssociativeResult
     from micro.nonassociative import LPProgress
 
-from comparison import numbers
 from comparison.cli.options import (
-    EXIT_FAILED,
-    EXIT_OK,
     QUIET,
     SOLVER_COUNT_MAX,
     VERBOSE,
@@ -36,10 +33,13 @@ from comparison.cli.options import (
     add_command,
     add_wall_options,
     choice,
+    exit_after_outputs,
     in_range,
     int_option,
     wall_from_args,
 )
+from comparison.cli.state import add_state_option, check_state_path, write_state_file
+from comparison.cli.tuning import parse_tuning
 
 #: Friction laws accepted by ``--friction``.
 FRICTION_LAWS = ("associative", "nonassociative")
@@ -89,6 +89,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "default 300)")
     g.add_argument("--json", action="store_true", help="print one JSON object")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
+    add_state_option(g)
     # ---- non-associative friction: the report's method; research knobs only through --tuning
     na = p.add_argument_group("non-associative friction (--friction nonassociative; the report's method)")
     na.add_argument("--max-iterations", default=None, metavar="N",
@@ -145,6 +146,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
     if args.plot is not None and not Path(args.plot).parent.is_dir():  # before minutes of solving, not after
         raise UsageError(f"--plot: the folder of {args.plot!r} does not exist")
+    check_state_path(args)
     spec = wall_from_args(args)
     try:
         wall = spec.to_micro(first_course=args.first_course, head_joints=args.head_joints)
@@ -153,22 +155,24 @@ def run(args: argparse.Namespace) -> int:
     _options_apply(args)
     if args.friction == "nonassociative":
         return _run_nonassociative(args, spec, wall, time_limit)
-    if args.solver is None:  # the library's default back end
-        result = micro.solve_associative(wall, time_limit=time_limit)
-    else:
-        result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
+    solver = {} if args.solver is None else {"solver": args.solver}  # else the library's default back end
+    result = micro.solve_associative(wall, time_limit=time_limit, **solver)
+    own = _wall_mechanism(wall, result, lambda w: micro.solve_associative(w, time_limit=time_limit, **solver))
     plot_error = None
     if args.plot is not None and result.ok:
         from comparison.report.mechanisms import storey_marks
         from micro.plot import plot_mechanism
 
         plot_error = _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
+    state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
-        print(_json(result.summary(), args, spec, wall, plotted=result.ok and plot_error is None))
+        print(_json({**result.summary(), **own.to_dict()}, args, spec, wall,
+                    plotted=result.ok and plot_error is None, state=state_written))
     else:
         _print_associative(result, args.verbosity)
+        _print_local(own, args.verbosity)
         _print_cut(wall, args.verbosity)
-    return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
+    return exit_after_outputs(result.ok, plot_error, state_error)
 
 
 def _options_apply(args: argparse.Namespace) -> None:
@@ -211,21 +215,39 @@ def _print_associative(result: LimitResult, verbosity: int) -> None:
         print("  contacts of the mechanism: " + ", ".join(f"{n} {k}" for k, n in rec.contact_states.items()))
 
 
+def _wall_mechanism(wall: BlockWall, result: Any, solve: Callable[[BlockWall], Any]) -> WallMechanism:
+    """The block model's result told apart from a local mechanism, and the wall's own
+    (:func:`comparison.local.solve_wall_mechanism`; the held wall is solved only where a local one governs)."""
+    from comparison.local import solve_wall_mechanism
+
+    return solve_wall_mechanism(wall, solve, first=result)
+
+
+def _print_local(own: WallMechanism, verbosity: int) -> None:
+    """Where a local mechanism governs, what moves and the wall's own load factor (the one compared with the
+    macro model): two lines after the result, none when quiet."""
+    if own.local is None or verbosity == QUIET:
+        return
+    loc = own.local
+    print(f"  local mechanism: {loc.description} (lambda = {loc.load_factor:.6f}, {loc.direction}, "
+          f"{100 * loc.weight_share:.2g} % of the weight): the block model's, not the wall's")
+    if math.isfinite(own.load_factor):
+        print(f"  the wall's own mechanism ({len(own.held)} block{'s' if len(own.held) != 1 else ''} held to "
+              f"the block below): wall lambda = {own.load_factor:.6f} ({own.result.direction}); compare this "
+              "with the macro model")
+    else:
+        print(f"  the wall's own mechanism: not found ({own.message})")
+
+
 def _write_plot(draw: Callable[[], object], path: str) -> str | None:
     """Draw a plot (whole or not at all: :func:`micro.plot.save_figure`); why it could not be written
     (``None``: written). Not bad input (the folder was checked before solving; a full disk is not the
-    user's input): the result is printed all the same, then :func:`_plot_failed`."""
+    user's input): the result is printed all the same, then :func:`~comparison.cli.options.exit_after_outputs`."""
     try:
         draw()
     except OSError as exc:
         return f"--plot: cannot write {path!r} ({exc.strerror or exc})"
     return None
-
-
-def _plot_failed(message: str) -> int:
-    """After the result: one line saying why the plot is missing, and :data:`EXIT_FAILED`."""
-    print(f"xcheck: error: {message}", file=sys.stderr)
-    return EXIT_FAILED
 
 
 def _print_cut(wall: BlockWall, verbosity: int) -> None:
@@ -235,10 +257,11 @@ def _print_cut(wall: BlockWall, verbosity: int) -> None:
               "cut (docs/micro/walls.md)")
 
 
-def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, wall: BlockWall, *,
-          plotted: bool) -> str:
+def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, wall: BlockWall, *, plotted: bool,
+          state: str | None) -> str:
     """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters;
-    whether its end blocks are cut) and the options."""
+    whether its end blocks are cut), the options and the files written (``plot``, ``state``; ``None`` where
+    none)."""
     summary.update(
         wall=spec.name or None,
         paper_parameters=spec.paper_parameters(),
@@ -247,73 +270,9 @@ def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, wal
         first_course=args.first_course,
         head_joints=args.head_joints,
         plot=args.plot if plotted else None,
+        state=state,
     )
     return json.dumps(summary)
-
-
-def parse_tuning(items: list[str]) -> Tuning:
-    """The :class:`micro.Tuning` of ``--tuning KEY=VALUE`` items (values read by the knob's type:
-    ``true``/``false``, numbers, ``none`` where a knob may be unset).
-
-    Raises:
-        UsageError: one line naming the key (an unknown key lists the knobs).
-    """
-    import micro
-    from micro.nonassociative import TUNING_KNOBS
-
-    hints = typing.get_type_hints(micro.Tuning)
-    values: dict[str, Any] = {}
-    for item in items:
-        key, eq, text = item.partition("=")
-        key = key.strip().replace("-", "_")
-        if not eq or not key:
-            raise UsageError(f"--tuning must be KEY=VALUE, got {item!r}")
-        if key not in TUNING_KNOBS:
-            raise UsageError(f"--tuning {key}: unknown knob; the knobs are {', '.join(TUNING_KNOBS)}")
-        values[key] = _knob_value(key, text.strip(), hints[key])
-    try:
-        return micro.Tuning(**values)
-    except ValueError as exc:
-        raise UsageError(f"--tuning {exc}") from None
-
-
-def _knob_value(key: str, text: str, hint: Any) -> Any:
-    """``text`` read as the knob ``key`` of type ``hint`` (its annotation, resolved): a choice among a
-    ``Literal``'s values, a bool, an int, a float, ``none``/``auto`` where the knob may be ``None``.
-
-    The type is read from the annotation's structure, not from its text (``"int" in "Literal['interior', ...]"``
-    once made ``start`` and ``global_bounds`` integers that could not be set)."""
-    union = typing.get_origin(hint) in (typing.Union, types.UnionType)
-    kinds = typing.get_args(hint) if union else (hint,)
-    optional = type(None) in kinds
-    (kind,) = (k for k in kinds if k is not type(None))
-    if optional and text.lower() in ("none", "auto"):
-        return None
-    if typing.get_origin(kind) is typing.Literal:
-        choices = typing.get_args(kind)
-        if text not in choices:
-            more = ", none" if optional else ""
-            raise UsageError(f"--tuning {key} must be one of {', '.join(map(str, choices))}{more}, got {text!r}")
-        return text
-    if kind is bool:
-        flags = {**dict.fromkeys(("true", "yes", "on", "1"), True), **dict.fromkeys(("false", "no", "off", "0"), False)}
-        if text.lower() not in flags:
-            raise UsageError(f"--tuning {key} must be true or false, got {text!r}")
-        return flags[text.lower()]
-    if kind is int:  # within HiGHS' integers here; the library's check words the knob's own minimum
-        try:
-            number = numbers.exact(f"--tuning {key}", text)
-        except ValueError:
-            number = None
-        if number is None or number.denominator != 1 or abs(number) > SOLVER_COUNT_MAX:
-            raise UsageError(f"--tuning {key} must be an integer of at most {SOLVER_COUNT_MAX:,}, got {text!r}")
-        return int(number)
-    if kind is float:
-        try:
-            return float(numbers.exact(f"--tuning {key}", text))
-        except (ValueError, OverflowError):
-            raise UsageError(f"--tuning {key} must be a number ({numbers.NUMBER_RULE}), got {text!r}") from None
-    return text
 
 
 def _progress_line(event: LPProgress) -> None:
@@ -348,10 +307,11 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     if args.global_:  # the search's limits: --node-limit, and --time-limit as for every LP
         limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes, "time_limit": time_limit}
         given["global_"] = micro.GlobalOptions(**limits)
-    result = micro.solve_nonassociative(
-        wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
-        lowest=LOWEST_CHOICES[lowest], **given,
-    )
+    progress = _progress_line if args.verbosity >= VERBOSE else None
+    result = micro.solve_nonassociative(wall, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest],
+                                        **given)
+    own = _wall_mechanism(wall, result, lambda w: micro.solve_nonassociative(
+        w, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest], **given))
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     plot_error = None
     if args.plot is not None and mechanism is not None:
@@ -359,10 +319,10 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         from micro.plot import plot_velocities
 
         title = (
-            f"non-associative micro λ = {result.quoted_load_factor:.4f} (lowest certified; iterated LP "
-            f"{result.load_factor:.4f}), {result.direction}, {result.blocks} blocks"
+            f"non-associative micro λ = {result.load_factor:.4f} (lowest certified; iterated LP "
+            f"{result.iterated_load_factor:.4f}), {result.direction}, {result.blocks} blocks"
             if result.quoted == "lowest certified" else
-            f"non-associative micro λ = {result.load_factor:.4f} (iterated LP; the lowest not searched or not "
+            f"non-associative micro λ = {result.iterated_load_factor:.4f} (iterated LP; the lowest not searched or not "
             f"found), {result.direction}, {result.blocks} blocks"
         )
         plot_error = _write_plot(
@@ -370,28 +330,31 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
                                     **storey_marks(spec)),
             args.plot,
         )
+    state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
-        print(_json(result.summary(), args, spec, wall, plotted=mechanism is not None and plot_error is None))
+        print(_json({**result.summary(), **own.to_dict()}, args, spec, wall,
+                    plotted=mechanism is not None and plot_error is None, state=state_written))
     else:
         _print_nonassociative(result, args.verbosity)
+        _print_local(own, args.verbosity)
         _print_cut(wall, args.verbosity)
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
-    return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
+    return exit_after_outputs(result.ok, plot_error, state_error)
 
 
 def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
     """The result in words, the value to quote first (the lowest certified collapse state, else the
     iterated LP's, saying why): λ alone when quiet, every LP when verbose."""
     if result.ok and verbosity == QUIET:
-        print(f"{result.quoted_load_factor:.6f}")
+        print(f"{result.load_factor:.6f}")
         return
     if result.ok:
         _print_answer(result)
         band = result.mechanism_band
         states = "" if band is None else f"; its mechanism's collapse states: lambda in [{band[0]:.6f}, {band[1]:.6f}]"
         print(f"  iterated LP (Gilbert et al., scheme {result.scheme}, relaxation {result.relaxation:g}): "
-              f"lambda = {result.load_factor:.6f}, converged in {result.iterations} LPs ({result.stop_reason})"
+              f"lambda = {result.iterated_load_factor:.6f}, converged in {result.iterations} LPs ({result.stop_reason})"
               f"{states}")
         print(f"  associative lambda = {result.associative_load_factor:.6f}")
         _print_retry(result)
@@ -450,7 +413,7 @@ def _print_answer(result: NonAssociativeResult) -> None:
         print(f"lambda = {low.load_factor:.6f} ({low.direction}): the lowest certified collapse state, "
               f"non-associative friction ({done})")
     else:
-        print(f"lambda = {result.load_factor:.6f} ({result.direction}): the iterated LP's collapse state, "
+        print(f"lambda = {result.iterated_load_factor:.6f} ({result.direction}): the iterated LP's collapse state, "
               f"non-associative friction; {note}")
 
 

@@ -54,6 +54,19 @@ exit codes:
 """
 
 
+def exit_after_outputs(ok: bool, *unwritten: str | None) -> int:
+    """After the result is printed: one line ``xcheck: error: MESSAGE`` on stderr for each output that could
+    not be written (a plot, a state file; ``None``: written or not asked for), then :data:`EXIT_FAILED`
+    when there is one or the result failed, else :data:`EXIT_OK`. Not bad input: the folder was checked
+    before the work, and a full disk is not the user's input."""
+    import sys
+
+    for message in unwritten:
+        if message:
+            print(f"xcheck: error: {message}", file=sys.stderr)
+    return EXIT_OK if ok and not any(unwritten) else EXIT_FAILED
+
+
 def add_command(sub: argparse._SubParsersAction, name: str, *, help: str, description: str) -> argparse.ArgumentParser:
     """A subcommand's parser with the options every subcommand has (``--quiet``/``--verbose``) and the exit
     codes in its help."""

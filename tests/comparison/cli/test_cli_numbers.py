@@ -74,3 +74,8 @@ def test_leading_zeros_are_read_as_the_number_they_write(capsys: pytest.CaptureF
 def main_value(capsys: pytest.CaptureFixture[str], argv: list[str]) -> str:
     assert main(argv) == 0
     return capsys.readouterr().out
+
+
+def test_compare_bounds_its_node_limit_alike(capsys: pytest.CaptureFixture[str]) -> None:
+    one_line_error(capsys, ["compare", *WALL, "--global", "--node-limit", "2147483648"], "--node-limit",
+                   "2,147,483,647")
