@@ -146,7 +146,8 @@ def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
                                                     ("non-associative", s.nonassociative)) if math.isfinite(v)]
     lines.append(f"  {c.blocks} blocks; " + ", ".join(stages) + f"; total {s.total:.2f} s")
     if verbose:
-        paper = ", ".join(f"{k} = {v:.6g}" for k, v in c.wall.paper_parameters().items() if k != "p_storeys")
+        paper = ", ".join(f"{k} = {v:.6g}" for k, v in c.wall.paper_parameters().items()
+                          if k != "p_storeys" and v is not None)
         lines.append(f"  paper parameters: {paper}")
     return "\n".join(lines)
 
