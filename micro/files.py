@@ -33,15 +33,25 @@ _KINDS = (
 )
 
 
-def read_input_file(path: str | os.PathLike[str], max_bytes: int | None = None) -> bytes:
+#: Bytes read at a time when a file is read up to a cap.
+_CHUNK = 1 << 20
+
+
+def read_input_file(path: str | os.PathLike[str], max_bytes: int | None = None, *,
+                    follow_symlinks: bool = True) -> bytes:
     """The bytes of the regular file ``path`` (at most ``max_bytes + 1`` of them, so that a caller
-    can tell a file longer than ``max_bytes``).
+    can tell a file longer than ``max_bytes``; a sparse file of gigabytes costs no more).
+
+    Args:
+        follow_symlinks: False to refuse a symbolic link as the last part of ``path`` (``ELOOP``), for
+            folders the suite writes itself and never links (the result cache).
 
     Raises:
         OSError: the file cannot be opened or read, or is not a regular file
             (``strerror``: ``"not a regular file: a named pipe"`` and the like).
     """
-    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    nofollow = 0 if follow_symlinks else getattr(os, "O_NOFOLLOW", 0)
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | nofollow | getattr(os, "O_CLOEXEC", 0))
     try:
         mode = os.fstat(fd).st_mode
         if not stat.S_ISREG(mode):
@@ -50,7 +60,17 @@ def read_input_file(path: str | os.PathLike[str], max_bytes: int | None = None) 
         os.set_blocking(fd, True)
         with os.fdopen(fd, "rb") as fh:
             fd = -1  # the file object closes it
-            return fh.read() if max_bytes is None else fh.read(max_bytes + 1)
+            if max_bytes is None:
+                return fh.read()
+            # in chunks: ``read(max_bytes + 1)`` would allocate the whole cap for a file of a few bytes
+            chunks, size = [], 0
+            while size <= max_bytes:
+                chunk = fh.read(min(_CHUNK, max_bytes + 1 - size))
+                if not chunk:
+                    break
+                chunks.append(chunk)
+                size += len(chunk)
+            return b"".join(chunks)
     finally:
         if fd >= 0:
             os.close(fd)
@@ -83,7 +103,10 @@ def write_whole(path: str | os.PathLike[str], data: bytes) -> Path:
 
 
 def _write_new(path: Path, data: bytes) -> None:
-    """Create ``path`` (it must not exist) holding ``data``; mode 0o666 less the umask."""
+    """Create ``path`` (it must not exist) holding ``data``, flushed to disk (so that a crash after the
+    rename leaves the new file whole, and a full disk is seen here); mode 0o666 less the umask."""
     fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o666)
     with os.fdopen(fd, "wb") as fh:
         fh.write(data)
+        fh.flush()
+        os.fsync(fh.fileno())

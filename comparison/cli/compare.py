@@ -31,9 +31,11 @@ from comparison.cli.options import (
     int_option,
     wall_from_args,
 )
+from comparison.cli.state import check_state_path, write_state_file
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.compare import CompareOptions, Comparison
+    from comparison.wall import WallSpec
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -67,6 +69,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="time limit per LP solve (with --global also of each direction's branch and bound)")
     g.add_argument("--json", action="store_true", help="print one JSON object (docs/schemas/compare.schema.json)")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its governing micro mechanism")
+    g.add_argument("--state", default=None, metavar="FILE.json",
+                   help="write the collapse state compared (the non-associative one; the associative LP's when "
+                   "the bound settled the verdict), of the wall as analysed; `xcheck verify FILE.json` checks it")
     p.set_defaults(handler=run)
 
 
@@ -98,6 +103,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
     if args.plot is not None and not Path(args.plot).parent.is_dir():  # before the solves, not after
         raise UsageError(f"--plot: the folder of {args.plot!r} does not exist")
+    check_state_path(args)
     spec = wall_from_args(args)
     try:
         result = compare(spec, options)
@@ -105,10 +111,11 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(str(exc)) from None
     plot_error, drawn = _plot(result, args.plot) if args.plot is not None else (None, False)
     plotted = drawn and plot_error is None
+    state_written, state_error = _state(args, result, spec)
     if args.json:
         doc = result.to_dict()
         doc.update(wall=spec.name or None, paper_parameters=spec.paper_parameters(),
-                   plot=args.plot if plotted else None)
+                   plot=args.plot if plotted else None, state=state_written)
         print(json.dumps(doc))
     elif args.verbosity == QUIET:
         print(result.verdict + (f" ({result.proof})" if result.proof else "") if result.verdict else "no verdict")
@@ -116,7 +123,17 @@ def run(args: argparse.Namespace) -> int:
         print(format_comparison(result, verbose=args.verbosity >= VERBOSE))
         if args.plot is not None and not drawn:
             print(f"  no plot written to {args.plot}: no micro mechanism")
-    return exit_after_outputs(result.status == "ok", plot_error)
+    return exit_after_outputs(result.status == "ok", plot_error, state_error)
+
+
+def _state(args: argparse.Namespace, c: Comparison, spec: WallSpec) -> tuple[str | None, str | None]:
+    """Write ``--state``: the state compared (the non-associative result when it ran, else the associative
+    LP's), of the wall it was computed on (held where a local mechanism was told apart)."""
+    if c.nonassociative_result is not None and c.nonassociative_wall is not None:
+        return write_state_file(args, c.nonassociative_result, c.nonassociative_wall, spec)
+    if c.associative_result is not None and c.associative_wall is not None:
+        return write_state_file(args, c.associative_result, c.associative_wall, spec)
+    return (None, None) if args.state is None else (None, "--state: no micro state to write")
 
 
 def format_comparison(c: Comparison, *, verbose: bool = False) -> str:

@@ -256,8 +256,9 @@ def add_cache_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-cache", action="store_true", help="recompute everything, cache nothing")
 
 
-def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
-    """The cache directory the options name (``None`` for ``--no-cache``).
+def cache_dir_from_args(args: argparse.Namespace, *, create: bool = True) -> Path | None:
+    """The cache directory the options name (``None`` for ``--no-cache``; ``create``: see
+    :func:`output_directory`).
 
     Raises:
         UsageError: ``--cache`` together with ``--no-cache``, or a cache
@@ -267,11 +268,12 @@ def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
         if args.cache is not None:
             raise UsageError("--cache and --no-cache exclude each other")
         return None
-    return cache_directory(args.cache)
+    return cache_directory(args.cache, create=create)
 
 
-def cache_directory(cache: str | None) -> Path:
-    """The cache directory ``--cache`` names, else the default one, checked before any work.
+def cache_directory(cache: str | None, *, create: bool = True) -> Path:
+    """The cache directory ``--cache`` names, else the default one, checked before any work (``create``:
+    see :func:`output_directory`).
 
     Raises:
         UsageError: a cache directory that cannot be written (a file, no permission).
@@ -279,12 +281,14 @@ def cache_directory(cache: str | None) -> Path:
     from comparison.runner.cache import default_cache_dir
 
     if cache is not None:
-        return output_directory("--cache", cache)
-    return output_directory("the cache directory ($XCHECK_CACHE, else the default)", default_cache_dir())
+        return output_directory("--cache", cache, create=create)
+    return output_directory("the cache directory ($XCHECK_CACHE, else the default)", default_cache_dir(),
+                            create=create)
 
 
-def output_directory(option: str, path: str | os.PathLike[str]) -> Path:
-    """A directory the command writes into, checked before any work (see :func:`comparison.outputs.writable_directory`).
+def output_directory(option: str, path: str | os.PathLike[str], *, create: bool = True) -> Path:
+    """A directory the command writes into, checked before any work (see :func:`comparison.outputs.writable_directory`;
+    ``create=False`` checks it and creates nothing).
 
     Raises:
         UsageError: naming ``option``.
@@ -292,7 +296,7 @@ def output_directory(option: str, path: str | os.PathLike[str]) -> Path:
     from comparison.outputs import writable_directory
 
     try:
-        return writable_directory(option, path)
+        return writable_directory(option, path, create=create)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
 

@@ -21,7 +21,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import writable_directory
+from comparison.outputs import writable_directory, write_text
 from comparison.progress import NORMAL, Progress
 from comparison.report import bond, errormap, figures, lowest
 from comparison.report.committed import BOND, ERRORMAP, LOWEST, check_tables, committed_table
@@ -157,14 +157,14 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], tables_dir: Path) -
     lowest_number = len(figure_list) + len(error_numbers.get("figures", ())) + 1
     bond_text, bond_rows = bond.section(committed_table(tables_dir, BOND))
     tables_json = {k: v.records() for k, v in tables.items()}
-    (out / "report.json").write_text(json.dumps(
+    write_text(out / "report.json", json.dumps(
         {"meta": meta, "tables": tables_json, "errormap": error_numbers, "table9_bond": bond_rows},
         indent=1, default=str,
     ))
     path = out / "REPORT.md"
     text = document(res, tables, findings(res), figure_list, meta)
     lowest_text = lowest.section(committed_table(tables_dir, LOWEST), out=out, number_=lowest_number)
-    path.write_text(text + "\n" + error_map + "\n" + bond_text + "\n" + lowest_text)
+    write_text(path, text + "\n" + error_map + "\n" + bond_text + "\n" + lowest_text)
     return path
 
 
