@@ -81,6 +81,12 @@ def add_command(sub: argparse._SubParsersAction, name: str, *, help: str, descri
     return p
 
 
+#: The largest count an option passes to a solver (``--max-iterations``, ``--lowest N``, ``--node-limit``):
+#: HiGHS' integer options are 32-bit; the library refuses more (:data:`micro.backends.base.MAX_INTEGER`, the
+#: same number, not imported: ``xcheck macro`` does not load ``micro``).
+SOLVER_COUNT_MAX = 2**31 - 1
+
+
 class UsageError(ValueError):
     """Bad input on the command line or in a scene file (exit code :data:`EXIT_USAGE`)."""
 
@@ -103,22 +109,25 @@ def parse_fraction(name: str, text: str | float) -> float:
         return math.inf if fraction > 0 else -math.inf
 
 
-def int_option(name: str, text: str, minimum: int = 1) -> int:
-    """An integer option of at least ``minimum`` (a positive integer by default).
+def int_option(name: str, text: str, minimum: int = 1, maximum: int | None = None) -> int:
+    """An integer option of at least ``minimum`` (a positive integer by default) and at most ``maximum``.
 
-    The text is read exactly (``12.0000000000000001`` is not 12, ``1e3`` is 1000), not through a float.
+    The text is read exactly by the suite's rule for numbers (:func:`comparison.numbers.exact`:
+    ``12.0000000000000001`` is not 12, ``1e3`` is 1000, ``1_0`` and ``+3`` are refused), not through a float.
+    A count that reaches a solver takes ``maximum=``:data:`SOLVER_COUNT_MAX`.
 
     Raises:
         UsageError: naming ``name`` and the rule.
     """
-    rule = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
+    rule = (f"an integer in {minimum}..{maximum:,}" if maximum is not None else
+            "a positive integer" if minimum == 1 else f"an integer >= {minimum}")
     try:
         value = numbers.exact(name, str(text))
     except numbers.OutOfRange as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(str(exc) if maximum is None else f"{name} must be {rule}, got {text!r}") from None
     except ValueError:
         raise UsageError(f"{name} must be {rule}, got {text!r}") from None
-    if value.denominator != 1 or value < minimum:
+    if value.denominator != 1 or value < minimum or (maximum is not None and value > maximum):
         raise UsageError(f"{name} must be {rule}, got {text!r}")
     return int(value)
 
@@ -135,7 +144,8 @@ def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
 
 
 def in_range(option: str, text: str | None, rule: str, upper: float) -> float | None:
-    """``None`` for an option not given, else a number in ``(0, upper]``.
+    """``None`` for an option not given, else a number in ``(0, upper]``, read by the suite's rule for
+    numbers (:func:`comparison.numbers.exact`).
 
     Raises:
         UsageError: naming ``option`` and ``rule``.
@@ -143,10 +153,10 @@ def in_range(option: str, text: str | None, rule: str, upper: float) -> float | 
     if text is None:
         return None
     try:
-        value = float(text)
-    except ValueError:
+        value = float(numbers.exact(option, text))
+    except (ValueError, OverflowError):
         raise UsageError(f"{option} must be {rule}, got {text!r}") from None
-    if not (0.0 < value <= upper) or math.isnan(value) or value == math.inf:
+    if not (0.0 < value <= upper) or value == math.inf:
         raise UsageError(f"{option} must be {rule}, got {text!r}")
     return value
 
