@@ -18,7 +18,7 @@ import pytest
 
 import comparison
 import micro
-from comparison.compare import ACCURACY, CompareOptions, Comparison, judge
+from comparison.verdict import ACCURACY, CompareOptions, Comparison, judge
 from comparison.wall import WallSpec
 
 SET12 = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75)
@@ -26,7 +26,7 @@ SET13 = WallSpec.from_paper(t=1, m=1 / 2, rows=12, f=0.75)
 #: Two storeys of 10 rows, t = 1, m = 1/3, f = 0.75 (150 blocks): the macro λ (0.633) lies above the
 #: associative λ (0.621), so the associative bound settles the verdict.
 ABOVE_BOUND = WallSpec.from_paper(t=1, m=1 / 3, rows=20, f=0.75, storeys=2)
-COMPARE = importlib.import_module("comparison.compare")
+COMPARE = importlib.import_module("comparison.verdict")
 
 
 @pytest.fixture(scope="module")

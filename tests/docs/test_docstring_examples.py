@@ -8,7 +8,7 @@ from typing import Any
 import pytest
 
 import micro
-from comparison.compare import compare, judge
+from comparison.verdict import compare, judge
 from micro.global_search import solve_global
 
 #: The documented entry points whose docstrings carry an Examples section.

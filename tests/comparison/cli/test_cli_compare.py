@@ -12,11 +12,11 @@ import pytest
 
 import micro
 from comparison.cli import main
-from comparison.compare import CompareOptions
+from comparison.verdict import CompareOptions
 
 SET12 = ["--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75"]
 SET13 = ["--rows", "12", "--t", "1", "--m", "1/2", "--f", "0.75"]
-COMPARE = importlib.import_module("comparison.compare")
+COMPARE = importlib.import_module("comparison.verdict")
 
 
 def test_set13_words(capsys: pytest.CaptureFixture[str]) -> None:

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from comparison.cli import main
-from comparison.compare import compare
 from comparison.sweep import read_table
+from comparison.verdict import compare
 from comparison.wall import WallSpec
 
 #: Set 12 (12 rows, 54 blocks: not refuted) and the same t, m, f with 20 rows (150 blocks, above the grid's

@@ -91,7 +91,7 @@ def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
         ``(verdict, proof)``: one of :data:`VERDICTS` or ``None``, one of :data:`PROOFS` or ``None``.
 
     Examples:
-        >>> from comparison.compare import judge
+        >>> from comparison.verdict import judge
         >>> judge(0.61, 0.505)
         ('unsafe', 'associative bound')
         >>> judge(0.4914, 0.5564, 0.4895, found_load_factor=0.4895)
