@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from quick_report import QuickReport
 
 ROOT = Path(__file__).resolve().parents[2]
 #: Longest run of one example, seconds.
@@ -121,9 +122,13 @@ FIRST = _first_seen()
 
 
 @pytest.fixture(scope="module")
-def cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """One result cache for every example (so that ``report --quick`` and ``references`` share)."""
-    return tmp_path_factory.mktemp("xcheck-cache")
+def cache(tmp_path_factory: pytest.TempPathFactory, quick_report: QuickReport) -> Path:
+    """One result cache for every example, started from a copy of the shared quick report's cache
+    (``tests/conftest.py``): ``report --quick`` reads every computation from it, as on a second run, and
+    ``references`` shares it."""
+    copy = tmp_path_factory.mktemp("xcheck-cache") / "cache"
+    shutil.copytree(quick_report.cache, copy)
+    return copy
 
 
 def _folder(tmp_path: Path) -> Path:

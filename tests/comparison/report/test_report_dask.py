@@ -16,9 +16,9 @@ REPORTS = Path(__file__).resolve().parents[3] / "reports"
 def test_the_quick_report_on_a_dask_cluster_is_the_local_report(
     quick_report_dir: Path, dask_scheduler: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Issue 43: the report ran on local processes only. On a loopback cluster (one worker) its plan says
-    where it computes, every micro computation of the plan is computed there, and every file but the run
-    times is the local report's, byte for byte."""
+    """On a loopback cluster (one worker) the report's plan says where it computes, every micro computation
+    of the plan is computed there, and every file but the run times is the shared local report's
+    (``tests/conftest.py``), byte for byte: where a result is computed does not change it."""
     out = tmp_path / "report"
     argv = ["report", "--quick", "--out", str(out), "--tables", str(REPORTS), "--cache", str(tmp_path / "cache"),
             "--scheduler", dask_scheduler]
