@@ -17,12 +17,12 @@ import pytest
 
 
 @pytest.fixture(scope="module")
-def quick_report(quick_report_dir: Path) -> dict[str, Any]:
+def report_json(quick_report_dir: Path) -> dict[str, Any]:
     return json.loads((quick_report_dir / "report.json").read_text())
 
 
-def test_quick_report_matches_golden_cells(quick_report: dict[str, Any]) -> None:
-    problems = golden.moved(quick_report, json.loads(golden.GOLDEN.read_text()))
+def test_quick_report_matches_golden_cells(report_json: dict[str, Any]) -> None:
+    problems = golden.moved(report_json, json.loads(golden.GOLDEN.read_text()))
     assert not problems, "cells moved:\n" + "\n".join(problems[:40])
 
 
@@ -37,8 +37,8 @@ def test_every_pinned_tolerance_is_its_quantitys() -> None:
     assert golden.dumps(pinned) == golden.GOLDEN.read_text()  # the script's format: a rewrite shows as a diff
 
 
-def test_the_golden_cells_cover_the_quick_report(quick_report: dict[str, Any]) -> None:
-    assert set(golden.pinned(quick_report)) == set(json.loads(golden.GOLDEN.read_text()))
+def test_the_golden_cells_cover_the_quick_report(report_json: dict[str, Any]) -> None:
+    assert set(golden.pinned(report_json)) == set(json.loads(golden.GOLDEN.read_text()))
 
 
 @pytest.mark.parametrize(
@@ -58,7 +58,7 @@ def test_tolerance_by_quantity(table: str, column: str, value: float, tol: float
     assert got is None if tol is None else got == pytest.approx(tol)
 
 
-def test_quick_report_files(quick_report: dict[str, Any]) -> None:
+def test_quick_report_files(report_json: dict[str, Any]) -> None:
     for table in (
         "table5",
         "table7",
@@ -69,5 +69,5 @@ def test_quick_report_files(quick_report: dict[str, Any]) -> None:
         "sensitivity",
         "speed_accuracy",
     ):
-        assert quick_report["tables"][table], table
-    assert quick_report["meta"]["quick"] is True
+        assert report_json["tables"][table], table
+    assert report_json["meta"]["quick"] is True
