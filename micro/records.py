@@ -94,12 +94,14 @@ class MicroRecord(Mapping[str, Any]):
     """What every micro analysis reports (governing direction first); a read-only mapping of its fields.
 
     Attributes:
-        load_factor: governing ``lambda`` (NaN when the analysis failed).
+        load_factor: the ``lambda`` to quote (NaN when the analysis failed): the associative LP's, or for
+            the non-associative analysis its lowest certified state where the descent found one, else the
+            iterated LP's (:class:`NonAssociativeRecord`).
         status: ``"optimal"`` (associative), ``"converged"`` (iterated LP)
             or the failing status.
         solver: the back end, or for the iterated LP which solver did what.
         direction: governing direction ``"+x"`` / ``"-x"`` (``""`` on failure).
-        load_factor_plus, load_factor_minus: ``lambda`` of each direction
+        load_factor_plus, load_factor_minus: ``lambda`` of each direction, of the kind ``load_factor`` is
             (NaN when that direction was not solved, e.g. ``-x`` of a
             mirror-symmetric wall, or did not succeed).
         blocks, contacts, points: sizes of the wall.
@@ -186,11 +188,16 @@ class AssociativeRecord(MicroRecord):
 class NonAssociativeRecord(MicroRecord):
     """Record of :func:`micro.solve_nonassociative`.
 
-    The fields below describe the governing direction (the first direction
-    that did not converge when the analysis failed), but for
+    ``load_factor`` is the value to quote (``quoted`` says which), the iterated LP's own value is
+    ``iterated_load_factor`` with its mechanism's band ``mechanism_band``; ``load_factor_plus`` and
+    ``load_factor_minus`` are each direction's lowest state when the lowest is quoted, else each
+    direction's iterated LP value. The fields below describe the iterated LP's governing direction
+    (the first direction that did not converge when the analysis failed), but for
     ``fallback_steps`` which is summed over the directions.
 
     Attributes:
+        iterated_load_factor: the iterated LP's governing ``lambda`` (NaN unless every direction
+            converged); ``load_factor`` when the descent did not run.
         scheme: rebuilt yield condition, ``"a"`` or ``"b"``.
         relaxation: ``beta``.
         converged: ``status == "converged"``.
@@ -218,10 +225,7 @@ class NonAssociativeRecord(MicroRecord):
         vertex_stop_reason, vertex_lambda_band: with ``"vertex+proximal"``, how
             the vertex sequence ended before the proximal one ran (``""`` and
             ``None`` when it did not run).
-        quoted_load_factor: the value to quote: the lowest certified
-            collapse state where the descent found one, else the iterated
-            LP's ``load_factor`` (NaN on failure).
-        quoted: which one it is: ``"lowest certified"``, ``"iterated"``, or
+        quoted: which value ``load_factor`` is: ``"lowest certified"``, ``"iterated"``, or
             ``""`` on failure.
         lowest_load_factor: the lowest certified collapse state over the
             directions (:mod:`micro.nonassociative.lowest`; NaN when not
@@ -249,6 +253,7 @@ class NonAssociativeRecord(MicroRecord):
             certified the governing direction (``""``: it did not run).
     """
 
+    iterated_load_factor: float
     scheme: str
     relaxation: float
     converged: bool
@@ -267,7 +272,6 @@ class NonAssociativeRecord(MicroRecord):
     selection: str = "vertex"
     vertex_stop_reason: str = ""
     vertex_lambda_band: Band | None = None
-    quoted_load_factor: float = math.nan
     quoted: str = ""
     lowest_load_factor: float = math.nan
     lowest_direction: str = ""
@@ -284,3 +288,8 @@ class NonAssociativeRecord(MicroRecord):
     fused_bodies: int = 0
     fused_points: int = 0
     unfused_stop_reason: str = ""
+
+    def __post_init__(self) -> None:
+        """A success comes with a finite value to quote and a finite iterated LP value (:func:`check_success`)."""
+        super().__post_init__()
+        check_success(f"{type(self).__name__} (iterated_load_factor)", self.status, self.iterated_load_factor)

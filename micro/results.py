@@ -64,13 +64,15 @@ _RECORD_NAMES = ("load_factor", "status", "direction", "blocks", "contacts", "po
                  "iterations", "total_iterations", "build_seconds", "solve_seconds", "mirror_symmetric", "message")
 
 
-def record_fields(result: Any, mechanism: Mechanism | None) -> dict[str, Any]:
+def record_fields(result: Any, mechanism: Mechanism | None,
+                  by_direction: Mapping[str, float] | None = None) -> dict[str, Any]:
     """The :class:`~micro.records.MicroRecord` fields but ``solver`` of a
     result (:class:`LimitResult` or :class:`micro.NonAssociativeResult`):
-    its own fields, ``lambda`` per direction and the contact states of the
+    its own fields, ``lambda`` per direction (``by_direction``, else each
+    direction's own ``load_factor``) and the contact states of the
     governing ``mechanism``."""
     counts = dict.fromkeys(CONTACT_STATE_NAMES, 0) if mechanism is None else mechanism.state_counts()
-    by_dir = {d.direction: d.load_factor for d in result.directions}
+    by_dir = {d.direction: d.load_factor for d in result.directions} if by_direction is None else by_direction
     return {
         **{name: getattr(result, name) for name in _RECORD_NAMES},
         "load_factor_plus": by_dir.get("+x", math.nan), "load_factor_minus": by_dir.get("-x", math.nan),

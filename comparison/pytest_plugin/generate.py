@@ -113,7 +113,7 @@ def micro_cells(c: PaperCase, rec: Record) -> Iterator[Reference]:
     cells = {LOAD_FACTOR: (rec.load_factor, source)}
     if nonassoc is not None:  # the iterated LP's own fixed point and its mechanism's band beside it
         iterated = f"iterated LP's own fixed point, {bond}"
-        cells[ITERATED] = (nonassoc.load_factor, iterated)
+        cells[ITERATED] = (nonassoc.iterated_load_factor, iterated)
         if nonassoc.mechanism_band is not None:
             lo, hi = nonassoc.mechanism_band
             cells |= {"band_min": (lo, iterated), "band_max": (hi, iterated)}

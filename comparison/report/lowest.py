@@ -69,7 +69,7 @@ def section(path: Path | None, out: Path | None = None, number_: int | None = No
         ]
     return "\n".join([
         *lines[:2],
-        "The iterated LP's fixed point (`load_factor`) is one collapse state among many; the descent's lowest "
+        "The iterated LP's fixed point (`iterated_load_factor`) is one collapse state among many; the descent's lowest "
         "certified state (`lowest_load_factor`, verified exact) is the value a safety assessment should quote; "
         "the global search gives a proven lower bound of every collapse load, and where its status is `optimal` "
         "its best value is the global minimum. From `reports/lowest.csv` "

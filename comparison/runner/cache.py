@@ -54,8 +54,9 @@ from comparison.wall import WallSpec
 
 #: Part of every key: bump it when the stored form of a record changes, so that
 #: entries of an older form are never misread (2: typed records; 3: the record
-#: names its mechanism file and that file's hash).
-CACHE_FORMAT = 3
+#: names its mechanism file and that file's hash; 4: the non-associative record's
+#: ``load_factor`` is the value to quote, the iterated LP's ``iterated_load_factor``).
+CACHE_FORMAT = 4
 
 #: Statuses and stop reasons of a result cut short by a wall-clock limit: not stored.
 WALL_CLOCK_STOPS = frozenset({"time_limit", "time_budget"})

@@ -234,7 +234,7 @@ def run_case(case: LowestCase) -> LowestRun:
     rec, g = r.to_record(), r.global_search
     band = r.mechanism_band if r.converged and r.mechanism_band is not None else (nan, nan)
     return LowestRun(
-        case, wall.n_blocks, r.status, r.load_factor, band, rec.lowest_load_factor, rec.lowest_moves,
+        case, wall.n_blocks, r.status, r.iterated_load_factor, band, rec.lowest_load_factor, rec.lowest_moves,
         rec.global_status, rec.global_load_factor, rec.global_lower_bound, rec.global_gap,
         0 if g is None else sum(d.nodes for d in g.directions), sum(d.seconds for d in r.directions),
         rec.lowest_seconds, nan if g is None else g.seconds, r.total_iterations, rec.lowest_lps,

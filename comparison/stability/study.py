@@ -158,8 +158,8 @@ class StudyRun:
 
     @property
     def load_factor(self) -> float:
-        """The converged load factor (NaN otherwise)."""
-        return math.nan if self.result is None else self.result.load_factor
+        """The iterated LP's converged load factor (NaN otherwise; the study runs without the descent)."""
+        return math.nan if self.result is None else self.result.iterated_load_factor
 
     @property
     def last_load_factor(self) -> float:

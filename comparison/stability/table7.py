@@ -41,9 +41,9 @@ def _cell(case: PaperCase, wall: tuple[str, str], setting: Setting7) -> str:
     tuning = micro.Tuning(scheme=scheme, relaxation=beta, start=start, certify=certify, selection="vertex")
     r = micro.solve_nonassociative(w, tuning=tuning)
     if r.converged:
-        mb = r.mechanism_band
+        mb, lam = r.mechanism_band, r.iterated_load_factor
         return (
-            f"{assoc:.4f} / **{r.load_factor:.4f}** ({(r.load_factor / _orduna(case) - 1) * 100:+.1f} %, "
+            f"{assoc:.4f} / **{lam:.4f}** ({(lam / _orduna(case) - 1) * 100:+.1f} %, "
             f"{r.iterations} LPs" + (f"; band [{mb[0]:.4f}, {mb[1]:.4f}]" if mb else "") + ")"
         )
     if r.lambda_band is not None:

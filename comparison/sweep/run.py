@@ -253,10 +253,13 @@ def _record_fields(record: Record) -> dict[str, Any]:
     if r is None:
         return {**fields, "message": record.message}
     fields.update(blocks=r.blocks, iterations=r.iterations, direction=r.direction, message=r.message or record.message)
+    local = record.local
+    fields.update(wall_load_factor=record.wall_load_factor, local_load_factor=local.load_factor if local else None,
+                  local_mechanism=local.description if local else None)
     na = record.nonassoc
     if na is not None:
         band, mband = na.lambda_band or (None, None), na.mechanism_band or (None, None)
         fields.update(associative_load_factor=na.associative_load_factor, band_lo=band[0], band_hi=band[1])
         fields.update(mechanism_band_lo=mband[0], mechanism_band_hi=mband[1])
-        fields.update(quoted=na.quoted, iterated_load_factor=na.load_factor, lowest_stop=na.lowest_stop)
+        fields.update(quoted=na.quoted, iterated_load_factor=na.iterated_load_factor, lowest_stop=na.lowest_stop)
     return fields

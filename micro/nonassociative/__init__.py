@@ -46,8 +46,9 @@ Modules, one concept each:
                  subpackage (options and results, bounds, model, patterns, branch and bound, solvers).
 
 After a converged run, the descent (on by default) reports the lowest
-certified collapse state it reaches (``lowest_load_factor``) beside the
-iterated LP's own fixed point (``load_factor``, unchanged); the global search
+certified collapse state it reaches (``lowest_load_factor``), which is then the
+value to quote (``load_factor``), beside the iterated LP's own fixed point
+(``iterated_load_factor``, unchanged by the descent); the global search
 (off by default) adds a proven lower bound (``global_lower_bound``) and the gap.
 
 A sequence stops as ``converged`` (exactly, or certified), ``cycling``
@@ -188,7 +189,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         g = min(results, key=lambda res: res.load_factor)
         lam, direction, status, msg = g.load_factor, g.direction, CONVERGED, ""
     return NonAssociativeResult(
-        load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
+        iterated_load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
         directions=results, recipe=r, message=msg, lowest=lowest, global_search=glob,

@@ -245,13 +245,18 @@ class LowestDirection:
 
 @dataclass(frozen=True, eq=False)
 class NonAssociativeResult:
-    """Result of the non-associative analysis. The value to quote is :attr:`quoted_load_factor`. The
-    properties describe the governing direction (:attr:`governing`): the one with the smallest load
-    factor, or the first that did not converge.
+    """Result of the non-associative analysis. The value to quote is :attr:`load_factor` (the lowest
+    certified collapse state where the descent found one in every direction, else the iterated LP's
+    value; which one is :attr:`quoted`); the iterated LP's own value is :attr:`iterated_load_factor`,
+    its mechanism's band :attr:`mechanism_band`. The other properties describe the governing
+    direction (:attr:`governing`): the iterated LP's direction with the smallest load factor, or the
+    first that did not converge.
 
     Attributes:
-        load_factor: the iterated LP's governing ``lambda`` (NaN unless every direction converged).
-        direction: governing direction (``""`` unless converged).
+        iterated_load_factor: the iterated LP's governing ``lambda`` (NaN unless every direction
+            converged).
+        direction: the iterated LP's governing direction (``""`` unless converged; the lowest
+            state's is ``lowest_direction`` of the record).
         status: :data:`CONVERGED` only if every direction converged, else the
             status of the first direction that did not.
         scheme: ``"a"`` or ``"b"``.
@@ -271,7 +276,7 @@ class NonAssociativeResult:
             (``global_``; :mod:`micro.nonassociative.global_search`), or ``None``.
     """
 
-    load_factor: float
+    iterated_load_factor: float
     direction: str
     status: str
     scheme: str
@@ -292,7 +297,7 @@ class NonAssociativeResult:
     global_search: GlobalResult | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
-        check_success("NonAssociativeResult", self.status, self.load_factor)
+        check_success("NonAssociativeResult", self.status, self.iterated_load_factor)
 
     @property
     def converged(self) -> bool:
@@ -301,8 +306,8 @@ class NonAssociativeResult:
 
     @property
     def ok(self) -> bool:
-        """True when converged with a finite load factor."""
-        return self.converged and math.isfinite(self.load_factor)
+        """True when converged with a finite load factor (then :attr:`load_factor` is finite too)."""
+        return self.converged and math.isfinite(self.iterated_load_factor)
 
     @property
     def governing(self) -> DirectionResult:
@@ -393,27 +398,40 @@ class NonAssociativeResult:
 
     @property
     def lowest_load_factor(self) -> float:
-        """``lambda`` of :attr:`lowest_state` (NaN without one); never above :attr:`load_factor`."""
+        """``lambda`` of :attr:`lowest_state` (NaN without one); never above :attr:`iterated_load_factor`."""
         low = self.lowest_state
         return low.load_factor if low is not None else math.nan
 
     @property
     def quoted(self) -> str:
-        """Which load factor to quote: :data:`QUOTED_LOWEST`, else :data:`QUOTED_ITERATED` (``""``: failed)."""
+        """Which value :attr:`load_factor` is: :data:`QUOTED_LOWEST`, else :data:`QUOTED_ITERATED`
+        (``""``: failed)."""
         return "" if not self.ok else QUOTED_LOWEST if self.lowest_state is not None else QUOTED_ITERATED
 
     @property
-    def quoted_load_factor(self) -> float:
-        """The load factor to quote (:attr:`quoted`); NaN when the run failed."""
+    def load_factor(self) -> float:
+        """The load factor to quote (:attr:`quoted`): :attr:`lowest_load_factor` where the descent found a
+        certified state in every direction, else :attr:`iterated_load_factor`; NaN when the run failed."""
         return math.nan if not self.ok else self.lowest_load_factor if self.lowest_state is not None \
-            else self.load_factor
+            else self.iterated_load_factor
+
+    def direction_load_factors(self) -> dict[str, float]:
+        """The load factor of each direction solved, of the kind :attr:`load_factor` is: each
+        direction's lowest certified state when the quoted value is the lowest, else its iterated
+        LP's value (NaN where it did not converge); their minimum is :attr:`load_factor` when the
+        run converged."""
+        lowest = {low.direction: low.load_factor for low in self.lowest}
+        use_lowest = self.quoted == QUOTED_LOWEST
+        return {d.direction: lowest[d.direction] if use_lowest else d.load_factor for d in self.directions}
 
     def to_record(self) -> NonAssociativeRecord:
         """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form
         (see :mod:`micro.records`)."""
         q = self.sequence
         return NonAssociativeRecord(
-            solver=self.recipe.solver_description(), **record_fields(self, self.governing.mechanism),
+            solver=self.recipe.solver_description(),
+            **record_fields(self, self.governing.mechanism, self.direction_load_factors()),
+            iterated_load_factor=self.iterated_load_factor,
             scheme=self.scheme, relaxation=self.relaxation, converged=self.converged, stop_reason=q.stop_reason,
             lambda_band=q.lambda_band, mechanism_band=q.mechanism_band, last_load_factor=q.last_load_factor,
             associative_load_factor=self.associative_load_factor, cold_load_factor=q.cold_load_factor,
@@ -422,7 +440,7 @@ class NonAssociativeResult:
             cold_algorithm=q.cold_algorithm,
             fallback_steps=sum(diagnostics(d).fallback_steps for d in self.directions),
             selection=q.selection, vertex_stop_reason="" if q.vertex_attempt is None else q.vertex_attempt.stop_reason,
-            quoted_load_factor=self.quoted_load_factor, quoted=self.quoted,
+            quoted=self.quoted,
             vertex_lambda_band=None if q.vertex_attempt is None else q.vertex_attempt.lambda_band,
             **lowest_fields(self.lowest_state, self.lowest), **global_fields(self.global_search),
             fused_bodies=0 if q.fusion is None else q.fusion.bodies,
@@ -435,10 +453,14 @@ class NonAssociativeResult:
         contact states, the descent, options, history and directions as
         nested objects (and, after a global search, its direction, nodes and
         seconds beside its record keys). The contact states of the mechanism
-        are the record's ``*_contacts`` keys (0 without one)."""
+        are the record's ``*_contacts`` keys (0 without one). Each entry of
+        ``directions`` gives ``load_factor`` of the kind the wall's is
+        (:meth:`direction_load_factors`) and the iterated LP's value beside it."""
         num = json_number
         record = self.to_record().to_dict()
-        first = ("quoted_load_factor", "quoted", "lowest_load_factor", "lowest_band", "lowest_stop")
+        by_direction = self.direction_load_factors()
+        first = ("load_factor", "quoted", "iterated_load_factor", "mechanism_band", "lowest_load_factor",
+                 "lowest_band", "lowest_stop")
         return {
             **{k: record[k] for k in first}, **record,
             "lowest": [lowest_summary(low) for low in self.lowest],
@@ -449,7 +471,8 @@ class NonAssociativeResult:
                 d.direction: {
                     "status": d.status,
                     "stop_reason": diagnostics(d).stop_reason,
-                    "load_factor": num(d.load_factor),
+                    "load_factor": num(by_direction[d.direction]),
+                    "iterated_load_factor": num(d.load_factor),
                     "last_load_factor": num(diagnostics(d).last_load_factor),
                     "associative_load_factor": num(diagnostics(d).associative_load_factor),
                     "iterations": d.iterations,

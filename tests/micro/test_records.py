@@ -76,6 +76,16 @@ def test_nonassociative_record(kw: dict) -> None:
     assert isinstance(rec, micro.NonAssociativeRecord)
     assert rec.status == r.status and rec.converged == r.converged and rec.scheme == "a"
     assert rec.stop_reason == r.stop_reason
+    # load_factor is the value to quote, the iterated LP's value beside it; NaN both when the run failed
+    assert _same_number(rec.load_factor, r.load_factor) and _same_number(rec.iterated_load_factor,
+                                                                          r.iterated_load_factor)
+    assert rec.quoted == r.quoted and "quoted_load_factor" not in rec
+    if r.converged:
+        assert rec.load_factor == (r.lowest_load_factor if r.quoted == "lowest certified" else r.iterated_load_factor)
+        assert rec.load_factor <= rec.iterated_load_factor
+        assert min(x for x in (rec.load_factor_plus, rec.load_factor_minus) if not math.isnan(x)) == rec.load_factor
+    else:
+        assert math.isnan(rec.load_factor) and math.isnan(rec.iterated_load_factor) and rec.quoted == ""
     assert rec.iterations == r.iterations == len(rec.history_load_factor) - 1
     assert rec.total_iterations == sum(d.iterations for d in r.directions)
     assert rec.lambda_band == r.lambda_band and rec.mechanism_band == r.mechanism_band
@@ -89,6 +99,10 @@ def test_nonassociative_record(kw: dict) -> None:
         assert math.isnan(back.load_factor) and back.lambda_band is not None and back.mechanism_band is None
     s = r.summary()
     assert {k: s[k] for k in d} == d
+
+
+def _same_number(a: float, b: float) -> bool:
+    return a == b or (math.isnan(a) and math.isnan(b))
 
 
 def test_from_dict_names_a_missing_field() -> None:

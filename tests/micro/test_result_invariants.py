@@ -49,4 +49,8 @@ def test_the_non_associative_result_holds_it_too() -> None:
     result = micro.solve_nonassociative(WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75).to_micro())
     assert result.ok
     with pytest.raises(ValueError, match="needs a finite load factor"):
-        dataclasses.replace(result, load_factor=math.nan)
+        dataclasses.replace(result, iterated_load_factor=math.nan)
+    record = result.to_record()
+    for name in ("load_factor", "iterated_load_factor"):  # the value to quote and the iterated LP's
+        with pytest.raises(ValueError, match="needs a finite load factor"):
+            dataclasses.replace(record, **{name: math.nan})

@@ -55,7 +55,7 @@ def test_certified_stop() -> None:
     assert r.history[-1].certificate_iterations > 0
     assert r.coulomb_residual <= 1e-9
     lo, hi = r.mechanism_band
-    assert lo <= r.load_factor <= hi
+    assert lo <= r.iterated_load_factor <= hi
     assert hi <= r.associative_load_factor * (1 + 1e-7)
     # without the certificate the same sequence does not converge
     assert not solve_nonassociative(w, tuning=Tuning(certify=False)).converged

@@ -169,7 +169,8 @@ def test_lowest_off_and_records() -> None:
     assert type(rec).from_dict(rec.to_dict()).to_dict() == rec.to_dict()
     s = on.summary()
     assert s["lowest_load_factor"] == on.lowest_load_factor and s["lowest"][0]["contact_states"]
-    assert on.load_factor == off.load_factor  # the iterated LP's own value is unchanged
+    assert on.iterated_load_factor == off.iterated_load_factor == off.load_factor  # unchanged by the descent
+    assert on.load_factor == on.lowest_load_factor < on.iterated_load_factor  # the value to quote: the lowest
 
 
 def test_lowest_state_needs_a_final_state() -> None:

@@ -26,6 +26,33 @@ def test_cli_json(capsys: pytest.CaptureFixture[str]) -> None:
     assert abs(out["load_factor"] / 0.68 - 1) <= 0.05
 
 
+def test_cli_json_load_factor_is_the_value_to_quote(capsys: pytest.CaptureFixture[str]) -> None:
+    """``load_factor`` means the value to quote in the JSON, on the Python result, in its record and in the
+    plugin's references (Set 12, 54 blocks: the lowest certified state 0.6911, below the iterated LP's
+    0.7086, which is ``iterated_load_factor`` beside it); each direction's entry is of the same kind."""
+    import micro
+    from comparison.pytest_plugin import References
+    from comparison.wall import WallSpec
+
+    assert main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction",
+                 "nonassociative", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    result = micro.solve_nonassociative(WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75).to_micro())
+    rec = result.to_record()
+    assert out["blocks"] == 54 and out["quoted"] == result.quoted == rec.quoted == "lowest certified"
+    assert out["load_factor"] == result.load_factor == rec.load_factor == result.lowest_load_factor
+    assert out["iterated_load_factor"] == result.iterated_load_factor == rec.iterated_load_factor
+    assert out["load_factor"] < out["iterated_load_factor"] * (1 - 1e-3)  # two different numbers
+    assert "quoted_load_factor" not in out and "quoted_load_factor" not in rec
+    refs = References.load()
+    for key, cell in (("load_factor", "load_factor"), ("iterated_load_factor", "iterated_load_factor")):
+        assert out[key] == pytest.approx(refs.get("Set 12", "micro-nonassoc", cell).value, rel=1e-6)
+    by_direction = out["directions"]["+x"]
+    assert (by_direction["load_factor"], by_direction["iterated_load_factor"]) == (
+        out["load_factor"], out["iterated_load_factor"])
+    assert out["load_factor_plus"] == out["load_factor"] and out["load_factor_minus"] is None  # mirror-symmetric
+
+
 def test_cli_plot(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:  # type: ignore[no-untyped-def]
     png = tmp_path / "mech.png"
     code = main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75",
@@ -114,7 +141,7 @@ def test_cli_global_node_limit(capsys: pytest.CaptureFixture[str]) -> None:
     out = json.loads(capsys.readouterr().out)
     assert code == 0
     assert out["lowest_load_factor"] == pytest.approx(0.5, rel=1e-9)
-    assert out["lowest_load_factor"] <= out["load_factor"]
+    assert out["lowest_load_factor"] == out["load_factor"] <= out["iterated_load_factor"]
     assert out["global_status"] in ("node_limit", "optimal") and out["global_nodes"] >= 1
     assert out["global_lower_bound"] <= out["global_load_factor"] <= out["lowest_load_factor"] * (1 + 1e-7)
 
@@ -149,9 +176,9 @@ def test_cli_lowest_on_off(flags: list[str], runs: bool, capsys: pytest.CaptureF
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and (out["lowest_load_factor"] is not None) is runs
     assert (out["lowest_status"] == "found") is runs
-    assert out["quoted_load_factor"] == (out["lowest_load_factor"] if runs else out["load_factor"])
+    assert out["load_factor"] == (out["lowest_load_factor"] if runs else out["iterated_load_factor"])
     assert out["quoted"] == ("lowest certified" if runs else "iterated")
-    assert list(out)[:2] == ["quoted_load_factor", "quoted"]  # the summary leads with the value to quote
+    assert list(out)[:3] == ["load_factor", "quoted", "iterated_load_factor"]  # the value to quote leads
     if flags == ["--lowest", "40"]:
         assert [d["budget"] for d in out["lowest"]] == [40]
 

@@ -164,7 +164,7 @@ def test_vertex_then_proximal_retries_a_failed_direction() -> None:
                          Tuning(selection="proximal"))
     prox = LPSequence(lp, 1, options, start=vertex.governing.normal / lp.force_scale).run()
     assert prox.converged
-    assert r.converged and r.load_factor == pytest.approx(prox.load_factor, rel=1e-9)
+    assert r.converged and r.iterated_load_factor == pytest.approx(prox.load_factor, rel=1e-9)
     q = r.sequence
     assert q.selection == "proximal" and q.vertex_attempt is not None
     assert q.vertex_attempt.stop_reason == "max_iterations" and q.vertex_attempt.selection == "vertex"
