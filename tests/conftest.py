@@ -7,6 +7,9 @@ their own. It is built as a user builds it: by the command line, from an empty r
 committed tables of ``reports/``, verbose, its standard output and error kept for the tests of what the
 command prints on a first run. Tests that run the report again (from the cache, on a cluster, without a
 cache) start from a copy of its cache (:func:`quick_report_cache`) or compare their output with its files.
+
+Likewise the sweep of the documentation's own-walls example (:func:`own_walls_sweep`), whose page the docs
+quote and whose command the docs' examples run: computed once, its cache seeds the examples' cache.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from quick_report import QuickReport, build
+from quick_report import OWN_WALLS, QuickReport, Sweep, build, sweep
 
 
 @pytest.fixture(scope="session")
@@ -37,3 +40,9 @@ def quick_report_cache(quick_report: QuickReport, tmp_path: Path) -> Path:
     copy = tmp_path / "quick-cache"
     shutil.copytree(quick_report.cache, copy)
     return copy
+
+
+@pytest.fixture(scope="session")
+def own_walls_sweep(tmp_path_factory: pytest.TempPathFactory) -> Sweep:
+    """``xcheck sweep examples/own-walls/walls.toml``, computed once per run from an empty cache."""
+    return sweep(OWN_WALLS, tmp_path_factory.mktemp("own-walls"))

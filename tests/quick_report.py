@@ -1,4 +1,4 @@
-"""The shared quick report's record and its build (the fixtures are in ``tests/conftest.py``)."""
+"""The runs shared by the suite, their records and builds (the fixtures are in ``tests/conftest.py``)."""
 
 from __future__ import annotations
 
@@ -40,3 +40,23 @@ def build(root: Path) -> QuickReport:
         code = main(argv)
     assert code == 0, f"xcheck report --quick exited with {code}:\n{e.getvalue()[-3000:]}"
     return QuickReport(out, cache, o.getvalue(), e.getvalue())
+
+
+#: The grid of the documentation's own-walls example (``docs/getting-started.md``, ``docs/sweeps.md``).
+OWN_WALLS = ROOT / "examples" / "own-walls" / "walls.toml"
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """One ``xcheck sweep`` run from an empty cache: its output folder and the cache it filled."""
+
+    out: Path
+    cache: Path
+
+
+def sweep(grid: Path, root: Path) -> Sweep:
+    """Run ``xcheck sweep GRID -q`` into ``root/out`` with an empty cache ``root/cache``."""
+    out, cache = root / "out", root / "cache"
+    code = main(["sweep", str(grid), "--out", str(out), "--cache", str(cache), "-q"])
+    assert code == 0, f"xcheck sweep {grid} exited with {code}"
+    return Sweep(out, cache)

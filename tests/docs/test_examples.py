@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from quick_report import QuickReport
+from quick_report import QuickReport, Sweep
 
 ROOT = Path(__file__).resolve().parents[2]
 #: Longest run of one example, seconds.
@@ -122,12 +122,13 @@ FIRST = _first_seen()
 
 
 @pytest.fixture(scope="module")
-def cache(tmp_path_factory: pytest.TempPathFactory, quick_report: QuickReport) -> Path:
-    """One result cache for every example, started from a copy of the shared quick report's cache
-    (``tests/conftest.py``): ``report --quick`` reads every computation from it, as on a second run, and
-    ``references`` shares it."""
+def cache(tmp_path_factory: pytest.TempPathFactory, quick_report: QuickReport, own_walls_sweep: Sweep) -> Path:
+    """One result cache for every example, started from copies of the caches of the suite's shared runs
+    (``tests/conftest.py``): ``report --quick`` and the own-walls sweep read every computation from it, as
+    on a second run, and ``references`` shares it."""
     copy = tmp_path_factory.mktemp("xcheck-cache") / "cache"
     shutil.copytree(quick_report.cache, copy)
+    shutil.copytree(own_walls_sweep.cache, copy, dirs_exist_ok=True)
     return copy
 
 
