@@ -22,8 +22,13 @@ unsafe whatever the non-associative solve did); where nothing proves either way 
 "Above" means above by more than :data:`ACCURACY`, the relative accuracy of the solvers: a macro λ that
 agrees with a micro one within it is neither above nor below it.
 
-Every micro solve goes through :func:`solve_micro` (one place to change how the micro model is asked);
-``local_mechanism`` is ``None`` until local mechanisms are told apart.
+Every micro solve goes through :func:`solve_micro` (one place to change how the micro model is asked),
+and each method through :func:`comparison.local.solve_wall_mechanism`: where the block model's governing
+mechanism is local (a cut end piece of the top course that tips over alone, :mod:`micro.local`), the value
+compared with the macro model is the wall's own, the same analysis with the local pieces held to the blocks
+that carry them, and ``local_mechanism`` says what moved. The associative LP runs first; the
+non-associative solve runs on the wall it held (so the associative bound and the certified state are of the
+same wall) and holds more if its own mechanism is local there.
 """
 
 from __future__ import annotations
@@ -31,13 +36,14 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, Literal, overload
+from typing import TYPE_CHECKING, Any, Literal, cast, overload
 
 from comparison.wall import WallSpec
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     import macro
     import micro
+    from comparison.local import WallMechanism
 
 #: Relative accuracy of the solvers' load factors: the LPs are solved to about 1e-6 relative, a certified
 #: state's residuals are at rounding level, the macro minimum is exact to about 1e-9. One value is *above*
@@ -180,13 +186,17 @@ class Comparison:
         difference_percent: ``(macro − micro) / micro · 100`` (NaN without both).
         global_status, global_lower_bound: the global search's status and proven lower bound (``""``, NaN
             when it did not run).
-        local_mechanism: the governing micro mechanism when it is local rather than the wall's (``None``:
-            none told apart).
+        local_mechanism: what moved alone where the block model's governing mechanism is local rather than
+            the wall's (``None``: none): the method that found it, its description, its λ (``load_factor``),
+            the moving blocks' weight share, the blocks held and the wall's own λ. The λs compared
+            (``associative_load_factor``, ``micro_load_factor``) are then the wall's own.
         seconds: each stage's wall time.
         blocks: blocks of the micro wall.
         wall, options: what was compared, and how.
         macro_result, associative_result, nonassociative_result: the models' own results (``None`` where a
             stage did not run), for plots and states.
+        associative_wall, nonassociative_wall: the micro walls those results are of (the wall as built, or
+            with a local mechanism's pieces held).
     """
 
     status: str
@@ -212,6 +222,8 @@ class Comparison:
     macro_result: macro.MacroResult | None = field(default=None, repr=False)
     associative_result: micro.LimitResult | None = field(default=None, repr=False)
     nonassociative_result: micro.NonAssociativeResult | None = field(default=None, repr=False)
+    associative_wall: micro.BlockWall | None = field(default=None, repr=False)
+    nonassociative_wall: micro.BlockWall | None = field(default=None, repr=False)
 
     @property
     def nonassociative_run(self) -> bool:
@@ -292,6 +304,29 @@ def solve_micro(wall: micro.BlockWall, friction: str, options: CompareOptions) -
     return micro.solve_nonassociative(wall, lowest=options.lowest, **extra)
 
 
+def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions) -> WallMechanism:
+    """The micro method ``friction`` on ``wall`` with a local mechanism told apart and the wall's own
+    computed (:func:`comparison.local.solve_wall_mechanism`); every solve through :func:`solve_micro`."""
+    from comparison.local import solve_wall_mechanism
+
+    return solve_wall_mechanism(wall, lambda w: solve_micro(w, friction, options))  # type: ignore[call-overload]
+
+
+def _analysed(wm: WallMechanism, wall: micro.BlockWall) -> micro.BlockWall:
+    """The wall ``wm.result`` is of: ``wall`` as given, or the held one."""
+    return wm.held_wall.wall if wm.held_wall is not None else wall
+
+
+def _local(assoc: WallMechanism, nonassoc: WallMechanism | None) -> dict[str, Any] | None:
+    """What moved alone in the block model, for :attr:`Comparison.local_mechanism`: the non-associative
+    method's local mechanism when it found one, else the associative LP's (``None`` when neither did)."""
+    for method, wm in (("nonassociative", nonassoc), ("associative", assoc)):
+        if wm is not None and wm.local is not None:
+            d = wm.to_dict()
+            return {"method": method, **d["local_mechanism"], "wall_load_factor": d["wall_load_factor"]}
+    return None
+
+
 def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: Any) -> Comparison:
     """The macro model against the micro model on ``wall``, and the verdict (module docstring).
 
@@ -315,6 +350,7 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         ('unsafe', 'certified state', 0.4914, 0.4895)
     """
     import macro
+    from comparison.local import LOCAL_LEFT
 
     if not isinstance(wall, WallSpec):
         raise TypeError(f"wall must be a comparison.wall.WallSpec, got {type(wall).__name__}")
@@ -329,22 +365,32 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         notes.append(f"the macro model gave no load factor (status {macro_result.status})")
     block_wall = wall.to_micro(first_course=o.first_course, head_joints=o.head_joints)
     t0 = time.perf_counter()
-    assoc = solve_micro(block_wall, "associative", o)
+    assoc_wall = solve_wall(block_wall, "associative", o)
+    assoc = cast("micro.LimitResult", assoc_wall.result)
     t_assoc = time.perf_counter() - t0
-    lam_assoc = assoc.load_factor if assoc.ok else math.nan
+    lam_assoc = assoc_wall.load_factor if assoc.ok else math.nan
     if not assoc.ok:
         notes.append(f"the associative LP failed (status {assoc.status}: {assoc.message}); no bound checked")
+    elif assoc_wall.message:
+        notes.append(f"associative LP: {assoc_wall.message}")
     settled = above(lam_macro, lam_assoc)
     nonassoc = None
+    nonassoc_wall = None
+    held = block_wall
     t_nonassoc = math.nan
     if macro_ok and settled and not o.full:
         notes.append("the non-associative solve was skipped: the associative bound settles the verdict "
                      "(--full, full=True, computes it)")
     elif macro_ok or o.full:
         t0 = time.perf_counter()
-        nonassoc = solve_micro(block_wall, "nonassociative", o)
+        held = _analysed(assoc_wall, block_wall)
+        nonassoc_wall = solve_wall(held, "nonassociative", o)
+        nonassoc = cast("micro.NonAssociativeResult", nonassoc_wall.result)
+        if nonassoc.ok and nonassoc_wall.message:
+            notes.append(f"non-associative solve: {nonassoc_wall.message}")
         t_nonassoc = time.perf_counter() - t0
-    values = _micro_values(nonassoc, notes)
+    values = _micro_values(None if nonassoc_wall is not None and nonassoc_wall.status == LOCAL_LEFT else nonassoc,
+                           notes)
     certified = values["certified_load_factor"]
     micro_lam = values["micro_load_factor"]
     verdict, proof = judge(lam_macro, lam_assoc, certified, found_load_factor=micro_lam,
@@ -370,9 +416,12 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         blocks=block_wall.n_blocks,
         wall=wall,
         options=o,
+        local_mechanism=_local(assoc_wall, nonassoc_wall),
         macro_result=macro_result,
         associative_result=assoc,
         nonassociative_result=nonassoc,
+        associative_wall=_analysed(assoc_wall, block_wall),
+        nonassociative_wall=None if nonassoc_wall is None else _analysed(nonassoc_wall, held),
     )
 
 

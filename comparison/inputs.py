@@ -1,48 +1,12 @@
 """Files the suite reads (scenes, grids, walls files): regular files only, refused at once otherwise.
 
-``open()`` of a named pipe waits for a writer: ``xcheck micro --scene FIFO``
-and ``xcheck sweep FIFO`` blocked forever. :func:`read_input_file` opens
-without blocking, looks at what it opened, and refuses anything but a
-regular file (a pipe, a directory, a device such as ``/dev/zero``, which
-would never end) with an ``OSError`` whose ``strerror`` says what it is, so
-that the callers' "cannot read (...)" lines name it.
+The reader is :func:`micro.files.read_input_file` (``micro`` reads state files with it too): it opens
+without blocking and refuses a named pipe, a directory or a device with an ``OSError`` whose
+``strerror`` says what it is.
 """
 
 from __future__ import annotations
 
-import errno
-import os
-import stat
-from pathlib import Path
+from micro.files import read_input_file
 
-#: What a file that is not a regular one is, by its ``stat`` mode test.
-_KINDS = (
-    (stat.S_ISFIFO, "a named pipe"),
-    (stat.S_ISDIR, "a directory"),
-    (stat.S_ISCHR, "a character device"),
-    (stat.S_ISBLK, "a block device"),
-    (stat.S_ISSOCK, "a socket"),
-)
-
-
-def read_input_file(path: str | os.PathLike[str], max_bytes: int | None = None) -> bytes:
-    """The bytes of the regular file ``path`` (at most ``max_bytes + 1`` of them, so that a caller
-    can tell a file longer than ``max_bytes``).
-
-    Raises:
-        OSError: the file cannot be opened or read, or is not a regular file
-            (``strerror``: ``"not a regular file: a named pipe"`` and the like).
-    """
-    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    try:
-        mode = os.fstat(fd).st_mode
-        if not stat.S_ISREG(mode):
-            kind = next((name for test, name in _KINDS if test(mode)), "a special file")
-            raise OSError(errno.EINVAL, f"not a regular file: {kind}", str(Path(path)))
-        os.set_blocking(fd, True)
-        with os.fdopen(fd, "rb") as fh:
-            fd = -1  # the file object closes it
-            return fh.read() if max_bytes is None else fh.read(max_bytes + 1)
-    finally:
-        if fd >= 0:
-            os.close(fd)
+__all__ = ["read_input_file"]

@@ -16,12 +16,19 @@ Gilbert, Casapulla & Ahmed (2006) with :func:`solve_nonassociative`::
     result = micro.solve_nonassociative(wall)   # the report's method
     result.load_factor, result.status, result.iterated_load_factor, result.history  # quote the first
 
+The collapse state behind a result, as a file that another program can check and write
+(:mod:`micro.state`)::
+
+    micro.write_state(result, "state.json", wall=wall)
+    micro.verify_state("state.json").passed     # True: a genuine collapse state
+
 Every result has a flat record (``result.to_record()``: a read-only mapping of its fields,
 ``record["load_factor"]``; ``record.to_dict()`` is its JSON form).
 
 Layout: ``geometry`` (the wall), ``lp`` (the LP), ``backends`` (the solvers),
 ``mechanism``, ``results`` and ``records`` (what comes out), ``local`` (is the governing
-mechanism a loose piece's, not the wall's?) and ``hold`` (blocks held to their hosts), ``associative``
+mechanism a loose piece's, not the wall's?) and ``hold`` (blocks held to their hosts), ``state`` (a
+collapse state as data), ``files`` (reading and writing files safely), ``associative``
 and ``nonassociative`` (the two analyses), ``plot``. The method, its options and which
 value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, global-search).
 """
@@ -46,6 +53,15 @@ from micro.nonassociative import (
 )
 from micro.records import AssociativeRecord, MicroRecord, NonAssociativeRecord
 from micro.results import DirectionResult, LimitResult
+from micro.state import (
+    CollapseStateData,
+    StateCheck,
+    StateFileError,
+    collapse_state,
+    read_state,
+    verify_state,
+    write_state,
+)
 
 __all__ = [
     "DEFAULT_SOLVER",
@@ -54,6 +70,7 @@ __all__ = [
     "SOLVERS",
     "AssociativeRecord",
     "BlockWall",
+    "CollapseStateData",
     "DirectionResult",
     "GlobalOptions",
     "HeldWall",
@@ -68,17 +85,23 @@ __all__ = [
     "NonAssociativeResult",
     "Outcome",
     "SequenceDiagnostics",
+    "StateCheck",
+    "StateFileError",
     "Status",
     "Tuning",
     "assemble",
     "build_wall",
+    "collapse_state",
     "estimate_bytes",
     "find_local",
     "hold_blocks",
     "local_mechanism",
     "make_backend",
     "mechanism_from_duals",
+    "read_state",
     "solve_associative",
     "solve_nonassociative",
     "verify_collapse_state",
+    "verify_state",
+    "write_state",
 ]

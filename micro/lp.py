@@ -154,6 +154,50 @@ def point_geometry(wall: BlockWall) -> tuple[IntArray, IntArray, FloatArray, Flo
     return a, b, px, py, nrm, tan
 
 
+def point_columns(a: IntArray, b: IntArray, px: FloatArray, py: FloatArray, vec: FloatArray, xc: FloatArray,
+                  yc: FloatArray, n_blocks: int) -> sp.csc_matrix:
+    """Equilibrium columns of unit forces at contact points: the matrix ``B`` of the module docstring.
+
+    Point ``p`` pushes block ``b[p]`` along ``vec[p]`` and block ``a[p]`` the opposite way (``-1``: the
+    ground, which has no rows); each block has three rows ``(F_x, F_y, M)``, ``M`` counter-clockwise about
+    its reference point ``(xc, yc)`` (its centroid). ``B^T`` maps block velocities ``(u, v, omega)`` (of
+    the reference points) onto the velocity of ``b`` relative to ``a`` at the points, along ``vec``.
+    Pure geometry in any consistent units: the LP (:func:`assemble`, scaled) and the check of a collapse
+    state read from a file (:mod:`micro.state`, dimensional) build their matrices with it.
+
+    Args:
+        a, b: the two blocks of each point (``-1``: the ground).
+        px, py: the points' coordinates.
+        vec: ``(P, 2)`` unit directions (the normals or the tangents).
+        xc, yc: the blocks' reference points.
+        n_blocks: number of blocks (``3 * n_blocks`` rows).
+
+    Returns:
+        ``(3 n_blocks, P)`` CSC matrix, indices sorted, no explicit zeros.
+    """
+    P = px.size
+    rows: list[IntArray] = []
+    cols: list[IntArray] = []
+    vals: list[FloatArray] = []
+    pidx = np.arange(P, dtype=np.int64)
+    for blk, sign in ((b, 1.0), (a, -1.0)):
+        ok = blk >= 0
+        k = blk[ok]
+        fx = sign * vec[ok, 0]
+        fy = sign * vec[ok, 1]
+        mz = (px[ok] - xc[k]) * fy - (py[ok] - yc[k]) * fx
+        c = pidx[ok]
+        rows += [3 * k, 3 * k + 1, 3 * k + 2]
+        cols += [c, c, c]
+        vals += [fx, fy, mz]
+    r, c, v = np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
+    keep = v != 0.0
+    m = sp.csc_matrix((v[keep], (r[keep], c[keep])), shape=(3 * n_blocks, P))
+    m.sum_duplicates()
+    m.sort_indices()
+    return m
+
+
 def generator_form(Bn: sp.csc_matrix, Bs: sp.csc_matrix, mu: FloatArray,
                    live: FloatArray) -> tuple[sp.csc_matrix, FloatArray, FloatArray]:
     """The LP in generator form from its equilibrium columns (module docstring).
@@ -194,31 +238,8 @@ def assemble(wall: BlockWall) -> LimitLP:
     xc = wall.xc / ls
     yc = wall.yc / ls
     n_eq = 3 * nbk
-
-    def columns(vec: FloatArray) -> sp.csc_matrix:
-        rows: list[IntArray] = []
-        cols: list[IntArray] = []
-        vals: list[FloatArray] = []
-        pidx = np.arange(P, dtype=np.int64)
-        for blk, sign in ((b, 1.0), (a, -1.0)):
-            ok = blk >= 0
-            k = blk[ok]
-            fx = sign * vec[ok, 0]
-            fy = sign * vec[ok, 1]
-            mz = (px[ok] - xc[k]) * fy - (py[ok] - yc[k]) * fx
-            c = pidx[ok]
-            rows += [3 * k, 3 * k + 1, 3 * k + 2]
-            cols += [c, c, c]
-            vals += [fx, fy, mz]
-        r, c, v = np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
-        keep = v != 0.0
-        m = sp.csc_matrix((v[keep], (r[keep], c[keep])), shape=(n_eq, P))
-        m.sum_duplicates()
-        m.sort_indices()
-        return m
-
-    Bn = columns(nrm)
-    Bs = columns(tan)
+    Bn = point_columns(a, b, px, py, nrm, xc, yc, nbk)
+    Bs = point_columns(a, b, px, py, tan, xc, yc, nbk)
     live = (wall.live / np.array([fs, fs, fs * ls])).ravel()
     dead = (wall.dead / np.array([fs, fs, fs * ls])).ravel()
     mu = np.repeat(wall.mu, 2)

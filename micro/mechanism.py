@@ -103,11 +103,7 @@ def mechanism_from_duals(
     ds = lp.Bs.T @ y
     scale = max(float(np.max(np.abs(dn), initial=0.0)), float(np.max(np.abs(ds), initial=0.0)))
     tol = state_tol * scale if scale > 0 else 0.0
-    dn2 = np.abs(dn).reshape(-1, 2).max(axis=1)
-    ds2 = np.abs(ds).reshape(-1, 2).max(axis=1)
-    state = np.full(dn2.size, CLOSED, dtype=np.int64)
-    state[dn2 > tol] = OPENING
-    state[ds2 > tol] = SLIDING
+    state = classify_rates(np.abs(dn).reshape(-1, 2).max(axis=1), np.abs(ds).reshape(-1, 2).max(axis=1), tol)
     return Mechanism(
         velocities=y.reshape(-1, 3),
         opening_rate=dn,
@@ -116,3 +112,12 @@ def mechanism_from_duals(
         live_work=float(direction) * float(lp.live @ y),
         dead_work=float(lp.dead @ y),
     )
+
+
+def classify_rates(opening: FloatArray, slip: FloatArray, tol: float) -> IntArray:
+    """:data:`SLIDING` where ``|slip| > tol``, else :data:`OPENING` where ``|opening| > tol``, else
+    :data:`CLOSED` (of contacts, from their points' largest rates, or of single points)."""
+    state = np.full(np.shape(opening), CLOSED, dtype=np.int64)
+    state[np.abs(opening) > tol] = OPENING
+    state[np.abs(slip) > tol] = SLIDING
+    return state

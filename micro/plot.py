@@ -2,10 +2,7 @@
 
 from __future__ import annotations
 
-import contextlib
 import io
-import os
-import uuid
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -13,6 +10,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.files import write_whole
 from micro.geometry import BlockWall
 from micro.results import LimitResult
 
@@ -207,17 +205,7 @@ def save_figure(fig: Any, path: str | Path, **savefig: Any) -> Path:
     fmt = name.rsplit(".", 1)[1].lower() if "." in name else None
     buf = io.BytesIO()
     fig.savefig(buf, format=fmt, **savefig)
-    tmp = out.with_name(f".{name}.{uuid.uuid4().hex[:8]}.tmp")
-    try:
-        _write_new(tmp, buf.getvalue())
-        os.replace(tmp, out)
-    except BaseException as exc:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        if isinstance(exc, OSError) and exc.errno is not None:  # named as the file asked for, not the temporary
-            raise OSError(exc.errno, exc.strerror, str(out)) from None
-        raise
-    return out
+    return write_whole(out, buf.getvalue())
 
 
 def plot_mechanism(
@@ -262,10 +250,3 @@ def plot_mechanism(
         hinge=hinge,
         hinge_label=hinge_label,
     )
-
-
-def _write_new(path: Path, data: bytes) -> None:
-    """Create ``path`` (it must not exist) holding ``data``; mode 0o666 less the umask, as ``savefig``'s."""
-    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o666)
-    with os.fdopen(fd, "wb") as fh:
-        fh.write(data)

@@ -19,21 +19,22 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from comparison.cli.options import (
-    EXIT_FAILED,
-    EXIT_OK,
     QUIET,
     VERBOSE,
     UsageError,
     add_command,
     add_wall_options,
     choice,
+    exit_after_outputs,
     in_range,
     int_option,
     wall_from_args,
 )
+from comparison.cli.state import check_state_path, write_state_file
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.compare import CompareOptions, Comparison
+    from comparison.wall import WallSpec
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -67,6 +68,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="time limit per LP solve (with --global also of each direction's branch and bound)")
     g.add_argument("--json", action="store_true", help="print one JSON object (docs/schemas/compare.schema.json)")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its governing micro mechanism")
+    g.add_argument("--state", default=None, metavar="FILE.json",
+                   help="write the collapse state compared (the non-associative one; the associative LP's when "
+                   "the bound settled the verdict), of the wall as analysed; `xcheck verify FILE.json` checks it")
     p.set_defaults(handler=run)
 
 
@@ -91,7 +95,6 @@ def options_from_args(args: argparse.Namespace) -> CompareOptions:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck compare``."""
-    from comparison.cli.micro import _plot_failed
     from comparison.compare import compare
 
     options = options_from_args(args)
@@ -99,6 +102,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
     if args.plot is not None and not Path(args.plot).parent.is_dir():  # before the solves, not after
         raise UsageError(f"--plot: the folder of {args.plot!r} does not exist")
+    check_state_path(args)
     spec = wall_from_args(args)
     try:
         result = compare(spec, options)
@@ -106,10 +110,11 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(str(exc)) from None
     plot_error, drawn = _plot(result, args.plot) if args.plot is not None else (None, False)
     plotted = drawn and plot_error is None
+    state_written, state_error = _state(args, result, spec)
     if args.json:
         doc = result.to_dict()
         doc.update(wall=spec.name or None, paper_parameters=spec.paper_parameters(),
-                   plot=args.plot if plotted else None)
+                   plot=args.plot if plotted else None, state=state_written)
         print(json.dumps(doc))
     elif args.verbosity == QUIET:
         print(result.verdict + (f" ({result.proof})" if result.proof else "") if result.verdict else "no verdict")
@@ -117,9 +122,17 @@ def run(args: argparse.Namespace) -> int:
         print(format_comparison(result, verbose=args.verbosity >= VERBOSE))
         if args.plot is not None and not drawn:
             print(f"  no plot written to {args.plot}: no micro mechanism")
-    if plot_error:
-        return _plot_failed(plot_error)
-    return EXIT_OK if result.status == "ok" else EXIT_FAILED
+    return exit_after_outputs(result.status == "ok", plot_error, state_error)
+
+
+def _state(args: argparse.Namespace, c: Comparison, spec: WallSpec) -> tuple[str | None, str | None]:
+    """Write ``--state``: the state compared (the non-associative result when it ran, else the associative
+    LP's), of the wall it was computed on (held where a local mechanism was told apart)."""
+    if c.nonassociative_result is not None and c.nonassociative_wall is not None:
+        return write_state_file(args, c.nonassociative_result, c.nonassociative_wall, spec)
+    if c.associative_result is not None and c.associative_wall is not None:
+        return write_state_file(args, c.associative_result, c.associative_wall, spec)
+    return (None, None) if args.state is None else (None, "--state: no micro state to write")
 
 
 def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
@@ -137,6 +150,10 @@ def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
         states = "" if band is None else f"; its mechanism's collapse states: lambda in [{band[0]:.6f}, {band[1]:.6f}]"
         lines.append(f"  iterated LP:         lambda = {c.iterated_load_factor:.6f}{states}")
         lines.append(f"  difference:          (macro - micro) / micro = {c.difference_percent:+.2f} %")
+    loc = c.local_mechanism
+    if loc is not None:
+        lines.append(f"  local mechanism:     {loc['description']} at lambda = {loc['load_factor']:.6f} "
+                     f"({loc['method']} micro, the block model's); the values above are the wall's own, with it held")
     if c.global_status:
         lines.append(f"  global search:       {c.global_status}, proven lower bound {c.global_lower_bound:.6f}")
     lines.extend(f"  note: {d}" for d in c.diagnostics)
@@ -158,10 +175,10 @@ def _plot(c: Comparison, path: str) -> tuple[str | None, bool]:
     from micro.plot import plot_mechanism, plot_velocities
 
     marks = storey_marks(c.wall, c.macro_result)
-    wall = c.wall.to_micro(first_course=c.options.first_course, head_joints=c.options.head_joints)
     na = c.nonassociative_result
     title = f"macro λ = {c.macro_load_factor:.4f}: {c.verdict or 'no verdict'}" + (f" ({c.proof})" if c.proof else "")
-    if na is not None and na.ok:
+    if na is not None and na.ok and c.nonassociative_wall is not None:
+        nwall = c.nonassociative_wall
         low = na.lowest_state
         state = low.state if low is not None and low.state is not None else na.governing
         direction = low.direction if low is not None else na.direction
@@ -169,10 +186,11 @@ def _plot(c: Comparison, path: str) -> tuple[str | None, bool]:
             return None, False
         velocities = state.mechanism.velocities
         title += f"\nnon-associative micro λ = {c.micro_load_factor:.4f} ({c.micro_quoted}), {direction}"
-        return _write_plot(lambda: plot_velocities(wall, velocities, path, title=title, direction=direction,
+        return _write_plot(lambda: plot_velocities(nwall, velocities, path, title=title, direction=direction,
                                                    **marks), path), True
     assoc = c.associative_result
-    if assoc is not None and assoc.ok:
+    if assoc is not None and assoc.ok and c.associative_wall is not None:
+        awall = c.associative_wall
         title += f"\nassociative micro λ = {c.associative_load_factor:.4f}"
-        return _write_plot(lambda: plot_mechanism(wall, assoc, path, title=title, **marks), path), True
+        return _write_plot(lambda: plot_mechanism(awall, assoc, path, title=title, **marks), path), True
     return None, False

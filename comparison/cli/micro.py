@@ -6,6 +6,7 @@ Example::
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --json
     xcheck micro --t 1 --m 1/3 --rows 12 --f 0.75 --friction nonassociative --tuning scheme=b --tuning relaxation=0.5
     xcheck micro --t 2 --m 1/3 --rows 6 --f 0.6 --friction nonassociative --global --time-limit 60 --json
+    xcheck micro --t 1 --m 1/2 --rows 12 --f 0.75 --friction nonassociative --state set13.json
 """
 
 from __future__ import annotations
@@ -27,18 +28,18 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
     from micro.nonassociative import LPProgress
 
 from comparison.cli.options import (
-    EXIT_FAILED,
-    EXIT_OK,
     QUIET,
     VERBOSE,
     UsageError,
     add_command,
     add_wall_options,
     choice,
+    exit_after_outputs,
     in_range,
     int_option,
     wall_from_args,
 )
+from comparison.cli.state import add_state_option, check_state_path, write_state_file
 
 #: Friction laws accepted by ``--friction``.
 FRICTION_LAWS = ("associative", "nonassociative")
@@ -88,6 +89,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "default 300)")
     g.add_argument("--json", action="store_true", help="print one JSON object")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
+    add_state_option(g)
     # ---- non-associative friction: the report's method; research knobs only through --tuning
     na = p.add_argument_group("non-associative friction (--friction nonassociative; the report's method)")
     na.add_argument("--max-iterations", default=None, metavar="N",
@@ -142,6 +144,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
     if args.plot is not None and not Path(args.plot).parent.is_dir():  # before minutes of solving, not after
         raise UsageError(f"--plot: the folder of {args.plot!r} does not exist")
+    check_state_path(args)
     spec = wall_from_args(args)
     try:
         wall = spec.to_micro(first_course=args.first_course, head_joints=args.head_joints)
@@ -159,12 +162,14 @@ def run(args: argparse.Namespace) -> int:
         from micro.plot import plot_mechanism
 
         plot_error = _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
+    state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
-        print(_json({**result.summary(), **own.to_dict()}, args, spec, plotted=result.ok and plot_error is None))
+        print(_json({**result.summary(), **own.to_dict()}, args, spec, plotted=result.ok and plot_error is None,
+                    state=state_written))
     else:
         _print_associative(result, args.verbosity)
         _print_local(own, args.verbosity)
-    return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
+    return exit_after_outputs(result.ok, plot_error, state_error)
 
 
 def _options_apply(args: argparse.Namespace) -> None:
@@ -234,7 +239,7 @@ def _print_local(own: WallMechanism, verbosity: int) -> None:
 def _write_plot(draw: Callable[[], object], path: str) -> str | None:
     """Draw a plot (whole or not at all: :func:`micro.plot.save_figure`); why it could not be written
     (``None``: written). Not bad input (the folder was checked before solving; a full disk is not the
-    user's input): the result is printed all the same, then :func:`_plot_failed`."""
+    user's input): the result is printed all the same, then :func:`~comparison.cli.options.exit_after_outputs`."""
     try:
         draw()
     except OSError as exc:
@@ -242,23 +247,18 @@ def _write_plot(draw: Callable[[], object], path: str) -> str | None:
     return None
 
 
-def _plot_failed(message: str) -> int:
-    """After the result: one line saying why the plot is missing, and :data:`EXIT_FAILED`."""
-    print(f"xcheck: error: {message}", file=sys.stderr)
-    return EXIT_FAILED
-
-
-def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool, **extra: str) -> str:
-    """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters)
-    and the options."""
+def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool,
+          state: str | None) -> str:
+    """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters),
+    the options and the files written (``plot``, ``state``; ``None`` where none)."""
     summary.update(
         wall=spec.name or None,
         paper_parameters=spec.paper_parameters(),
         friction=args.friction,
         first_course=args.first_course,
         head_joints=args.head_joints,
-        **extra,
         plot=args.plot if plotted else None,
+        state=state,
     )
     return json.dumps(summary)
 
@@ -375,15 +375,16 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
                                     **storey_marks(spec)),
             args.plot,
         )
+    state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
         print(_json({**result.summary(), **own.to_dict()}, args, spec,
-                    plotted=mechanism is not None and plot_error is None))
+                    plotted=mechanism is not None and plot_error is None, state=state_written))
     else:
         _print_nonassociative(result, args.verbosity)
         _print_local(own, args.verbosity)
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
-    return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
+    return exit_after_outputs(result.ok, plot_error, state_error)
 
 
 def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:

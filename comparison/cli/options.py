@@ -54,6 +54,19 @@ exit codes:
 """
 
 
+def exit_after_outputs(ok: bool, *unwritten: str | None) -> int:
+    """After the result is printed: one line ``xcheck: error: MESSAGE`` on stderr for each output that could
+    not be written (a plot, a state file; ``None``: written or not asked for), then :data:`EXIT_FAILED`
+    when there is one or the result failed, else :data:`EXIT_OK`. Not bad input: the folder was checked
+    before the work, and a full disk is not the user's input."""
+    import sys
+
+    for message in unwritten:
+        if message:
+            print(f"xcheck: error: {message}", file=sys.stderr)
+    return EXIT_OK if ok and not any(unwritten) else EXIT_FAILED
+
+
 def add_command(sub: argparse._SubParsersAction, name: str, *, help: str, description: str) -> argparse.ArgumentParser:
     """A subcommand's parser with the options every subcommand has (``--quiet``/``--verbose``) and the exit
     codes in its help."""
@@ -233,8 +246,9 @@ def add_cache_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-cache", action="store_true", help="recompute everything, cache nothing")
 
 
-def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
-    """The cache directory the options name (``None`` for ``--no-cache``).
+def cache_dir_from_args(args: argparse.Namespace, *, create: bool = True) -> Path | None:
+    """The cache directory the options name (``None`` for ``--no-cache``; ``create``: see
+    :func:`output_directory`).
 
     Raises:
         UsageError: ``--cache`` together with ``--no-cache``, or a cache
@@ -244,11 +258,12 @@ def cache_dir_from_args(args: argparse.Namespace) -> Path | None:
         if args.cache is not None:
             raise UsageError("--cache and --no-cache exclude each other")
         return None
-    return cache_directory(args.cache)
+    return cache_directory(args.cache, create=create)
 
 
-def cache_directory(cache: str | None) -> Path:
-    """The cache directory ``--cache`` names, else the default one, checked before any work.
+def cache_directory(cache: str | None, *, create: bool = True) -> Path:
+    """The cache directory ``--cache`` names, else the default one, checked before any work (``create``:
+    see :func:`output_directory`).
 
     Raises:
         UsageError: a cache directory that cannot be written (a file, no permission).
@@ -256,12 +271,14 @@ def cache_directory(cache: str | None) -> Path:
     from comparison.runner.cache import default_cache_dir
 
     if cache is not None:
-        return output_directory("--cache", cache)
-    return output_directory("the cache directory ($XCHECK_CACHE, else the default)", default_cache_dir())
+        return output_directory("--cache", cache, create=create)
+    return output_directory("the cache directory ($XCHECK_CACHE, else the default)", default_cache_dir(),
+                            create=create)
 
 
-def output_directory(option: str, path: str | os.PathLike[str]) -> Path:
-    """A directory the command writes into, checked before any work (see :func:`comparison.outputs.writable_directory`).
+def output_directory(option: str, path: str | os.PathLike[str], *, create: bool = True) -> Path:
+    """A directory the command writes into, checked before any work (see :func:`comparison.outputs.writable_directory`;
+    ``create=False`` checks it and creates nothing).
 
     Raises:
         UsageError: naming ``option``.
@@ -269,7 +286,7 @@ def output_directory(option: str, path: str | os.PathLike[str]) -> Path:
     from comparison.outputs import writable_directory
 
     try:
-        return writable_directory(option, path)
+        return writable_directory(option, path, create=create)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
 

@@ -67,19 +67,23 @@ def run(args: argparse.Namespace) -> int:
     from comparison.report.committed import BadTable, check_tables
     from comparison.runner.executor.cluster import ClusterError
 
-    out = output_directory("--out", args.out)
+    # every input checked (the scheduler reached) before a folder is made: bad input leaves nothing behind
+    out = output_directory("--out", args.out, create=False)
     tables = None if args.tables is None else readable_directory("--tables", args.tables)
     try:
         check_tables(out if tables is None else tables)
     except BadTable as exc:
         raise UsageError(f"{'--tables' if tables is not None else '--out'}: {exc}") from None
-    cache_dir, workers = cache_dir_from_args(args), workers_from_args(args)
+    cache_dir, workers = cache_dir_from_args(args, create=False), workers_from_args(args)
     if args.scheduler is not None and cache_dir is None:
         raise UsageError("--scheduler and --no-cache exclude each other (the cluster's results come back "
                          "through the result cache)")
     executor = None if args.scheduler is None else executor_from_args(workers, args.scheduler, None)
     try:
         with executor if executor is not None else contextlib.nullcontext():
+            output_directory("--out", out)
+            if cache_dir is not None:
+                output_directory("--cache", cache_dir)
             path = build_report(
                 out,
                 quick=args.quick,

@@ -9,7 +9,9 @@ Example::
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+from pathlib import Path
 
 from comparison.cli.options import (
     EXIT_FAILED,
@@ -29,6 +31,11 @@ GB = 1e9
 #: The largest ``--worker-memory`` (GB): a million gigabytes, beyond any machine (1e308 overflowed the
 #: conversion to bytes: an OverflowError traceback).
 MAX_WORKER_MEMORY_GB = 1e6
+
+
+def _absolute(path: Path) -> Path:
+    """``path`` from the root, whatever the working directory becomes later."""
+    return Path(os.path.abspath(path))
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -70,6 +77,11 @@ def run(args: argparse.Namespace) -> int:
     from comparison.runner.executor.cluster import ClusterError
     from comparison.sweep import GridError, load_grid, run_sweep
 
+    # Every input is checked before a folder is made (bad input leaves nothing behind), and the output and
+    # cache folders are absolute before the grid's user models (code that may change the working
+    # directory) are imported or run.
+    out = _absolute(output_directory("--out", args.out, create=False))
+    cache_dir = _absolute(cache_directory(args.cache, create=False))
     try:
         grid = load_grid(args.grid)
     except GridError as exc:
@@ -77,11 +89,11 @@ def run(args: argparse.Namespace) -> int:
     workers = workers_from_args(args)
     memory = in_range("--worker-memory", args.worker_memory,
                       f"a positive number of gigabytes, at most {MAX_WORKER_MEMORY_GB:g}", MAX_WORKER_MEMORY_GB)
-    out = output_directory("--out", args.out)  # before an hour of computing, not after
-    cache = ResultCache(cache_directory(args.cache))
     executor = executor_from_args(workers, args.scheduler, None if memory is None else int(memory * GB))
     try:
         with executor, Progress(args.verbosity) as progress:
+            output_directory("--out", out)  # made now, before an hour of computing, not after
+            cache = ResultCache(cache_directory(str(cache_dir)))
             done = run_sweep(grid, out, cache=cache, executor=executor, progress=progress, page=not args.no_report)
     except ClusterError as exc:  # the scheduler went away mid-sweep: what finished is in the cache
         print(f"xcheck: error: --scheduler: {exc}", file=sys.stderr)

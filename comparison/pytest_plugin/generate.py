@@ -17,6 +17,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from comparison.cases import CASES, MODELS, PaperCase
+from comparison.outputs import write_text
 from comparison.progress import NORMAL, Progress
 from comparison.pytest_plugin.references import LOAD_FACTOR, Reference, References
 from comparison.report.plan import build_plan
@@ -191,5 +192,5 @@ def generate(
         "printed decimal",
     }
     refs = References(cells, meta)
-    out.write_text(refs.to_json(), encoding="utf-8")
+    write_text(out, refs.to_json())
     return refs

@@ -22,7 +22,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import writable_directory
+from comparison.outputs import writable_directory, write_text
 from comparison.progress import NORMAL, Progress
 from comparison.report.committed import BOND, ERRORMAP, LOWEST, check_tables, committed_table
 from comparison.report.plan import build_plan
@@ -150,9 +150,9 @@ def _write(res: Results, out: Path, meta: Mapping[str, Any], tables_dir: Path) -
     """Render the sections of ``res`` into ``out`` (run times: :mod:`~comparison.report.timings`), those of
     the committed tables from ``tables_dir``: ``REPORT.md``, ``report.json``, the CSVs and the figures."""
     text, records = render(sections(res, meta, tables_dir), out)
-    (out / "report.json").write_text(json.dumps({"meta": meta, **records}, indent=1, default=str))
+    write_text(out / "report.json", json.dumps({"meta": meta, **records}, indent=1, default=str))
     path = out / "REPORT.md"
-    path.write_text(text)
+    write_text(path, text)
     return path
 
 

@@ -16,12 +16,16 @@ it (``xcheck: warning: ...`` on the command line), and its section of
 from __future__ import annotations
 
 import csv
+import functools
 import io
 import json
 import math
+import os
 import warnings
 from collections.abc import Mapping
 from pathlib import Path
+
+from comparison.inputs import read_input_file
 
 #: The error map's sweep table, relative to the tables directory.
 ERRORMAP = "sweeps/errormap.csv"
@@ -37,10 +41,13 @@ MADE_BY = {
 }
 
 
-#: The columns each section reads, and what each must hold: ``"text"``, ``"number"`` (a float, ``nan`` or
-#: empty) or ``"count"`` (an integer or empty).
+#: The columns each section reads, and what each must hold: ``"text"``; ``"positive"`` (a positive number),
+#: ``"non-negative"`` (zero or more) or ``"ratio"`` (any finite number), each also ``nan`` or empty (no
+#: value); ``"count"`` (a non-negative integer, or empty). Infinite numbers are refused everywhere.
 _SWEEP: Mapping[str, str] = {
-    **dict.fromkeys(("t", "m", "f", "p", "load_factor"), "number"),
+    **dict.fromkeys(("t", "m", "f"), "positive"),
+    "p": "non-negative",
+    "load_factor": "positive",
     **dict.fromkeys(("rows", "storeys", "blocks", "iterations"), "count"),
     **dict.fromkeys(("kind", "status", "first_course"), "text"),
 }
@@ -49,12 +56,21 @@ COLUMNS: Mapping[str, Mapping[str, str]] = {
     BOND: _SWEEP,
     LOWEST: {
         **dict.fromkeys(("group", "wall", "global_status"), "text"),
-        **dict.fromkeys(("orduna", "lambda_iterated", "lambda_lowest", "global_best", "global_bound", "global_gap",
-                         "iterated_seconds", "lowest_seconds", "global_seconds", "iterated_over_global",
-                         "iterated_over_lowest"), "number"),
+        **dict.fromkeys(("orduna", "lambda_iterated", "lambda_lowest", "global_best"), "positive"),
+        **dict.fromkeys(("global_bound", "global_gap", "iterated_seconds", "lowest_seconds", "global_seconds"),
+                        "non-negative"),
+        **dict.fromkeys(("iterated_over_global", "iterated_over_lowest"), "ratio"),
         "lowest_moves": "count",
     },
 }
+#: What each kind of column must hold, in words.
+RULES = {"positive": "a positive number", "non-negative": "a number >= 0", "ratio": "a finite number",
+         "count": "an integer >= 0"}
+#: The largest committed table read (bytes): a sweep's table has at most 100,000 rows
+#: (:data:`comparison.sweep.grid.MAX_CELLS`) of about 300 bytes, 30 MB; the committed error map is 0.17 MB.
+MAX_TABLE_BYTES = 64 << 20
+#: The largest sweep metadata read (bytes): the committed ones are under 2 kB.
+MAX_META_BYTES = 1 << 20
 
 
 class BadTable(ValueError):
@@ -62,13 +78,20 @@ class BadTable(ValueError):
 
 
 def _bad_cell(kind: str, text: str) -> bool:
+    """True when ``text`` is not what a column of ``kind`` holds (:data:`COLUMNS`)."""
     if kind == "text" or not text:
         return False
     try:
         x = float(text)
     except ValueError:
         return True
-    return kind == "count" and not (math.isfinite(x) and x.is_integer())
+    if math.isnan(x):
+        return kind == "count"
+    if not math.isfinite(x):
+        return True
+    if kind == "count":
+        return not (x.is_integer() and x >= 0)
+    return (kind == "positive" and x <= 0) or (kind == "non-negative" and x < 0)
 
 
 def read_committed(tables_dir: Path, name: str) -> list[dict[str, str]]:
@@ -76,18 +99,25 @@ def read_committed(tables_dir: Path, name: str) -> list[dict[str, str]]:
     ``tables_dir``, checked whole.
 
     Raises:
-        BadTable: not UTF-8 text (binary junk), not ending with a line break (cut short), without a
-            column its section reads, without rows, a row with another number of fields than the
-            header, or a number or count that is none; the message names the file and the line.
+        BadTable: not a regular file (a directory, a FIFO, a device such as ``/dev/zero``), larger than
+            :data:`MAX_TABLE_BYTES`, not UTF-8 text (binary junk), not ending with a line break (cut
+            short), without a column its section reads, without rows, a row with another number of
+            fields than the header, a value outside its column's rule (:data:`RULES`: ``inf``, a negative
+            ``t``), fewer or more rows than its metadata counts (a sweep) or than the study has walls
+            (``lowest.csv``); the message names the file and the line.
     """
     path = Path(tables_dir) / name
     remake = f"remake it with `{MADE_BY[name].replace('DIR', str(tables_dir))}`"
     try:
-        text = path.read_bytes().decode("utf-8")
+        data = read_input_file(path, MAX_TABLE_BYTES)
+    except OSError as exc:
+        raise BadTable(f"{path}: cannot be read ({exc.strerror or exc}); {remake}") from None
+    if len(data) > MAX_TABLE_BYTES:
+        raise BadTable(f"{path}: larger than the {MAX_TABLE_BYTES:,} bytes a committed table may have; {remake}")
+    try:
+        text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise BadTable(f"{path}: not a text table (byte {exc.start} is not UTF-8); {remake}") from None
-    except OSError as exc:
-        raise BadTable(f"{path}: cannot be read ({exc.strerror or exc})") from None
     if not text.endswith("\n"):
         raise BadTable(f"{path}: the last line is cut short (no line break at the end of the file); {remake}")
     try:
@@ -109,30 +139,54 @@ def read_committed(tables_dir: Path, name: str) -> list[dict[str, str]]:
         record = dict(zip(header, row, strict=True))
         bad = [c for c, kind in COLUMNS[name].items() if _bad_cell(kind, record[c])]
         if bad:
-            what = "an integer" if COLUMNS[name][bad[0]] == "count" else "a number"
-            raise BadTable(f"{path}:{i}: {bad[0]} must be {what}, got {record[bad[0]]!r}; {remake}")
+            raise BadTable(f"{path}:{i}: {bad[0]} must be {RULES[COLUMNS[name][bad[0]]]}, got {record[bad[0]]!r}; "
+                           f"{remake}")
         out.append(record)
     _whole(path, name, out, remake)
     return out
 
 
 def _whole(path: Path, name: str, rows: list[dict[str, str]], remake: str) -> None:
-    """A sweep table cut at a line break still reads: its metadata (``errormap.json`` beside
-    ``errormap.csv``, written by the same run) counts its cells.
+    """A table cut at a line break still reads: a sweep's metadata (``errormap.json`` beside
+    ``errormap.csv``, written by the same run) counts its cells, and the lowest-load study has a known
+    number of walls (:func:`_study_walls`).
+
+    Warns:
+        UncountedTableWarning: a sweep table without its metadata (its rows cannot be counted).
 
     Raises:
-        BadTable: fewer or more rows than the metadata's cells.
+        BadTable: metadata that cannot be read, or fewer or more rows than it counts (than the study has).
     """
-    if COLUMNS[name] is not _SWEEP:
+    if name == LOWEST:
+        counts = _study_walls()
+        if len(rows) not in counts:
+            expected = " or ".join(f"{n} ({which})" for n, which in sorted(counts.items(), reverse=True))
+            raise BadTable(f"{path}: {len(rows)} rows where the study has {expected} walls (a truncated "
+                           f"table); {remake}")
         return
     meta = path.with_suffix(".json")
+    if not os.path.lexists(meta):
+        warnings.warn(f"{path}: its metadata {meta.name} is missing, so its rows cannot be counted (a table cut "
+                      f"at a line break would read as whole); {remake}", UncountedTableWarning, stacklevel=3)
+        return
     try:
-        cells = json.loads(meta.read_text(encoding="utf-8"))["counts"]["cells"]
-    except (OSError, ValueError, KeyError, TypeError):
-        return  # no metadata beside it: nothing to count against
-    if isinstance(cells, int) and cells != len(rows):
+        cells = json.loads(read_input_file(meta, MAX_META_BYTES))["counts"]["cells"]
+        if isinstance(cells, bool) or not isinstance(cells, int):
+            raise TypeError(f"counts.cells is {cells!r}")
+    except (OSError, ValueError, KeyError, TypeError, RecursionError) as exc:
+        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else f"{type(exc).__name__}: {exc}"
+        raise BadTable(f"{meta}: the metadata of {path.name} cannot be read ({why[:200]}); {remake}") from None
+    if cells != len(rows):
         raise BadTable(f"{path}: {len(rows)} rows where its metadata ({meta.name}) counts {cells} cells (a "
                        f"truncated table); {remake}")
+
+
+@functools.cache
+def _study_walls() -> dict[int, str]:
+    """The rows of a whole ``lowest.csv``: the study's walls, in full and with ``--quick``."""
+    from comparison.stability.lowest import study_cases
+
+    return {len(study_cases()): "the study", len(study_cases(quick=True)): "the study with --quick"}
 
 
 def check_tables(tables_dir: Path) -> None:
@@ -143,12 +197,16 @@ def check_tables(tables_dir: Path) -> None:
         BadTable: a table that is there but cannot be read (:func:`read_committed`).
     """
     for name in MADE_BY:
-        if (Path(tables_dir) / name).is_file():
+        if os.path.lexists(Path(tables_dir) / name):  # there in any form: a FIFO or a directory is refused
             read_committed(tables_dir, name)
 
 
 class MissingTableWarning(UserWarning):
     """A committed table the report needs is not in its tables directory."""
+
+
+class UncountedTableWarning(UserWarning):
+    """A committed sweep table without the metadata that counts its rows."""
 
 
 def committed_table(tables_dir: Path, name: str) -> Path | None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
@@ -11,6 +10,7 @@ from typing import Any
 
 from comparison.cases import SET4_HINGE_LOAD_FACTORS, PaperCase, cases_in_table
 from comparison.local import LocalRecord
+from comparison.outputs import csv_text, write_text
 from comparison.report.plan import table9_alternative
 from comparison.report.results import Results
 from comparison.runner import MICRO_ASSOC, NONASSOC_RETRY_LPS, Record
@@ -50,11 +50,8 @@ class Table:
         return "\n".join(out)
 
     def write_csv(self, path: Path) -> None:
-        """The header and the rows as CSV (non-finite numbers empty)."""
-        with path.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(self.header)
-            w.writerows([[plain(c) for c in r] for r in self.rows])
+        """The header and the rows as CSV (non-finite numbers empty), whole or not at all."""
+        write_text(path, csv_text([self.header, *([plain(c) for c in r] for r in self.rows)]))
 
     def records(self) -> list[dict[str, Any]]:
         """One dictionary per row, keyed by the header (non-finite numbers as ``None``)."""

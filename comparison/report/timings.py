@@ -16,6 +16,7 @@ from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from comparison.outputs import write_text
 from comparison.report.reproduce import machine
 from comparison.report.results import MACRO_TIMING_REPEATS, Results
 from comparison.report.scaling import scaling_table
@@ -87,11 +88,11 @@ def write_timings(
     scaling = scaling_table(res)
     table.write_csv(out / "timings.csv")
     scaling.write_csv(out / "scaling.csv")
-    (out / "timings.json").write_text(
-        json.dumps({"run": dict(run), "timings": table.records(), "scaling": scaling.records()}, indent=1)
-    )
+    write_text(out / "timings.json",
+               json.dumps({"run": dict(run), "timings": table.records(), "scaling": scaling.records()}, indent=1))
     path = out / "timings.md"
-    path.write_text(
+    write_text(
+        path,
         f"# Run times of the report\n\nPython {run['python']} on {run['machine']}. "
         f"This run: {run['seconds']:.1f} s, {run['computed']} computations, {run['cached']} read from the result "
         "cache (keyed by the wall, the method and the source of the packages it runs). Seconds change from run "

@@ -2,10 +2,14 @@
 
 A record is stored as JSON (:meth:`Record.to_dict`) under a key made of the
 wall, the method and its options, the cache format, and the *code version* of
-every package the method runs (a hash of their source files and of the runner),
-so that a re-run computes only what changed: editing ``micro`` recomputes the
-micro results and keeps the macro ones. A micro mechanism (block velocities)
-is stored beside its record, for the figures.
+every package the method runs (:func:`code_version`: a hash of what their
+modules and the runner's *do*), so that a re-run computes only what changed:
+changing ``micro``'s behaviour recomputes the micro results and keeps the macro
+ones. The hash is taken over each module's syntax tree with its docstrings
+removed, so a docstring, comment or formatting edit keeps every cached result;
+any other edit (a constant, a statement, a renamed or moved module) is a new
+version. A micro mechanism (block velocities) is stored beside its record, for
+the figures.
 
 How an entry is written, so that a crash or a second run never leaves a
 misleading one:
@@ -25,6 +29,25 @@ misleading one:
   iterated LP's ``time_budget``) is not stored: another run, on another
   machine, would have gone further, so it is recomputed next time.
 
+How an entry is read, so that no file in the cache folder can hang a run or
+exhaust its memory (a cache folder is shared, synced, restored from backups):
+
+* a file is opened without following a symbolic link and without blocking
+  (:func:`comparison.inputs.read_input_file`), and only a regular file is read:
+  a FIFO, a directory, a device, a symbolic link (to ``/dev/zero``, or a loop),
+  an unreadable file or a kind folder that is a file is a :class:`CacheWarning`
+  and a recompute, like a truncated entry;
+* a record file is read only up to :data:`MAX_RECORD_BYTES`, a mechanism file
+  up to :data:`MAX_MECHANISM_BYTES` (its arrays, unpacked, likewise, checked
+  before they are unpacked): a larger file (a 3 GB sparse file) is refused the
+  same way after that many bytes.
+
+Reading an entry therefore holds at most one record file, one mechanism file
+and its arrays at a time (:data:`MAX_RECORD_BYTES` + 2 x
+:data:`MAX_MECHANISM_BYTES`, 129 MiB, as a hard bound; real entries are
+hundreds of times smaller), and nothing is kept between reads: checking a folder of
+thousands of entries takes the memory of one (no folder is ever listed).
+
 A run killed mid-write leaves at most a ``.*.tmp`` file, which no reader
 opens. Where the cache lives: ``--cache DIR`` on the command line, else the
 environment variable ``XCHECK_CACHE``, else ``$XDG_CACHE_HOME/xcheck``
@@ -34,13 +57,14 @@ environment variable ``XCHECK_CACHE``, else ``$XDG_CACHE_HOME/xcheck``
 
 from __future__ import annotations
 
-import contextlib
+import ast
+import errno
 import hashlib
 import io
 import json
 import os
-import tempfile
 import warnings
+import zipfile
 from dataclasses import asdict
 from functools import cache
 from pathlib import Path
@@ -48,6 +72,8 @@ from typing import Any
 
 import numpy as np
 
+from comparison.inputs import read_input_file
+from comparison.outputs import write_atomic
 from comparison.runner.methods import PACKAGES, Method
 from comparison.runner.records import MechanismRecord, Record
 from comparison.wall import WallSpec
@@ -57,6 +83,15 @@ from comparison.wall import WallSpec
 #: names its mechanism file and that file's hash; 4: the non-associative record's
 #: ``load_factor`` is the value to quote, the iterated LP's ``iterated_load_factor``).
 CACHE_FORMAT = 4
+
+#: The largest record file read (bytes). A record is scalars and the load factor of every LP of the
+#: iterated sequence, a few kB (docs/research/2026-11-28-cache-and-outputs.md measures them): a cap
+#: hundreds of times the largest refuses no real entry and bounds what a read holds.
+MAX_RECORD_BYTES = 1 << 20
+#: The largest mechanism file read, and the most its arrays may unpack to (bytes): 24 bytes a block,
+#: 0.17 MB for the report's largest wall (7,575 blocks); 64 MiB is 2.8 million blocks, far beyond what
+#: the micro methods solve.
+MAX_MECHANISM_BYTES = 64 << 20
 
 #: Statuses and stop reasons of a result cut short by a wall-clock limit: not stored.
 WALL_CLOCK_STOPS = frozenset({"time_limit", "time_budget"})
@@ -78,39 +113,47 @@ def default_cache_dir() -> Path:
 
 @cache
 def code_version(*packages: str) -> str:
-    """Hash of the source of ``packages``, of the runner and of the failure-mode code."""
+    """Hash of what the modules of ``packages``, of the runner and of the failure-mode code do.
+
+    Each module counts by its path and its syntax tree without docstrings (:func:`behaviour`), so that
+    an edit of a docstring, a comment or the layout keeps every cached result, and any other edit is a
+    new version.
+    """
     h = hashlib.sha256()
     files = [p for pkg in packages for p in sorted((_ROOT / pkg).rglob("*.py"))]
     files += sorted((_ROOT / "comparison" / "runner").glob("*.py")) + [_ROOT / "comparison" / "failure.py"]
     for path in files:
         h.update(path.relative_to(_ROOT).as_posix().encode())
-        h.update(path.read_bytes())
+        h.update(behaviour(source(path)))
     return h.hexdigest()[:16]
+
+
+def source(path: Path) -> bytes:
+    """The source of a module :func:`code_version` hashes (a seam for its tests)."""
+    return path.read_bytes()
+
+
+def behaviour(text: bytes) -> bytes:
+    """What a module's source does: the dump of its syntax tree with every docstring (a string standing
+    alone as a statement) removed; comments and layout are not in the tree. A source that does not parse
+    counts by its bytes (it cannot run either)."""
+    try:
+        tree = ast.parse(text)
+    except (SyntaxError, ValueError):
+        return b"unparsed:" + text
+    for node in ast.walk(tree):
+        body = getattr(node, "body", None)
+        if isinstance(body, list):
+            node.body = [s for s in body  # type: ignore[attr-defined]
+                         if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant)
+                                 and isinstance(s.value.value, str))]
+    return ast.dump(tree, annotate_fields=False).encode()
 
 
 def _wall_key(spec: WallSpec) -> dict[str, Any]:
     d = asdict(spec)
     d.pop("name", None)
     return d
-
-
-def write_atomic(path: Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a unique temporary file, flushed and renamed.
-
-    A reader sees the old file or the new one, never a part of either; two
-    writers each rename a whole file of their own.
-    """
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
 
 
 def stopped_by_wall_clock(record: Record) -> bool:
@@ -121,6 +164,21 @@ def stopped_by_wall_clock(record: Record) -> bool:
 
 class _Corrupt(Exception):
     """An entry on disk that cannot be read (the message says why)."""
+
+
+def _read_capped(path: Path, limit: int) -> bytes:
+    """The bytes of the regular file ``path``, not through a symbolic link, read without blocking and at
+    most ``limit`` (+ 1) of them.
+
+    Raises:
+        FileNotFoundError: no such file.
+        OSError: it cannot be opened, is a symbolic link or is not a regular file (the message says which).
+        _Corrupt: larger than ``limit``.
+    """
+    data = read_input_file(path, limit, follow_symlinks=False)
+    if len(data) > limit:
+        raise _Corrupt(f"more than the {limit:,} bytes a cache file may have")
+    return data
 
 
 class ResultCache:
@@ -159,6 +217,11 @@ class ResultCache:
         try:
             return self._read(path)
         except FileNotFoundError:
+            return None
+        except OSError as exc:  # unreadable, a symbolic link, a kind folder that is a file
+            why = "a symbolic link, which the cache never writes" if exc.errno == errno.ELOOP else exc.strerror
+            warnings.warn(f"cache entry {path} cannot be opened ({why or exc}); recomputing it",
+                          CacheWarning, stacklevel=2)
             return None
         except _Corrupt as exc:
             warnings.warn(f"cache entry {path} is unreadable ({exc}); recomputing it", CacheWarning, stacklevel=2)
@@ -218,9 +281,11 @@ class ResultCache:
 
         Raises:
             FileNotFoundError: no record.
-            _Corrupt: a record or arrays that cannot be read.
+            OSError: a record that cannot be opened (no permission, a symbolic link, a folder on the path
+                that is a file).
+            _Corrupt: a record or arrays that cannot be read (not a regular file, too large, damaged).
         """
-        raw = path.read_bytes()
+        raw = _read_capped(path, MAX_RECORD_BYTES)
         try:
             stored = json.loads(raw)
             if stored.get("format") != CACHE_FORMAT:
@@ -229,8 +294,8 @@ class ResultCache:
             ref = stored["mechanism"]
         except _Corrupt:
             raise
-        except (ValueError, KeyError, TypeError, AttributeError) as exc:  # JSONDecodeError is a ValueError
-            raise _Corrupt(f"{type(exc).__name__}: {exc}" if raw else "empty file") from None
+        except Exception as exc:  # noqa: BLE001 - whatever a damaged record raises (JSON, nesting, fields)
+            raise _Corrupt(f"{type(exc).__name__}: {exc}"[:300] if raw else "empty file") from None
         if ref is None:
             return record, None
         return record, self._arrays(path, ref)
@@ -240,10 +305,23 @@ class ResultCache:
         """The mechanism file a record names, checked against its hash."""
         try:
             npz = path.with_name(ref["file"])
-            data = npz.read_bytes()
-        except (OSError, KeyError, TypeError) as exc:
+            if npz.parent != path.parent:
+                raise _Corrupt(f"its mechanism file {ref['file']!r} is not beside it")
+            data = _read_capped(npz, MAX_MECHANISM_BYTES)
+        except (OSError, KeyError, TypeError, ValueError) as exc:
             raise _Corrupt(f"its mechanism file cannot be read: {exc}") from None
         if hashlib.sha256(data).hexdigest() != ref.get("sha256"):
             raise _Corrupt(f"its mechanism file {npz.name} does not match the hash the record names")
-        with np.load(io.BytesIO(data)) as arrays:
-            return MechanismRecord(np.array(arrays["velocities"]), str(arrays["direction"]))
+        try:
+            with zipfile.ZipFile(io.BytesIO(data)) as archive:
+                unpacked = sum(info.file_size for info in archive.infolist())
+            if unpacked > MAX_MECHANISM_BYTES:
+                raise _Corrupt(f"its mechanism file {npz.name} unpacks to {unpacked:,} bytes, more than "
+                               f"the {MAX_MECHANISM_BYTES:,} read")
+            with np.load(io.BytesIO(data)) as arrays:
+                return MechanismRecord(np.array(arrays["velocities"]), str(arrays["direction"]))
+        except _Corrupt:
+            raise
+        except Exception as exc:  # noqa: BLE001 - whatever damaged arrays raise
+            raise _Corrupt(f"its mechanism file {npz.name} cannot be read: {type(exc).__name__}: {exc}") from None
+

@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from comparison.outputs import write_text
 from comparison.stability.lowest import (
     GLOBAL_BOUNDS,
     GLOBAL_MATCH,
@@ -69,7 +70,7 @@ def write_lowest(runs: Sequence[LowestRun], out: Path, *, seconds: float, proces
     write_rows(rows, paths["csv"])
     s = summarise(runs)
     lines = _intro(runs, seconds, processes) + table7_lines(rows) + _distribution(s) + _cost(runs, s)
-    paths["md"].write_text("\n".join(lines) + "\n")
+    write_text(paths["md"], "\n".join(lines) + "\n")
     _chart(s, paths["png"])
     return paths
 

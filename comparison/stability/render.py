@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import csv
 import math
 import statistics
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from comparison.outputs import csv_text, write_text
 from comparison.stability.study import GRID, MAX_SIMPLEX_ITERATIONS, StudyRun
 from micro.plot import save_figure
 
@@ -109,10 +109,8 @@ def _wall_spread(rs: Sequence[StudyRun]) -> dict[str, Any]:
 
 def write_rows(rows: Sequence[Mapping[str, Any]], path: Path) -> None:
     """Write ``rows`` (dicts with the same keys, in order) as a CSV table with a header."""
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    names = list(rows[0])
+    write_text(path, csv_text([names, *([row.get(k, "") for k in names] for row in rows)]))
 
 
 def write_reports(runs: Sequence[StudyRun], out: Path, *, seconds: float, processes: int) -> dict[str, Path]:
@@ -123,7 +121,7 @@ def write_reports(runs: Sequence[StudyRun], out: Path, *, seconds: float, proces
     write_rows(rows, paths["csv"])
     s = summarise(runs)
     lines = _intro(s, len(rows), seconds, processes) + _per_setting(s) + _spread(s) + _failures(runs, s)
-    paths["md"].write_text("\n".join(lines))
+    write_text(paths["md"], "\n".join(lines))
     _chart(runs, s, paths["png"])
     return paths
 

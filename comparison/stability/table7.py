@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Literal
 
 from comparison.cases import PaperCase, cases_in_table
+from comparison.outputs import write_text
 from comparison.stability.study import WallCase
 
 #: One setting of the Table 7 study: (scheme, relaxation, start, certify).
@@ -82,5 +83,5 @@ def table7_variants(out: str | os.PathLike[str] = "reports") -> Path:
         lines.append("")
     path = Path(out) / "table7_nonassoc.md"
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("\n".join(lines))
+    write_text(path, "\n".join(lines))
     return path

@@ -78,6 +78,8 @@ class Wall:
         local: by micro kind, the local mechanism that governs the block model there and its load factor
             (``(description, lambda)``; empty when none). ``assoc`` and ``nonassoc`` are then the wall's own
             values (the table's ``wall_load_factor``), not the local ones.
+        mechanism: each macro column's mechanism on it, by name, as the table gives it (the paper's model:
+            ``sliding``/``rocking-sliding`` and the hinge storey; empty for a model that gives none).
     """
 
     t: float
@@ -94,6 +96,7 @@ class Wall:
     nonassoc: float
     certified: bool = False
     local: Mapping[str, tuple[str, float]] = field(default_factory=dict)
+    mechanism: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def reference(self) -> float:
@@ -183,6 +186,10 @@ def walls(rows: Sequence[Mapping[str, str]]) -> list[Wall]:
         lam = number(value) if ok else math.nan
         if kind in MACRO_KINDS:
             w["macro"][row["method"]] = lam
+            if ok and row.get("mechanism"):
+                storey = row.get("hinge_storey") or ""
+                w.setdefault("mechanism", {})[row["method"]] = row["mechanism"] + (
+                    f", hinge at storey {storey}" if storey and row["mechanism"] != "sliding" else "")
             continue
         bond = w["bonds"].setdefault((row.get("first_course") or "full", row.get("head_joints") or "frictional"),
                                      {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0,
@@ -203,7 +210,7 @@ def walls(rows: Sequence[Mapping[str, str]]) -> list[Wall]:
                                           "local": {}}}
         for (fc, hj), b in sorted(bonds.items(), key=lambda kv: _bond_order(kv[0])):
             out.append(Wall(*params, fc, hj, b["blocks"], dict(w["macro"]), b["micro-assoc"], b["micro-nonassoc"],
-                            b.get("certified", False), b["local"]))
+                            b.get("certified", False), b["local"], dict(w.get("mechanism", {}))))
     return out
 
 

@@ -41,6 +41,9 @@ Format (see ``examples/sweeps/``)::
     function = "my_model:load_factor"  # module:function(t, m, rows, f, p, storeys) -> lambda,
                                        # the module found beside the grid file first
 
+A user model is Python code run with your rights, like a ``conftest.py``: its module is imported (its
+top-level code runs) only after the whole grid has been checked, and only a grid you trust should name one.
+
 A range is ``{ from, to, step }`` or ``{ from, to, num }`` (``num`` values,
 evenly spaced; at most :data:`MAX_AXIS_VALUES`). Every wall is every combination of the axes' values (a
 combination whose rows do not split equally over its storeys is recorded as
@@ -56,7 +59,7 @@ import math
 import re
 import tomllib
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -64,7 +67,7 @@ from comparison import numbers
 from comparison.inputs import read_input_file
 from comparison.runner.methods import MACRO, Method
 from comparison.scene import _key_line, _table_line
-from comparison.sweep.usermodel import UserModel, resolve
+from comparison.sweep.usermodel import UserModel, check_target, resolve
 from macro import checks
 
 #: The axes, each with its check (the wall vocabulary) and its default (``None``: required).
@@ -95,8 +98,13 @@ MAX_AXIS_VALUES = 10_000
 #: runs (about 0.6 kB and 1 ms each for a micro method), and 100,000 rows are a 30 MB table. A larger
 #: grid is refused when read; split it into several sweeps (they share the result cache).
 MAX_CELLS = 100_000
-#: What a sweep's name may be made of (it names the table and metadata files).
-NAME_PATTERN = r"[A-Za-z0-9_.\-]+"
+#: What a sweep's name may be made of (it names the table, metadata, page and figure files): a letter or
+#: digit first (no hidden file, no ``.`` or ``..``, no option-like ``-``), then letters, digits, ``_``,
+#: ``-`` or ``.``.
+NAME_PATTERN = r"[A-Za-z0-9][A-Za-z0-9_.\-]*"
+#: The longest sweep name: file names hold it with a suffix (``-map-<column>.png``) and a temporary
+#: file's decoration, and most file systems allow 255 bytes in all.
+MAX_NAME_LENGTH = 100
 _TOP = {"name", "axes", "bond", "limits", "method"}
 
 
@@ -187,22 +195,39 @@ def parse_grid(text: str, source: str = "<grid>", name: str = "sweep", folder: P
         if key not in _TOP:
             raise src.error(f"unknown key {key!r} (allowed: {', '.join(sorted(_TOP))})", "", key)
     label = data.get("name", name)
-    if not isinstance(label, str) or not re.fullmatch(NAME_PATTERN, label):
-        rule = "letters, digits, '_', '-' or '.' (it names the files)"
-        raise src.error(f"name must be {rule}, got {label!r}", "", "name")
+    if not isinstance(label, str) or not re.fullmatch(NAME_PATTERN, label) or len(label) > MAX_NAME_LENGTH:
+        rule = (f"letters, digits, '_', '-' or '.', a letter or digit first, at most {MAX_NAME_LENGTH} "
+                "characters (it names the files)")
+        long = isinstance(label, str) and len(label) > 40
+        shown = f"{label[:40]}... ({len(label)} characters)" if long else label
+        raise src.error(f"name must be {rule}, got {shown!r}", "", "name" if "name" in data else None)
     axes = {axis: _axis(_table(data, "axes", src), axis, src) for axis in AXES}
     bond = {key: _bond(_table(data, "bond", src, required=False), key, src) for key in BOND}
     limits = _table(data, "limits", src, required=False)
     _known(limits, {"max_blocks"}, "limits", src)
     max_blocks = _max_blocks(limits, "limits", 0, src)
-    grid = Grid(label, axes, bond, _methods(data, src, folder), max_blocks)
+    grid = Grid(label, axes, bond, _methods(data, src), max_blocks)
     count = cell_count(grid)
     if count > MAX_CELLS:
         sizes = " x ".join(f"{len(v):,} {k}" for k, v in axes.items() if len(v) > 1)
         per_wall = count // math.prod(len(v) for v in axes.values())
         raise GridError(f"grid {source}: {count:,} cells ({sizes} walls, {per_wall} per wall), more than the "
                         f"{MAX_CELLS:,} a sweep may have: split it into smaller grids")
-    return grid
+    return _with_user_models(grid, src, folder)
+
+
+def _with_user_models(grid: Grid, src: _Source, folder: Path | None) -> Grid:
+    """``grid`` with its user models' functions imported: the last step of reading a grid, so that no user
+    code runs for a grid that is refused."""
+    methods = list(grid.methods)
+    for index, gm in enumerate(methods):
+        if isinstance(gm.method, UserModel):
+            try:
+                function = resolve(gm.method.target, folder)
+            except ValueError as exc:
+                raise src.error(f"method.{exc}", "method", "function", index) from None
+            methods[index] = replace(gm, method=replace(gm.method, function=function))
+    return replace(grid, methods=tuple(methods))
 
 
 def cell_count(grid: Grid) -> int:
@@ -305,13 +330,13 @@ def _max_blocks(entry: dict[str, Any], table: str, index: int, src: _Source) -> 
         raise src.error(f"{table}.{exc}", table, "max_blocks", index) from None
 
 
-def _methods(data: dict[str, Any], src: _Source, folder: Path | None) -> tuple[GridMethod, ...]:
+def _methods(data: dict[str, Any], src: _Source) -> tuple[GridMethod, ...]:
     entries = data.get("method")
     if not entries:
         raise GridError(f"grid {src.source}: no [[method]] given; a sweep needs at least one")
     if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
         raise src.error("method must be an array of tables, written [[method]]", "", "method")
-    methods = [_method(entry, i, src, folder) for i, entry in enumerate(entries)]
+    methods = [_method(entry, i, src) for i, entry in enumerate(entries)]
     seen: set[str] = set()
     for i, gm in enumerate(methods):
         if gm.method.label in seen:
@@ -323,7 +348,7 @@ def _methods(data: dict[str, Any], src: _Source, folder: Path | None) -> tuple[G
     return tuple(methods)
 
 
-def _method(entry: dict[str, Any], index: int, src: _Source, folder: Path | None) -> GridMethod:
+def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
     import micro
 
     kind = entry.get("kind")
@@ -334,7 +359,7 @@ def _method(entry: dict[str, Any], index: int, src: _Source, folder: Path | None
     if kind == "macro":
         return GridMethod(MACRO)
     if kind == "user":
-        return GridMethod(_user(entry, index, src, folder))
+        return GridMethod(_user(entry, index, src))
     options: dict[str, Any] = {}
     for key, choices in (("solver", micro.SOLVERS), ("scheme", SCHEMES),
                          ("selection", micro.nonassociative.SELECTIONS)):
@@ -354,19 +379,24 @@ def _method(entry: dict[str, Any], index: int, src: _Source, folder: Path | None
     return GridMethod(method, _max_blocks(entry, "method", index, src))
 
 
-def _user(entry: dict[str, Any], index: int, src: _Source, folder: Path | None) -> UserModel:
-    """A user's model: ``function`` resolved (imported) now, so that a bad one is refused before any work."""
+def _user(entry: dict[str, Any], index: int, src: _Source) -> UserModel:
+    """A user's model, its ``function`` checked in form but not imported yet (:func:`_with_user_models`
+    imports it once the whole grid is checked)."""
     if "function" not in entry:
         raise src.error("method.function is missing: a user model needs 'module:function'", "method", None, index)
     target = entry["function"]
-    if not isinstance(target, str):
-        raise src.error(f"method.function must be 'module:function', got {target!r}", "method", "function", index)
     try:
-        function = resolve(target, folder)
+        check_target(target)
     except ValueError as exc:
         raise src.error(f"method.{exc}", "method", "function", index) from None
     name = entry.get("name", target.partition(":")[2].strip())
     try:
-        return UserModel(name, function, target.strip())
+        return UserModel(name, _not_imported, target.strip())
     except ValueError as exc:
         raise src.error(f"method.{exc}", "method", "name", index) from None
+
+
+def _not_imported(*args: object) -> object:
+    """A user model's function until its module is imported (never called: a grid is returned with its
+    models imported)."""
+    raise RuntimeError("a user model called before its module was imported")  # pragma: no cover

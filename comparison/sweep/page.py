@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from comparison.outputs import write_text
 from comparison.sweep import figures
 from comparison.sweep.compare import (
     AGREEMENT,
@@ -96,7 +97,7 @@ def write_page(table: Path, out_dir: Path, name: str) -> Page:
     page = render(read_table(table), out_dir, title=f"Validation: {name}", intro=intro, prefix=name,
                   functions=_functions(meta), source=table.name)
     path = out_dir / f"{name}.md"
-    path.write_text(page.text, encoding="utf-8")
+    write_text(path, page.text)
     return Page(page.text, page.figures, page.numbers, path)
 
 
@@ -349,15 +350,35 @@ def _group_table(s: Mapping[str, Any], groups: Sequence[str]) -> list[str]:
 
 
 def _worst_table(bad: Sequence[Wall], column: str, moving: Sequence[str]) -> list[str]:
+    """The worst walls of ``column``: the numbers, the verdict, the macro mechanism, and the command that
+    draws both mechanisms of the wall (``xcheck compare ... --plot``: the page is drawn from the table, which
+    keeps no velocities)."""
     axes = _wall_axes(moving)
     head = " | ".join(SYMBOLS[a] for a in axes)
-    lines = [f"| {head} | blocks | λ {column} | λ micro | reference | difference | verdict |",
-             "|---" * (len(axes) + 6) + "|"]
-    for w in bad:
+    lines = [f"| {head} | blocks | λ {column} | λ micro | reference | difference | verdict | macro mechanism "
+             "| its plot |", "|---" * (len(axes) + 8) + "|"]
+    for k, w in enumerate(bad, 1):
         values = " | ".join(shown(a, w.value(a)) for a in axes)
         lines.append(f"| {values} | {w.blocks or '–'} | {w.macro[column]:.4f} | {w.reference:.4f} "
-                     f"| {w.reference_kind} | {_pct(w.error(column))} | {w.verdict_label(column)} |")
+                     f"| {w.reference_kind} | {_pct(w.error(column))} | {w.verdict_label(column)} "
+                     f"| {w.mechanism.get(column, '–')} | `{plot_command(w, f'worst-{k}.png')}` |")
     return lines
+
+
+def plot_command(w: Wall, path: str) -> str:
+    """The ``xcheck compare`` command that draws wall ``w``'s governing micro mechanism (and gives its
+    verdict) into ``path``."""
+    parts = ["xcheck compare", f"--t {shown('t', w.t)}", f"--m {shown('m', w.m)}", f"--rows {w.rows}",
+             f"--f {w.f:g}"]
+    if w.p:
+        parts.append(f"--p {w.p:g}")
+    if w.storeys != 1:
+        parts.append(f"--storeys {w.storeys}")
+    if w.first_course and w.first_course != "full":
+        parts.append(f"--first-course {w.first_course}")
+    if w.head_joints and w.head_joints != "frictional":
+        parts.append(f"--head-joints {w.head_joints}")
+    return " ".join([*parts, f"--plot {path}"])
 
 
 def _local_section(ws: Sequence[Wall], moving: Sequence[str], h2: str) -> list[str]:

@@ -21,6 +21,8 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
+from comparison.outputs import csv_text, write_text
+
 #: The table's columns, in order. ``load_factor`` is the value to quote: for the non-associative
 #: method the lowest certified collapse state (``quoted`` says which), its iterated LP's own value in
 #: ``iterated_load_factor``, and ``lowest_stop`` whether the descent finished. ``wall_load_factor`` is the
@@ -83,15 +85,9 @@ def _text(value: Any) -> str:
 
 
 def write_table(rows: Iterable[Mapping[str, Any]], path: Path) -> Path:
-    """Write ``rows`` (dicts keyed by :data:`COLUMNS`; missing keys are empty) as CSV."""
+    """Write ``rows`` (dicts keyed by :data:`COLUMNS`; missing keys are empty) as CSV, whole or not at all."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with tmp.open("w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(COLUMNS)
-        writer.writerows([_text(row.get(c)) for c in COLUMNS] for row in rows)
-    tmp.replace(path)
-    return path
+    return write_text(path, csv_text([COLUMNS, *([_text(row.get(c)) for c in COLUMNS] for row in rows)]))
 
 
 def read_table(path: Path) -> list[dict[str, str]]:
@@ -128,7 +124,6 @@ def machine() -> dict[str, Any]:
 
 
 def write_meta(meta: Mapping[str, Any], path: Path) -> Path:
-    """Write the metadata as JSON."""
+    """Write the metadata as JSON, whole or not at all."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(meta, indent=1, default=str) + "\n")
-    return path
+    return write_text(path, json.dumps(meta, indent=1, default=str) + "\n")

@@ -10,10 +10,21 @@ module is imported with the grid file's folder first on the import path, so a
 ``my_model.py`` beside the grid needs no install. The Python API takes the
 callable itself (:class:`UserModel`).
 
+A user model is Python code, run with the rights of whoever runs the sweep,
+like a ``conftest.py``: its module's top-level code runs when the grid is read
+(after the whole grid has been checked), the function once per wall. Run only
+grids whose models you trust.
+
 The model runs in the sweep's own process, once per wall (a cluster's workers
 need not have it), and its cell records what happened: ``optimal`` with the
-value, ``failed`` for a value that is not finite (NaN, infinite), ``error`` when
-it raised or returned something else than a number (the message says what).
+value; ``failed`` for a number that is not a load factor (zero, negative, NaN,
+infinite, or above :data:`MAX_LOAD_FACTOR`, ``10**400`` included); ``error``
+when it raised, called ``sys.exit`` or returned something else than a number
+(the message says what). No model can end the sweep (only Ctrl-C does): the
+other cells and the page are written. What the model prints goes to standard
+error, never to standard output (which carries the paths written, alone under
+``-q``), and a model that changes the working directory has it restored after
+its call (the sweep's paths are absolute before any user code runs anyway).
 """
 
 from __future__ import annotations
@@ -21,6 +32,7 @@ from __future__ import annotations
 import contextlib
 import importlib
 import math
+import os
 import re
 import sys
 import time
@@ -34,6 +46,11 @@ from comparison.runner.executor.base import describe
 
 #: What a user model's name may not hold: it heads a Markdown table's column.
 _BAD_NAME = re.compile(r"[|\n\r`]")
+#: The largest load factor a user model may return. A load factor is the horizontal load over the wall's
+#: weight, and friction caps it near ``f`` (the whole wall sliding on its base); a value a million times
+#: the weight is a mistake of units or an overflow, not a result, and would swamp every difference the
+#: page reports. Zero and negative values are refused too: a wall under its own weight resists some load.
+MAX_LOAD_FACTOR = 1e6
 
 
 @dataclass(frozen=True)
@@ -78,17 +95,71 @@ class UserModel:
         """
         t0 = time.perf_counter()
         try:
-            value = self.function(t, m, rows, f, p, storeys)
-        except Exception as exc:  # noqa: BLE001 - the cell's outcome; the sweep goes on
-            return math.nan, "error", describe(exc), time.perf_counter() - t0
+            with contained():
+                value = self.function(t, m, rows, f, p, storeys)
+        except KeyboardInterrupt:
+            raise
+        except BaseException as exc:  # noqa: BLE001 - sys.exit and BaseException included: the sweep goes on
+            return math.nan, "error", _what_ended(exc), time.perf_counter() - t0
         seconds = time.perf_counter() - t0
         try:
             lam = received_number(f"{where or 'wall'} / {self.name}", value)
         except TypeError as exc:
             return math.nan, "error", str(exc), seconds
-        if not math.isfinite(lam):
-            return lam, "failed", f"the model returned {lam}", seconds
+        if not (math.isfinite(lam) and 0 < lam <= MAX_LOAD_FACTOR):
+            rule = f"a positive number at most {MAX_LOAD_FACTOR:g}"
+            return math.nan, "failed", f"the model returned {_shown(value)}, not a load factor ({rule})", seconds
         return lam, "optimal", "", seconds
+
+
+def _shown(value: object) -> str:
+    """A returned number as the message quotes it (an integer of hundreds of digits by its size)."""
+    text = repr(value)
+    if isinstance(value, int) and len(text) > 24:
+        return f"an integer of {len(text.lstrip('-'))} digits ({text[:8]}...)"
+    return text
+
+
+def _what_ended(exc: BaseException) -> str:
+    """A user model's exception in one line; ``sys.exit`` named as such."""
+    if isinstance(exc, SystemExit):
+        return f"the model called sys.exit({exc.code!r}); a model returns its load factor"
+    return describe(exc)
+
+
+@contextlib.contextmanager
+def contained() -> Iterator[None]:
+    """Around user code: what it prints goes to standard error, and the working directory it may change
+    is restored."""
+    try:
+        cwd: str | None = os.getcwd()
+    except OSError:  # the working directory was removed: nothing to restore
+        cwd = None
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            yield
+    finally:
+        if cwd is not None:
+            with contextlib.suppress(OSError):
+                if os.getcwd() != cwd:
+                    os.chdir(cwd)
+
+
+#: What ``module:function`` may be: a dotted module name, a colon, a dotted attribute path.
+_DOTTED = r"[A-Za-z_]\w*(?:\.[A-Za-z_]\w*)*"
+TARGET_PATTERN = re.compile(rf"\s*(?P<module>{_DOTTED})\s*:\s*(?P<attr>{_DOTTED})\s*")
+
+
+def check_target(target: object) -> tuple[str, str, str]:
+    """``(module, ":", function)`` of a ``module:function`` text, checked in form only (nothing imported).
+
+    Raises:
+        ValueError: not a text of Python names of that form.
+    """
+    match = TARGET_PATTERN.fullmatch(target) if isinstance(target, str) else None
+    if match is None:
+        raise ValueError(f"function must be 'module:function', got {target!r}")
+    return match["module"], ":", match["attr"]
 
 
 def resolve(target: str, folder: Path | None = None) -> Callable[..., object]:
@@ -98,14 +169,14 @@ def resolve(target: str, folder: Path | None = None) -> Callable[..., object]:
         ValueError: not of the form ``module:function``, a module that cannot be imported (the exception
             it raised, in one line), no such attribute, or not callable.
     """
-    module_name, sep, attr = str(target).partition(":")
-    if not sep or not module_name.strip() or not attr.strip():
-        raise ValueError(f"function must be 'module:function', got {target!r}")
+    module_name, _, attr = check_target(target)
     try:
-        with _first_on_path(folder):
+        with _first_on_path(folder), contained():
             module = importlib.import_module(module_name.strip())
-    except Exception as exc:  # noqa: BLE001 - whatever the import raised, one line
-        raise ValueError(f"function {target!r}: cannot import {module_name!r} ({describe(exc)})") from None
+    except KeyboardInterrupt:
+        raise
+    except BaseException as exc:  # noqa: BLE001 - whatever the import raised (sys.exit included), one line
+        raise ValueError(f"function {target!r}: cannot import {module_name!r} ({_what_ended(exc)})") from None
     obj: object = module
     for part in attr.strip().split("."):
         if not hasattr(obj, part):

@@ -9,7 +9,9 @@ verdict that was proven.
 from __future__ import annotations
 
 import importlib
+import json
 import math
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -87,7 +89,11 @@ def test_associative_bound_settles_without_the_nonassociative_solve(monkeypatch:
     assert "skipped" in c.diagnostics[0]
     calls.clear()
     full = comparison.compare(ABOVE_BOUND, full=True)
-    assert calls == ["associative", "nonassociative"]
+    # the non-associative state of the wall as built is local (its top course's cut end piece, half a block
+    # high, tips over alone at lambda = w/b = 0.5): a second solve gives the wall's own, with the piece held
+    assert calls == ["associative", "nonassociative", "nonassociative"]
+    loc = full.local_mechanism
+    assert loc is not None and loc["method"] == "nonassociative" and loc["load_factor"] == pytest.approx(0.5)
     assert (full.verdict, full.proof) == ("unsafe", "associative bound") and full.nonassociative_run
     assert full.micro_load_factor <= full.associative_load_factor and full.diagnostics == ()
 
@@ -150,3 +156,37 @@ def test_bad_options_name_themselves(kwargs: dict[str, Any], word: str) -> None:
 def test_not_a_wall_spec() -> None:
     with pytest.raises(TypeError, match="WallSpec"):
         comparison.compare({"t": 1})  # type: ignore[arg-type]
+
+
+#: t = 3/2, m = 1/3, 16 rows, f = 0.65 (72 blocks): the top course's cut end piece (1/6 of a block wide)
+#: tips over alone, at ``lambda = (w/b)(1 + mu^2)/(1 - mu^2 + 2 mu w/b)`` in the associative LP; the
+#: comparison is with the wall's own mechanism, the piece held to the block that carries it.
+CUT_TOP = WallSpec.from_paper(t=1.5, m=1 / 3, rows=16, f=0.65)
+
+
+def test_a_local_mechanism_is_named_and_the_wall_s_own_is_compared() -> None:
+    c = comparison.compare(CUT_TOP)
+    loc = c.local_mechanism
+    assert loc is not None and loc["method"] == "associative"
+    assert "cut end piece of course 16" in loc["description"]
+    w_b, mu = 1 / 6, 0.65  # the piece's width over its height (block heights), the friction coefficient
+    assert loc["load_factor"] == pytest.approx(w_b * (1 + mu**2) / (1 - mu**2 + 2 * mu * w_b), rel=1e-6)
+    assert 0 < loc["weight_share"] <= micro.LOCAL_WEIGHT_SHARE
+    # the values compared are the held wall's: above the local lambda, and the held wall has a block fewer
+    assert c.associative_load_factor > loc["load_factor"] * 1.5
+    assert c.associative_wall is not None and c.associative_wall.n_blocks == c.blocks - 1
+    assert c.nonassociative_wall is not None and c.nonassociative_wall.n_blocks == c.blocks - 1
+    assert c.micro_load_factor <= c.associative_load_factor * (1 + ACCURACY)
+    assert loc["wall_load_factor"] == pytest.approx(c.associative_load_factor, rel=1e-12)
+    assert c.verdict is not None and c.to_dict()["local_mechanism"]["description"] == loc["description"]
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads((Path(__file__).parents[2] / "docs" / "schemas" / "compare.schema.json").read_text())
+    doc = json.loads(json.dumps({**c.to_dict(), "wall": {}, "paper_parameters": {}, "plot": None}))
+    errors = [e.message for e in jsonschema.Draft202012Validator(schema).iter_errors(doc)
+              if e.path and e.path[0] == "local_mechanism"]
+    assert errors == []
+
+
+def test_no_local_mechanism_on_the_paper_s_walls(set12: Comparison, set13: Comparison) -> None:
+    assert set12.local_mechanism is None and set13.local_mechanism is None
+    assert set13.associative_wall is not None and set13.associative_wall.n_blocks == set13.blocks

@@ -90,3 +90,37 @@ def test_bad_input_is_one_line_and_exit_2(argv: list[str], word: str, capsys: py
     assert rc == 2 and captured.out == ""
     err = captured.err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("xcheck: error: ") and word in err[0]
+
+
+def test_state_of_the_value_compared_is_written_and_verifies(tmp_path: Path,
+                                                             capsys: pytest.CaptureFixture[str]) -> None:
+    """``--state`` writes the collapse state the verdict rests on; ``xcheck verify`` accepts it and refuses it
+    with its load factor raised by 1 %."""
+    path = tmp_path / "set13.json"
+    assert main(["compare", *SET13, "--state", str(path), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["state"] == str(path)
+    state = micro.read_state(path)
+    assert state.friction == "nonassociative" and state.load_factor == pytest.approx(doc["micro_load_factor"])
+    assert micro.verify_state(state).passed
+    raw = json.loads(path.read_text())
+    raw["load_factor"] *= 1.01
+    tampered = tmp_path / "tampered.json"
+    tampered.write_text(json.dumps(raw))
+    assert main(["verify", str(tampered)]) == 1
+
+
+def test_state_is_the_associative_one_when_the_bound_settles(tmp_path: Path,
+                                                             capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "bound.json"
+    assert main(["compare", "--storeys", "2", "--rows", "20", "--t", "1", "--m", "1/3", "--f", "0.75",
+                 "--state", str(path), "-q"]) == 0
+    assert capsys.readouterr().out.strip() == "unsafe (associative bound)"
+    state = micro.read_state(path)
+    assert state.friction == "associative" and micro.verify_state(state).passed
+
+
+def test_state_in_a_missing_folder_is_refused_before_the_solves(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["compare", *SET13, "--state", "/no/such/folder/s.json"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and "--state" in captured.err and len(captured.err.strip().splitlines()) == 1

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-import micro.plot
+import micro.files
 from comparison.cli import main
 
 WALL = ["--t", "1", "--m", "1/3", "--rows", "6", "--f", "0.6"]
@@ -31,7 +31,7 @@ def full_disk(monkeypatch: pytest.MonkeyPatch) -> None:
             fh.write(data[: len(data) // 2])
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(micro.plot, "_write_new", half)
+    monkeypatch.setattr(micro.files, "_write_new", half)
 
 
 @pytest.mark.parametrize("friction", ["associative", "nonassociative"])

@@ -76,3 +76,23 @@ def test_a_value_above_the_quoted_one_is_proven_only_by_a_certified_state(quoted
              "status": "converged", "quoted": quoted}]
     (w,) = walls(rows)
     assert w.verdict_label("macro") == label
+
+
+def test_a_worst_wall_s_plot_command_draws_that_wall(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """The worst-walls table gives, per wall, the ``xcheck compare --plot`` command of exactly that wall:
+    run, it draws the figure and compares the same wall (same macro λ)."""
+    from comparison.sweep.compare import Wall
+    from comparison.sweep.page import plot_command
+
+    w = Wall(t=1.0, m=1 / 3, rows=12, f=0.75, p=0.2, storeys=2, first_course="half", head_joints="frictional",
+             blocks=0, macro={"macro": 0.5}, assoc=float("nan"), nonassoc=float("nan"))
+    command = plot_command(w, "worst-1.png")
+    assert command == ("xcheck compare --t 1 --m 1/3 --rows 12 --f 0.75 --p 0.2 --storeys 2 --first-course half "
+                       "--plot worst-1.png")
+    monkeypatch.chdir(tmp_path)
+    assert main([*command.split()[1:], "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    expected = compare(WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75, p=0.2, storeys=2), first_course="half")
+    assert doc["macro_load_factor"] == pytest.approx(expected.macro_load_factor, rel=1e-12)
+    assert doc["plot"] == "worst-1.png" and (tmp_path / "worst-1.png").stat().st_size > 0
