@@ -291,17 +291,29 @@ def solve_micro(wall: micro.BlockWall, friction: Literal["nonassociative"],
 
 def solve_micro(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
     """The micro model of ``wall`` with ``friction`` (``"associative"``: the LP with the library's default
-    back end; ``"nonassociative"``: the report's method, with the descent and the global search as
-    ``options`` ask). Every micro solve of :func:`compare` goes through here."""
+    back end; ``"nonassociative"``: the report's method, with the descent as ``options`` ask; the global
+    search is composed after it, :func:`solve_global_search`). Every micro solve of :func:`compare` goes
+    through here."""
     import micro
 
     if friction == "associative":
         return micro.solve_associative(wall, time_limit=options.time_limit)
     limit: dict[str, Any] = {} if options.time_limit is None else {"time_limit": options.time_limit}
-    extra: dict[str, Any] = dict(limit)
-    if options.global_:
-        extra["global_"] = micro.GlobalOptions(node_limit=options.node_limit, **limit)
-    return micro.solve_nonassociative(wall, lowest=options.lowest, **extra)
+    return micro.solve_nonassociative(wall, lowest=options.lowest, **limit)
+
+
+def solve_global_search(wall: micro.BlockWall, result: micro.NonAssociativeResult,
+                        options: CompareOptions) -> micro.GlobalResult | None:
+    """The global search on ``wall`` started from the non-associative ``result`` of the same wall, where
+    ``options.global_`` asks for it (``None`` otherwise); ``options.time_limit`` is its limit per direction
+    as well, ``options.node_limit`` its nodes per direction."""
+    if not options.global_:
+        return None
+    from micro.global_search import GlobalOptions, solve_global
+
+    n, t = options.node_limit, options.time_limit
+    opts = GlobalOptions(node_limit=n) if t is None else GlobalOptions(node_limit=n, direction_time_limit=t)
+    return solve_global(wall, start=result, options=opts)
 
 
 def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions) -> WallMechanism:
@@ -376,6 +388,7 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
     settled = above(lam_macro, lam_assoc)
     nonassoc = None
     nonassoc_wall = None
+    search = None
     held = block_wall
     t_nonassoc = math.nan
     if macro_ok and settled and not o.full:
@@ -386,11 +399,12 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         held = _analysed(assoc_wall, block_wall)
         nonassoc_wall = solve_wall(held, "nonassociative", o)
         nonassoc = cast("micro.NonAssociativeResult", nonassoc_wall.result)
+        search = solve_global_search(_analysed(nonassoc_wall, held), nonassoc, o)
         if nonassoc.ok and nonassoc_wall.message:
             notes.append(f"non-associative solve: {nonassoc_wall.message}")
         t_nonassoc = time.perf_counter() - t0
     values = _micro_values(None if nonassoc_wall is not None and nonassoc_wall.status == LOCAL_LEFT else nonassoc,
-                           notes)
+                           search, notes)
     certified = values["certified_load_factor"]
     micro_lam = values["micro_load_factor"]
     verdict, proof = judge(lam_macro, lam_assoc, certified, found_load_factor=micro_lam,
@@ -425,9 +439,11 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
     )
 
 
-def _micro_values(result: micro.NonAssociativeResult | None, notes: list[str]) -> dict[str, Any]:
+def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResult | None,
+                  notes: list[str]) -> dict[str, Any]:
     """The non-associative numbers a :class:`Comparison` holds (NaN, ``None`` and ``""`` where there are none),
-    the global search's bound when it closed (``closed_bound``); what is missing goes to ``notes``."""
+    the global search's (``g``, started from ``result``) bound when it closed (``closed_bound``); what is
+    missing goes to ``notes``."""
     out: dict[str, Any] = {"micro_load_factor": math.nan, "micro_quoted": "", "certified_load_factor": math.nan,
                            "iterated_load_factor": math.nan, "mechanism_band": None, "global_status": "",
                            "global_lower_bound": math.nan, "closed_bound": math.nan}
@@ -445,7 +461,6 @@ def _micro_values(result: micro.NonAssociativeResult | None, notes: list[str]) -
         notes.append(f"the value quoted is the iterated LP's, whose state is not certified (it stopped "
                      f"{result.stop_reason}): no proof by a certified state")
     states = [quoted] if certified else []
-    g = result.global_search
     if g is not None:
         out.update(global_status=g.status, global_lower_bound=g.lower_bound)
         if math.isfinite(g.load_factor):

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from comparison.numbers import shortest
 from macro.checks import NO_STOREY, WALL_FIELDS, friction, magnitude, non_negative, positive, positive_int, wall_bounds
 from macro.paper import BLOCK_HEIGHT, paper_walls
 
@@ -160,21 +161,21 @@ class WallSpec:
         )
 
     def paper_parameters(self) -> dict[str, Any]:
-        """The paper's nondimensional parameters of this wall (back-mapping).
+        """The paper's nondimensional parameters of this wall (back-mapping), for output.
 
-        ``p = q/(gamma H b)`` (``p_height="wall"`` reading) is the paper's one
-        value for every floor; ``p_storeys`` gives it storey by storey
-        (storey 1, the top, first), and ``p`` is storey 1's, so a scene with no
-        load on its top storey has ``p = 0`` whatever its floors carry.
+        ``p = q/(gamma H b)`` (``p_height="wall"`` reading) storey by storey in ``p_storeys`` (storey 1, the
+        top, first); ``p`` is the paper's one value for every floor, ``None`` when the storeys' differ (a
+        scene's floor loads: no one ``p`` describes them). Each ratio is printed as the scene wrote it
+        (:func:`comparison.numbers.shortest`: ``m = 0.10/0.30`` is 1/3, not ``0.33333333333333337``).
         """
         height = self.height
-        p = [s.overload / (self.unit_weight * height * s.thickness) for s in self.storeys]
+        p = [shortest(s.overload / (self.unit_weight * height * s.thickness)) for s in self.storeys]
         return {
-            "t": height / self.length,
-            "m": self.block_height / self.block_length,
+            "t": shortest(height / self.length),
+            "m": shortest(self.block_height / self.block_length),
             "rows": self.rows,
             "storeys": len(self.storeys),
-            "p": p[0],
+            "p": p[0] if len(set(p)) == 1 else None,
             "p_storeys": p,
             "f": self.friction,
         }

@@ -29,20 +29,22 @@ Layout: ``geometry`` (the wall), ``lp`` (the LP), ``backends`` (the solvers),
 ``mechanism``, ``results`` and ``records`` (what comes out), ``local`` (is the governing
 mechanism a loose piece's, not the wall's?) and ``hold`` (blocks held to their hosts), ``state`` (a
 collapse state as data), ``files`` (reading and writing files safely), ``associative``
-and ``nonassociative`` (the two analyses), ``plot``. The method, its options and which
+and ``nonassociative`` (the two analyses), ``global_search`` (the proven global
+minimum, composed after a non-associative run: ``solve_global(lp, start=result)``),
+``plot``. The method, its options and which
 value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, global-search).
 """
 
 from micro.associative import solve_associative
 from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backend
 from micro.geometry import BlockWall, build_wall, estimate_bytes
+from micro.global_search import GlobalOptions, GlobalResult, solve_global
 from micro.hold import HeldWall, hold_blocks
 from micro.local import LOCAL_WEIGHT_SHARE, LocalMechanism, find_local, local_mechanism
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
 from micro.nonassociative import (
     SCHEMES,
-    GlobalOptions,
     IterationRecord,
     NonAssociativeOptions,
     NonAssociativeResult,
@@ -73,6 +75,7 @@ __all__ = [
     "CollapseStateData",
     "DirectionResult",
     "GlobalOptions",
+    "GlobalResult",
     "HeldWall",
     "IterationRecord",
     "LimitLP",
@@ -100,6 +103,7 @@ __all__ = [
     "mechanism_from_duals",
     "read_state",
     "solve_associative",
+    "solve_global",
     "solve_nonassociative",
     "verify_collapse_state",
     "verify_state",

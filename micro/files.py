@@ -80,16 +80,19 @@ def write_whole(path: str | os.PathLike[str], data: bytes) -> Path:
     """Write ``data`` to ``path`` whole or not at all: a new temporary file beside it, renamed over it.
 
     The temporary file is created with mode 0o666 less the umask (as ``open`` would) and removed on any
-    error; an ``OSError`` names ``path``, not the temporary file.
+    error; an ``OSError`` names ``path``, not the temporary file. A symbolic link is written through, as
+    ``open()`` writes it: the file it points to is replaced (the temporary file beside that one) and the
+    link stays, where a rename over the link replaced the link with a file (``--plot link.png``).
 
     Returns:
         The written path.
     """
     out = Path(path)
-    tmp = out.with_name(f".{out.name}.{uuid.uuid4().hex[:8]}.tmp")
+    target = Path(os.path.realpath(out)) if out.is_symlink() else out  # written through, as open() writes
+    tmp = target.with_name(f".{target.name}.{uuid.uuid4().hex[:8]}.tmp")
     try:
         _write_new(tmp, data)
-        os.replace(tmp, out)
+        os.replace(tmp, target)
     except BaseException as exc:
         with contextlib.suppress(OSError):
             os.unlink(tmp)

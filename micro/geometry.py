@@ -226,6 +226,17 @@ class BlockWall:
         m = np.sort(np.concatenate([self.length - self.x1, self.length - self.x0]) + shift)
         return bool(a.shape == m.shape and np.all(np.abs(a - m) <= tol))
 
+    @property
+    def half_blocks(self) -> float:
+        """The wall length in half blocks ``L/(l/2)`` (an integer-valued float when whole)."""
+        return _half_blocks(self.length, 0.5 * self.block_length)[0]
+
+    @property
+    def end_blocks_cut(self) -> bool:
+        """True when ``L`` is not a whole number of half blocks: the last block of every course is cut
+        (module docstring)."""
+        return not _half_blocks(self.length, 0.5 * self.block_length)[1]
+
     def describe(self) -> str:
         """One-line summary."""
         return (

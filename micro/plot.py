@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -175,7 +176,7 @@ def plot_velocities(
     marks = len(ax.get_legend_handles_labels()[0])
     if marks:  # one row over the axes, the title above it
         ax.legend(fontsize=8, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=marks, frameon=False)
-    ax.set_title(title, pad=24 if marks else 6)
+    _fit_title(fig, ax, title, pad=24 if marks else 6)
     try:
         return save_figure(fig, path, bbox_inches="tight")
     finally:
@@ -189,7 +190,9 @@ def save_figure(fig: Any, path: str | Path, **savefig: Any) -> Path:
     ``path`` and renamed over it: a disk that fills up (or any error) leaves
     no file, where ``savefig`` left a 0-byte or cut one; a name that is only an
     extension (``.png``) is written as it is (``savefig`` made it
-    ``.png.png``).
+    ``.png.png``). A symbolic link is written through, as ``open()`` writes
+    it: the file it points to is replaced (beside it, by the same rename)
+    and the link stays, where a rename over the link replaced the link.
 
     Args:
         fig: a matplotlib figure.
@@ -206,6 +209,29 @@ def save_figure(fig: Any, path: str | Path, **savefig: Any) -> Path:
     buf = io.BytesIO()
     fig.savefig(buf, format=fmt, **savefig)
     return write_whole(out, buf.getvalue())
+
+
+def _fit_title(fig: Any, ax: Any, title: str, pad: float) -> None:
+    """``title`` over ``ax``, broken into lines at its commas and semicolons where it is wider than the axes:
+    a title one line wide ran under the colour bar beside the axes (``..., 54 blocks`` hidden)."""
+    text = ax.set_title(title, pad=pad)
+    renderer = fig.canvas.get_renderer()
+    room = ax.get_window_extent(renderer).width
+
+    def fits(candidate: str) -> bool:
+        text.set_text(candidate)
+        return bool(text.get_window_extent(renderer).width <= room)
+
+    if fits(title):
+        return
+    pieces = re.split(r"(?<=[,;]) ", title)
+    lines: list[str] = []
+    for piece in pieces:
+        if lines and fits(f"{lines[-1]} {piece}"):
+            lines[-1] = f"{lines[-1]} {piece}"
+        else:
+            lines.append(piece)
+    text.set_text("\n".join(lines))
 
 
 def plot_mechanism(

@@ -228,7 +228,7 @@ class NonAssociativeRecord(MicroRecord):
         quoted: which value ``load_factor`` is: ``"lowest certified"``, ``"iterated"``, or
             ``""`` on failure.
         lowest_load_factor: the lowest certified collapse state over the
-            directions (:mod:`micro.nonassociative.lowest`; NaN when not
+            directions (:mod:`micro.nonassociative.descent.lowest`; NaN when not
             computed or not found in every direction).
         lowest_direction: its direction.
         lowest_band: ``(lambda, greatest lambda)`` of the collapse states
@@ -240,7 +240,7 @@ class NonAssociativeRecord(MicroRecord):
             descent ended by its own rules) or ``"budget"`` (one spent its
             budget of LPs: the lowest state found so far).
         global_load_factor: best collapse state of the global search
-            (:mod:`micro.nonassociative.global_search`; NaN when not run).
+            (:mod:`micro.global_search`; NaN when not run).
         global_lower_bound: its proven lower bound of every collapse load factor.
         global_gap: ``(global_load_factor - global_lower_bound) / global_load_factor``.
         global_status: ``""`` (not run), ``"optimal"`` (the gap closed),

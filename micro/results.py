@@ -1,9 +1,11 @@
 """Result types shared by the associative and the non-associative analyses, and the load directions.
 
 :class:`DirectionResult` is the ONE per-direction type: the associative LP
-fills its common fields and ``native_status``/``info``; the iterated
-non-associative LP adds its diagnostics as ``sequence``
-(:class:`micro.nonassociative.results.SequenceDiagnostics`).
+fills its common fields and ``native_status``/``info``; a method with
+diagnostics of its own adds them as ``sequence`` (the iterated
+non-associative LP: :class:`micro.nonassociative.results.SequenceDiagnostics`,
+read through :func:`micro.nonassociative.results.diagnostics`). This module
+knows no method: the field's type is the method's business.
 :class:`LimitResult` is the associative analysis (governing direction first).
 """
 
@@ -12,7 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -20,9 +22,6 @@ from numpy.typing import NDArray
 from micro.backends.base import Status
 from micro.mechanism import CONTACT_STATE_NAMES, Mechanism
 from micro.records import AssociativeRecord, check_success, json_number
-
-if TYPE_CHECKING:
-    from micro.nonassociative.results import SequenceDiagnostics
 
 FloatArray = NDArray[np.float64]
 
@@ -99,7 +98,7 @@ class DirectionResult:
         message: a one-line explanation when it did not succeed.
         native_status: the back end's own status (associative LP).
         info: back-end facts (residual, raw load factor, ...; associative LP).
-        sequence: the iterated LP's diagnostics (``None`` for the associative LP).
+        sequence: a method's own diagnostics (the iterated LP's; ``None`` for the associative LP).
     """
 
     direction: str
@@ -113,7 +112,7 @@ class DirectionResult:
     message: str = ""
     native_status: str = ""
     info: Mapping[str, Any] = field(default_factory=dict, repr=False)
-    sequence: SequenceDiagnostics | None = field(default=None, repr=False)
+    sequence: Any = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         check_success(f"DirectionResult {self.direction}", self.status, self.load_factor)

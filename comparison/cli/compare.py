@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 
 from comparison.cli.options import (
     QUIET,
+    SOLVER_COUNT_MAX,
     VERBOSE,
     UsageError,
     add_command,
@@ -63,7 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="then the global search by branch and bound: a proven lower bound, the only way to a "
                    "'safe' verdict (a reference tool for walls of a few blocks)")
     g.add_argument("--node-limit", default=None, metavar="N",
-                   help="with --global: branch-and-bound nodes per direction")
+                   help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647")
     g.add_argument("--time-limit", default=None, metavar="SECONDS",
                    help="time limit per LP solve (with --global also of each direction's branch and bound)")
     g.add_argument("--json", action="store_true", help="print one JSON object (docs/schemas/compare.schema.json)")
@@ -87,7 +88,7 @@ def options_from_args(args: argparse.Namespace) -> CompareOptions:
     lowest = choice("--lowest", args.lowest, ("on", "off")) == "on"
     if args.node_limit is not None and not args.global_:
         raise UsageError("--node-limit applies to --global only (the branch and bound's nodes)")
-    nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit)
+    nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, 1, SOLVER_COUNT_MAX)
     time_limit = in_range("--time-limit", args.time_limit, "a positive number of seconds", math.inf)
     return CompareOptions(first_course=first, head_joints=head, full=args.full,  # type: ignore[arg-type]
                           global_=args.global_, lowest=lowest, time_limit=time_limit, node_limit=nodes)
@@ -162,7 +163,8 @@ def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
                                                     ("non-associative", s.nonassociative)) if math.isfinite(v)]
     lines.append(f"  {c.blocks} blocks; " + ", ".join(stages) + f"; total {s.total:.2f} s")
     if verbose:
-        paper = ", ".join(f"{k} = {v:.6g}" for k, v in c.wall.paper_parameters().items() if k != "p_storeys")
+        paper = ", ".join(f"{k} = {v:.6g}" for k, v in c.wall.paper_parameters().items()
+                          if k != "p_storeys" and v is not None)
         lines.append(f"  paper parameters: {paper}")
     return "\n".join(lines)
 

@@ -41,7 +41,8 @@ def run(args: argparse.Namespace) -> int:
         return 0
     print(format_result(result, spec.paper_parameters()["p_storeys"]))
     if args.verbosity >= VERBOSE:
-        paper = ", ".join(f"{k} = {v:.6g}" for k, v in spec.paper_parameters().items() if k != "p_storeys")
+        paper = ", ".join(f"{k} = {v:.6g}" for k, v in spec.paper_parameters().items()
+                          if k != "p_storeys" and v is not None)
         print(f"  paper parameters: {paper}\n  solved in {1e3 * result.solve_seconds:.2f} ms")
     return 0
 

@@ -15,8 +15,6 @@ import argparse
 import json
 import math
 import sys
-import types
-import typing
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -24,11 +22,13 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.local import WallMechanism
     from comparison.wall import WallSpec
-    from micro import BlockWall, LimitResult, NonAssociativeResult, Tuning
+    from micro import BlockWall, LimitResult, NonAssociativeResult
+    from micro.global_search import GlobalResult
     from micro.nonassociative import LPProgress
 
 from comparison.cli.options import (
     QUIET,
+    SOLVER_COUNT_MAX,
     VERBOSE,
     UsageError,
     add_command,
@@ -40,6 +40,7 @@ from comparison.cli.options import (
     wall_from_args,
 )
 from comparison.cli.state import add_state_option, check_state_path, write_state_file
+from comparison.cli.tuning import parse_tuning
 
 #: Friction laws accepted by ``--friction``.
 FRICTION_LAWS = ("associative", "nonassociative")
@@ -93,14 +94,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     # ---- non-associative friction: the report's method; research knobs only through --tuning
     na = p.add_argument_group("non-associative friction (--friction nonassociative; the report's method)")
     na.add_argument("--max-iterations", default=None, metavar="N",
-                    help="cap on the LPs of a direction's first sequence (default: the library's, 100)")
+                    help="cap on the LPs of a direction's first sequence, 2..2,147,483,647 (default: the library's, "
+                    "100)")
     na.add_argument(
         "--lowest",
         default=None,
         metavar="on|off|N",
         help="the descent to the lowest certified collapse state, the value printed first (lowest_load_factor): "
         "on (default, at most 100 LPs per direction), N (on, at most N LPs per direction; one that spends them "
-        "prints the lowest state found so far and says so) or off (the iterated LP's state only)",
+        "prints the lowest state found so far and says so; N in 1..2,147,483,647) or off (the iterated LP's "
+        "state only)",
     )
     na.add_argument("--no-lowest", dest="lowest", action="store_const", const="off", help=argparse.SUPPRESS)
     na.add_argument(
@@ -115,8 +118,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--node-limit",
         default=None,
         metavar="N",
-        help="with --global: branch-and-bound nodes per direction (the same answer on every machine, unlike "
-        "--time-limit)",
+        help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647 (the same answer on every "
+        "machine, unlike --time-limit)",
     )
     na.add_argument(
         "--tuning",
@@ -154,6 +157,8 @@ def run(args: argparse.Namespace) -> int:
     if args.friction == "nonassociative":
         return _run_nonassociative(args, spec, wall, time_limit)
     solver = {} if args.solver is None else {"solver": args.solver}  # else the library's default back end
+    if args.solver is not None and (missing := micro.backends.missing_extra(args.solver)):  # an optional extra
+        raise UsageError(missing)
     result = micro.solve_associative(wall, time_limit=time_limit, **solver)
     own = _wall_mechanism(wall, result, lambda w: micro.solve_associative(w, time_limit=time_limit, **solver))
     plot_error = None
@@ -164,11 +169,12 @@ def run(args: argparse.Namespace) -> int:
         plot_error = _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
     state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
-        print(_json({**result.summary(), **own.to_dict()}, args, spec, plotted=result.ok and plot_error is None,
-                    state=state_written))
+        print(_json({**result.summary(), **own.to_dict()}, args, spec, wall,
+                    plotted=result.ok and plot_error is None, state=state_written))
     else:
         _print_associative(result, args.verbosity)
         _print_local(own, args.verbosity)
+        _print_cut(wall, args.verbosity)
     return exit_after_outputs(result.ok, plot_error, state_error)
 
 
@@ -247,13 +253,22 @@ def _write_plot(draw: Callable[[], object], path: str) -> str | None:
     return None
 
 
-def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, plotted: bool,
+def _print_cut(wall: BlockWall, verbosity: int) -> None:
+    """One line when the wall's end blocks are cut (``L`` not a whole number of half blocks), but when quiet."""
+    if wall.end_blocks_cut and verbosity != QUIET:
+        print(f"  L = {wall.half_blocks:.4g} half blocks, not a whole number: the last block of every course is "
+              "cut (docs/micro/walls.md)")
+
+
+def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, wall: BlockWall, *, plotted: bool,
           state: str | None) -> str:
-    """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters),
-    the options and the files written (``plot``, ``state``; ``None`` where none)."""
+    """One JSON line: the result's summary with the wall (its name, ``None`` without one; its paper parameters;
+    whether its end blocks are cut), the options and the files written (``plot``, ``state``; ``None`` where
+    none)."""
     summary.update(
         wall=spec.name or None,
         paper_parameters=spec.paper_parameters(),
+        end_blocks_cut=wall.end_blocks_cut,
         friction=args.friction,
         first_course=args.first_course,
         head_joints=args.head_joints,
@@ -261,64 +276,6 @@ def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, *, 
         state=state,
     )
     return json.dumps(summary)
-
-
-def parse_tuning(items: list[str]) -> Tuning:
-    """The :class:`micro.Tuning` of ``--tuning KEY=VALUE`` items (values read by the knob's type:
-    ``true``/``false``, numbers, ``none`` where a knob may be unset).
-
-    Raises:
-        UsageError: one line naming the key (an unknown key lists the knobs).
-    """
-    import micro
-    from micro.nonassociative import TUNING_KNOBS
-
-    hints = typing.get_type_hints(micro.Tuning)
-    values: dict[str, Any] = {}
-    for item in items:
-        key, eq, text = item.partition("=")
-        key = key.strip().replace("-", "_")
-        if not eq or not key:
-            raise UsageError(f"--tuning must be KEY=VALUE, got {item!r}")
-        if key not in TUNING_KNOBS:
-            raise UsageError(f"--tuning {key}: unknown knob; the knobs are {', '.join(TUNING_KNOBS)}")
-        values[key] = _knob_value(key, text.strip(), hints[key])
-    try:
-        return micro.Tuning(**values)
-    except ValueError as exc:
-        raise UsageError(f"--tuning {exc}") from None
-
-
-def _knob_value(key: str, text: str, hint: Any) -> Any:
-    """``text`` read as the knob ``key`` of type ``hint`` (its annotation, resolved): a choice among a
-    ``Literal``'s values, a bool, an int, a float, ``none``/``auto`` where the knob may be ``None``.
-
-    The type is read from the annotation's structure, not from its text (``"int" in "Literal['interior', ...]"``
-    once made ``start`` and ``global_bounds`` integers that could not be set)."""
-    union = typing.get_origin(hint) in (typing.Union, types.UnionType)
-    kinds = typing.get_args(hint) if union else (hint,)
-    optional = type(None) in kinds
-    (kind,) = (k for k in kinds if k is not type(None))
-    if optional and text.lower() in ("none", "auto"):
-        return None
-    if typing.get_origin(kind) is typing.Literal:
-        choices = typing.get_args(kind)
-        if text not in choices:
-            more = ", none" if optional else ""
-            raise UsageError(f"--tuning {key} must be one of {', '.join(map(str, choices))}{more}, got {text!r}")
-        return text
-    if kind is bool:
-        flags = {**dict.fromkeys(("true", "yes", "on", "1"), True), **dict.fromkeys(("false", "no", "off", "0"), False)}
-        if text.lower() not in flags:
-            raise UsageError(f"--tuning {key} must be true or false, got {text!r}")
-        return flags[text.lower()]
-    if kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            what = "an integer" if kind is int else "a number"
-            raise UsageError(f"--tuning {key} must be {what}, got {text!r}") from None
-    return text
 
 
 def _progress_line(event: LPProgress) -> None:
@@ -340,23 +297,28 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     # the options given; the others are the library's defaults
     given: dict[str, Any] = {} if time_limit is None else {"time_limit": time_limit}
     if args.max_iterations is not None:
-        given["max_iterations"] = int_option("--max-iterations", args.max_iterations, minimum=2)
+        given["max_iterations"] = int_option("--max-iterations", args.max_iterations, 2, SOLVER_COUNT_MAX)
     lowest = args.lowest or "on"
     if lowest not in LOWEST_CHOICES:
         try:
-            given["lowest_budget"] = int_option("--lowest", lowest)
+            given["lowest_budget"] = int_option("--lowest", lowest, 1, SOLVER_COUNT_MAX)
         except UsageError:
-            raise UsageError(f"--lowest must be on, off or a positive number of LPs, got {lowest!r}") from None
+            raise UsageError(f"--lowest must be on, off or a number of LPs in 1..{SOLVER_COUNT_MAX:,}, "
+                             f"got {lowest!r}") from None
         lowest = "on"
-    nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, minimum=1)
-    if args.global_:  # the search's limits: --node-limit, and --time-limit as for every LP
-        limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes, "time_limit": time_limit}
-        given["global_"] = micro.GlobalOptions(**limits)
+    nodes = None if args.node_limit is None else int_option("--node-limit", args.node_limit, 1, SOLVER_COUNT_MAX)
     progress = _progress_line if args.verbosity >= VERBOSE else None
     result = micro.solve_nonassociative(wall, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest],
                                         **given)
     own = _wall_mechanism(wall, result, lambda w: micro.solve_nonassociative(
         w, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest], **given))
+    search = None
+    if args.global_:  # composed after the run, from its states; its limits: --node-limit, and --time-limit
+        from micro.global_search import GlobalOptions, solve_global
+
+        limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes,
+                                                                    "direction_time_limit": time_limit}
+        search = solve_global(wall, start=result, options=GlobalOptions(**limits))
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     plot_error = None
     if args.plot is not None and mechanism is not None:
@@ -377,17 +339,32 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         )
     state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
-        print(_json({**result.summary(), **own.to_dict()}, args, spec,
+        summary = result.summary() if search is None else _with_global(result.summary(), search)
+        print(_json({**summary, **own.to_dict()}, args, spec, wall,
                     plotted=mechanism is not None and plot_error is None, state=state_written))
     else:
-        _print_nonassociative(result, args.verbosity)
+        _print_nonassociative(result, args.verbosity, search)
         _print_local(own, args.verbosity)
+        _print_cut(wall, args.verbosity)
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
     return exit_after_outputs(result.ok, plot_error, state_error)
 
 
-def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
+def _with_global(summary: dict[str, Any], search: GlobalResult) -> dict[str, Any]:
+    """The run's summary with the global search's keys: its record keys in place, its direction, nodes and
+    seconds before ``options``."""
+    from micro.global_search import global_summary
+
+    out: dict[str, Any] = {}
+    for key, value in summary.items():
+        if key == "options":
+            out.update(global_summary(search))
+        out.setdefault(key, value)
+    return out
+
+
+def _print_nonassociative(result: NonAssociativeResult, verbosity: int, search: GlobalResult | None = None) -> None:
     """The result in words, the value to quote first (the lowest certified collapse state, else the
     iterated LP's, saying why): λ alone when quiet, every LP when verbose."""
     if result.ok and verbosity == QUIET:
@@ -402,7 +379,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
               f"{states}")
         print(f"  associative lambda = {result.associative_load_factor:.6f}")
         _print_retry(result)
-        _print_global(result)
+        _print_global(search)
     else:
         window = (
             ""
@@ -410,7 +387,7 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int) -> None:
             else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
         )
         print(f"status {result.status} after {result.iterations} LPs{window}: {result.message}")
-        if verbosity == QUIET:  # the failure line alone (README, "Exit codes")
+        if verbosity == QUIET:  # the failure line alone (docs/cli.md, "Exit codes")
             return
         _print_retry(result)
     _print_fusion(result)
@@ -489,9 +466,8 @@ def _print_fusion(result: NonAssociativeResult) -> None:
           f"blocks at rest, {f.points:,} of {f.wall_points:,} contact points{took}")
 
 
-def _print_global(result: NonAssociativeResult) -> None:
+def _print_global(g: GlobalResult | None) -> None:
     """The global search, when it ran."""
-    g = result.global_search
     if g is not None:
         print(f"  global search ({g.status}): best lambda = {g.load_factor:.6f}, proven lower bound "
               f"{g.lower_bound:.6f}, gap {100 * g.gap:.2f} %, {g.seconds:.1f} s")

@@ -23,7 +23,7 @@ from comparison.wall import WallSpec
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.runner.executor import Executor
 
-#: Exit codes of ``xcheck`` (documented in the README and in ``xcheck --help``).
+#: Exit codes of ``xcheck`` (documented in docs/cli.md, "Exit codes", in the README and in ``xcheck --help``).
 EXIT_OK = 0
 #: A method ran but gave no load factor (a solve that is not optimal, an iterated LP that did not converge),
 #: or the output could not be written (a full disk).
@@ -41,7 +41,7 @@ DISK_FULL = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 # Values of ``args.verbosity`` (``-q``/``--quiet``, default, ``-v``/``--verbose``), defined with the
 # progress display that long-running subcommands pass them down to: QUIET, NORMAL, VERBOSE.
 
-#: The exit codes, as ``xcheck --help`` shows them (the README has the same list).
+#: The exit codes, as ``xcheck --help`` shows them (docs/cli.md and the README have the same list).
 EXIT_CODES = """\
 exit codes:
   0    success: every method asked for gave its load factor
@@ -81,6 +81,12 @@ def add_command(sub: argparse._SubParsersAction, name: str, *, help: str, descri
     return p
 
 
+#: The largest count an option passes to a solver (``--max-iterations``, ``--lowest N``, ``--node-limit``):
+#: HiGHS' integer options are 32-bit; the library refuses more (:data:`micro.backends.base.MAX_INTEGER`, the
+#: same number, not imported: ``xcheck macro`` does not load ``micro``).
+SOLVER_COUNT_MAX = 2**31 - 1
+
+
 class UsageError(ValueError):
     """Bad input on the command line or in a scene file (exit code :data:`EXIT_USAGE`)."""
 
@@ -103,22 +109,25 @@ def parse_fraction(name: str, text: str | float) -> float:
         return math.inf if fraction > 0 else -math.inf
 
 
-def int_option(name: str, text: str, minimum: int = 1) -> int:
-    """An integer option of at least ``minimum`` (a positive integer by default).
+def int_option(name: str, text: str, minimum: int = 1, maximum: int | None = None) -> int:
+    """An integer option of at least ``minimum`` (a positive integer by default) and at most ``maximum``.
 
-    The text is read exactly (``12.0000000000000001`` is not 12, ``1e3`` is 1000), not through a float.
+    The text is read exactly by the suite's rule for numbers (:func:`comparison.numbers.exact`:
+    ``12.0000000000000001`` is not 12, ``1e3`` is 1000, ``1_0`` and ``+3`` are refused), not through a float.
+    A count that reaches a solver takes ``maximum=``:data:`SOLVER_COUNT_MAX`.
 
     Raises:
         UsageError: naming ``name`` and the rule.
     """
-    rule = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
+    rule = (f"an integer in {minimum}..{maximum:,}" if maximum is not None else
+            "a positive integer" if minimum == 1 else f"an integer >= {minimum}")
     try:
         value = numbers.exact(name, str(text))
     except numbers.OutOfRange as exc:
-        raise UsageError(str(exc)) from None
+        raise UsageError(str(exc) if maximum is None else f"{name} must be {rule}, got {text!r}") from None
     except ValueError:
         raise UsageError(f"{name} must be {rule}, got {text!r}") from None
-    if value.denominator != 1 or value < minimum:
+    if value.denominator != 1 or value < minimum or (maximum is not None and value > maximum):
         raise UsageError(f"{name} must be {rule}, got {text!r}")
     return int(value)
 
@@ -135,7 +144,8 @@ def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
 
 
 def in_range(option: str, text: str | None, rule: str, upper: float) -> float | None:
-    """``None`` for an option not given, else a number in ``(0, upper]``.
+    """``None`` for an option not given, else a number in ``(0, upper]``, read by the suite's rule for
+    numbers (:func:`comparison.numbers.exact`).
 
     Raises:
         UsageError: naming ``option`` and ``rule``.
@@ -143,10 +153,10 @@ def in_range(option: str, text: str | None, rule: str, upper: float) -> float | 
     if text is None:
         return None
     try:
-        value = float(text)
-    except ValueError:
+        value = float(numbers.exact(option, text))
+    except (ValueError, OverflowError):
         raise UsageError(f"{option} must be {rule}, got {text!r}") from None
-    if not (0.0 < value <= upper) or math.isnan(value) or value == math.inf:
+    if not (0.0 < value <= upper) or value == math.inf:
         raise UsageError(f"{option} must be {rule}, got {text!r}")
     return value
 

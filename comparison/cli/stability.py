@@ -47,7 +47,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck stability``."""
-    from comparison.stability import main_study, table7_variants
+    from comparison.stability import main_lowest, main_study, table7_variants
 
     if args.processes is not None:
         if args.workers is not None:
@@ -66,8 +66,6 @@ def run(args: argparse.Namespace) -> int:
             print(f"md: {table7_variants(args.out)}")
             return 0
         if args.lowest:
-            from comparison.stability.lowest import main_lowest
-
             paths = main_lowest(args.out, processes=processes, quick=args.quick)
         else:
             paths = main_study(args.out, processes=processes, quick=args.quick, verbosity=args.verbosity)

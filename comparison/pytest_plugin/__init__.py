@@ -10,7 +10,7 @@ point, so a downstream project's tests get, without a ``conftest.py``:
 * reference values for every method on every case, each with its tolerance and
   source (:class:`References`, fixture ``xcheck_references``), and the assertion
   helper :meth:`References.check`, whose failure names the case, the method and
-  the cell: ``Set 14 / micro-nonassoc / load_factor: 0.2600 outside 0.2684 ± 0.0067 (...)``;
+  the cell: ``Set 14 / micro-nonassoc / load_factor: 0.2500 outside 0.2658 ± 0.0066 (...)``;
 * the Tables 7-9 style percentage table of your values against the references
   (fixture ``xcheck_table``, option ``--xcheck-table PATH``).
 

@@ -189,6 +189,7 @@ class References:
         Raises:
             MissingReference: no such cell (the message lists the methods that ``wall`` has).
         """
+        __tracebackhide__ = True  # as in check()
         label = case_label(wall)
         method, cell = checked_name("method", method), checked_name("cell", cell)
         try:
@@ -199,6 +200,7 @@ class References:
 
     def value(self, wall: PaperCase | str, method: str, cell: str = LOAD_FACTOR) -> float | None:
         """The value of a cell (``None`` when the method gave none on that wall)."""
+        __tracebackhide__ = True  # as in check()
         return self.get(wall, method, cell).value
 
     def check(
@@ -230,11 +232,14 @@ class References:
                 what was received (:func:`received_number`); ``wall``, ``method``, ``cell``, ``rel`` or
                 ``abs`` of the wrong type (``rel="5%"``), naming it.
             ValueError: ``rel`` or ``abs`` NaN, infinite or negative (a NaN would pass any value).
-            ReferenceMismatch: ``value`` is outside, e.g. ``Set 14 / micro-nonassoc / load_factor:
-                0.2600 outside 0.2684 ± 0.0067 (iterated LP, ...; reference tolerance 0.0013 + 2 % of the
-                reference)``.
+            ReferenceMismatch: ``value`` is outside, e.g. for 0.25 with ``rel=0.02``: ``Set 14 /
+                micro-nonassoc / load_factor: 0.2500 outside 0.2658 ± 0.0066 (lowest certified collapse state
+                (the value to quote), ...; reference tolerance 0.0013 + 2 % of the reference)`` (the numbers
+                those of ``references.json``, held to it by a test). Under pytest the failure shows the
+                test's line and this message, not this function's source (``__tracebackhide__``).
             MissingReference: there is no reference value for that cell.
         """
+        __tracebackhide__ = True  # a failure shows the test's line and this message, not this function's source
         rel, abs = widening("rel", rel), widening("abs", abs)
         label, method, cell = case_label(wall), checked_name("method", method), checked_name("cell", cell)
         value = received_number(f"{label} / {method} / {cell}: xcheck_references.check", value)

@@ -16,7 +16,7 @@ from typing import Any
 
 import pytest
 
-from comparison import numbers
+from comparison import names, numbers
 from comparison.cases import CASES, PaperCase, case, cases_in_table
 from comparison.inputs import read_input_file
 from comparison.wall import WallSpec
@@ -151,7 +151,13 @@ def walls_from_file(path: str | Path) -> tuple[UserWall, ...]:
     walls = data.get("wall")
     if not isinstance(walls, list) or not walls:
         raise ValueError(f"{p}: no [[wall]] tables")
-    return tuple(_wall(f"{p}: wall[{i}]", w) for i, w in enumerate(walls))
+    out = tuple(_wall(f"{p}: wall[{i}]", w) for i, w in enumerate(walls))
+    twice = names.first_repeated([w.label for w in out])
+    if twice is not None:
+        first, again = twice
+        raise ValueError(f"{p}: wall[{again}]: the name {out[again].label!r} is wall[{first}]'s; each wall needs a "
+                         "name of its own (it names its tests and its row of the table)")
+    return out
 
 
 def _wall(where: str, w: Any) -> UserWall:
@@ -164,11 +170,31 @@ def _wall(where: str, w: Any) -> UserWall:
         raise ValueError(f"{where}: " + "; ".join(problems))
     v = {**WALL_KEYS, **w}
     try:
+        names.label("name", v["name"])
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from None
+    if _paper_name(v["name"]):
+        raise ValueError(f"{where}: the name {v['name']!r} is the paper's (a case, a table or 'all'); your wall "
+                         "would be selected and compared as that one: give it a name of its own")
+    try:
         m = _fraction("m", v["m"]) if isinstance(v["m"], str) else v["m"]
         WallSpec.from_paper(t=v["t"], m=m, rows=v["rows"], f=v["f"], p=v["p"], storeys=v["storeys"])
     except (ValueError, ZeroDivisionError, TypeError) as exc:
         raise ValueError(f"{where} ({v['name']}): {exc}") from None
-    return UserWall(str(v["name"]), v["t"], m, v["rows"], v["f"], v["p"], v["storeys"], tables=())
+    return UserWall(v["name"], v["t"], m, v["rows"], v["f"], v["p"], v["storeys"], tables=())
+
+
+def _paper_name(name: str) -> bool:
+    """Whether ``name`` is what :func:`select_cases` and the references read as the paper's (``"Ref"``, ``"12"``,
+    ``"set 12"``, ``"7"``, ``"table 7"``, ``"all"``)."""
+    key = name.strip().lower().removeprefix("table").strip()
+    if key == "all" or cases_in_table(key):
+        return True
+    try:
+        case(name)
+    except (TypeError, ValueError):
+        return False
+    return True
 
 
 def _fraction(name: str, text: str) -> float:

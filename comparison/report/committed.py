@@ -21,11 +21,13 @@ import io
 import json
 import math
 import os
+import shlex
 import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
 from comparison.inputs import read_input_file
+from comparison.sweep import grids
 
 #: The error map's sweep table, relative to the tables directory.
 ERRORMAP = "sweeps/errormap.csv"
@@ -33,12 +35,19 @@ ERRORMAP = "sweeps/errormap.csv"
 BOND = "sweeps/table9_bond.csv"
 #: The lowest collapse load on Table 7's walls (the study's table).
 LOWEST = "lowest.csv"
-#: The command that writes each table into the tables directory ``DIR``.
+#: The command that writes each table into the tables directory ``DIR``; ``GRIDS`` is the folder of the
+#: grid files installed with the package (:mod:`comparison.sweep.grids`, copies of ``examples/sweeps/``), so
+#: that the command works from an installed wheel as from a clone.
 MADE_BY = {
-    ERRORMAP: "xcheck sweep examples/sweeps/errormap.toml --out DIR/sweeps",
-    BOND: "xcheck sweep examples/sweeps/table9_bond.toml --out DIR/sweeps",
+    ERRORMAP: "xcheck sweep GRIDS/errormap.toml --out DIR/sweeps",
+    BOND: "xcheck sweep GRIDS/table9_bond.toml --out DIR/sweeps",
     LOWEST: "xcheck stability --lowest --out DIR",
 }
+
+
+def made_by(name: str, tables_dir: Path | str) -> str:
+    """The command of :data:`MADE_BY` that writes the table ``name`` into ``tables_dir``, runnable as printed."""
+    return MADE_BY[name].replace("GRIDS", shlex.quote(str(grids.FOLDER))).replace("DIR", shlex.quote(str(tables_dir)))
 
 
 #: The columns each section reads, and what each must hold: ``"text"``; ``"positive"`` (a positive number),
@@ -107,7 +116,7 @@ def read_committed(tables_dir: Path, name: str) -> list[dict[str, str]]:
             (``lowest.csv``); the message names the file and the line.
     """
     path = Path(tables_dir) / name
-    remake = f"remake it with `{MADE_BY[name].replace('DIR', str(tables_dir))}`"
+    remake = f"remake it with `{made_by(name, tables_dir)}`"
     try:
         data = read_input_file(path, MAX_TABLE_BYTES)
     except OSError as exc:
@@ -215,7 +224,7 @@ def committed_table(tables_dir: Path, name: str) -> Path | None:
     path = Path(tables_dir) / name
     if path.is_file():
         return path
-    make = MADE_BY[name].replace("DIR", str(tables_dir))
+    make = made_by(name, tables_dir)
     warnings.warn(
         f"the report's table {path} is missing, and its section says so: make it with `{make}`, or give "
         "--tables DIR (build_report(tables_dir=...)) naming the directory that holds it",

@@ -6,8 +6,7 @@ from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
 from micro import DEFAULT_SOLVER
-from micro.nonassociative.options import NonAssociativeOptions
-from micro.nonassociative.tuning import RETRY_LPS
+from micro.nonassociative.config import RETRY_LPS, NonAssociativeOptions
 
 Kind = Literal["macro", "micro-assoc", "micro-nonassoc"]
 

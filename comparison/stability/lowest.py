@@ -13,12 +13,10 @@ number reproduces on another machine. Each run is one typed
 
 from __future__ import annotations
 
+import dataclasses
 import math
-import os
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Literal
 
 from comparison.cases import cases_in_table
@@ -222,16 +220,17 @@ def study_cases(quick: bool = False) -> list[LowestCase]:
 def run_case(case: LowestCase) -> LowestRun:
     """The iterated LP, the descent and (with ``case.nodes``) the global search on one wall."""
     import micro
-    from micro.nonassociative import GlobalOptions
+    from micro.global_search import GlobalOptions, global_fields, solve_global
 
     wall = case.wall.spec().to_micro(first_course=case.first_course, head_joints=case.head_joints)
     nan = math.nan
     try:
-        search = GlobalOptions(node_limit=case.nodes, time_limit=None, bounds=GLOBAL_BOUNDS) if case.nodes else None
-        r = micro.solve_nonassociative(wall, global_=search)
+        r = micro.solve_nonassociative(wall)
+        g = solve_global(wall, start=r, options=GlobalOptions(node_limit=case.nodes, direction_time_limit=None,
+                                                                bounds=GLOBAL_BOUNDS)) if case.nodes else None
     except Exception as exc:  # noqa: BLE001 - recorded as the run's status
         return _failed(case, wall.n_blocks, f"error: {type(exc).__name__}: {exc}")
-    rec, g = r.to_record(), r.global_search
+    rec = r.to_record() if g is None else dataclasses.replace(r.to_record(), **global_fields(g))
     band = r.mechanism_band if r.converged and r.mechanism_band is not None else (nan, nan)
     return LowestRun(
         case, wall.n_blocks, r.status, r.iterated_load_factor, band, rec.lowest_load_factor, rec.lowest_moves,
@@ -263,12 +262,3 @@ def run_cases(cases: Sequence[LowestCase], processes: int = 2) -> list[LowestRun
             assert isinstance(i, int)
             done[i] = outcome.value if outcome.ok else _failed(cases[i], 0, f"{outcome.kind}: {outcome.error}")
     return [done[i] for i in range(len(cases))]
-
-
-def main_lowest(out: str | os.PathLike[str] = "reports", *, processes: int = 2, quick: bool = False) -> dict[str, Path]:
-    """Run the study and write ``lowest.md``, ``lowest.csv`` and ``lowest.png`` to ``out``."""
-    from comparison.stability.lowest_render import write_lowest
-
-    t0 = time.perf_counter()
-    runs = run_cases(study_cases(quick), processes)
-    return write_lowest(runs, Path(out), seconds=time.perf_counter() - t0, processes=processes)

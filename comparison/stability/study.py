@@ -11,14 +11,12 @@ from __future__ import annotations
 
 import itertools
 import math
-import os
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Literal
 
-from comparison.progress import NORMAL, Progress
+from comparison.progress import Progress
 from comparison.runner.executor import LocalExecutor, Task
 from comparison.runner.pool import approximate_blocks
 from comparison.wall import WallSpec
@@ -268,32 +266,3 @@ def run_study(
             if progress is not None:
                 progress.advance(f"{walls[i].label}: {outcome.kind} in {outcome.seconds:.1f} s")
     return [run for i in range(len(walls)) for run in results[i]]
-
-
-def main_study(
-    out: str | os.PathLike[str] = "reports",
-    *,
-    processes: int = 2,
-    quick: bool = False,
-    settings: Iterable[Setting] = SETTINGS,
-    verbosity: int = NORMAL,
-) -> dict[str, Path]:
-    """Run the study and write the reports (``quick``: 12 walls only, for a smoke test).
-
-    ``verbosity`` sets what the progress display shows (see :mod:`comparison.progress`).
-    """
-    from comparison.stability.render import write_reports
-
-    walls = grid_walls()
-    if quick:
-        walls = walls[:: max(1, len(walls) // 12)][:12]
-    chosen = tuple(settings)
-    t0 = time.perf_counter()
-    with Progress(verbosity) as progress:
-        progress.say(
-            f"plan: {len(walls)} walls x {len(chosen)} settings = {len(walls) * len(chosen)} iterated LPs "
-            f"in {processes} processes"
-        )
-        progress.start(len(walls), "walls")
-        runs = run_study(walls, chosen, processes=processes, progress=progress)
-    return write_reports(runs, Path(out), seconds=time.perf_counter() - t0, processes=processes)

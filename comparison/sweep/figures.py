@@ -340,7 +340,26 @@ def time_against_blocks(rows: Sequence[Mapping[str, str]], path: Path) -> Path |
             ax.scatter(*zip(*bad, strict=True), s=22, marker="x", color=f"C{k}", label=f"{label}: no value")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    for axis, limits in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        _plain_log_ticks(axis, limits)
     ax.set_xlabel("blocks")
     ax.set_ylabel("seconds (as computed)")
     ax.legend(fontsize=7)
     return _save(fig, path)
+
+
+#: Decades a log axis may span and still be labelled at 1, 2 and 5 of each (beyond: at the decades alone).
+FEW_DECADES = 2.0
+
+
+def _plain_log_ticks(axis: Any, limits: tuple[float, float]) -> None:
+    """Plain numbers (``20``, ``0.05``) at 1, 2 and 5 of each decade on a log axis of few decades, at the
+    decades alone on a wider one; no labels between. Matplotlib labels the minor ticks of an axis of less than
+    a decade or so as ``2×10^1, 3×10^1, 4×10^1``, which ran into one another on a small sweep's wall sizes."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    lo, hi = (max(x, 1e-300) for x in limits)
+    subs = (1.0, 2.0, 5.0) if math.log10(hi / lo) <= FEW_DECADES else (1.0,)
+    axis.set_major_locator(LogLocator(base=10.0, subs=subs))
+    axis.set_major_formatter(FuncFormatter(lambda value, _pos: f"{value:g}"))
+    axis.set_minor_formatter(NullFormatter())

@@ -223,7 +223,7 @@ def _overview(rows: Sequence[Mapping[str, str]], ws: Sequence[Wall], moving: Seq
     valued = sum(success(r["kind"], r["status"]) for r in micro)
     by_method = ", ".join(f"{n} {m}" for m, n in _count(r["method"] for r in micro).items())
     out = [f"* **{len(points)} walls**" + (f" ({sizes})" if sizes else "")
-           + (f", each in {len(bonds)} bonds: {len(ws)} walls in a bond, each compared on its own"
+           + (f" in {len(bonds)} bonds each: {len(ws)} bonded walls, each compared on its own"
               if len(bonds) > 1 else "") + "."]
     if micro:
         out.append(f"* **{len(micro)} micro computations** ({by_method}): {len(ran)} run, {valued} with a value, "

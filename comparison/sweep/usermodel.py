@@ -41,25 +41,23 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
+from comparison.names import own_method
 from comparison.numbers import received_number
 from comparison.runner.executor.base import describe
 
-#: What a user model's name may not hold: it heads a Markdown table's column.
-_BAD_NAME = re.compile(r"[|\n\r`]")
 #: The largest load factor a user model may return. A load factor is the horizontal load over the wall's
 #: weight, and friction caps it near ``f`` (the whole wall sliding on its base); a value a million times
 #: the weight is a mistake of units or an overflow, not a result, and would swamp every difference the
 #: page reports. Zero and negative values are refused too: a wall under its own weight resists some load.
 MAX_LOAD_FACTOR = 1e6
 
-
 @dataclass(frozen=True)
 class UserModel:
     """A user's macro model: a callable ``(t, m, rows, f, p, storeys) -> λ`` under a name.
 
     Attributes:
-        name: the column's name in the table, the page and its figures (``"macro"`` and the micro
-            methods' labels are taken).
+        name: the column's name in the table, the page and its figures (:func:`comparison.names.own_method`:
+            ``"macro"`` and the micro methods' kinds and labels are taken).
         function: the callable.
         target: where it comes from, ``module:function`` (default: the callable's module and name).
     """
@@ -70,8 +68,7 @@ class UserModel:
     kind: ClassVar[str] = "user"
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name.strip() or _BAD_NAME.search(self.name):
-            raise ValueError(f"name must be a non-empty text without '|', '`' or line breaks, got {self.name!r}")
+        own_method("name", self.name)  # the suite's rule for names (comparison.names)
         if not callable(self.function):
             raise TypeError(f"{self.name}: function must be callable, got {self.function!r}")
         if not self.target:

@@ -8,19 +8,39 @@
 ``clarabel_kinematic``  :class:`ClarabelKinematicBackend` (the kinematic form, ``clarabel``);
 ``normal_ipm``  :class:`NormalIpmBackend` (``normal-ipm``), the suite's interior point on the normal
               equations, over ``normal_matrix`` (:class:`NormalMatrix`, CHOLMOD);
+``normal_qp``  :class:`LeastDistanceQP` (the least-distance QP on the normal equations) and
+              :class:`ClarabelLeastDistance`: the proximal projection's solvers;
+``roles``     which back end plays which part in the non-associative method (the interior-point LP,
+              the persistent LP of the iterated LP and the descent, the projection): a back end for
+              the iterated LP is named there;
 ``polish``    :func:`polish_equilibrium`, the kinematic form's forces corrected onto exact equilibrium;
 ``cvxpy_``    :class:`CvxpyBackend`, the readable reference formulation.
 """
 
+from typing import Any
+
 from micro.backends.base import MAX_RESIDUAL, Backend, Outcome, Status, recheck
-from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT, ClarabelStaticBackend
-from micro.backends.clarabel_kinematic import CLARABEL_KINEMATIC, POLISH, ClarabelKinematicBackend
-from micro.backends.cvxpy_ import CvxpyBackend
-from micro.backends.highs import HighsBackend, PersistentHighsModel
-from micro.backends.normal_ipm import NORMAL_IPM, NormalIpmBackend, NormalIpmSettings
-from micro.backends.normal_matrix import NormalMatrix
-from micro.backends.polish import POLISH_MAX_LOAD_FACTOR_CHANGE
-from micro.backends.registry import DEFAULT_SOLVER, EXPERIMENTS, SOLVERS, make_backend
+from micro.backends.registry import DEFAULT_SOLVER, EXPERIMENTS, SOLVERS, make_backend, missing_extra
+
+#: The names this package hands on from its back-end modules, imported on first use (a back end's module
+#: is imported when it is chosen: :mod:`micro.backends.registry`).
+_LAZY = {
+    "CLARABEL_RETRY": "clarabel", "CLARABEL_TIGHT": "clarabel", "ClarabelStaticBackend": "clarabel",
+    "CLARABEL_KINEMATIC": "clarabel_kinematic", "POLISH": "clarabel_kinematic",
+    "ClarabelKinematicBackend": "clarabel_kinematic", "CvxpyBackend": "cvxpy_", "HighsBackend": "highs",
+    "PersistentHighsModel": "highs", "NORMAL_IPM": "normal_ipm", "NormalIpmBackend": "normal_ipm",
+    "NormalIpmSettings": "normal_ipm", "NormalMatrix": "normal_matrix", "POLISH_MAX_LOAD_FACTOR_CHANGE": "polish",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """A back end's name, its module imported now."""
+    if name not in _LAZY:
+        raise AttributeError(f"module 'micro.backends' has no attribute {name!r}")
+    import importlib
+
+    return getattr(importlib.import_module(f"micro.backends.{_LAZY[name]}"), name)
+
 
 __all__ = [
     "CLARABEL_KINEMATIC",
@@ -45,5 +65,6 @@ __all__ = [
     "PersistentHighsModel",
     "Status",
     "make_backend",
+    "missing_extra",
     "recheck",
 ]

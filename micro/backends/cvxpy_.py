@@ -1,5 +1,9 @@
 """The reference formulation written with cvxpy expressions (one-shot back end).
 
+cvxpy is an optional extra (``pip install 'xcheck-masonry[cvxpy]'``): this
+module imports it when a back end is made, and says so in one line when it
+is missing.
+
 ::
 
     maximise   d * lam
@@ -25,6 +29,12 @@ dual simplex.
 The direction ``d`` is a cvxpy Parameter, so the problem is compiled once
 (DPP) and re-solved for the other direction.
 
+Clarabel is called through cvxpy's own interface with one change (:func:`_interruptible_clarabel`): the
+solver object cvxpy builds solves through
+:func:`~micro.backends.clarabel.solve_interruptibly`, so a Ctrl-C stops it within an
+iteration, as it stops the direct back ends; through cvxpy's ``CLARABEL`` it
+waited for the solve to end (up to 3 s on a 1,230-block wall).
+
 cvxpy dual convention (pinned by ``tests/micro/backends``): for this
 ``Maximize`` problem, the dual of the equality ``B x + lam f_L == -f_D``
 satisfies ``(d f_L) . y = +1``, so velocities are ``+y``.
@@ -39,8 +49,11 @@ from typing import Any
 import numpy as np
 
 from micro.backends.base import Outcome, Status, recheck
-from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT
+from micro.backends.clarabel import CLARABEL_RETRY, CLARABEL_TIGHT, solve_interruptibly
 from micro.lp import LimitLP
+
+#: The one line said when cvxpy is not installed (it is the optional extra ``cvxpy``).
+MISSING = "the cvxpy back end needs cvxpy: pip install 'xcheck-masonry[cvxpy]'"
 
 
 class CvxpyBackend:
@@ -72,7 +85,10 @@ class CvxpyBackend:
 
     def __init__(self, lp: LimitLP, *, solver: str = "CLARABEL", tight: bool = True,
                  solver_options: dict[str, Any] | None = None) -> None:
-        import cvxpy as cp
+        try:
+            import cvxpy as cp
+        except ImportError:  # an optional extra since the package stopped depending on cvxpy
+            raise ModuleNotFoundError(MISSING) from None
 
         self._cp = cp
         self.lp = lp
@@ -80,6 +96,7 @@ class CvxpyBackend:
         if solver not in ("CLARABEL", "HIGHS"):
             raise ValueError(f"cvxpy solver must be CLARABEL or HIGHS, got {solver!r}")
         self.solver = solver
+        self._solver_arg: Any = _interruptible_clarabel() if solver == "CLARABEL" else solver
         # the registry's names: cvxpy (Clarabel, tight), cvxpy-clarabel-default, cvxpy-highs
         self.name = "cvxpy-highs" if solver == "HIGHS" else "cvxpy" if tight else "cvxpy-clarabel-default"
         Bn, Bs = lp.equilibrium_matrix()
@@ -133,8 +150,35 @@ class CvxpyBackend:
             with warnings.catch_warnings():
                 # cvxpy warns "Solution may be inaccurate"; the status says so
                 warnings.filterwarnings("ignore", message="Solution may be inaccurate")
-                self.problem.solve(solver=self.solver, **options)
+                self.problem.solve(solver=self._solver_arg, **options)
         except self._cp.error.SolverError as exc:
             return f"solver_error: {exc}", 0
         stats = self.problem.solver_stats
         return str(self.problem.status), int(stats.num_iters or 0) if stats is not None else 0
+
+
+def _interruptible_clarabel() -> Any:
+    """cvxpy's Clarabel interface whose solve stops on Ctrl-C (module docstring): ``solve_via_data`` as
+    cvxpy's (the same data, cones and settings; no warm start, which this back end does not ask for), the
+    solver solved by :func:`~micro.backends.clarabel.solve_interruptibly`. cvxpy takes a solver instance
+    under a name of its own."""
+    import clarabel
+    import cvxpy.settings as cs
+    import scipy.sparse as sp
+    from cvxpy.reductions.solvers.conic_solvers.clarabel_conif import CLARABEL, dims_to_solver_cones
+    from cvxpy.reductions.solvers.conic_solvers.conic_solver import ConicSolver
+
+    class InterruptibleClarabel(CLARABEL):
+        def name(self) -> str:
+            return "CLARABEL (interruptible)"
+
+        def solve_via_data(self, data: dict[str, Any], warm_start: bool, verbose: bool,
+                           solver_opts: dict[str, Any], solver_cache: Any = None) -> Any:
+            q = data[cs.C]
+            p = data[cs.P] if cs.P in data else sp.csc_array((q.size, q.size))
+            solver = clarabel.DefaultSolver(sp.triu(p).tocsc(), q, data[cs.A], data[cs.B],
+                                            dims_to_solver_cones(data[ConicSolver.DIMS]),
+                                            self.parse_solver_opts(verbose, solver_opts))
+            return solve_interruptibly(solver)
+
+    return InterruptibleClarabel()

@@ -24,39 +24,53 @@ same with Clarabel's default settings), ``cvxpy-highs`` (the cvxpy formulation
 solved by HiGHS) and ``cvxpy-clarabel-default`` (by Clarabel with cvxpy's
 default settings).
 
-This module imports every back end; :mod:`micro.backends.base` imports none.
+A back end's module is imported when it is chosen (:func:`make_backend`), not
+when this module is: the CLI, the report and the iterated LP do not pay for a
+back end they do not run, and a back end whose package is an optional extra
+(``cvxpy``: ``pip install 'xcheck-masonry[cvxpy]'``) is refused in one line
+naming the extra when that package is missing (:func:`missing_extra`).
+:mod:`micro.backends.base` imports no back end.
 """
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
 from collections.abc import Callable
+from dataclasses import dataclass
+from types import ModuleType
 
 from micro.backends.base import Backend, check_time_limit
-from micro.backends.clarabel import ClarabelStaticBackend
-from micro.backends.clarabel_kinematic import ClarabelKinematicBackend
-from micro.backends.cvxpy_ import CvxpyBackend
-from micro.backends.highs import HighsBackend
-from micro.backends.normal_ipm import NormalIpmBackend
 from micro.lp import LimitLP
 
 #: The back end of :func:`micro.solve_associative` (and of the CLI and the
 #: report) when none is named.
 DEFAULT_SOLVER = "normal-ipm"
 
-_Factory = Callable[[LimitLP, "float | None"], Backend]
 
-_SOLVERS: dict[str, _Factory] = {
-    "normal-ipm": lambda lp, t: NormalIpmBackend(lp, time_limit=t),
-    "clarabel": lambda lp, t: ClarabelKinematicBackend(lp, time_limit=t),
-    "highs-ipm": lambda lp, t: HighsBackend(lp, algorithm="ipm", time_limit=t),
-    "highs-simplex": lambda lp, t: HighsBackend(lp, algorithm="simplex", time_limit=t),
-    "cvxpy": lambda lp, t: CvxpyBackend(lp, solver="CLARABEL"),
+@dataclass(frozen=True)
+class _Entry:
+    """One back end by name: its module (imported when chosen), how to make it, and the optional
+    extra that installs its package (``""``: a dependency of the package itself)."""
+
+    module: str
+    make: Callable[[ModuleType, LimitLP, float | None], Backend]
+    extra: str = ""
+
+
+_SOLVERS: dict[str, _Entry] = {
+    "normal-ipm": _Entry("normal_ipm", lambda m, lp, t: m.NormalIpmBackend(lp, time_limit=t)),
+    "clarabel": _Entry("clarabel_kinematic", lambda m, lp, t: m.ClarabelKinematicBackend(lp, time_limit=t)),
+    "highs-ipm": _Entry("highs", lambda m, lp, t: m.HighsBackend(lp, algorithm="ipm", time_limit=t)),
+    "highs-simplex": _Entry("highs", lambda m, lp, t: m.HighsBackend(lp, algorithm="simplex", time_limit=t)),
+    "cvxpy": _Entry("cvxpy_", lambda m, lp, t: m.CvxpyBackend(lp, solver="CLARABEL"), extra="cvxpy"),
 }
-_EXPERIMENTS: dict[str, _Factory] = {
-    "clarabel-static": lambda lp, t: ClarabelStaticBackend(lp, time_limit=t),
-    "clarabel-default": lambda lp, t: ClarabelStaticBackend(lp, tight=False, time_limit=t),
-    "cvxpy-highs": lambda lp, t: CvxpyBackend(lp, solver="HIGHS"),
-    "cvxpy-clarabel-default": lambda lp, t: CvxpyBackend(lp, solver="CLARABEL", tight=False),
+_EXPERIMENTS: dict[str, _Entry] = {
+    "clarabel-static": _Entry("clarabel", lambda m, lp, t: m.ClarabelStaticBackend(lp, time_limit=t)),
+    "clarabel-default": _Entry("clarabel", lambda m, lp, t: m.ClarabelStaticBackend(lp, tight=False, time_limit=t)),
+    "cvxpy-highs": _Entry("cvxpy_", lambda m, lp, t: m.CvxpyBackend(lp, solver="HIGHS"), extra="cvxpy"),
+    "cvxpy-clarabel-default": _Entry("cvxpy_", lambda m, lp, t: m.CvxpyBackend(lp, solver="CLARABEL", tight=False),
+                                     extra="cvxpy"),
 }
 
 #: Names of the back ends (the CLI's ``--solver``; module docstring).
@@ -73,7 +87,27 @@ def make_backend(lp: LimitLP, solver: str = DEFAULT_SOLVER, *, time_limit: float
             or a time limit that is not a positive number of seconds.
     """
     time_limit = check_time_limit(time_limit)
-    factory = (_SOLVERS.get(solver) or _EXPERIMENTS.get(solver)) if isinstance(solver, str) else None
-    if factory is None:
+    entry = (_SOLVERS.get(solver) or _EXPERIMENTS.get(solver)) if isinstance(solver, str) else None
+    if entry is None:
         raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {solver!r}")
-    return factory(lp, time_limit)
+    missing = missing_extra(solver)
+    if missing:
+        raise ValueError(missing)
+    return entry.make(importlib.import_module(f"micro.backends.{entry.module}"), lp, time_limit)
+
+
+def missing_extra(solver: str) -> str:
+    """``""`` when the back end ``solver`` can run here, else the one line that says which optional extra
+    installs its package (``solver 'cvxpy' needs cvxpy: pip install 'xcheck-masonry[cvxpy]'``)."""
+    entry = _SOLVERS.get(solver) or _EXPERIMENTS.get(solver)
+    if entry is None or not entry.extra or _installed(entry.extra):
+        return ""
+    return f"solver {solver!r} needs {entry.extra}: pip install 'xcheck-masonry[{entry.extra}]'"
+
+
+def _installed(package: str) -> bool:
+    """Whether ``package`` can be imported (``sys.modules[package] = None`` counts as missing, as for import)."""
+    try:
+        return importlib.util.find_spec(package) is not None
+    except ValueError:  # in sys.modules with no spec (None: an import of it is refused)
+        return False

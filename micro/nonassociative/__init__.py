@@ -26,30 +26,34 @@ Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
 
 Modules, one concept each:
 
-``options``      :class:`NonAssociativeOptions`, what a user sets;
-``tuning``       :class:`Tuning`, the research knobs, and the policy constants;
-``recipe``       :class:`Recipe`, both resolved for one wall (what the modules read);
+``config``       :class:`NonAssociativeOptions` (what a user sets), :class:`Tuning` (the research
+                 knobs, the policy constants) and :class:`Recipe` (both resolved for one wall:
+                 every value a stage reads is one of its fields);
 ``model``        the persistent HiGHS model of one direction and its updates;
-``iteration``    the sequence of one direction: start, loop, warm/cold policy, finish;
-``pipeline``     one direction: which sequences run (the vertex one, the proximal retry), on the
-                 wall or on its fused bodies (the blocks that move as one rigid body);
+``iteration``    the sequence of one direction: start, loop, finish;
+``warm_cold``    when the sequence solves an iterate warm and when cold (counted in simplex iterations);
+``pipeline``     one direction: the fallback chain as a list of stages (the vertex sequence, the
+                 proximal retry, the fused wall with the continuation);
+``fusion``       the fused wall: the blocks that move as one rigid body joined, their LP, and
+                 its state made the wall's;
 ``selections``   the selections (vertex, proximal, continuation), one object each behind one
                  interface, and the stops (the exact stop, the settle test, cycles);
-``proximal``     the proximal selection's projection, a QP, and its interior point;
+``proximal``     the proximal selection's projection (its QP solved by the back ends);
 ``certificate``  is an iterate's mechanism an exact collapse state? the mechanism band;
 ``checks``       final-state residuals, the cold re-solve, :func:`verify_collapse_state`;
 ``results``      the types: :class:`IterationRecord`, :class:`SequenceDiagnostics`,
-                 :class:`LowestDirection`, :class:`NonAssociativeResult`;
-``states``       the two LPs of a contact pattern (least ``lambda``, a compatible mechanism);
-``lowest``       the descent to the lowest certified collapse state (``options.lowest``);
-``global_search``  the mixed-integer search for the global minimum (``options.global_``): a
-                 subpackage (options and results, bounds, model, patterns, branch and bound, solvers).
+                 :class:`NonAssociativeResult`;
+``descent``      the descent to the lowest certified collapse state (``options.lowest``): a
+                 subpackage, ``lowest`` (the walk) and ``states`` (the two LPs of a contact
+                 pattern: least ``lambda``, a compatible mechanism), ``results`` (its type).
 
 After a converged run, the descent (on by default) reports the lowest
 certified collapse state it reaches (``lowest_load_factor``), which is then the
 value to quote (``load_factor``), beside the iterated LP's own fixed point
-(``iterated_load_factor``, unchanged by the descent); the global search
-(off by default) adds a proven lower bound (``global_lower_bound``) and the gap.
+(``iterated_load_factor``, unchanged by the descent). The search for the
+global minimum is not part of this method: its caller composes it,
+``micro.global_search.solve_global(lp, start=result)``, for a proven lower
+bound (``global_lower_bound``) and the gap.
 
 A sequence stops as ``converged`` (exactly, or certified), ``cycling``
 (``lambda_band`` is ``[min, max]`` over the cycle or the last window),
@@ -64,16 +68,29 @@ NaN; the last value and the band are reported beside it.
 from __future__ import annotations
 
 import time
-from typing import Any, Literal
+from typing import Any
 
 from micro.geometry import BlockWall, check_block_wall
-from micro.lp import LimitLP, assemble
+from micro.lp import assemble
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.global_search import GlobalOptions, GlobalResult, StartState, solve_global
-from micro.nonassociative.lowest import lowest_state
-from micro.nonassociative.options import LOWEST_BUDGET, NonAssociativeOptions
+from micro.nonassociative.config import (
+    DEFAULT_RELAXATION,
+    FUSE_BLOCKS,
+    LOWEST_BUDGET,
+    SCHEMES,
+    SELECTIONS,
+    TUNING_KNOBS,
+    LPProgress,
+    NonAssociativeOptions,
+    Progress,
+    Recipe,
+    Tuning,
+    continuation_allowed,
+    recipe_for,
+)
+from micro.nonassociative.descent.lowest import lowest_state
+from micro.nonassociative.descent.results import LowestDirection
 from micro.nonassociative.pipeline import solve_chain
-from micro.nonassociative.recipe import LPProgress, Progress, Recipe, recipe_for
 from micro.nonassociative.results import (
     CONVERGED,
     CYCLING,
@@ -83,28 +100,18 @@ from micro.nonassociative.results import (
     TIME_LIMIT,
     FusionDiagnostics,
     IterationRecord,
-    LowestDirection,
     NonAssociativeResult,
     SequenceDiagnostics,
 )
 from micro.nonassociative.selections import detect_cycle
-from micro.nonassociative.tuning import (
-    DEFAULT_RELAXATION,
-    FUSE_BLOCKS,
-    SCHEMES,
-    SELECTIONS,
-    TUNING_KNOBS,
-    Tuning,
-    continuation_allowed,
-)
-from micro.results import DirectionResult, direction_sign, load_directions
+from micro.results import load_directions
 
 __all__ = [
     "CONVERGED", "CYCLING", "DEFAULT_RELAXATION", "FUSE_BLOCKS", "MAX_ITERATIONS", "SCHEMES", "SELECTIONS",
-    "SOLVER_FAILURE", "STATUSES", "TIME_LIMIT", "FusionDiagnostics", "GlobalOptions", "GlobalResult",
+    "SOLVER_FAILURE", "STATUSES", "TIME_LIMIT", "FusionDiagnostics",
     "IterationRecord", "LOWEST_BUDGET", "LPProgress", "LowestDirection", "NonAssociativeOptions",
     "NonAssociativeResult", "Progress", "Recipe", "SequenceDiagnostics", "TUNING_KNOBS", "Tuning",
-    "continuation_allowed", "detect_cycle", "lowest_state", "recipe_for", "solve_global", "solve_nonassociative",
+    "continuation_allowed", "detect_cycle", "lowest_state", "recipe_for", "solve_nonassociative",
     "verify_collapse_state"
 ]
 
@@ -117,7 +124,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     With no options this is the method of ``xcheck report`` on every wall:
     scheme (a), the vertex sequence and the proximal one where it cycles, the
     fused wall with the continuation where both fail (and from the start on
-    walls of more than :data:`~micro.nonassociative.tuning.FUSE_BLOCKS`
+    walls of more than :data:`~micro.nonassociative.config.FUSE_BLOCKS`
     blocks), the certificate, and a bounded descent to the lowest certified
     state.
 
@@ -175,11 +182,10 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     build = time.perf_counter() - t0
     solved = [solve_chain(lp, d, r) for d in load_directions(o.directions, wall.mirror_symmetric)]
     results = tuple(res for res, _ in solved)
-    # without the iterated LP's model (a fused wall) the descent makes no proposal (micro.nonassociative.lowest)
+    # without the iterated LP's model (a fused wall) the descent makes no proposal (its module docstring)
     lowest = tuple(lowest_state(lp, res, r, model, proposals=model is not None)
                    for res, model in solved if res.converged) if r.lowest else ()
     del solved  # the models: the descent has taken over what it needs
-    glob = _global_search(lp, results, lowest, o.global_) if isinstance(o.global_, GlobalOptions) else None
     solve_secs = time.perf_counter() - t0 - build
     failing = [res for res in results if not res.converged]
     if failing:
@@ -192,17 +198,6 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         iterated_load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
-        directions=results, recipe=r, message=msg, lowest=lowest, global_search=glob,
+        directions=results, recipe=r, message=msg, lowest=lowest,
     )
 
-
-def _global_search(lp: LimitLP, results: tuple[DirectionResult, ...], lowest: tuple[LowestDirection, ...],
-                   options: GlobalOptions) -> GlobalResult:
-    """The branch and bound over the directions solved, each started from the
-    lowest certified state (else the iterated LP's converged state)."""
-    starts = [StartState.from_iterated(lp, low.state) for low in lowest if low.state is not None]
-    have = {st.direction for st in starts}
-    starts += [StartState.from_iterated(lp, r) for r in results
-               if r.converged and direction_sign(r.direction) not in have]
-    which: Literal[1, -1, "both"] = "both" if len(results) > 1 else 1 if results[0].direction == "+x" else -1
-    return solve_global(lp, which, options, starts)

@@ -19,7 +19,7 @@ fields, not only the LP's optimal ones.
 The load factors of these states form an interval, the MECHANISM BAND: its
 ends are two LPs (min and max ``lambda``), solved by an interior point, no
 basis. An iterate's ``lambda`` is certified when it lies in the band
-(relative slack :data:`~micro.nonassociative.tuning.BAND_SLACK`), and the
+(relative slack :data:`~micro.nonassociative.config.BAND_SLACK`), and the
 state at ``lambda`` is the convex combination of the two end states
 (equilibrium is linear). A feasibility LP at fixed ``lambda`` would be one LP
 instead of two, but HiGHS' interior point stopped with "Solve error" when
@@ -39,22 +39,54 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.clarabel import CLARABEL_RETRY, ClarabelStaticBackend
+from micro.backends.roles import INTERIOR_RETRY, InteriorLP
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
-from micro.nonassociative.states import point_states
-from micro.nonassociative.tuning import INTERPENETRATION, TINY
+from micro.nonassociative.config import INTERPENETRATION, TINY
 
 FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
 #: ``(n, s, lambda)`` of a state found by a certificate LP.
 StateTriple = tuple[FloatArray, FloatArray, float]
 
 #: Clarabel settings of the certificate LPs: their ends are checked for
 #: feasibility, so optimality to 1e-9 is enough (the tight settings stopped
 #: short on every certificate LP of the Table 7 walls and were retried).
-STATE_CLARABEL = CLARABEL_RETRY
+STATE_CLARABEL = INTERIOR_RETRY
 #: Relative slack of the test "the iterate's lambda lies in the mechanism band".
 BAND_SLACK = 1e-7
+
+
+def point_states(dn: FloatArray, ds: FloatArray, max_noise: float) -> tuple[BoolArray, BoolArray, BoolArray] | None:
+    """Which points of a mechanism open and which slip, by the one rule for
+    "this rate is zero" (the certificate's pattern and the descent's
+    :func:`~micro.nonassociative.descent.states.restricted_columns`).
+
+    A rate is zero below :data:`~micro.mechanism.STATE_TOL` of the largest,
+    the rule of :func:`~micro.nonassociative.checks.verify_collapse_state`, so
+    that a state built on the pattern passes its slip-at-yield check (a
+    former margin of 10 x the dual noise let states slip at 1.01e-6 of the
+    largest rate with friction below yield). Closing rates up to
+    ``max_noise`` of the largest are read as the dual noise of a simplex
+    mechanism at closed points (down to -1.1e-5 seen on Set 4, where exact
+    duals give >= 0); beyond it the mechanism interpenetrates.
+
+    Args:
+        dn, ds: ``(P,)`` opening and slip rates.
+        max_noise: largest closing rate, relative to the largest rate, read as noise.
+
+    Returns:
+        ``(opening, slipping with ds > 0, slipping with ds < 0)`` masks, or
+        ``None`` when a point closes by more than ``max_noise``.
+    """
+    scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)), 1e-300)
+    noise = max(-float(np.min(dn, initial=0.0)), 0.0) / scale
+    if noise > max_noise:
+        return None
+    tol = STATE_TOL * scale
+    opening = dn > tol
+    return opening, (ds > tol) & ~opening, (ds < -tol) & ~opening
+
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,8 +154,8 @@ class Certificate:
         lp, d = self.lp, self.d
         restricted = dataclasses.replace(lp, col_upper=np.concatenate([*pattern, [np.inf]]))
         tl = None if not math.isfinite(time_limit) else float(time_limit)
-        direction = -d if sense > 0 else d  # ClarabelStaticBackend maximises direction * lambda_column
-        out = ClarabelStaticBackend(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)
+        direction = -d if sense > 0 else d  # InteriorLP maximises direction * lambda_column
+        out = InteriorLP(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)
         if out.status is not Status.OPTIMAL or out.n is None or out.s is None:
             return None, out
         return (np.asarray(out.n), np.asarray(out.s), d * (out.load_factor * direction)), out

@@ -10,8 +10,8 @@ from numpy.typing import NDArray
 
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
+from micro.nonassociative.config import TINY
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.tuning import TINY
 from micro.results import DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
@@ -162,7 +162,7 @@ def state_residuals(lp: LimitLP, direction: int, n: FloatArray, s: FloatArray, l
     ``(dn, ds)`` of its mechanism against the non-associative collapse
     conditions (scaled units; the one computation behind
     :func:`verify_collapse_state` and
-    :func:`micro.nonassociative.global_search.pattern.collapse_residuals`).
+    :func:`micro.global_search.pattern.collapse_residuals`).
 
     Args:
         lp: the LP of the wall.

@@ -1,4 +1,4 @@
-"""The iterated LP for one load direction: the start, the loop and its warm/cold policy, the finish.
+"""The iterated LP for one load direction: the start, the loop, the finish.
 
 Iterate 0 is the associative LP (:meth:`LPSequence._start`); its normal forces
 give the first ``nbar``. Iterate ``k >= 1`` rebuilds every point's yield
@@ -8,7 +8,10 @@ selection: ``nbar`` moved by ``beta`` towards its projection,
 :class:`~micro.nonassociative.model.IterationModel` and solves it: the first
 by interior point + crossover + dual simplex, the later ones by a warm dual
 simplex from the previous basis, or cold again while warm runs take many
-simplex iterations (:data:`~micro.nonassociative.tuning.COLD_SWITCH_PIVOTS`).
+simplex iterations: when is the warm/cold policy's
+(:class:`~micro.nonassociative.warm_cold.WarmColdPolicy`), which this loop
+asks and tells of every run; the loop's own state (the iterates, the last
+good state, the work spent) stays here.
 Every decision counts work (iterations, LPs), never seconds: the path and its
 numbers are the same on a loaded or slower machine; only the optional user
 stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
@@ -32,13 +35,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.clarabel import ClarabelStaticBackend
-from micro.backends.highs import PersistentHighsModel
+from micro.backends.roles import InteriorLP, PersistentLP
 from micro.lp import LimitLP
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
+from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, TINY, LPProgress, Recipe
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.recipe import LPProgress, Recipe
 from micro.nonassociative.results import (
     CONVERGED,
     CONVERGED_STOPS,
@@ -51,32 +53,12 @@ from micro.nonassociative.results import (
     SequenceDiagnostics,
 )
 from micro.nonassociative.selections import exact_stop, selection_for, window_band
-from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL, TINY
+from micro.nonassociative.warm_cold import COLD, WARM, WarmColdPolicy
 from micro.results import DIR_NAME, DirectionResult
 
 FloatArray = NDArray[np.float64]
 NAN = math.nan
-COLD = "ipm+crossover+simplex"
 
-# The warm/cold policy: every decision is taken on deterministic work measures
-# (simplex and interior-point iteration counts, LP counts), never on seconds:
-# a loaded or slower machine follows the same path to the same numbers.
-#: On large walls a warm dual simplex can cost more than a cold solve (7,575
-#: blocks: 78,000-104,000 simplex iterations, 170-200 s, against 45 s for
-#: interior point + crossover; 1,230 blocks: 514-1,423, 2-6 x faster than
-#: cold). Scheme (a) solves an iterate cold while the last warm run took more
-#: than this many simplex iterations per equilibrium row of the wall ...
-COLD_SWITCH_PIVOTS = 2.0
-#: ... and goes back to warm after this many cold iterates in a row, a number
-#: doubled each time the warm run after a cold streak is slow again (or stopped
-#: at its limit below).
-COLD_STREAK = 3
-#: A warm run that takes more than this many simplex iterations per
-#: equilibrium row is stuck (seen: 13 s to declare a 150-block LP
-#: infeasible): it is stopped and recovered ...
-WARM_LIMIT_PIVOTS = 10.0
-#: ... with at least this many iterations on small walls.
-MIN_WARM_LIMIT = 20_000
 #: The exact stop's ``max(|s| - mu n, 0) / max n`` accepted as "Coulomb holds".
 COULOMB_TOL = 1e-6
 #: Relative warm/cold difference of the final iterate beyond which the run is
@@ -105,32 +87,28 @@ class LPSequence:
                  iterate0: tuple[Outcome, str, FloatArray | None] | None = None) -> None:
         self.lp, self.d, self.recipe, self.start = lp, direction, recipe, start
         self.iterate0 = iterate0
-        self.certificate = Certificate(lp, direction, recipe.tuning.scheme)
+        self.certificate = Certificate(lp, direction, recipe.scheme)
         self.history: list[IterationRecord] = []
         self.fallbacks = 0
         self.c0 = 0.0
         self.mechanism_band: Band | None = None
-        # the loop's state
+        # the loop's state: the iterates' lambda and steps, the last good state, the work spent
         self.lams: list[float] = []
         self.dns: list[float] = []
         self.final: tuple[FloatArray, FloatArray, FloatArray, float] | None = None  # (v, n, s, lambda)
-        # the warm/cold policy, in simplex iterations (module docstring)
-        self.cold_switch = COLD_SWITCH_PIVOTS * lp.n_eq
-        self.warm_limit = max(MIN_WARM_LIMIT, math.ceil(WARM_LIMIT_PIVOTS * lp.n_eq))
-        self.warm_pivots, self.cold_streak, self.pivots = 0, 0, 0
-        self.streak_length = COLD_STREAK
+        self.pivots = 0
         self.last_try = -(10**9)
         self.model: IterationModel | None = None
-        # how an iterate goes on (vertex, proximal, continuation)
+        # how an iterate goes on (vertex, proximal, continuation), and whether it is solved warm or cold
         self.rule = selection_for(recipe, lp, direction)
-        self.warm_limit = self.rule.warm_limit(self.warm_limit)
+        self.policy = WarmColdPolicy(lp.n_eq, self.rule)
         fused = lp.n_eq != 3 * lp.wall.n_blocks  # the LP of a fused wall (fewer bodies than blocks)
         self.stage = ("fused " if fused else "") + self.rule.name
 
     # ------------------------------------------------------------ iterate 0
     def _start(self) -> tuple[Outcome, str, FloatArray | None]:
-        """The associative LP (iterate 0): ``"interior"`` by Clarabel (tight
-        tolerances; 0.4 s on 1,230 blocks against 1.7 s for HiGHS IPM),
+        """The associative LP (iterate 0): ``"interior"`` by the interior-point role (Clarabel, tight
+        tolerances; faster than HiGHS IPM: ``docs/research/2026-11-28-house.md``),
         HiGHS IPM if Clarabel fails; ``"vertex"`` by HiGHS IPM + crossover +
         dual simplex (a basic optimal solution).
 
@@ -139,8 +117,8 @@ class LPSequence:
             layout ``[n, s, d * lambda]`` (``None`` unless optimal).
         """
         lp, P = self.lp, self.lp.n_points
-        if self.recipe.tuning.start == "interior":
-            out = ClarabelStaticBackend(lp, time_limit=self.recipe.options.time_limit).solve(self.d)
+        if self.recipe.start == "interior":
+            out = InteriorLP(lp, time_limit=self.recipe.time_limit).solve(self.d)
             if out.ok and out.n is not None and out.s is not None:
                 return out, "clarabel", np.concatenate([out.n, out.s, [out.load_factor * self.d]])
             out, algo = self._associative_model().run(), "ipm"
@@ -151,9 +129,9 @@ class LPSequence:
         n, s = lp.forces(out.x[: 2 * P])
         return out, algo, np.concatenate([n, s, [out.x[lp.lam_col]]])
 
-    def _associative_model(self) -> PersistentHighsModel:
+    def _associative_model(self) -> PersistentLP:
         """The associative LP of this direction in generator form, for HiGHS' interior point."""
-        m = PersistentHighsModel.of(self.lp, +1, algorithm="ipm")
+        m = PersistentLP.of(self.lp, +1, algorithm="ipm")
         m.set_cost(self.lp.lam_col, -float(self.d))
         return m
 
@@ -186,7 +164,7 @@ class LPSequence:
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
         if failed is not None and failed.status is Status.TIME_LIMIT:
             return self._fail("time_limit", f"LP {len(self.history) - 1} hit the time limit of "
-                              f"{self.recipe.options.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
+                              f"{self.recipe.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
         if failed is not None or self.final is None:
             status = failed.native_status if failed is not None else ""
             return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold ({status})",
@@ -223,38 +201,31 @@ class LPSequence:
             n_prev2, n_prev, lam_prev = n_prev, n, lam
             if stop is not None:
                 return stop
-            if r.tuning.max_simplex_iterations is not None and self.pivots >= r.tuning.max_simplex_iterations:
+            if r.max_simplex_iterations is not None and self.pivots >= r.max_simplex_iterations:
                 return "work_budget", window_band(self.lams), None
-            if r.options.max_seconds is not None and time.perf_counter() - t_start > r.options.max_seconds:
+            if r.max_seconds is not None and time.perf_counter() - t_start > r.max_seconds:
                 return "time_budget", window_band(self.lams), None
         return "max_iterations", window_band(self.lams), None
 
-    # ------------------------------------------------- warm / cold policy
+    # ------------------------------------------------- solving an iterate
     def _solve(self, model: IterationModel, k: int, n_prev: FloatArray, alpha: float) -> tuple[Outcome, str]:
-        """Solve iterate ``k``: the first LP, and later ones in cold mode, by
-        interior point + crossover + dual-simplex clean-up; the others by a
-        warm dual simplex (limited to :attr:`warm_limit` simplex iterations).
-        Scheme (a) is in cold mode while the last warm run took more than
-        :attr:`cold_switch` simplex iterations, for at most
-        :attr:`streak_length` cold iterates in a row (:data:`COLD_STREAK`,
-        doubled each time the warm run after a cold streak is slow again,
-        or stopped at :attr:`warm_limit`: Set 10, 3,630 blocks, warm runs of
-        102,000 and over 108,000 simplex iterations, 260-360 s, against cold
-        ones of 40-65 s). A run stopped by the user's ``time_limit`` is returned as it is (the
-        sequence ends)."""
-        user = self.recipe.options.time_limit
-        cold = k == 1 or (self.rule.may_go_cold and self.warm_pivots > self.cold_switch
-                          and self.cold_streak < self.streak_length)
-        if cold:
+        """Solve iterate ``k``, warm or cold as :attr:`policy` says
+        (:class:`~micro.nonassociative.warm_cold.WarmColdPolicy`): cold by
+        interior point + crossover + dual-simplex clean-up, warm by a dual
+        simplex from the last basis, limited to the policy's ``warm_limit``
+        simplex iterations. A run stopped by the user's ``time_limit`` is
+        returned as it is (the sequence ends); another failure is recovered."""
+        user = self.recipe.time_limit
+        if self.policy.cold(k):
             model.model.limit_next_run(user)
             out, algo = restart(model.model), COLD
             model.model.limit_next_run(user)  # re-armed for a recovery run after it
         else:
-            out, algo = model.warm(user, self.warm_limit), "simplex-warm"
+            out, algo = model.warm(user, self.policy.warm_limit), WARM
         if out.ok or out.status is Status.TIME_LIMIT:
             return out, algo
-        if algo == "simplex-warm" and out.status is Status.ITERATION_LIMIT:
-            self._slow_warm(int(out.simplex_iterations))  # a warm run stopped at its limit was slow
+        if algo == WARM and out.status is Status.ITERATION_LIMIT:
+            self.policy.slow_warm(int(out.simplex_iterations))  # a warm run stopped at its limit was slow
         return self._recover(model, k, out, n_prev, alpha)
 
     def _recover(self, model: IterationModel, k: int, failed: Outcome, n_prev: FloatArray,
@@ -268,12 +239,12 @@ class LPSequence:
         last forces alone (no relaxation). What still fails is restarted cold
         (HiGHS "Unknown" on near-degenerate rows)."""
         out, algo = failed, ""
-        if k > 1 and self.recipe.tuning.scheme == "b":
-            out, algo = model.fallback_a_step(n_prev, self.recipe.options.time_limit, self.warm_limit), "fallback-a"
+        if k > 1 and self.recipe.scheme == "b":
+            out, algo = model.fallback_a_step(n_prev, self.recipe.time_limit, self.policy.warm_limit), "fallback-a"
             self.fallbacks += 1
         elif k > 1 and failed.status is Status.INFEASIBLE and self.recipe.beta < 1.0:
             model.set_capacity(n_prev, alpha, alpha, self.c0)
-            out, algo = model.warm(self.recipe.options.time_limit, self.warm_limit), "simplex-warm-unrelaxed"
+            out, algo = model.warm(self.recipe.time_limit, self.policy.warm_limit), "simplex-warm-unrelaxed"
         if not out.ok:
             out, algo = restart(model.model), "ipm-restart"
         # the failed run's work counts (the work budget, the history)
@@ -283,20 +254,10 @@ class LPSequence:
             ipm_iterations=out.ipm_iterations + failed.ipm_iterations), algo
 
     def _account(self, model: IterationModel, k: int, out: Outcome, algo: str) -> None:
-        """Book a good iterate's work for the warm/cold policy and the work budget."""
+        """Book a good iterate's work for the work budget and the warm/cold policy."""
         self.pivots += int(out.simplex_iterations)
-        if algo == "simplex-warm":
-            self._slow_warm(int(out.simplex_iterations))
-        elif algo == COLD:
-            self.cold_streak += k > 1
+        self.policy.account(k, int(out.simplex_iterations), warm=algo == WARM, cold=algo == COLD)
         model.keep_basis()
-
-    def _slow_warm(self, pivots: int) -> None:
-        """Book a warm run of ``pivots`` simplex iterations: a slow one right
-        after a cold streak doubles the next streak."""
-        if pivots > self.cold_switch and self.cold_streak >= self.streak_length:
-            self.streak_length *= 2
-        self.warm_pivots, self.cold_streak = pivots, 0
 
     # ------------------------------------------------------ one iterate
     def _step(self, k: int, lam: float, lam_prev: float, n: FloatArray, n_prev: FloatArray, s: FloatArray,
@@ -323,7 +284,7 @@ class LPSequence:
         if exact is not None:
             return exact, None, None
         due = self.rule.certificate_due(self.lams, k, self.last_try)
-        certify = self.recipe.tuning.certify and alpha_done and algo != "fallback-a" and due
+        certify = self.recipe.certify and alpha_done and algo != "fallback-a" and due
         if certify and self._try_certificate(k, v, lam):
             return "certified", None, None
         stop = self.rule.no_progress(self.lams, self.dns, alpha_done)
@@ -389,7 +350,7 @@ class LPSequence:
         if status == CONVERGED and state.equilibrium > EQUILIBRIUM_RESIDUAL:
             status, stop = SOLVER_FAILURE, "equilibrium_residual"
             msg = f"equilibrium residual {state.equilibrium:.2e} block weights at the final iterate"
-        if status == CONVERGED and r.tuning.mechanism_band and self.mechanism_band is None and r.tuning.scheme == "a":
+        if status == CONVERGED and r.mechanism_band and self.mechanism_band is None and r.scheme == "a":
             self.mechanism_band = self.certificate.certify(v, lam, time_limit=r.user_limit).band
         msg = msg or self._message(status, stop, band)
         if cold_note:
@@ -417,8 +378,8 @@ class LPSequence:
         if status in (MAX_ITERATIONS, TIME_LIMIT):
             r, lps = self.recipe, len(self.history) - 1
             msg = {"max_iterations": f"no convergence in {r.max_iterations} iterations",
-                   "work_budget": f"work budget of {r.tuning.max_simplex_iterations} simplex iterations spent after "
+                   "work_budget": f"work budget of {r.max_simplex_iterations} simplex iterations spent after "
                                   f"{lps} LPs",
-                   }.get(stop, f"time budget of {r.options.max_seconds} s spent after {lps} LPs")
+                   }.get(stop, f"time budget of {r.max_seconds} s spent after {lps} LPs")
             return msg + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else "")
         return stop if status != CONVERGED else ""

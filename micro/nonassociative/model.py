@@ -16,7 +16,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.highs import BASIC, LOWER, PersistentHighsModel
+from micro.backends.roles import BASIC, LOWER, PersistentLP
 from micro.lp import LimitLP
 
 FloatArray = NDArray[np.float64]
@@ -46,7 +46,7 @@ class IterationModel:
         cost[self.lam_col] = -float(direction)
         lower = np.concatenate([np.zeros(2 * P), [-np.inf]])
         upper = np.concatenate([np.full(P, np.inf), np.zeros(P), [np.inf]])
-        self.model = PersistentHighsModel(A, cost, lower, upper, lp.rhs.copy(), lp.rhs.copy(), algorithm="ipm")
+        self.model = PersistentLP(A, cost, lower, upper, lp.rhs.copy(), lp.rhs.copy(), algorithm="ipm")
         self.model.guard_stalls()  # a stalled warm run fails (and is recovered) instead of hanging
         self.in_fallback = False
         self.good_basis: Any = None
@@ -120,7 +120,7 @@ class IterationModel:
         """The current basis carried over to the generator LP of the same wall
         (columns ``[g+, g-, lambda]``, ``n = g+ + g-``, ``s = mu (g+ - g-)``,
         :mod:`micro.lp`): the start of a descent LP
-        (:class:`~micro.nonassociative.states.ForceLP`) without a cold solve.
+        (:class:`~micro.nonassociative.descent.states.ForceLP`) without a cold solve.
 
         Each point keeps its number of basic columns: ``n`` and ``s`` basic
         (a sticking point) make both generators basic; one of them basic
@@ -164,7 +164,7 @@ class IterationModel:
         return out
 
 
-def restart(model: PersistentHighsModel) -> Outcome:
+def restart(model: PersistentLP) -> Outcome:
     """Solve ``model`` from scratch: interior point + crossover (a basis in
     seconds where a cold dual simplex takes minutes on a 1,230-block wall),
     then a dual-simplex clean-up from the crossover basis (crossover alone

@@ -1,81 +1,41 @@
 """One load direction: which sequences run, on the wall or on its fused bodies, and their joint result.
 
 :func:`solve_chain` is what :func:`micro.solve_nonassociative` runs on a
-direction: the fused wall (``fuse``), or the wall's own sequences
-(:func:`solve_direction`: the vertex sequence, and the proximal one where it
-fails) and, where those fail too, the fused wall with the continuation
-(``fused_retry``). One sequence is
-:class:`~micro.nonassociative.iteration.LPSequence` with its
-:mod:`~micro.nonassociative.selections` object.
+direction: the fused wall (``fuse``), or the fallback chain :data:`STAGES`, a
+list of :class:`Stage` run in order, each where the ones before it failed:
+the vertex sequence, the proximal one (``"vertex+proximal"``), the fused wall
+with the continuation (``fused_retry``). A new stage is one entry of that
+list. One sequence is :class:`~micro.nonassociative.iteration.LPSequence`
+with its :mod:`~micro.nonassociative.selections` object.
 
-THE FUSED WALL. On a large wall most contacts of the collapse mechanism
-neither open nor slip (Set 10, 3,630 blocks: 8,335 of 10,710 contacts move
-at less than 1e-5 of the largest rate in the associative mechanism), yet
-every LP carries all their forces and the warm dual simplex wanders through
-their statically indeterminate fields. :func:`rigid_bodies` joins the blocks
-linked by such RIGID contacts into bodies (those linked to the ground into
-the ground; a block with a moving contact stays a body of its own), and
-:func:`fuse` writes the LP of the bodies: a body's three equilibrium rows
-are the sums of its blocks' rows, moments taken about the mean of its
-blocks' centroids (a sparse AGGREGATION matrix ``R``, 3 rows per body and 3
-columns per block); the rows of the blocks at rest and the points inside a
-body or the ground drop out. The result is again a
-:class:`~micro.lp.LimitLP`, so the iterated LP runs on it unchanged; its
-duals are the bodies' velocities, and ``R^T`` spreads them to the blocks.
-
-A state of the bodies is not yet a state of the wall: inside every body the
-forces must still carry the blocks' loads with ``|s| <= mu n``. The
-certificate of the whole wall decides (:func:`on_the_wall`), with the bodies'
-mechanism spread to the blocks; any field it finds is an exact collapse
-state of the WALL, and nothing less is accepted. The fusion restricts the
-mechanisms the sequence can reach: the state is one of the wall's collapse
-states, not necessarily the one the unfused sequence would reach
-(``docs/micro/nonassociative.md``).
+The fused wall itself (its bodies, its LP, its state made the wall's) is
+:mod:`micro.nonassociative.fusion`'s; :func:`solve_fused` composes it with the
+sequences' stages.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import NDArray
-from scipy.sparse.csgraph import connected_components
 
-from micro.backends.base import Outcome
-from micro.backends.clarabel import ClarabelStaticBackend
-from micro.lp import LimitLP, generator_form
-from micro.mechanism import mechanism_from_duals
-from micro.nonassociative import checks
-from micro.nonassociative.certificate import Certificate
+from micro.lp import LimitLP
+from micro.nonassociative.config import Recipe
+from micro.nonassociative.fusion import fused_wall, on_the_wall
 from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.model import IterationModel
-from micro.nonassociative.recipe import Recipe
-from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
-from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL
 from micro.results import DirectionResult
 
 FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 #: ``"vertex+proximal"`` runs the proximal sequence on a direction whose vertex
 #: sequence ended with one of these statuses.
 RETRY_STATUSES = ("cycling", "max_iterations")
-
-#: A contact is rigid, and the blocks it joins are fused into one body, when
-#: its opening and slip rates in the
-#: associative mechanism (Clarabel's interior point) are below this fraction
-#: of the largest rate. That mechanism has no clean zero: on Set 10 (10,710
-#: contacts) 27 contacts are rigid at 1e-8, 2,598 at 1e-7, 7,189 at 1e-6,
-#: 8,335 at 1e-5 and 9,148 at 1e-4. At 1e-4 the fused Set 9 converged at the
-#: very end of its mechanism band, where the certificate of the whole wall
-#: missed it by 4e-7; at 1e-5 both Sets 2 and 9 are certified on the wall.
-FUSE_RIGID_TOL = 1e-5
-
 
 #: A direction's result with the model of the sequence that gave it, after
 #: its last LP (``None`` where that model is not on the wall's own LP: the
@@ -83,38 +43,116 @@ FUSE_RIGID_TOL = 1e-5
 Solved = tuple[DirectionResult, IterationModel | None]
 
 
-def solve_direction(lp: LimitLP, direction: int, recipe: Recipe,
-                    start: FloatArray | None = None) -> Solved:
-    """The iterated LP on one load direction with ``recipe.selection``.
+@dataclass(frozen=True, eq=False)
+class Attempt:
+    """What the stages of a direction have given so far.
 
-    ``"vertex+proximal"`` runs the vertex sequence, and where it ends with a
-    status of :data:`RETRY_STATUSES` the proximal sequence (at most
-    ``tuning.retry_iterations`` LPs), its
-    ``nbar`` started from the vertex sequence's last normal forces rather
-    than the associative LP's. The second result is
-    returned with the vertex sequence in ``sequence.vertex_attempt``, and
-    the LPs and seconds of both. ``start``: normal forces to start the
-    (first) sequence's ``nbar`` from (:class:`LPSequence`).
-
-    Returns:
-        The result and the model of the sequence that gave it (:data:`Solved`).
+    Attributes:
+        result: the joined result (the LPs and seconds of every stage that ran).
+        model: the model of the sequence that gave it (:data:`Solved`).
+        sequence: the last sequence run on the wall's own LP (its associative
+            LP is reused by the next sequence there), or ``None``.
     """
-    if not recipe.selection.startswith("vertex+"):
-        only = LPSequence(lp, direction, recipe, start=start)
-        return only.run(), only.model
-    vertex = LPSequence(lp, direction, dataclasses.replace(recipe, selection="vertex"), start=start)
-    first = vertex.run()
-    if first.status not in RETRY_STATUSES:
-        return first, vertex.model
+
+    result: DirectionResult
+    model: IterationModel | None
+    sequence: LPSequence | None = None
+
+
+@dataclass(frozen=True)
+class Stage:
+    """One stage of the fallback chain of a direction (:data:`STAGES`).
+
+    Attributes:
+        name: what it is.
+        applies: whether the recipe has this stage at all.
+        run: ``(lp, direction, recipe, the attempt so far or None, start) -> the new attempt``; a
+            stage after the first runs only where the attempt so far ended with one of
+            :data:`RETRY_STATUSES`, and joins its result to it.
+    """
+
+    name: str
+    applies: Callable[[Recipe], bool]
+    run: Callable[[LimitLP, int, Recipe, Attempt | None, FloatArray | None], Attempt]
+
+
+def _first_sequence(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt | None,
+                    start: FloatArray | None) -> Attempt:
+    """The first sequence: the recipe's selection (the vertex one of ``"vertex+proximal"``), its
+    ``nbar`` started from ``start`` (:class:`LPSequence`)."""
+    selection = "vertex" if recipe.selection.startswith("vertex+") else recipe.selection
+    seq = LPSequence(lp, direction, dataclasses.replace(recipe, selection=selection), start=start)
+    return Attempt(seq.run(), seq.model, seq)
+
+
+def _proximal_retry(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt | None,
+                    start: FloatArray | None) -> Attempt:
+    """The proximal sequence (at most ``retry_iterations`` LPs), its ``nbar`` started from the vertex
+    sequence's last normal forces rather than the associative LP's; its result is the direction's,
+    with the vertex sequence in ``sequence.vertex_attempt`` and the LPs and seconds of both."""
+    assert before is not None and before.sequence is not None
+    first = before.result
     start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
-    retry = dataclasses.replace(recipe, selection="proximal", max_iterations=recipe.tuning.retry_iterations,
+    retry = dataclasses.replace(recipe, selection="proximal", max_iterations=recipe.retry_iterations,
                                 continuation=False)
-    again = LPSequence(lp, direction, retry, start=start, iterate0=vertex.iterate0)
+    again = LPSequence(lp, direction, retry, start=start, iterate0=before.sequence.iterate0)
     second = again.run()
     assert second.sequence is not None
     message = second.message if second.converged else f"proximal: {second.message}; vertex: {first.message}"
-    return joined(first, second, second, message=message,
-                  sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence)), again.model
+    return Attempt(joined(first, second, second, message=message,
+                          sequence=dataclasses.replace(second.sequence, vertex_attempt=first.sequence)),
+                   again.model, again)
+
+
+def _fused_continuation(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt | None,
+                        start: FloatArray | None) -> Attempt:
+    """The fused wall with the continuation, where the wall's own sequences failed. A certified run is
+    the direction's result, with the wall's sequences in ``sequence.unfused_attempt``; a failed one
+    leaves the wall's result, its message extended. Either way the LPs and seconds of all runs count.
+    Why it is in the chain (walls on which the vertex and the proximal sequences both end at their caps,
+    certified by it): ``docs/research/2026-11-24-fused-retry.md``."""
+    assert before is not None
+    first = before.result
+    third, _ = solve_fused(lp, direction, dataclasses.replace(recipe, fuse=True, continuation=True))
+    assert first.sequence is not None and third.sequence is not None
+    if not third.converged:
+        return Attempt(joined(first, third, first,
+                              message=f"{first.message}; the fused wall with the continuation: {third.message}"),
+                       before.model)
+    return Attempt(joined(first, third, third,
+                          sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence)), None)
+
+
+def _retries(recipe: Recipe) -> bool:
+    """``"vertex+proximal"``: the vertex sequence is followed where it fails."""
+    return recipe.selection.startswith("vertex+")
+
+
+#: The fallback chain of a direction, in order: each stage runs where the ones before it ended with
+#: one of :data:`RETRY_STATUSES` (and where the recipe has it). A new stage is one entry here.
+STAGES: tuple[Stage, ...] = (
+    Stage("vertex sequence (or the recipe's one selection)", lambda r: True, _first_sequence),
+    Stage("proximal retry", _retries, _proximal_retry),
+    Stage("fused wall with the continuation",
+          lambda r: _retries(r) and r.fused_retry and not r.continuation and r.scheme == "a", _fused_continuation),
+)
+
+
+def run_stages(lp: LimitLP, direction: int, recipe: Recipe, stages: tuple[Stage, ...] = STAGES,
+               start: FloatArray | None = None) -> Solved:
+    """The stages of ``stages`` that ``recipe`` has, each where the attempt so far ended with one of
+    :data:`RETRY_STATUSES`.
+
+    Returns:
+        The direction's result and the model of the sequence that gave it (:data:`Solved`).
+    """
+    done: Attempt | None = None
+    for stage in stages:
+        if not stage.applies(recipe) or (done is not None and done.result.status not in RETRY_STATUSES):
+            continue
+        done = stage.run(lp, direction, recipe, done, start)
+    assert done is not None, "the first stage applies to every recipe"
+    return done.result, done.model
 
 
 def joined(first: DirectionResult, second: DirectionResult, result: DirectionResult,
@@ -127,242 +165,31 @@ def joined(first: DirectionResult, second: DirectionResult, result: DirectionRes
 
 def solve_fused(lp: LimitLP, direction: int, recipe: Recipe) -> Solved:
     """The iterated LP of one direction on the fused wall
-    (:func:`fused_wall`): the sequences run on
-    the bodies' LP, and :func:`on_the_wall` makes
+    (:func:`~micro.nonassociative.fusion.fused_wall`): the wall's sequences (the stages but the fused one)
+    run on the bodies' LP, and :func:`~micro.nonassociative.fusion.on_the_wall` makes
     their state the wall's, or rejects it. Where the associative LP fails, or
     nothing moves, the wall itself runs instead."""
     t0 = time.perf_counter()
     unfused = dataclasses.replace(recipe, fuse=False)
     made = fused_wall(lp, direction, recipe)
     if made is None:
-        return solve_direction(lp, direction, unfused)
+        return run_stages(lp, direction, unfused, SEQUENCES)
     fused, assoc = made
     t_fuse = time.perf_counter() - t0
     # the continuation starts from the wall's associative forces at the points kept
     start = np.maximum(np.asarray(assoc.n)[fused.points], 0.0) if recipe.continuation and assoc.n is not None else None
-    r, _ = solve_direction(fused.lp, direction, unfused, start=start)
+    r, _ = run_stages(fused.lp, direction, unfused, SEQUENCES, start)
     return on_the_wall(lp, direction, fused, assoc, r, recipe, t0, t_fuse), None  # its model is the bodies' LP
 
 
+#: The stages that run on the fused wall (the sequences: no second fusing).
+SEQUENCES = STAGES[:2]
+
+
 def solve_chain(lp: LimitLP, direction: int, recipe: Recipe) -> Solved:
-    """One load direction as ``recipe`` asks: the fused wall (``fuse``), or
-    the wall's own sequences (:func:`solve_direction`) and, where those of
-    ``"vertex+proximal"`` (scheme (a)) both end
-    ``cycling`` or ``max_iterations``, the fused wall with the continuation
-    (``fused_retry``).
-
-    It certified the two error-map walls (882 and 1,314 blocks) on which the
-    vertex and the proximal sequences end at their caps.
-
-    A certified third run is returned with the wall's sequences in
-    ``sequence.unfused_attempt``; a failed one leaves the wall's result,
-    its message extended. Either way the LPs and seconds of all runs count.
-    """
+    """One load direction as ``recipe`` asks: the fused wall (``fuse``: walls of more than
+    :data:`~micro.nonassociative.config.FUSE_BLOCKS` blocks), or the fallback chain
+    (:data:`STAGES`) on the wall."""
     if recipe.fuse:
         return solve_fused(lp, direction, recipe)
-    first, model = solve_direction(lp, direction, recipe)
-    if (not recipe.tuning.fused_retry or recipe.continuation or recipe.tuning.scheme != "a"
-            or not recipe.selection.startswith("vertex+") or first.status not in RETRY_STATUSES):
-        return first, model
-    third, _ = solve_fused(lp, direction, dataclasses.replace(recipe, fuse=True, continuation=True))
-    assert first.sequence is not None and third.sequence is not None
-    if not third.converged:
-        return joined(first, third, first,
-                      message=f"{first.message}; the fused wall with the continuation: {third.message}"), model
-    return joined(first, third, third,
-                  sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence)), None
-
-
-def rigid_bodies(lp: LimitLP, velocities: FloatArray, tol: float = FUSE_RIGID_TOL) -> tuple[IntArray, int]:
-    """The rigid bodies of a mechanism.
-
-    Args:
-        lp: the wall's LP.
-        velocities: block velocities (duals of the equilibrium rows, ``3 n_blocks``).
-        tol: a contact is rigid when the opening and slip rates at both its
-            points are below this fraction of the largest rate.
-
-    Returns:
-        ``(body, n_bodies)``: the body of every block, ``-1`` for the blocks
-        joined to the ground by rigid contacts (at rest). A block with a
-        contact that is not rigid is a body of its own, so that the sequence
-        can shift a crack of the associative mechanism by a block (fused up
-        to its moving contacts, Set 9 ended at the LP cap: 775 bodies, λ in
-        [0.3900, 0.3929] after 40 proximal LPs; as here, certified).
-    """
-    wall = lp.wall
-    nb = wall.n_blocks
-    dn, ds = lp.Bn.T @ velocities, lp.Bs.T @ velocities
-    rate = np.maximum(np.abs(dn), np.abs(ds)).reshape(-1, 2).max(axis=1)
-    rigid = rate <= tol * max(float(rate.max(initial=0.0)), 1e-300)
-    ground = nb  # node of the ground in the contact graph
-    a = np.where(wall.contact_a < 0, ground, wall.contact_a)
-    b = np.where(wall.contact_b < 0, ground, wall.contact_b)
-    # a block with a moving contact stays single: the cracks may shift by a block
-    single = np.zeros(nb + 1, dtype=bool)
-    single[a[~rigid]] = True
-    single[b[~rigid]] = True
-    single[ground] = False
-    join = rigid & ~single[a] & ~single[b]
-    graph = sp.coo_matrix((np.ones(int(join.sum())), (a[join], b[join])), shape=(nb + 1, nb + 1))
-    _, label = connected_components(graph, directed=False)
-    moving = label[:nb] != label[ground]
-    # number the moving bodies 0, 1, ... in the order of their first block
-    _, first, inverse = np.unique(label[:nb][moving], return_index=True, return_inverse=True)
-    order = np.argsort(np.argsort(first))
-    body = np.full(nb, -1, dtype=np.int64)
-    body[moving] = order[inverse]
-    return body, int(first.size)
-
-
-@dataclass(frozen=True, eq=False)
-class FusedLP:
-    """The LP of a wall's bodies (module docstring).
-
-    Attributes:
-        lp: the fused LP (a :class:`LimitLP`; its ``wall`` is the whole wall's).
-        aggregation: ``R``, ``(3 n_bodies, 3 n_blocks)``: the bodies' rows
-            from the blocks'; ``R^T`` spreads body velocities to the blocks.
-        points: the wall's index of every point of the fused LP.
-        body: the body of every block (``-1``: at rest).
-        n_bodies: moving bodies.
-    """
-
-    lp: LimitLP
-    aggregation: sp.csr_matrix
-    points: IntArray
-    body: IntArray
-    n_bodies: int
-
-    @property
-    def blocks_at_rest(self) -> int:
-        """Blocks fused into the ground."""
-        return int(np.sum(self.body < 0))
-
-    @property
-    def single_bodies(self) -> int:
-        """Bodies of one block."""
-        return int(np.sum(np.bincount(self.body[self.body >= 0], minlength=self.n_bodies) == 1))
-
-    def velocities(self, body_velocities: FloatArray) -> FloatArray:
-        """The blocks' velocities of a mechanism of the bodies (rigid motions)."""
-        return np.asarray(self.aggregation.T @ body_velocities)
-
-
-def fuse(lp: LimitLP, body: IntArray, n_bodies: int) -> FusedLP:
-    """The LP of the bodies ``body`` (:func:`rigid_bodies`; module docstring)."""
-    wall = lp.wall
-    nb = wall.n_blocks
-    xc, yc = wall.xc / lp.length_scale, wall.yc / lp.length_scale
-    blk = np.flatnonzero(body >= 0)
-    c = body[blk]
-    count = np.bincount(c, minlength=n_bodies)
-    ox = np.bincount(c, xc[blk], minlength=n_bodies) / np.maximum(count, 1)
-    oy = np.bincount(c, yc[blk], minlength=n_bodies) / np.maximum(count, 1)
-    ones = np.ones(blk.size)
-    rows = np.concatenate([3 * c, 3 * c + 1, 3 * c + 2, 3 * c + 2, 3 * c + 2])
-    cols = np.concatenate([3 * blk, 3 * blk + 1, 3 * blk + 2, 3 * blk + 1, 3 * blk])
-    vals = np.concatenate([ones, ones, ones, xc[blk] - ox[c], -(yc[blk] - oy[c])])
-    R = sp.csr_matrix((vals, (rows, cols)), shape=(3 * n_bodies, 3 * nb))
-    side_a = np.where(wall.contact_a < 0, -1, body[np.maximum(wall.contact_a, 0)])
-    side_b = np.where(wall.contact_b < 0, -1, body[np.maximum(wall.contact_b, 0)])
-    points = np.flatnonzero(np.repeat(side_a != side_b, 2)).astype(np.int64)
-    Bn = sp.csc_matrix(R @ lp.Bn)[:, points]
-    Bs = sp.csc_matrix(R @ lp.Bs)[:, points]
-    Bn.sort_indices()
-    Bs.sort_indices()
-    mu = lp.mu[points]
-    live, dead = R @ lp.live, R @ lp.dead
-    A, lower, upper = generator_form(Bn, Bs, mu, live)
-    fused = dataclasses.replace(
-        lp, A=A, Bn=Bn, Bs=Bs, rhs=-dead, col_lower=lower, col_upper=upper, n_eq=3 * n_bodies,
-        n_points=points.size, mu=mu, dead=dead, live=live,
-    )
-    return FusedLP(fused, R, points, body, n_bodies)
-
-
-def fused_wall(lp: LimitLP, direction: int, recipe: Recipe) -> tuple[FusedLP, Outcome] | None:
-    """The fused wall of one direction: the associative LP of the whole wall
-    (Clarabel) gives the mechanism whose rigid bodies are fused.
-
-    Returns:
-        ``(the fused LP, the associative outcome)``, or ``None`` where the
-        associative LP fails or nothing moves (the wall itself must run).
-    """
-    assoc = ClarabelStaticBackend(lp, time_limit=recipe.options.time_limit).solve(direction)
-    if not assoc.ok or assoc.duals is None:
-        return None
-    body, n_bodies = rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]))
-    if n_bodies == 0:
-        return None
-    return fuse(lp, body, n_bodies), assoc
-
-
-def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: DirectionResult,
-                recipe: Recipe, t0: float, t_fuse: float) -> DirectionResult:
-    """The fused wall's result ``r`` as the wall's (module docstring): a
-    converged state is accepted only when the certificate of the whole wall
-    finds a field for the bodies' mechanism at its ``lambda``; the result has
-    forces at all the wall's points and the mechanism of all its blocks.
-
-    Args:
-        lp: the wall's LP.
-        direction: ``+1`` or ``-1``.
-        fused: the fused wall (:func:`fused_wall`).
-        assoc: the wall's associative outcome whose mechanism was fused.
-        r: the sequences' result on ``fused.lp``.
-        recipe: the recipe.
-        t0: when the fusing started (``time.perf_counter()``).
-        t_fuse: the seconds of the associative LP and the fusion.
-    """
-    n_bodies = fused.n_bodies
-    assert r.sequence is not None
-    seq = r.sequence
-    lam = seq.last_load_factor
-    seq = dataclasses.replace(seq, associative_load_factor=float(assoc.load_factor))
-    fusion = FusionDiagnostics(
-        bodies=n_bodies, single_bodies=fused.single_bodies, blocks_at_rest=fused.blocks_at_rest,
-        points=fused.lp.n_points, wall_points=lp.n_points, rigid_tol=FUSE_RIGID_TOL,
-        seconds=t_fuse, wall_certificate="",
-    )
-    mechanism = None
-    if r.mechanism is not None:
-        v = fused.velocities(r.mechanism.velocities.ravel())
-        mechanism = mechanism_from_duals(lp, v, direction)
-    if not r.converged or mechanism is None:
-        return dataclasses.replace(
-            r, normal=None, shear=None, mechanism=mechanism, seconds=time.perf_counter() - t0,
-            message=f"on the fused wall ({n_bodies} bodies): {r.message}",
-            sequence=dataclasses.replace(seq, fusion=fusion))
-    v = mechanism.velocities.ravel()
-    cert = Certificate(lp, direction, recipe.tuning.scheme).certify(v, lam, time_limit=recipe.user_limit)
-    t_cert = cert.seconds
-    if cert.forces is None:
-        if cert.band is None:
-            band = "no state"
-        elif math.isfinite(cert.band[1]):
-            band = f"states only for lambda in [{cert.band[0]:.9g}, {cert.band[1]:.9g}]"
-        else:
-            band = f"states only from lambda = {cert.band[0]:.9g}"
-        fusion = dataclasses.replace(fusion, wall_certificate="rejected", certificate_seconds=t_cert)
-        return dataclasses.replace(
-            r, status=SOLVER_FAILURE, load_factor=math.nan, normal=None, shear=None, mechanism=mechanism,
-            seconds=time.perf_counter() - t0,
-            message=(f"the fused wall's state at lambda = {lam:.9g} is not a state of the wall: the certificate "
-                     f"of the whole wall finds {band} with its mechanism"),
-            sequence=dataclasses.replace(seq, stop_reason="fused_state_rejected", lambda_band=None,
-                                         fusion=fusion))
-    n, s = cert.forces
-    state = checks.final_state(lp, direction, v, n, s, lam)
-    fusion = dataclasses.replace(fusion, wall_certificate="certified", certificate_seconds=t_cert)
-    seq = dataclasses.replace(
-        seq, mechanism_band=cert.band, coulomb_residual=state.coulomb, dilatancy_residual=state.dilatancy,
-        equilibrium_residual=state.equilibrium, sliding_points=state.sliding_points, fusion=fusion)
-    status, message = CONVERGED, ""
-    if state.equilibrium > EQUILIBRIUM_RESIDUAL:
-        status, message = SOLVER_FAILURE, f"equilibrium residual {state.equilibrium:.2e} block weights on the wall"
-        seq = dataclasses.replace(seq, stop_reason="equilibrium_residual", mechanism_band=None)
-    fs = lp.force_scale
-    return dataclasses.replace(
-        r, status=status, load_factor=lam if status == CONVERGED else math.nan, normal=n * fs, shear=s * fs,
-        mechanism=state.mechanism, seconds=time.perf_counter() - t0, message=message, sequence=seq)
+    return run_stages(lp, direction, recipe)

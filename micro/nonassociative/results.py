@@ -1,5 +1,6 @@
-"""Result types of the iterated LP: one LP's record, a direction's diagnostics, the descent's lowest
-state, the analysis (types only: this module imports no module that computes them)."""
+"""Result types of the iterated LP: one LP's record, a direction's diagnostics, the analysis (types
+only: this module imports no module that computes them). The descent's own type, the lowest state of
+a direction, is :mod:`micro.nonassociative.descent.results`'s."""
 
 from __future__ import annotations
 
@@ -7,8 +8,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from micro.nonassociative.global_search.results import GlobalResult, global_fields, global_summary
-from micro.nonassociative.recipe import Recipe
+from micro.nonassociative.config import Recipe
+from micro.nonassociative.descent.results import LowestDirection, lowest_fields, lowest_summary
 from micro.records import NonAssociativeRecord, check_success, json_number
 from micro.results import DirectionResult, record_fields
 
@@ -184,63 +185,13 @@ def diagnostics(d: DirectionResult) -> SequenceDiagnostics:
     Raises:
         ValueError: ``d`` is not a result of the iterated LP.
     """
-    if d.sequence is None:
+    if not isinstance(d.sequence, SequenceDiagnostics):
         raise ValueError(f"direction {d.direction} is not a result of the iterated LP")
     return d.sequence
 
 
-#: Values of :attr:`LowestDirection.status`.
-FOUND, FAILED = "found", "failed"
-#: Values of :attr:`LowestDirection.stop`.
-FINISHED, BUDGET = "finished", "budget"
 #: Values of :attr:`NonAssociativeResult.quoted`: which load factor to quote.
 QUOTED_LOWEST, QUOTED_ITERATED = "lowest certified", "iterated"
-
-
-@dataclass(frozen=True, eq=False)
-class LowestDirection:
-    """The lowest certified state of one load direction.
-
-    Attributes:
-        direction: ``"+x"`` or ``"-x"``.
-        status: ``"found"`` (an exact state, checked) or ``"failed"``.
-        load_factor: its ``lambda`` (NaN when failed).
-        band: ``(lambda, greatest lambda)`` of the collapse states with its
-            mechanism (``None`` when failed).
-        path: ``lambda`` of the iterated LP's state, of its band's lower end
-            after the polish (when lower) and after every accepted move.
-        moves: the accepted proposals (their origin).
-        lps: LPs solved by the descent.
-        budget: the most LPs it could solve (module docstring).
-        stop: ``"finished"`` (it ended by its own rules) or ``"budget"`` (it
-            spent its budget: the lowest state found so far).
-        seconds: its wall time.
-        state: the state as a direction result (dimensional forces, mechanism,
-            contact states; ``None`` when failed).
-        residuals: its :func:`~micro.nonassociative.checks.verify_collapse_state`.
-        origin: how the state was found.
-        message: why it failed.
-    """
-
-    direction: str
-    status: str
-    load_factor: float
-    band: tuple[float, float] | None
-    path: tuple[float, ...]
-    moves: tuple[str, ...]
-    lps: int
-    budget: int
-    stop: str
-    seconds: float
-    state: DirectionResult | None = field(repr=False)
-    residuals: dict[str, float] = field(repr=False)
-    origin: str = ""
-    message: str = ""
-
-    @property
-    def found(self) -> bool:
-        """True when an exact state was found."""
-        return self.status == FOUND
 
 
 @dataclass(frozen=True, eq=False)
@@ -268,12 +219,10 @@ class NonAssociativeResult:
         mirror_symmetric: one direction solved.
         directions: per-direction results (each with its ``sequence``).
         recipe: what ran: the options and the tuning, resolved for the wall
-            (:class:`~micro.nonassociative.recipe.Recipe`).
+            (:class:`~micro.nonassociative.config.Recipe`).
         message: explanation when not converged.
         lowest: the lowest certified state of every converged direction
-            (``lowest``; :mod:`micro.nonassociative.lowest`).
-        global_search: the branch and bound for the global minimum
-            (``global_``; :mod:`micro.nonassociative.global_search`), or ``None``.
+            (``lowest``; :mod:`micro.nonassociative.descent.lowest`).
     """
 
     iterated_load_factor: float
@@ -294,7 +243,6 @@ class NonAssociativeResult:
     recipe: Recipe = field(repr=False)
     message: str = ""
     lowest: tuple[LowestDirection, ...] = field(default=(), repr=False)
-    global_search: GlobalResult | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         check_success("NonAssociativeResult", self.status, self.iterated_load_factor)
@@ -390,7 +338,7 @@ class NonAssociativeResult:
     def lowest_state(self) -> LowestDirection | None:
         """The lowest certified state over the directions (``None`` unless
         the run converged and every direction has one): the load factor a
-        safety assessment should quote (README, "Which load factor to quote")."""
+        safety assessment should quote (docs/micro/nonassociative.md, "Which value to quote")."""
         found = [low for low in self.lowest if low.found]
         if not self.converged or not found or len(found) < len(self.directions):
             return None
@@ -442,7 +390,7 @@ class NonAssociativeResult:
             selection=q.selection, vertex_stop_reason="" if q.vertex_attempt is None else q.vertex_attempt.stop_reason,
             quoted=self.quoted,
             vertex_lambda_band=None if q.vertex_attempt is None else q.vertex_attempt.lambda_band,
-            **lowest_fields(self.lowest_state, self.lowest), **global_fields(self.global_search),
+            **lowest_fields(self.lowest_state, self.lowest),
             fused_bodies=0 if q.fusion is None else q.fusion.bodies,
             fused_points=0 if q.fusion is None else q.fusion.points,
             unfused_stop_reason="" if q.unfused_attempt is None else q.unfused_attempt.stop_reason,
@@ -451,8 +399,8 @@ class NonAssociativeResult:
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary: the record (:meth:`to_record`) with the
         contact states, the descent, options, history and directions as
-        nested objects (and, after a global search, its direction, nodes and
-        seconds beside its record keys). The contact states of the mechanism
+        nested objects (a global search composed after the run adds its keys:
+        :func:`micro.global_search.global_summary`). The contact states of the mechanism
         are the record's ``*_contacts`` keys (0 without one). Each entry of
         ``directions`` gives ``load_factor`` of the kind the wall's is
         (:meth:`direction_load_factors`) and the iterated LP's value beside it."""
@@ -464,7 +412,6 @@ class NonAssociativeResult:
         return {
             **{k: record[k] for k in first}, **record,
             "lowest": [lowest_summary(low) for low in self.lowest],
-            **({} if self.global_search is None else global_summary(self.global_search)),
             "options": self.recipe.as_dict(),
             "history": [r.as_dict() for r in self.history],
             "directions": {
@@ -481,42 +428,3 @@ class NonAssociativeResult:
                 for d in self.directions
             },
         }
-
-
-def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirection, ...]) -> dict[str, Any]:
-    """The record fields of the descent (:class:`micro.NonAssociativeRecord`).
-
-    Args:
-        governing: the lowest state over the directions (``None`` without one).
-        lowest: the descent of every direction (empty when it did not run).
-
-    Returns:
-        The ``lowest_*`` fields (:class:`micro.records.NonAssociativeRecord`); LPs and seconds summed over
-        the directions, ``"failed"`` when some direction has no state, ``"budget"`` when one spent its budget.
-    """
-    status = "" if not lowest else FOUND if governing is not None else FAILED
-    stop = "" if not lowest else BUDGET if any(low.stop == BUDGET for low in lowest) else FINISHED
-    return {
-        "lowest_load_factor": governing.load_factor if governing is not None else math.nan,
-        "lowest_direction": governing.direction if governing is not None else "",
-        "lowest_band": governing.band if governing is not None else None,
-        "lowest_moves": len(governing.moves) if governing is not None else 0,
-        "lowest_lps": sum(low.lps for low in lowest),
-        "lowest_seconds": sum(low.seconds for low in lowest),
-        "lowest_status": status,
-        "lowest_stop": stop,
-    }
-
-
-def lowest_summary(low: LowestDirection) -> dict[str, Any]:
-    """One direction's descent as JSON-ready data (NaN -> ``None``; ``contact_states`` ``None`` without a state)."""
-    num = json_number
-    mech = low.state.mechanism if low.state is not None else None
-    return {
-        "direction": low.direction, "status": low.status, "load_factor": num(low.load_factor),
-        "band": None if low.band is None else [num(x) for x in low.band], "path": [num(x) for x in low.path],
-        "moves": list(low.moves), "origin": low.origin, "lps": low.lps, "budget": low.budget,
-        "stop": low.stop, "seconds": low.seconds,
-        "contact_states": mech.state_counts() if mech is not None else None,
-        "residuals": {k: num(v) for k, v in low.residuals.items()}, "message": low.message,
-    }

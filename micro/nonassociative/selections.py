@@ -15,7 +15,7 @@ selection the same few questions at every LP and holds no branch of its own:
 ``Proximal``      ``nbar`` moved by ``beta`` towards its projection onto the
                   fields that carry the LP's load (:mod:`~micro.nonassociative.proximal`);
 ``Continuation``  scheme (a) reached from associative friction: friction rows of
-                  slope ``gamma mu`` falling to 0 (``CONT_*`` in :mod:`~micro.nonassociative.tuning`).
+                  slope ``gamma mu`` falling to 0 (``CONT_*`` in :mod:`~micro.nonassociative.config`).
 
 When a sequence stops: the LPs are degenerate, and the simplex returns a
 vertex whose forces in the parts that do not move jump from one iterate to
@@ -38,9 +38,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.lp import LimitLP
+from micro.nonassociative.config import TINY, Recipe
 from micro.nonassociative.proximal import Projection
-from micro.nonassociative.recipe import Recipe
-from micro.nonassociative.tuning import TINY
 
 FloatArray = NDArray[np.float64]
 Band = tuple[float, float]
@@ -189,7 +188,7 @@ class Selection:
     name = "vertex"
 
     def __init__(self, recipe: Recipe, lp: LimitLP, direction: int) -> None:
-        self.scheme = recipe.tuning.scheme
+        self.scheme = recipe.scheme
         self.beta = recipe.beta
 
     # ------------------------------------------------------------- the model

@@ -48,7 +48,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.mechanism import CONTACT_STATE_TOL
-from micro.nonassociative.tuning import INTERPENETRATION
+from micro.nonassociative.config import INTERPENETRATION
 from micro.state.data import CollapseStateData
 from micro.state.file import read_state
 
@@ -62,7 +62,7 @@ FORCE_TOL = 1e-6
 #: Compatibility: the file's rates against those of its velocities, over ``R`` (rounding only).
 COMPATIBILITY_TOL = 1e-9
 #: Interpenetration: closing rate (associative: below the dilatancy) over ``R``: the certificate's and
-#: the descent's reading of the simplex duals' noise (``micro.nonassociative.tuning.INTERPENETRATION``),
+#: the descent's reading of the simplex duals' noise (``micro.nonassociative.config.INTERPENETRATION``),
 #: so that every state they certify passes. A closing point that carries force fails ``opening`` and
 #: ``power`` at their tolerances.
 INTERPENETRATION_TOL = INTERPENETRATION

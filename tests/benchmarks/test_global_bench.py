@@ -16,8 +16,8 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative.global_search import GlobalOptions, StartState, solve_global
-from micro.nonassociative.global_search.results import scip_available
+from micro.global_search import GlobalOptions, StartState, solve_global
+from micro.global_search.results import scip_available
 
 #: Nodes per search: enough to show that the bound does not move.
 NODES = 20
@@ -36,7 +36,7 @@ def test_bench_global(benchmark, name: str, tm: tuple[float, float], blocks: int
     assert w.n_blocks == blocks
     it = micro.solve_nonassociative(w)
     start = StartState.from_iterated(lp, it.directions[0])
-    opts = GlobalOptions(node_limit=NODES, time_limit=None, bounds="uniform")
+    opts = GlobalOptions(node_limit=NODES, direction_time_limit=None, bounds="uniform")
     r = benchmark.pedantic(solve_global, args=(lp, 1, opts, start), rounds=3, iterations=1)
     d = r.directions[0]
     benchmark.extra_info.update(blocks=blocks, binaries=d.binaries, nodes=d.nodes, load_factor=d.load_factor,
@@ -63,7 +63,7 @@ def test_bench_global_solvers(benchmark, solver: str) -> None:  # type: ignore[n
     it = micro.solve_nonassociative(w)
     assert it.lowest_state is not None and it.lowest_state.state is not None
     start = StartState.from_iterated(lp, it.lowest_state.state)
-    opts = GlobalOptions(node_limit=100_000, time_limit=None, bounds="uniform", solver=solver)  # type: ignore[arg-type]
+    opts = GlobalOptions(node_limit=100_000, direction_time_limit=None, bounds="uniform", solver=solver)  # type: ignore[arg-type]
     r = benchmark.pedantic(solve_global, args=(lp, 1, opts, start), rounds=1, iterations=1)
     d = r.directions[0]
     benchmark.extra_info.update(nodes=d.nodes, mip_seconds=d.mip_seconds, binaries=d.binaries)

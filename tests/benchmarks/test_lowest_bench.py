@@ -3,7 +3,7 @@
 Run with ``pytest -m benchmark --benchmark-enable tests/benchmarks/test_lowest_bench.py``.
 Per wall two benchmarks of group ``lowest-<set>``: the iterated LP alone
 (``lowest=False``) and the descent from its converged state
-(:func:`micro.nonassociative.lowest.lowest_state`, the iterated LP solved
+(:func:`micro.nonassociative.descent.lowest.lowest_state`, the iterated LP solved
 once outside the timed call), so that their ratio is the descent's cost in
 iterated-LP runs. Each asserts the load factor it times (pinned: no decision
 of the descent depends on time) and that the state is exact. The MIP's cost
@@ -16,7 +16,7 @@ import pytest
 
 import micro
 from comparison.wall import WallSpec
-from micro.nonassociative.lowest import EXACT_TOL, lowest_state
+from micro.nonassociative.descent.lowest import EXACT_TOL, lowest_state
 
 #: Table 7 set, (t, m), blocks, the iterated LP's load factor and the lowest certified one (+x, defaults).
 CASES = [

@@ -91,18 +91,16 @@ CASES: dict[str, tuple[Callable[[], Any], type[Exception], str]] = {
                            r"^time_limit must be a positive number of seconds, got 1000"),
     "max_seconds=10**400": (lambda: NonAssociativeOptions(max_seconds=HUGE), ValueError,
                             r"^max_seconds must be a positive number of seconds"),
-    "GlobalOptions(time_limit=10**400)": (lambda: micro.GlobalOptions(time_limit=HUGE), ValueError,
-                                          r"^time_limit must be a positive number"),
+    "GlobalOptions(direction_time_limit=10**400)": (lambda: micro.GlobalOptions(direction_time_limit=HUGE),
+                                                    ValueError, r"^direction_time_limit must be a positive number"),
     "lowest_budget=10**400": (lambda: NonAssociativeOptions(lowest_budget=HUGE), ValueError,
                               r"^lowest_budget must be an integer in 0\.\."),
     "max_iterations=10**400": (lambda: NonAssociativeOptions(max_iterations=HUGE), ValueError,
                                r"^max_iterations must be an integer in 2..2,147,483,647, got 1000"),
     "GlobalOptions(node_limit=10**400)": (lambda: micro.GlobalOptions(node_limit=HUGE), ValueError,
                                           r"^node_limit must be an integer in 1..2,147,483,647"),
-    "global_=1": (lambda: NonAssociativeOptions(global_=1), ValueError,  # type: ignore[arg-type]
-                  r"^global_ must be True, False or a GlobalOptions, got 1$"),
-    "global_='no'": (lambda: micro.solve_nonassociative(BLOCK_WALL, global_="no"), ValueError,  # type: ignore[arg-type]
-                     r"^global_ must be True, False or a GlobalOptions, got 'no'$"),
+    "solve_global(options=1)": (lambda: micro.solve_global(BLOCK_WALL, options=1), ValueError,  # type: ignore[arg-type]
+                                r"^options must be a GlobalOptions, got int$"),
     "Tuning(certify='no')": (lambda: Tuning(certify="no"), ValueError,  # type: ignore[arg-type]
                              r"^certify must be True or False, got 'no'$"),
     "Tuning(fuse=1)": (lambda: Tuning(fuse=1), ValueError,  # type: ignore[arg-type]
@@ -156,8 +154,7 @@ def test_good_values_of_every_kind_still_pass() -> None:
     assert macro.solve(MACRO_WALL, macro.SearchSettings()).status == "optimal"
     assert macro.sweep(np.array([1.0, 2.0]), 1 / 3, 12, 0.6, chunk=np.int64(1)).load_factor.shape == (2,)
     assert WallSpec.from_paper(t=np.float64(1.0), m=np.array(1 / 3), rows=np.int64(4), f=0.6).rows == 4
-    assert NonAssociativeOptions(global_=np.bool_(False), max_iterations=np.int64(10)).global_ is None
-    assert NonAssociativeOptions(global_=np.bool_(True)).global_ == micro.GlobalOptions()
+    assert NonAssociativeOptions(lowest=np.bool_(False), max_iterations=np.int64(10)).lowest is False
     assert Tuning(certify=np.bool_(True), fuse=None).certify is True
     r = micro.solve_associative(BLOCK_WALL, time_limit=10**6)
     assert r.ok

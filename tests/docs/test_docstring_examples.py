@@ -9,7 +9,7 @@ import pytest
 
 import micro
 from comparison.compare import compare, judge
-from micro.nonassociative import solve_global
+from micro.global_search import solve_global
 
 #: The documented entry points whose docstrings carry an Examples section.
 DOCUMENTED: list[Any] = [micro.build_wall, micro.solve_associative, micro.solve_nonassociative, solve_global,

@@ -12,6 +12,10 @@ HTML comment is marked:
 * ``<!-- skip-example: REASON -->``: not run (synopses with placeholders, installs, long runs);
 * ``<!-- expect-exit: N -->``: its commands must exit with ``N``.
 
+Every command that writes files names a folder of its own (``--out``), never the clone's committed
+``reports/``, skipped blocks included; and the committed tables copied into each example's folder are
+unchanged after it ran, so an example that wrote into ``reports/`` fails.
+
 A command written on several pages runs once (the first page, in the order README.md, docs/ sorted);
 its other blocks run only their other commands.
 
@@ -23,6 +27,7 @@ from __future__ import annotations
 
 import contextlib
 import faulthandler
+import hashlib
 import io
 import os
 import re
@@ -44,6 +49,8 @@ TIMEOUT = 120
 #: Fence languages that hold commands, and those that hold Python.
 SHELL = {"sh", "bash", "console", "shell"}
 PYTHON = {"python", "py"}
+#: The subcommands that write files, each given ``--out``.
+WRITERS = {"report", "stability", "sweep", "references"}
 MARK = re.compile(r"<!--\s*(skip-example|expect-exit)\s*:\s*(.*?)\s*-->")
 FENCE = re.compile(r"^```(\w*)\s*$")
 
@@ -164,6 +171,41 @@ def _folder(tmp_path: Path) -> Path:
     return tmp_path
 
 
+def _snapshot(folder: Path) -> dict[str, str]:
+    """Every file under ``folder/reports`` with the digest of its bytes."""
+    root = folder / "reports"
+    return {str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(root.rglob("*"))
+            if p.is_file()}  # fmt: skip
+
+
+def _split(argv: list[str]) -> list[list[str]]:
+    """The commands of a line chained with ``&&``."""
+    out: list[list[str]] = [[]]
+    for word in argv:
+        if word == "&&":
+            out.append([])
+        else:
+            out[-1].append(word)
+    return [c for c in out if c]
+
+
+def test_commands_that_write_name_their_own_folder() -> None:
+    """Every ``xcheck report|stability|sweep|references`` of the pages (skipped blocks too: a reader runs
+    them) names ``--out``, and not the clone's committed ``reports/``: without it ``report`` and
+    ``stability`` write into ``reports/`` and change the committed files."""
+    seen = 0
+    for b in SHELL_BLOCKS:
+        for line in commands(b.text):
+            for argv in _split(line):
+                if Path(argv[0]).name != "xcheck" or len(argv) < 2 or argv[1] not in WRITERS:
+                    continue
+                seen += 1
+                assert "--out" in argv, f"{b.id}: `{shlex.join(argv)}` names no --out folder"
+                out = Path(argv[argv.index("--out") + 1])
+                assert out.parts[0] != "reports", f"{b.id}: `{shlex.join(argv)}` writes into the committed reports/"
+    assert seen >= 8
+
+
 def test_examples_are_collected() -> None:
     """The collector sees the README's commands and Python, and every page's blocks are marked or runnable."""
     readme = [b for b in SHELL_BLOCKS if b.page == "README.md" and not b.skip]
@@ -173,7 +215,7 @@ def test_examples_are_collected() -> None:
     for b in SHELL_BLOCKS:
         if not b.skip:
             for argv in commands(b.text):
-                assert _xcheck(argv), f"{b.id}: {shlex.join(argv)} is not an xcheck command; mark the block"
+                assert _xcheck(argv) is not None, f"{b.id}: {shlex.join(argv)} is not an xcheck command; mark the block"
     # every skip says why
     assert all(b.skip.strip() for b in ALL if b.skip is not None)
 
@@ -182,7 +224,9 @@ def test_examples_are_collected() -> None:
 def test_shell_example(block: Example, tmp_path: Path, cache: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     if block.skip:
         pytest.skip(block.skip)
-    monkeypatch.chdir(_folder(tmp_path))
+    folder = _folder(tmp_path)
+    committed = _snapshot(folder)
+    monkeypatch.chdir(folder)
     monkeypatch.setenv("XCHECK_CACHE", str(cache))
     monkeypatch.setenv("MPLBACKEND", "Agg")
     for argv in commands(block.text):
@@ -195,6 +239,7 @@ def test_shell_example(block: Example, tmp_path: Path, cache: Path, monkeypatch:
             f"{block.id}: `{shlex.join(argv)}` exited with {code}, expected {block.exit_code}\n"
             f"stdout: {out[-2000:]}\nstderr: {err[-2000:]}"
         )
+    assert _snapshot(folder) == committed, f"{block.id}: an example wrote into the committed reports/"
 
 
 @pytest.mark.parametrize("block", PYTHON_BLOCKS, ids=[b.id for b in PYTHON_BLOCKS])
@@ -202,6 +247,7 @@ def test_python_example(block: Example, tmp_path: Path, cache: Path) -> None:
     if block.skip:
         pytest.skip(block.skip)
     folder = _folder(tmp_path)
+    committed = _snapshot(folder)
     script = folder / "example.py"
     script.write_text(block.text + "\n", encoding="utf-8")
     env = {**os.environ, "XCHECK_CACHE": str(cache), "MPLBACKEND": "Agg"}
@@ -211,3 +257,4 @@ def test_python_example(block: Example, tmp_path: Path, cache: Path) -> None:
     except subprocess.TimeoutExpired:
         pytest.fail(f"{block.id}: ran over {TIMEOUT} s")
     assert run.returncode == block.exit_code, f"{block.id}: exited with {run.returncode}\n{run.stderr[-3000:]}"
+    assert _snapshot(folder) == committed, f"{block.id}: the example wrote into the committed reports/"

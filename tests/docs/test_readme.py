@@ -62,6 +62,18 @@ def test_every_report_command_says_how_long_it_runs() -> None:
         assert DURATION.search(line), f"README.md:{n}: `{line}` does not say how long it runs"
 
 
+def test_the_durations_are_those_measured_on_the_speed_page() -> None:
+    """Each run time is measured once, on docs/speed.md's "Run times" table: every duration a README command
+    line gives ("19 s", "14 min", "20-22 min") is one that table states, so the two cannot drift apart."""
+    speed = (ROOT / "docs" / "speed.md").read_text(encoding="utf-8")
+    table = speed.split("## Run times", 1)[1].split("\n## ", 1)[0]
+    said = [(n, d) for n, line in _shell_lines() if "#" in line
+            for d in re.findall(r"\d[\d,]*(?:-\d+)?\s*(?:s|min)\b", line.split("#", 1)[1])]  # fmt: skip
+    assert len(said) >= 5
+    for n, duration in said:
+        assert duration in table, f"README.md:{n}: {duration!r} is not a run time of docs/speed.md's table"
+
+
 def test_the_environment_is_activated_before_the_first_bare_xcheck() -> None:
     """The README says to activate ``.venv`` once, before its first bare ``xcheck`` command (without it the
     command is not found after the set-up line)."""

@@ -172,3 +172,14 @@ def test_messages(kw: dict[str, object], message: str) -> None:
     with pytest.raises(ValueError) as err:
         cut_wall(**base)  # type: ignore[arg-type]
     assert str(err.value) == message
+
+
+def test_a_wall_says_whether_its_end_blocks_are_cut() -> None:
+    kw = {"block_length": 3.0, "block_height": 1.0, "rows": (4,), "thickness": (1.0,), "overload": (0.0,),
+          "unit_weight": 1.0, "friction": 0.6}
+    cut = micro.build_wall(length=20.0, **kw)  # Set 8's 13.33 half blocks
+    assert cut.end_blocks_cut and cut.half_blocks == pytest.approx(40 / 3)
+    whole = micro.build_wall(length=21.0, **kw)
+    assert not whole.end_blocks_cut and whole.half_blocks == 14.0
+    near = micro.build_wall(length=21.0 * (1 + 1e-12), **kw)  # within WHOLE_TOLERANCE: whole
+    assert not near.end_blocks_cut

@@ -18,9 +18,9 @@ from enumeration import STATES, Enumerator
 from hand_walls import column_wall, small_wall
 
 import micro
+from micro.global_search import GlobalOptions, StartState, global_summary, results, solve_global
+from micro.global_search.bounds import big_m
 from micro.nonassociative import verify_collapse_state
-from micro.nonassociative.global_search import GlobalOptions, StartState, global_summary, results, solve_global
-from micro.nonassociative.global_search.bounds import big_m
 
 #: The solvers of the branch and bound; SCIP only with the optional extra ``global`` (pyscipopt).
 SOLVERS = ["highs", pytest.param("scip", marks=pytest.mark.skipif(not results.scip_available(),
@@ -156,7 +156,8 @@ def test_uniform_bounds_same_answer() -> None:
     assert a.load_factor == pytest.approx(b.load_factor, abs=1e-9)
 
 
-@pytest.mark.parametrize("kw, word", [(dict(time_limit=0), "time_limit"), (dict(time_limit=-1.0), "time_limit"),
+@pytest.mark.parametrize("kw, word", [(dict(direction_time_limit=0), "direction_time_limit"),
+                                      (dict(direction_time_limit=-1.0), "direction_time_limit"),
                                       (dict(node_limit=0), "node_limit"), (dict(node_limit=1.5), "node_limit"),
                                       (dict(mip_gap=1.0), "mip_gap"), (dict(bounds="tight"), "bounds"),
                                       (dict(seed=-1), "seed"), (dict(solver="gurobi"), "solver")])
@@ -188,10 +189,10 @@ def test_ctrl_c_stops_scip_within_seconds() -> None:
     import time
 
     code = ("import micro\nfrom comparison.wall import WallSpec\n"
-            "from micro.nonassociative.global_search import GlobalOptions, solve_global\n"
+            "from micro.global_search import GlobalOptions, solve_global\n"
             "lp = micro.assemble(WallSpec.from_paper(t=2, m=1/3, rows=6, f=0.6).to_micro())\n"
             "print('searching', flush=True)\n"
-            "solve_global(lp, 1, GlobalOptions(solver='scip', time_limit=120))\n")
+            "solve_global(lp, 1, GlobalOptions(solver='scip', direction_time_limit=120))\n")
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:

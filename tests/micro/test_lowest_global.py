@@ -15,6 +15,7 @@ import pytest
 from hand_walls import column_wall, small_wall
 
 import micro
+from micro.global_search import global_summary
 
 #: Branch-and-bound nodes per direction (each search here closes in far fewer).
 NODES = 20_000
@@ -32,8 +33,9 @@ WALLS = [
 @pytest.mark.parametrize("name, make, exact", WALLS, ids=[w[0] for w in WALLS])
 def test_lowest_reaches_the_proven_global_minimum(name: str, make, exact: float | None) -> None:  # type: ignore[no-untyped-def]
     # a node limit, not a time limit: the test ends alike on every machine
-    r = micro.solve_nonassociative(make(), global_=micro.GlobalOptions(time_limit=None, node_limit=NODES))
-    g = r.global_search
+    wall = make()
+    r = micro.solve_nonassociative(wall)
+    g = micro.solve_global(wall, start=r, options=micro.GlobalOptions(direction_time_limit=None, node_limit=NODES))
     assert r.converged and g is not None and g.status == "optimal", g and g.message
     lam_it, lam_low = r.load_factor, r.lowest_load_factor
     assert lam_low <= lam_it * (1 + 1e-12)
@@ -42,7 +44,7 @@ def test_lowest_reaches_the_proven_global_minimum(name: str, make, exact: float 
     assert lam_low == pytest.approx(g.load_factor, rel=1e-7)
     if exact is not None:
         assert lam_low == pytest.approx(exact, rel=1e-7)
-    s = r.summary()
+    s = global_summary(g)
     assert s["global_status"] == "optimal" and s["global_gap"] <= 1e-6
     assert s["global_lower_bound"] == pytest.approx(g.lower_bound)
 

@@ -117,13 +117,15 @@ def test_summaries_hold_no_nan_at_any_depth() -> None:
     search) is strict JSON at every depth: NaN and infinities become ``null`` in the record, the
     descent's and the search's nested parts (:func:`micro.records.json_number`)."""
     from comparison.wall import WallSpec
+    from micro.global_search import global_summary
     from micro.records import json_number
 
     assert [json_number(x) for x in (0.5, 1, math.nan, math.inf, -math.inf)] == [0.5, 1.0, None, None, None]
     wall = WallSpec.from_paper(t=1, m=1, rows=2, f=0.6).to_micro()
-    r = micro.solve_nonassociative(wall, lowest=True, global_=micro.GlobalOptions(node_limit=5))
-    assert r.converged and r.lowest and r.global_search is not None
-    summary = r.summary()
+    r = micro.solve_nonassociative(wall, lowest=True)
+    g = micro.solve_global(wall, start=r, options=micro.GlobalOptions(node_limit=5))
+    assert r.converged and r.lowest
+    summary = {**r.summary(), **global_summary(g)}
     text = json.dumps(summary, allow_nan=False)  # raises on any NaN or infinity left
     assert math.isnan(r.sequence.cold_load_factor) == (summary["cold_load_factor"] is None)
     assert json.loads(text)["lowest"][0]["direction"] == r.lowest[0].direction

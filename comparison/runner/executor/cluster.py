@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import importlib.util
 import logging
 import socket
 import threading
@@ -40,13 +41,17 @@ class ClusterError(RuntimeError):
 
 
 def check_scheduler(address: str, seconds: float = HANDSHAKE_SECONDS) -> None:
-    """Check that a Dask scheduler answers at ``address`` within ``seconds``: for ``tcp://``, the
-    host resolves and a connection is accepted; for every scheme, Dask's handshake comes back and the
-    peer calls itself a scheduler.
+    """Check that a Dask scheduler answers at ``address`` within ``seconds``: the transport usable here
+    (:func:`_transport_problem`); for ``tcp://``, the host resolves and a connection is accepted; for every
+    scheme, Dask's handshake comes back and the peer calls itself a scheduler.
 
     Raises:
-        ClusterError: ``"no Dask scheduler at {address} ({why})"``.
+        ClusterError: ``"no Dask scheduler at {address} ({why})"``, ``why`` naming the cause (a missing
+            transport package or TLS settings, an HTTP server, the exception's type and message).
     """
+    problem = _transport_problem(address)
+    if problem:
+        raise ClusterError(f"no Dask scheduler at {address} ({problem})")
     outcome: list[BaseException | None] = []
 
     deadline = time.monotonic() + seconds
@@ -71,15 +76,59 @@ def check_scheduler(address: str, seconds: float = HANDSHAKE_SECONDS) -> None:
         return
     if isinstance(exc, ClusterError):
         raise exc
+    raise ClusterError(f"no Dask scheduler at {address} ({_cause(address, exc, seconds)})")
+
+
+def _cause(address: str, exc: BaseException, seconds: float) -> str:
+    """Why the check of ``address`` failed with ``exc``, in words."""
+    if isinstance(exc, socket.gaierror):
+        return f"cannot resolve the host: {exc.strerror or exc}"
+    if _speaks_http(address):  # Dask's bytes read as an HTTP request: a 400, or a wait for the request's end
+        return "an HTTP server answers there, not a Dask scheduler: give the scheduler's own port (default 8786)"
     if isinstance(exc, (TimeoutError, asyncio.TimeoutError)):
-        why = f"no Dask handshake within {seconds:g} s: not a Dask scheduler?"
-    elif isinstance(exc, socket.gaierror):
-        why = f"cannot resolve the host: {exc.strerror or exc}"
-    elif isinstance(exc, OSError):
-        why = exc.strerror or str(exc) or type(exc).__name__
-    else:
-        why = f"not a Dask scheduler: {type(exc).__name__}"
-    raise ClusterError(f"no Dask scheduler at {address} ({why})")
+        return f"no Dask handshake within {seconds:g} s: not a Dask scheduler?"
+    if isinstance(exc, OSError) and exc.strerror:
+        return exc.strerror
+    if isinstance(exc, MemoryError):  # Dask read the peer's first bytes as the size of what follows
+        return ("its answer is not Dask's protocol (its first bytes read as a message too large to hold): not a "
+                "Dask scheduler")
+    message = " ".join(str(exc).split())
+    message = message if len(message) <= 160 else f"{message[:157]}..."
+    return f"not a Dask scheduler? {type(exc).__name__}" + (f": {message}" if message else "")
+
+
+def _transport_problem(address: str) -> str:
+    """Why Dask cannot use the transport of ``address`` here (``""``: it can be tried): ``ucx://`` needs the
+    UCX package, ``tls://`` and ``wss://`` Dask's TLS settings (without them Dask raised a ``TypeError`` about
+    its own classes)."""
+    scheme = urlsplit(address).scheme
+    if scheme == "ucx" and importlib.util.find_spec("distributed_ucxx") is None:  # Dask's own ucx:// was removed
+        return "ucx:// needs Dask's UCX transport, the distributed-ucxx package, which is not installed"
+    if scheme in ("tls", "wss"):
+        from distributed.security import Security
+
+        if Security().get_connection_args("client").get("ssl_context") is None:
+            return (f"{scheme}:// needs Dask's TLS settings (distributed.comm.tls.ca-file, "
+                    "distributed.comm.tls.client.cert and .key in Dask's configuration), and none are set")
+    return ""
+
+
+#: Seconds the HTTP probe of :func:`_speaks_http` waits for an answer.
+HTTP_PROBE_SECONDS = 1.0
+
+
+def _speaks_http(address: str) -> bool:
+    """Whether an HTTP server answers at the host and port of a ``tcp://`` or ``ws://`` ``address`` (asked
+    only once Dask's handshake failed there)."""
+    parts = urlsplit(address)
+    if parts.scheme not in ("tcp", "ws"):
+        return False
+    try:
+        with socket.create_connection((parts.hostname or "", parts.port or 0), timeout=HTTP_PROBE_SECONDS) as conn:
+            conn.sendall(b"HEAD / HTTP/1.0\r\n\r\n")
+            return conn.recv(5) == b"HTTP/"
+    except (OSError, ValueError):
+        return False
 
 
 def _tcp_connect(address: str, seconds: float) -> None:

@@ -53,15 +53,20 @@ def test_macro_scene_file(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_a_scene_shows_its_loads_storey_by_storey(capsys: pytest.CaptureFixture[str]) -> None:
-    """The example scene's comment gives p storey by storey; both outputs show p storey by storey too,
-    so the top storey's p alone (0.0) is not read as the scene's."""
+    """The example scene's comment gives p = 0.2 on the two lower floors: both outputs show p storey by
+    storey, as the comment does, and the JSON's one ``p`` is null (no one value describes those floors)."""
     import re
 
     comment = [float(p) for p in re.findall(r"p = [^#\n]*= ([\d.]+)\s*$", EXAMPLE.read_text(), re.M)]
     assert comment == [0.2]  # the comment's derivation, for storey 2
     d = json.loads(run(capsys, "macro", "--scene", str(EXAMPLE), "--json")[1])
     assert d["paper_parameters"]["p_storeys"] == pytest.approx([0.0, 0.2, 0.2])
-    assert d["paper_parameters"]["p"] == d["paper_parameters"]["p_storeys"][0] == 0.0
+    # no one p describes floors of 0, 0.2 and 0.2 (it said 0.0, the top storey's); m of 0.10/0.30 blocks is
+    # 1/3 as written (it said 0.33333333333333337)
+    assert d["paper_parameters"]["p"] is None
+    assert d["paper_parameters"]["p_storeys"] == [0.0, 0.2, 0.2]
+    assert d["paper_parameters"]["m"] == 1 / 3 and d["paper_parameters"]["t"] == 1.0
+    assert "0.33333333333333337" not in run(capsys, "micro", "--scene", str(EXAMPLE), "--json")[1]
     assert d["wall"]["overload"] == [0.0, 2.16, 2.16]
     code, out, _ = run(capsys, "macro", "--scene", str(EXAMPLE))
     assert code == 0

@@ -185,3 +185,23 @@ def test_the_plot_marks_the_floors_and_the_macro_hinge(friction: str, tmp_path, 
     assert float(marker.get_ydata()[0]) == 6.0 * (2 - hinge)
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["floor", marker.get_label()]
     assert png.stat().st_size > 1000
+
+
+@pytest.mark.parametrize("friction", ["associative", "nonassociative"])
+def test_cut_end_blocks_are_said(capsys: pytest.CaptureFixture[str], friction: str) -> None:
+    """t = 0.7 on 12 rows of m = 1/3 gives L = 11.43 half blocks: the last block of every course is cut, which the
+    words say in one line and the JSON in ``end_blocks_cut``; a wall of whole half blocks says nothing."""
+    cut = ["--t", "0.7", "--m", "1/3", "--rows", "6", "--f", "0.6", "--friction", friction]
+    assert cli.main(["micro", *cut]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if "cut" in line]
+    assert lines == ["  L = 5.714 half blocks, not a whole number: the last block of every course is cut "
+                     "(docs/micro/walls.md)"]
+    assert cli.main(["micro", *cut, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["end_blocks_cut"] is True
+    assert cli.main(["micro", *cut, "-q"]) == 0
+    assert "cut" not in capsys.readouterr().out  # quiet: the value alone
+    whole = ["--t", "1", "--m", "1/3", "--rows", "6", "--f", "0.6", "--friction", friction]
+    assert cli.main(["micro", *whole]) == 0
+    assert "cut" not in capsys.readouterr().out
+    assert cli.main(["micro", *whole, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["end_blocks_cut"] is False

@@ -89,7 +89,8 @@ def test_every_knob_reads_its_own_default_back() -> None:
     ("start=edge", "--tuning start must be one of interior, vertex, got 'edge'"),
     ("selection=closest", "--tuning selection must be one of vertex, proximal, vertex+proximal, none, got 'closest'"),
     ("scheme=3", "--tuning scheme must be one of a, b, got '3'"),
-    ("retry_iterations=1e3", "--tuning retry_iterations must be an integer, got '1e3'"),
+    ("retry_iterations=2.5", "--tuning retry_iterations must be an integer of at most 2,147,483,647, got '2.5'"),
+    ("retry_iterations=1_0", "--tuning retry_iterations must be an integer of at most 2,147,483,647, got '1_0'"),
 ])
 def test_a_bad_knob_value_names_the_choices(item: str, message: str, capsys: pytest.CaptureFixture[str]) -> None:
     code, out, err = _run(["micro", *WALL, "--friction", "nonassociative", "--tuning", item], capsys)

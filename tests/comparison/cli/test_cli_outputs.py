@@ -125,3 +125,21 @@ def test_a_closed_standard_output_is_one_line_exit_1_before_any_work() -> None:
     )
     assert proc.returncode == 1, proc.stderr
     assert proc.stderr.strip() == "xcheck: error: cannot write the output: standard output is closed"
+
+
+def test_a_plot_named_by_a_symbolic_link_is_written_through_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--plot link.png`` where the link points elsewhere: the image the link points to is replaced, the link
+    stays (a rename over the link replaced the link with a file)."""
+    (tmp_path / "figures").mkdir()
+    target = tmp_path / "figures" / "wall.png"
+    target.write_bytes(b"old")
+    link = tmp_path / "link.png"
+    link.symlink_to(Path("figures") / "wall.png")
+    assert main(["micro", *WALL, "--plot", str(link), "-q"]) == 0
+    capsys.readouterr()
+    assert link.is_symlink() and os.readlink(link) == str(Path("figures") / "wall.png")
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["figures", "link.png"]
+    assert sorted(p.name for p in (tmp_path / "figures").iterdir()) == ["wall.png"]  # no temporary left

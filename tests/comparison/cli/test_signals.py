@@ -248,3 +248,35 @@ def test_ctrl_c_at_a_random_moment_exits_130_within_two_seconds(case: str, momen
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
+
+
+#: The wall of the cvxpy case: 1,230 blocks, 3,550 contacts; cvxpy builds its problem for seconds, then
+#: Clarabel solves it in about 3 s (35 iterations), the last third of the run.
+CVXPY_WALL = ["micro", "--storeys", "3", "--rows", "60", "--t", "1", "--m", "1/3", "--f", "0.6", "--solver", "cvxpy"]
+
+
+@pytest.mark.processes
+def test_ctrl_c_inside_a_cvxpy_solve_exits_130_within_two_seconds() -> None:
+    """Ctrl-C at 65 % and 80 % of the run's time (inside Clarabel's solve, which takes its last third):
+    exit 130 within :data:`SIGINT_EXIT_SECONDS`. Before: the solve ran on to its end (cvxpy's Clarabel had no
+    termination callback), then the collection at exit of cvxpy's objects took about a second: 2.3-4.3 s on
+    the loaded 2-core machine; after, 0.1-0.2 s (docs/research/2026-11-28-interrupt-exit.md). A run that ends
+    before its Ctrl-C (the machine's load varies) is skipped; one of the two must land."""
+    t0 = time.monotonic()
+    whole = _xcheck(*CVXPY_WALL)
+    assert whole.wait(START_SECONDS) == 0, whole.stderr.read() if whole.stderr else ""
+    run = time.monotonic() - t0
+    landed = []
+    for share in (0.65, 0.8):
+        proc = _xcheck(*CVXPY_WALL)
+        try:
+            time.sleep(share * run)
+            if proc.poll() is not None:
+                continue
+            took = _ctrl_c(proc)
+            landed.append(share)
+            assert took < SIGINT_EXIT_SECONDS, f"{took:.2f} s after Ctrl-C at {share * run:.1f} s of {run:.1f} s"
+        finally:
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGKILL)
+    assert landed, f"both runs ended before their Ctrl-C ({run:.1f} s uninterrupted)"

@@ -67,6 +67,9 @@ def test_downstream_run_table_and_failure_message(tmp_path: Path) -> None:
     ref = References.load().get("Set 14", "micro-nonassoc")  # 0.2658 ± 0.0053
     assert ref.value is not None
     assert f"Set 14 / micro-nonassoc / load_factor: 0.2500 outside {ref.value:.4f} ± {ref.allowed(0.02):.4f}" in out
+    # the failure is the test's own lines and the message: not the ~50 lines of check()'s source
+    failure = out.split("FAILURES", 1)[1].split("xcheck: your values", 1)[0]
+    assert "def check(" not in failure and "widening(" not in failure and "_cells[" not in failure, failure
     assert "xcheck: your values against the references" in out
     table = (tmp_path / "t.csv").read_text().splitlines()
     assert table[0] == "wall,method,λ,orduna-micro λ,Δ % vs orduna-micro"

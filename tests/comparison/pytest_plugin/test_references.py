@@ -87,3 +87,19 @@ def test_missing_references_say_why(refs: References) -> None:
     for r in empty:  # a method that gave no number keeps its cell with the status
         with pytest.raises(MissingReference, match="no reference value"):
             refs.check(r.case, r.method, 0.5, r.cell)
+
+
+def test_the_failure_quoted_in_the_docstrings_is_the_references_own(refs: References) -> None:
+    """The example failure in ``References.check``'s docstring and the plugin's module docstring (value 0.25,
+    ``rel=0.02``) carries the reference and the interval ``references.json`` gives (they quoted the iterated
+    LP's 0.2684 ± 0.0067 after the reference became the lowest certified state, 0.2658)."""
+    import comparison.pytest_plugin as plugin
+
+    with pytest.raises(ReferenceMismatch) as info:
+        refs.check("Set 14", "micro-nonassoc", 0.25, rel=0.02)
+    head = str(info.value).split(" (", 1)[0]  # "Set 14 / micro-nonassoc / load_factor: 0.2500 outside ..."
+    source = refs.get("Set 14", "micro-nonassoc").source.split(",", 1)[0]
+    for doc in (References.check.__doc__ or "", plugin.__doc__ or ""):
+        text = " ".join(doc.split())
+        assert head in text, (head, text)
+    assert f"{head} ({source}, ...;" in " ".join((References.check.__doc__ or "").split())

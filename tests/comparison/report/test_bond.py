@@ -78,7 +78,7 @@ def test_the_report_reads_its_committed_tables_from_a_stated_directory(tmp_path:
     import warnings
 
     from comparison.report import errormap, lowest
-    from comparison.report.committed import BOND, ERRORMAP, LOWEST, MADE_BY, MissingTableWarning, committed_table
+    from comparison.report.committed import BOND, ERRORMAP, LOWEST, MissingTableWarning, committed_table, made_by
 
     for module in (bond, errormap, lowest):
         assert "__file__" not in Path(module.__file__).read_text(), module.__name__
@@ -99,6 +99,6 @@ def test_the_report_reads_its_committed_tables_from_a_stated_directory(tmp_path:
         with pytest.warns(MissingTableWarning) as caught:
             assert committed_table(empty, name) is None
         message = str(caught[0].message)
-        assert str(empty / name) in message and MADE_BY[name].replace("DIR", str(empty)) in message
+        assert str(empty / name) in message and made_by(name, empty) in message
     assert "is missing" in bond.section(None)[0] and "is missing" in lowest.section(None)
     assert errormap.write(tmp_path, None) == (errormap.write(tmp_path, empty / ERRORMAP)[0], {})

@@ -50,7 +50,7 @@ def _lines(name: str, n: int) -> bytes:
 CASES = {
     "cut mid-number": (ERRORMAP, _cut(ERRORMAP, 20_000), False,
                        r"sweeps/errormap.csv: the last line is cut short \(no line break at the end of the file\); "
-                       r"remake it with `xcheck sweep examples/sweeps/errormap.toml --out .*/tables/sweeps`"),
+                       r"remake it with `xcheck sweep .*/comparison/sweep/grids/errormap.toml --out .*/tables/sweeps`"),
     "cut at a line": (ERRORMAP, _lines(ERRORMAP, 40), True,
                       r"sweeps/errormap.csv: 39 rows where its metadata \(errormap.json\) counts 750 cells "
                       r"\(a truncated table\)"),

@@ -194,8 +194,11 @@ def test_what_a_user_model_gives_becomes_its_cells_status() -> None:
         (("mine2:lam", "mine2:VALUE"), ["line 24", "is not callable (float)"]),
         (("mine2:lam", "mine2"), ["line 24", "function must be 'module:function', got 'mine2'"]),
         (("mine2:lam", "broken:lam"), ["line 24", "cannot import 'broken'", "SyntaxError"]),
-        (('name = "mine"', 'name = "macro"'), ["line 23", "the name 'macro' is another method's"]),
+        (('name = "mine"', 'name = "macro"'), ["line 23", "name 'macro' is a built-in method's"]),
+        (('name = "mine"', 'name = "micro-nonassoc"'), ["line 23", "name 'micro-nonassoc' is a built-in method's"]),
+        (('name = "mine"', 'name = "Micro-Assoc"'), ["line 23", "name 'Micro-Assoc' is a built-in method's"]),
         (('name = "mine"', 'name = "a|b"'), ["line 23", "name must be a non-empty text"]),
+        (('name = "mine"', 'name = " mine"'), ["line 23", "name must be a non-empty text"]),
     ],
 )
 def test_a_bad_user_model_is_one_line_exit_2(

@@ -85,7 +85,7 @@ def test_the_sweep_writes_its_validation_page(tiny_local) -> None:
     assert list(figures) == ["tiny-map.png", "tiny-scatter.png", "tiny-histogram.png", "tiny-time.png"]
     assert all(png.startswith(b"\x89PNG") for png in figures.values())
     assert text.startswith("# Validation: tiny\n") and "## Summary" in text
-    assert "* **4 walls** (2 t × 2 m), each in 2 bonds: 8 walls in a bond, each compared on its own." in text
+    assert "* **4 walls** (2 t × 2 m) in 2 bonds each: 8 bonded walls, each compared on its own." in text
     assert "* **8 micro computations** (4 micro-assoc (highs-ipm), 4 micro-assoc (highs-ipm, half first)): " \
         "8 run, 8 with a value, 0 without" in text
     # the summary's numbers, from the table: the macro value above the associative LP on the walls where it is

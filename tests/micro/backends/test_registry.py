@@ -75,3 +75,59 @@ def test_no_two_public_classes_share_a_name() -> None:
                     where.setdefault(node.name, []).append(str(path.relative_to(ROOT)))
     shared = {name: paths for name, paths in where.items() if len(paths) > 1 and name not in SHARED_NAMES_KNOWN}
     assert not shared
+
+
+def test_a_back_end_module_is_imported_when_chosen() -> None:
+    """Importing the package imports no one-shot back end's module; making one imports its module."""
+    import subprocess
+    import sys
+
+    code = ("import sys, micro; lazy = ('micro.backends.cvxpy_', 'micro.backends.normal_ipm', "
+            "'micro.backends.clarabel_kinematic'); print(sorted(m for m in lazy if m in sys.modules)); "
+            "micro.make_backend(micro.assemble(micro.build_wall(length=2.0, block_length=1.0, block_height=0.5, "
+            "rows=(2,), thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.6)), 'normal-ipm'); "
+            "print('micro.backends.normal_ipm' in sys.modules, 'cvxpy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split("\n")
+    assert out[:2] == ["[]", "True False"]
+
+
+@pytest.mark.parametrize("solver", ["cvxpy", "cvxpy-highs"])
+def test_without_cvxpy_its_back_ends_say_which_extra_to_install(solver: str,
+                                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    """cvxpy is an optional extra: without it (simulated: an import of it fails) the back end is refused
+    in one line naming the extra, and the others still run."""
+    import sys
+
+    from micro.backends.cvxpy_ import CvxpyBackend
+
+    monkeypatch.setitem(sys.modules, "cvxpy", None)
+    lp = micro.assemble(three_storey_wall())
+    message = r"^solver '" + solver + r"' needs cvxpy: pip install 'xcheck-masonry\[cvxpy\]'$"
+    assert registry.missing_extra(solver) and not registry.missing_extra("clarabel")
+    with pytest.raises(ValueError, match=message):
+        micro.make_backend(lp, solver)
+    with pytest.raises(ModuleNotFoundError, match=r"^the cvxpy back end needs cvxpy: pip install"):
+        CvxpyBackend(lp)
+    assert micro.solve_associative(three_storey_wall(), solver="highs-ipm").ok
+
+
+def test_the_cli_refuses_the_cvxpy_back_end_without_cvxpy_in_one_line(monkeypatch: pytest.MonkeyPatch,
+                                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    import sys
+
+    from comparison.cli import main
+
+    monkeypatch.setitem(sys.modules, "cvxpy", None)
+    code = main(["micro", "--t", "1", "--m", "1", "--rows", "3", "--f", "0.6", "--solver", "cvxpy"])
+    err = capsys.readouterr().err
+    assert code == 2 and err == "xcheck: error: solver 'cvxpy' needs cvxpy: pip install 'xcheck-masonry[cvxpy]'\n"
+
+
+def test_the_report_runs_the_cvxpy_back_end_where_it_is_installed(monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    from comparison.report.plan import build_plan
+
+    assert "cvxpy" in build_plan(quick=True).solvers
+    monkeypatch.setitem(sys.modules, "cvxpy", None)
+    assert build_plan(quick=True).solvers == ("highs-ipm", "clarabel", "normal-ipm", "highs-simplex")

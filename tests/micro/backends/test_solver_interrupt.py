@@ -13,6 +13,7 @@ import signal
 import subprocess
 import sys
 import textwrap
+import warnings
 
 import pytest
 
@@ -149,3 +150,31 @@ def test_solver_stop_keeps_the_first_error() -> None:
     with pytest.raises(ValueError, match="first"):
         stop.raise_kept()
     stop.raise_kept()  # nothing kept any more
+
+
+def test_the_cvxpy_back_end_solves_clarabel_through_its_interrupt(monkeypatch: pytest.MonkeyPatch) -> None:
+    """cvxpy's own Clarabel interface has no termination callback (a Ctrl-C waited for the solve); the back end
+    hands the solver cvxpy builds to ``solve_interruptibly``, and gives cvxpy's own answer."""
+    import micro
+    import micro.backends.cvxpy_ as cv
+    from comparison.wall import WallSpec
+    from micro.backends.cvxpy_ import CvxpyBackend
+
+    calls: list[str] = []
+    through = cv.solve_interruptibly
+
+    def spy(solver: object) -> object:
+        calls.append(type(solver).__name__)
+        return through(solver)
+
+    monkeypatch.setattr(cv, "solve_interruptibly", spy)
+    lp = micro.assemble(WallSpec.from_paper(t=1.0, m=1 / 3, rows=6, f=0.75).to_micro())
+    backend = CvxpyBackend(lp)
+    ours = backend.solve(+1)
+    assert calls and set(calls) == {"DefaultSolver"} and ours.status.value == "optimal"  # a retry: twice
+    with warnings.catch_warnings():  # cvxpy's own interface with the same settings, and the same retry
+        warnings.simplefilter("ignore")
+        backend.problem.solve(solver="CLARABEL", **backend.options)
+        if backend.problem.status == "optimal_inaccurate" and backend.retry is not None:
+            backend.problem.solve(solver="CLARABEL", **backend.retry)
+    assert ours.load_factor == pytest.approx(float(backend.lam.value), rel=1e-9)

@@ -58,8 +58,8 @@ def test_pattern_check_and_state_check_agree() -> None:
     state they give the same residuals, and a perturbed state fails both."""
     import numpy as np
 
+    from micro.global_search.pattern import collapse_residuals
     from micro.nonassociative import verify_collapse_state
-    from micro.nonassociative.global_search.pattern import collapse_residuals
     from micro.results import direction_sign
 
     w = wall(1.0, 1 / 3)

@@ -9,8 +9,8 @@ import pytest
 import micro
 from comparison.wall import WallSpec
 from micro.nonassociative import Tuning, solve_nonassociative, verify_collapse_state
+from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL
 from micro.nonassociative.selections import CONT_FACTOR, CONT_GAMMA0, CONT_GAMMA_MIN
-from micro.nonassociative.tuning import EQUILIBRIUM_RESIDUAL
 
 EXACT = ("coulomb", "interpenetration", "dilatancy", "slip_off_yield")
 

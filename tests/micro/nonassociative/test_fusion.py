@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -13,13 +14,14 @@ from comparison.wall import WallSpec
 from micro.backends.clarabel import ClarabelStaticBackend
 from micro.nonassociative import (
     Tuning,
+    fusion,
     pipeline,
     solve_nonassociative,
     verify_collapse_state,
 )
 from micro.nonassociative.certificate import Certificate, CertificateResult
-from micro.nonassociative.pipeline import fuse, rigid_bodies
-from micro.nonassociative.recipe import Recipe
+from micro.nonassociative.config import Recipe
+from micro.nonassociative.fusion import fuse, rigid_bodies
 
 EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
 
@@ -112,7 +114,7 @@ def test_a_state_the_wall_rejects_is_a_failure(monkeypatch: pytest.MonkeyPatch) 
         def certify(self, v: np.ndarray, lam: float, *, time_limit: float = math.inf) -> CertificateResult:
             return CertificateResult(None, None, 0.0, 0)
 
-    monkeypatch.setattr(pipeline, "Certificate", Rejecting)  # the wall's certificate only
+    monkeypatch.setattr(fusion, "Certificate", Rejecting)  # the wall's certificate only
     r = solve_nonassociative(wall(), tuning=Tuning(fuse=True), lowest=False, directions="+x")
     d = r.directions[0]
     assert not r.converged and math.isnan(r.load_factor) and d.normal is None
@@ -129,22 +131,26 @@ def test_fuse_option_is_a_flag() -> None:
 
 def _capped(r: Recipe, cap: int) -> Recipe:
     """``r`` with its sequence and the proximal retry capped at ``cap`` LPs each."""
-    return dataclasses.replace(r, max_iterations=cap, tuning=dataclasses.replace(r.tuning, retry_iterations=cap))
+    return dataclasses.replace(r, max_iterations=cap, retry_iterations=cap)
 
 
-def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int) -> list[tuple[int, bool]]:
-    """Cap the wall's own sequences (not the continuation) at ``cap`` LPs
-    each, so that they end ``max_iterations``; returns the calls made."""
-    real = pipeline.solve_direction
-    calls: list[tuple[int, bool]] = []
+def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int,
+                           fused_too: bool = False) -> list[tuple[int, bool, str]]:
+    """Cap the sequences on the wall's own LP (and with ``fused_too`` those on
+    the fused wall) at ``cap`` LPs each, so that they end ``max_iterations``;
+    returns every sequence made: its LP's points, continuation and selection."""
+    real = pipeline.LPSequence
+    calls: list[tuple[int, bool, str]] = []
 
-    def capped(lp: micro.LimitLP, d: int, r: Recipe, start: np.ndarray | None = None) -> micro.DirectionResult:
-        calls.append((lp.n_points, r.continuation))
-        if not r.continuation:
-            r = _capped(r, cap)
-        return real(lp, d, r, start=start)
+    class Capped(real):  # type: ignore[misc, valid-type]
+        def __init__(self, lp: micro.LimitLP, d: int, r: Recipe, start: np.ndarray | None = None,
+                     iterate0: Any = None) -> None:
+            calls.append((lp.n_points, r.continuation, r.selection))
+            if fused_too or lp.n_eq == 3 * lp.wall.n_blocks:  # the wall's own LP (not the bodies')
+                r = _capped(r, cap)
+            super().__init__(lp, d, r, start=start, iterate0=iterate0)
 
-    monkeypatch.setattr(pipeline, "solve_direction", capped)
+    monkeypatch.setattr(pipeline, "LPSequence", Capped)
     return calls
 
 
@@ -160,7 +166,8 @@ def test_fused_retry_certifies_where_the_walls_sequences_end_at_their_caps(monke
     d = r.directions[0]
     q = d.sequence
     assert r.converged, r.message
-    assert calls[0] == (lp.n_points, False) and calls[1][1] and calls[1][0] < lp.n_points
+    assert calls[:2] == [(lp.n_points, False, "vertex"), (lp.n_points, False, "proximal")]
+    assert calls[2][1] and calls[2][0] < lp.n_points  # then the fused wall, with the continuation
     assert q.unfused_attempt is not None and q.unfused_attempt.stop_reason == "max_iterations"
     assert q.unfused_attempt.vertex_attempt is not None  # the vertex sequence, then the proximal one
     assert q.fusion is not None and q.fusion.wall_certificate == "certified"
@@ -177,10 +184,12 @@ def test_no_fused_retry_when_off_or_with_one_sequence(monkeypatch: pytest.Monkey
     """``fused_retry=False``, or the vertex selection alone: the failed
     direction stays failed, and the wall's sequences are the only run."""
     calls = _capped_wall_sequences(monkeypatch, 2)
+    points = micro.assemble(wall(0.5)).n_points
     for opts in ({"selection": "vertex+proximal", "fused_retry": False}, {"selection": "vertex"}):
         calls.clear()
         r = solve_nonassociative(wall(0.5), tuning=Tuning(**opts), lowest=False, directions="+x")  # type: ignore[arg-type]
-        assert r.status == "max_iterations" and math.isnan(r.load_factor) and len(calls) == 1
+        assert r.status == "max_iterations" and math.isnan(r.load_factor)
+        assert calls and all(c[0] == points and not c[1] for c in calls)  # the wall's own sequences only
         assert r.directions[0].sequence.unfused_attempt is None and r.to_record().unfused_stop_reason == ""
 
 
@@ -188,14 +197,31 @@ def test_a_failed_fused_retry_leaves_the_walls_result(monkeypatch: pytest.Monkey
     """A fused retry that fails too (its continuation capped at 2 LPs here)
     leaves the wall's status and band, with both runs' LPs and a message
     naming both."""
-    real = pipeline.solve_direction
-
-    def capped(lp: micro.LimitLP, d: int, r: Recipe, start: np.ndarray | None = None) -> micro.DirectionResult:
-        return real(lp, d, _capped(r, 2), start=start)
-
-    monkeypatch.setattr(pipeline, "solve_direction", capped)
+    _capped_wall_sequences(monkeypatch, 2, fused_too=True)
     r = solve_nonassociative(wall(0.5), tuning=Tuning(selection="vertex+proximal"), lowest=False, directions="+x")
     d = r.directions[0]
     assert d.status == "max_iterations" and d.sequence.lambda_band is not None
     assert "the fused wall with the continuation:" in d.message
     assert d.iterations > len(d.sequence.history) - 1 + len(d.sequence.vertex_attempt.history) - 1
+
+
+def test_the_fallback_chain_is_a_list_of_stages_each_run_where_the_ones_before_failed() -> None:
+    """The chain of a direction is :data:`pipeline.STAGES` in order (vertex, proximal retry, fused wall
+    with the continuation); a stage runs where the attempt so far ended cycling or at its cap, and a new
+    stage is one more entry (here three fakes, no LP solved)."""
+    from micro.nonassociative.config import recipe_for
+
+    assert [s.name.split()[0] for s in pipeline.STAGES] == ["vertex", "proximal", "fused"]
+    ran: list[str] = []
+
+    def stage(name: str, status: str) -> pipeline.Stage:
+        def run(lp: Any, d: int, r: Recipe, before: pipeline.Attempt | None, start: Any) -> pipeline.Attempt:
+            ran.append(name)
+            lam = 0.5 if status == "converged" else math.nan
+            return pipeline.Attempt(micro.DirectionResult("+x", status, lam, 1, 0.0), None)
+        return pipeline.Stage(name, lambda r: name != "skipped", run)
+
+    chain = (stage("first", "cycling"), stage("skipped", "converged"), stage("second", "max_iterations"),
+             stage("third", "converged"), stage("never", "converged"))
+    result, model = pipeline.run_stages(micro.assemble(wall(0.5)), 1, recipe_for(10), chain)
+    assert ran == ["first", "second", "third"] and result.status == "converged" and model is None

@@ -10,9 +10,9 @@ import pytest
 import micro
 from comparison.wall import WallSpec
 from micro.nonassociative import Tuning, solve_nonassociative, verify_collapse_state
-from micro.nonassociative.lowest import EXACT_TOL, LOWEST_TOL, Descent, lowest_state
+from micro.nonassociative.descent.lowest import EXACT_TOL, LOWEST_TOL, Descent, lowest_state
+from micro.nonassociative.descent.states import ForceLP, refine, restricted_columns
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.states import ForceLP, refine, restricted_columns
 
 #: Table 7 of the paper (single storey, 12 rows, f = 0.75): (t, m) and the
 #: lowest certified load factor the descent reaches (full first course,
@@ -183,8 +183,8 @@ def test_lowest_state_needs_a_final_state() -> None:
 
 @pytest.mark.parametrize("bad", [0, -1.0, math.inf, "10", True])
 def test_global_time_limit_is_checked(bad: object) -> None:
-    with pytest.raises(ValueError, match="time_limit must be a positive number"):
-        micro.GlobalOptions(time_limit=bad)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="direction_time_limit must be a positive number"):
+        micro.GlobalOptions(direction_time_limit=bad)  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize("name, bad, message", [

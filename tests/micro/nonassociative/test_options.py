@@ -26,7 +26,6 @@ def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, 
         (dict(max_seconds=0), "max_seconds"),
         (dict(lowest_budget=-1.0), "lowest_budget"),
         (dict(lowest_budget=float("inf")), "lowest_budget"),
-        (dict(global_="yes"), "global_"),
         (dict(lowest="yes"), "lowest"),
     ],
 )
@@ -107,33 +106,50 @@ def test_the_descent_runs_by_default_on_every_size() -> None:
 
 
 def test_the_recipe_composes_the_options_and_the_tuning() -> None:
-    """The recipe holds the user's options and the tuning as given (a new knob or option reaches the
-    modules with no other edit), with the few choices resolved for the wall beside them; its JSON form
-    names every option and knob once, the resolved values in place of the unresolved ones."""
+    """The recipe holds the user's options and the tuning as given, the few choices resolved for the
+    wall, and every option and knob a stage reads as a field of the same name and value (one hop from
+    what a user sets to what a stage reads); its JSON form names every option and knob once, the
+    resolved values in place of the unresolved ones."""
     import dataclasses
 
     from micro.nonassociative import recipe_for
-    from micro.nonassociative.recipe import Recipe
+    from micro.nonassociative.config import READ
 
     options, tuning = micro.NonAssociativeOptions(max_iterations=7, time_limit=30), Tuning(scheme="b", fuse=None)
     r = recipe_for(100, options, tuning)
     assert r.options is options and r.tuning is tuning
     assert (r.selection, r.beta, r.fuse, r.continuation, r.max_iterations) == ("vertex", 0.6, False, False, 7)
-    assert len(dataclasses.fields(Recipe)) <= 12 and len(dataclasses.fields(Tuning)) <= 12
+    assert (r.time_limit, r.scheme, r.lowest_budget) == (30.0, "b", options.lowest_budget)
+    assert READ and all(getattr(r, n) == getattr(options if hasattr(options, n) else tuning, n) for n in READ)
+    assert len(dataclasses.fields(Tuning)) <= 12
     d = r.as_dict()
     names = {f.name for cls in (micro.NonAssociativeOptions, Tuning) for f in dataclasses.fields(cls)}
     assert names <= set(d) and d["relaxation"] == 0.6 and d["fuse"] is False and d["time_limit"] == 30.0
 
 
-def test_one_global_options_object_reaches_the_search() -> None:
-    """Every setting of the global search, the solver included, travels in one GlobalOptions: ``True`` is
-    its defaults, a GlobalOptions is kept as given, ``False`` is no search."""
-    from micro.nonassociative import GlobalOptions
+def test_the_global_search_is_composed_after_the_run_not_an_option() -> None:
+    """The iterated LP's options hold no global search (``global_`` is an unknown option, naming the
+    options); its caller composes it from the result: every setting travels in one GlobalOptions, kept as
+    given, and the search runs the result's directions."""
+    from micro.global_search import GlobalOptions, solve_global
 
-    assert micro.NonAssociativeOptions(global_=True).global_ == GlobalOptions()
-    assert micro.NonAssociativeOptions(global_=False).global_ is None
-    given = GlobalOptions(node_limit=3, time_limit=None, bounds="uniform")
     w = WallSpec.from_paper(t=1, m=1, rows=2, f=0.6).to_micro()  # 5 blocks
-    r = solve_nonassociative(w, global_=given)
-    assert r.global_search is not None and r.global_search.options is given
-    assert all(d.bounds is not None and d.bounds.policy == "uniform" for d in r.global_search.directions)
+    with pytest.raises(TypeError, match="unknown option"):
+        solve_nonassociative(w, global_=True)
+    r = solve_nonassociative(w)
+    given = GlobalOptions(node_limit=3, direction_time_limit=None, bounds="uniform")
+    g = solve_global(w, start=r, options=given)
+    assert g.options is given and [d.direction for d in g.directions] == [d.direction for d in r.directions]
+    assert all(d.bounds is not None and d.bounds.policy == "uniform" for d in g.directions)
+
+
+def test_no_stage_reads_the_options_or_the_tuning_through_the_recipe() -> None:
+    """A stage reads ``recipe.time_limit``, never ``recipe.options.time_limit`` or ``recipe.tuning.scheme``:
+    one hop, so that what a stage reads is listed in one place (the recipe's fields)."""
+    import re
+    from pathlib import Path
+
+    root = Path(micro.__file__).parent / "nonassociative"
+    hops = [f"{p.name}: {m}" for p in root.rglob("*.py") if p.name != "config.py"
+            for m in re.findall(r"\w+\.(?:options|tuning)\.\w+", p.read_text(encoding="utf-8"))]
+    assert not hops, hops

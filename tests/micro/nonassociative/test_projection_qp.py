@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from micro.nonassociative.proximal import LeastDistanceQP, LeastDistanceSettings
+from micro.backends.normal_qp import LeastDistanceQP, LeastDistanceSettings
 
 
 def _simplex_projection(t: np.ndarray, total: float) -> np.ndarray:

@@ -13,7 +13,7 @@ collapse load is therefore ``min lambda`` over admissible fields and
 mechanisms with ``L(v, n) <= lambda``, a bilinear problem, and:
 
 * with ``v`` fixed it is the LP of the band's LOWER END
-  (:class:`~micro.nonassociative.states.ForceLP`);
+  (:class:`~micro.nonassociative.descent.states.ForceLP`);
 * with ``n`` fixed, ``min_v L(v, n)`` is the dual of Gilbert's LP
   ``|s| <= mu nbar`` with ``nbar = n``. At the lower end ``(n_lo, lambda_lo)``
   it returns ``lambda_lo`` itself: the lower end is a fixed point of the
@@ -23,7 +23,7 @@ mechanisms with ``L(v, n) <= lambda``, a bilinear problem, and:
 Alternating the two is the convex-concave procedure on this problem. POLISH
 (:meth:`Descent.polish`) does it with a choice: among the mechanisms
 compatible with the current state it takes the one
-(:class:`~micro.nonassociative.states.MechanismLP`) that restricts least of
+(:class:`~micro.nonassociative.descent.states.MechanismLP`) that restricts least of
 the columns whose reduced cost says they would lower ``lambda``. The next
 lower end is never higher (the current state is one of its fields); polish
 stops at a state that no compatible mechanism improves.
@@ -63,7 +63,7 @@ warm cap and then cold, and each force LP into the primal cap, the reason the
 wall is fused (measured on the warm descent's research page, ``docs/research/``).
 
 THE BUDGET. A descent may solve at most ``lowest_budget`` LPs per direction
-(:class:`~micro.nonassociative.options.NonAssociativeOptions`; then one more
+(:class:`~micro.nonassociative.config.NonAssociativeOptions`; then one more
 for the band of the state it returns). It counts LPs, not seconds, so it
 stops at the same state on every machine; one that spends its budget returns
 the lowest certified state found so far with ``stop="budget"``
@@ -92,10 +92,9 @@ from micro.geometry import HEAD
 from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.model import IterationModel
-from micro.nonassociative.recipe import LPProgress, Recipe
-from micro.nonassociative.results import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
-from micro.nonassociative.states import (
+from micro.nonassociative.config import INTERPENETRATION, LPProgress, Recipe
+from micro.nonassociative.descent.results import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
+from micro.nonassociative.descent.states import (
     Basis,
     ForceField,
     ForceLP,
@@ -103,7 +102,7 @@ from micro.nonassociative.states import (
     PersistentRuns,
     restricted_columns,
 )
-from micro.nonassociative.tuning import INTERPENETRATION
+from micro.nonassociative.model import IterationModel
 from micro.results import DIR_NAME, DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
@@ -223,7 +222,7 @@ class Descent:
     def exact(self, state: CollapseState) -> bool:
         """Every residual of :func:`verify_collapse_state` is at most :data:`EXACT_TOL`, but the closing
         rates, read as the simplex duals' noise up to
-        :data:`~micro.nonassociative.tuning.INTERPENETRATION` of the largest rate as the certificate
+        :data:`~micro.nonassociative.config.INTERPENETRATION` of the largest rate as the certificate
         reads them (the iterated LP's certified state of Table 5's Set 3 closes at 1.6e-6)."""
         res = verify_collapse_state(self.lp, self.as_result(state))
         return all(v <= (INTERPENETRATION if k == "interpenetration" else EXACT_TOL)
@@ -399,5 +398,5 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe,
     """
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
-    return Descent(lp, direction_sign(start.direction), options, options.options.lowest_budget, model,
+    return Descent(lp, direction_sign(start.direction), options, options.lowest_budget, model,
                    proposals=proposals).run(start)

@@ -17,7 +17,7 @@ ASSOCIATIVE problem: equilibrium, ``n >= 0``, ``|s| <= mu n``. Hence
   LP per point, policy ``"per_point"``), or at most the largest TOTAL normal
   force ``sum_p n_p`` over them (one LP, policy ``"uniform"``, looser).
 
-The LP optima carry the solver's tolerance (:data:`~micro.nonassociative.global_search.highs.LP_TOLERANCE`);
+The LP optima carry the solver's tolerance (:data:`~micro.global_search.highs.LP_TOLERANCE`);
 each ``N_p`` is widened by :data:`BOUND_MARGIN` so that rounding cannot cut a
 state off. The rate bounds of the mechanism need no LP: the mechanism is
 normalised so that its rates (opening rates, absolute slip rates) sum to 1,
@@ -33,9 +33,9 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.global_search import highs as gh
+from micro.global_search.results import BigM
 from micro.lp import LimitLP
-from micro.nonassociative.global_search import highs as gh
-from micro.nonassociative.global_search.results import BigM
 
 FloatArray = NDArray[np.float64]
 

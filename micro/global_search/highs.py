@@ -1,6 +1,6 @@
 """A thin HiGHS layer for the global (mixed-integer) search and its small LPs.
 
-The global search (:mod:`micro.nonassociative.global_search`) builds its own models, column by
+The global search (:mod:`micro.global_search`) builds its own models, column by
 column, from the matrices of :class:`micro.lp.LimitLP`; this module passes
 such a model to ``highspy`` and reads the outcome back in one shape, so that
 the bounds, the pattern LPs and the MIP do not each repeat the ``HighsLp``

@@ -31,10 +31,10 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from micro.global_search import highs as gh
+from micro.global_search.results import Pattern
 from micro.lp import LimitLP
 from micro.nonassociative.checks import state_residuals
-from micro.nonassociative.global_search import highs as gh
-from micro.nonassociative.global_search.results import Pattern
 
 FloatArray = NDArray[np.float64]
 

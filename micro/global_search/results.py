@@ -1,6 +1,6 @@
 """The global search's types: its options, a contact pattern, the big-M bounds, the results.
 
-A types module: it imports no module of the search (:mod:`~micro.nonassociative.global_search`
+A types module: it imports no module of the search (:mod:`~micro.global_search`
 computes; this module only describes what goes in and comes out).
 """
 
@@ -44,9 +44,11 @@ class GlobalOptions:
     """Options of the global search.
 
     Attributes:
-        time_limit: seconds of branch and bound per load direction (``None``:
-            none). A search stopped by it reports ``time_limit`` with its
-            bound and best state; such numbers depend on the machine.
+        direction_time_limit: seconds of branch and bound per load direction
+            (``None``: none). A search stopped by it reports ``time_limit``
+            with its bound and best state; such numbers depend on the machine.
+            Named apart from the iterated LP's ``time_limit`` (seconds per LP):
+            one meaning per name.
         node_limit: branch-and-bound nodes per direction (``None``: none);
             unlike the time limit it gives the same answer on every machine.
         mip_gap: relative gap ``(lambda - bound) / lambda`` at which the
@@ -60,7 +62,7 @@ class GlobalOptions:
             SCIP; needs ``pyscipopt``, the optional extra ``global``).
     """
 
-    time_limit: float | None = 300.0
+    direction_time_limit: float | None = 300.0
     node_limit: int | None = None
     mip_gap: float = 1e-7
     bounds: Literal["per_point", "uniform"] = "per_point"
@@ -70,9 +72,9 @@ class GlobalOptions:
     solver: Literal["highs", "scip"] = "highs"
 
     def __post_init__(self) -> None:
-        t = self.time_limit
+        t = self.direction_time_limit
         if t is not None and ((x := finite_real(t)) is None or x <= 0):
-            raise ValueError(f"time_limit must be a positive number, got {t!r}")
+            raise ValueError(f"direction_time_limit must be a positive number, got {t!r}")
         if self.node_limit is not None:
             check_integer("node_limit", self.node_limit, 1)
         g = self.mip_gap
@@ -201,7 +203,7 @@ class GlobalDirection:
         pattern: its contact pattern, or ``None``.
         pattern_band: least and greatest ``lambda`` over the force fields of
             that pattern (any of them forms a collapse state with the mechanism).
-        residuals: its check (:func:`micro.nonassociative.global_search.pattern.collapse_residuals`).
+        residuals: its check (:func:`micro.global_search.pattern.collapse_residuals`).
         bounds: the big-M bounds used, or ``None``.
         binaries: binary columns of the model.
         nodes: branch-and-bound nodes.

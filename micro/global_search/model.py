@@ -33,9 +33,9 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from micro.global_search import highs as gh
+from micro.global_search.results import BigM, Pattern
 from micro.lp import LimitLP
-from micro.nonassociative.global_search import highs as gh
-from micro.nonassociative.global_search.results import BigM, Pattern
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -106,7 +106,7 @@ def build_mip(lp: LimitLP, direction: int, bounds: BigM, *, energy_cut: bool = T
     Args:
         lp: the LP of the wall.
         direction: ``+1`` or ``-1``.
-        bounds: the big-M bounds (:func:`micro.nonassociative.global_search.bounds.big_m`).
+        bounds: the big-M bounds (:func:`micro.global_search.bounds.big_m`).
         energy_cut: add ``lift <= lambda_up * live work`` (valid when the
             mechanisms cannot lower the dead load, see :class:`BigM`).
 

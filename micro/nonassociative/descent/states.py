@@ -44,10 +44,10 @@ import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.highs import PersistentHighsModel
+from micro.backends.roles import PersistentLP
 from micro.lp import LimitLP
-from micro.mechanism import STATE_TOL
-from micro.nonassociative.tuning import INTERPENETRATION, STATE_RESIDUAL, TINY
+from micro.nonassociative.certificate import point_states
+from micro.nonassociative.config import INTERPENETRATION, STATE_RESIDUAL, TINY
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -63,20 +63,19 @@ FORCE_ZERO = 1e-9
 REFINE_STEPS = 3
 REFINED = 1e-12
 #: Simplex iterations per row a warm run may take before it is redone cold:
-#: after a large change of the pattern a warm dual simplex took 5,300
-#: iterations (1.6 s, against 0.34 s cold) on 150 blocks and more than eight
-#: minutes on the 1,230-block wall.
+#: after a large change of the pattern a warm dual simplex can cost several
+#: times a cold solve (``docs/research/2026-11-28-house.md``, "Figures moved
+#: from the code").
 WARM_ITERATIONS = 2
 #: Callbacks beyond one per simplex iteration a primal run may make
 #: (:meth:`~micro.backends.highs.PersistentHighsModel.limit_excess_calls`):
-#: on Ref, Set 2 and the p = 1 wall of Table 5 every primal run that solved
-#: made at most 54, those that failed 59-4,478 (one of them 97 s in slow
-#: iterations of 40-60 callbacks each, against 0.5-2 s for a run that solves).
+#: the runs that solve make few, those that fail many, slowly; the counts are
+#: on ``docs/research/2026-11-26-warm-descent.md`` and
+#: ``docs/research/2026-11-28-house.md``.
 PRIMAL_EXCESS_CALLS = 200
 #: Simplex iterations per row a primal run from a carried-over basis may
-#: take: on the 1,230-block wall those that solve took 0.2-0.36 per row
-#: (790-1,330), and those that did not ended "Unknown" after 0.46 or had
-#: not finished at 2.
+#: take: above the runs that solve, below those that did not
+#: (``docs/research/2026-11-28-house.md``).
 PRIMAL_ITERATIONS = 0.5
 #: Weight of every restricted column in the mechanism LP beside the
 #: reduced-cost weights (normalised to at most 1): among compatible
@@ -84,44 +83,14 @@ PRIMAL_ITERATIONS = 0.5
 SPARSITY_WEIGHT = 1e-3
 
 
-def point_states(dn: FloatArray, ds: FloatArray, max_noise: float) -> tuple[BoolArray, BoolArray, BoolArray] | None:
-    """Which points of a mechanism open and which slip, by the one rule for
-    "this rate is zero" (the certificate's pattern and :func:`restricted_columns`).
-
-    A rate is zero below :data:`~micro.mechanism.STATE_TOL` of the largest,
-    the rule of :func:`~micro.nonassociative.checks.verify_collapse_state`, so
-    that a state built on the pattern passes its slip-at-yield check (a
-    former margin of 10 x the dual noise let states slip at 1.01e-6 of the
-    largest rate with friction below yield). Closing rates up to
-    ``max_noise`` of the largest are read as the dual noise of a simplex
-    mechanism at closed points (down to -1.1e-5 seen on Set 4, where exact
-    duals give >= 0); beyond it the mechanism interpenetrates.
-
-    Args:
-        dn, ds: ``(P,)`` opening and slip rates.
-        max_noise: largest closing rate, relative to the largest rate, read as noise.
-
-    Returns:
-        ``(opening, slipping with ds > 0, slipping with ds < 0)`` masks, or
-        ``None`` when a point closes by more than ``max_noise``.
-    """
-    scale = max(float(np.max(np.abs(ds), initial=0.0)), float(np.max(np.abs(dn), initial=0.0)), 1e-300)
-    noise = max(-float(np.min(dn, initial=0.0)), 0.0) / scale
-    if noise > max_noise:
-        return None
-    tol = STATE_TOL * scale
-    opening = dn > tol
-    return opening, (ds > tol) & ~opening, (ds < -tol) & ~opening
-
-
 def restricted_columns(lp: LimitLP, v: FloatArray) -> BoolArray | None:
     """The generator columns (``[g+ (P), g- (P)]``) the mechanism ``v`` forbids
-    (rates read by :func:`point_states`, closing rates up to
-    :data:`~micro.nonassociative.tuning.INTERPENETRATION` as noise).
+    (rates read by :func:`~micro.nonassociative.certificate.point_states`, closing rates up to
+    :data:`~micro.nonassociative.config.INTERPENETRATION` as noise).
 
     Returns:
         The ``(2P,)`` mask, or ``None`` when ``v`` makes points interpenetrate
-        beyond :data:`~micro.nonassociative.tuning.INTERPENETRATION` or
+        beyond :data:`~micro.nonassociative.config.INTERPENETRATION` or
         does no live-load work.
     """
     dn = lp.Bn.T @ v
@@ -210,7 +179,7 @@ class PersistentRuns:
         time_limit: seconds per run (``inf``: none).
     """
 
-    def __init__(self, model: PersistentHighsModel, time_limit: float) -> None:
+    def __init__(self, model: PersistentLP, time_limit: float) -> None:
         self.model, self.time_limit = model, time_limit
         if model.stall_guard is None:
             model.guard_stalls()  # a stalled run fails (and is recovered) instead of hanging
@@ -306,7 +275,7 @@ class ForceLP(PersistentRuns):
     """
 
     def __init__(self, lp: LimitLP, direction: int, time_limit: float = math.inf) -> None:
-        super().__init__(PersistentHighsModel.of(lp, direction, algorithm="simplex"), time_limit)
+        super().__init__(PersistentLP.of(lp, direction, algorithm="simplex"), time_limit)
         self.lp, self.d = lp, direction
         self._cols = np.arange(2 * lp.n_points)
         self._gen = lp.A[:, : 2 * lp.n_points].tocsc()
@@ -316,7 +285,7 @@ class ForceLP(PersistentRuns):
         """The field of least (``sense=+1``) or greatest (``-1``) ``lambda``
         that uses no restricted column; ``None`` when there is none (or the
         LP failed, or its field misses equilibrium by more than
-        :data:`~micro.nonassociative.tuning.STATE_RESIDUAL`). ``start``,
+        :data:`~micro.nonassociative.config.STATE_RESIDUAL`). ``start``,
         ``primal``, ``cold``: how it runs (:meth:`PersistentRuns.run`)."""
         lp, P = self.lp, self.lp.n_points
         upper = np.where(restricted, 0.0, lp.col_upper[: 2 * P])
@@ -365,7 +334,7 @@ class MechanismLP(PersistentRuns):
         upper = np.full(ne + 2 * P, np.inf)
         row_lo = np.concatenate([np.zeros(2 * P), [1.0]])
         row_up = np.concatenate([np.full(P, np.inf), np.zeros(P), [1.0]])
-        model = PersistentHighsModel(A, np.zeros(ne + 2 * P), lower, upper, row_lo, row_up, algorithm="simplex")
+        model = PersistentLP(A, np.zeros(ne + 2 * P), lower, upper, row_lo, row_up, algorithm="simplex")
         super().__init__(model, time_limit)
         self.lp, self.d = lp, direction
         self._q = ne + np.arange(2 * P)

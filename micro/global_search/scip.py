@@ -1,9 +1,9 @@
 """The global search's MIP solved by SCIP instead of HiGHS (optional: ``pip install xcheck-masonry[global]``).
 
-The model is the big-M MIP of :mod:`micro.nonassociative.global_search.model`, read
-column by column from the HiGHS model that :func:`~micro.nonassociative.global_search.model.build_mip`
+The model is the big-M MIP of :mod:`micro.global_search.model`, read
+column by column from the HiGHS model that :func:`~micro.global_search.model.build_mip`
 assembles, so both solvers see the same rows, bounds and start. SCIP's answer
-goes through the same rebuild and check as HiGHS' (:mod:`micro.nonassociative.global_search.search`).
+goes through the same rebuild and check as HiGHS' (:mod:`micro.global_search.search`).
 Measured against HiGHS in ``docs/micro/global-search.md``.
 """
 
@@ -16,11 +16,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from micro.nonassociative.global_search import highs as gh
+from micro.global_search import highs as gh
 
 FloatArray = NDArray[np.float64]
 
-#: SCIP statuses in HiGHS' words (what :mod:`micro.nonassociative.global_search.search` reads).
+#: SCIP statuses in HiGHS' words (what :mod:`micro.global_search.search` reads).
 _STATUS = {"optimal": "Optimal", "gaplimit": "Optimal", "infeasible": "Infeasible", "nodelimit": "Node limit reached",
            "totalnodelimit": "Node limit reached", "timelimit": "Time limit reached"}
 
@@ -66,7 +66,7 @@ def set_start(m: Any, xs: list[Any], x: FloatArray) -> bool:
 
 def run(m: Any, xs: list[Any], *, node_limit: int | None, time_limit: float | None, mip_gap: float,
         abs_gap: float, feasibility: float, seed: int = 0, log: bool = False) -> gh.MipOutcome:
-    """Solve; the outcome in the shape of :func:`micro.nonassociative.global_search.highs.run`'s.
+    """Solve; the outcome in the shape of :func:`micro.global_search.highs.run`'s.
 
     Raises:
         KeyboardInterrupt: Ctrl-C (SCIP's own handler stops it within a node).

@@ -2,9 +2,9 @@
 
 The MIP's own solution is never reported as it stands: its binaries (the
 contact pattern) are rounded and the state is rebuilt by the two LPs of the
-pattern (:func:`micro.nonassociative.global_search.pattern.force_state` and
-:func:`~micro.nonassociative.global_search.pattern.mechanism`), then checked by
-:func:`~micro.nonassociative.global_search.pattern.collapse_residuals`. The rebuilt load factor is
+pattern (:func:`micro.global_search.pattern.force_state` and
+:func:`~micro.global_search.pattern.mechanism`), then checked by
+:func:`~micro.global_search.pattern.collapse_residuals`. The rebuilt load factor is
 the least of the pattern, so it is at most the MIP's (up to HiGHS'
 feasibility tolerances on the big-M rows, which it removes).
 """
@@ -18,13 +18,13 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.global_search import highs as gh
+from micro.global_search.bounds import BoundError, big_m
+from micro.global_search.model import Layout, build_mip, pattern_of, solution_vector
+from micro.global_search.pattern import collapse_residuals, force_state, is_collapse_state, mechanism
+from micro.global_search.results import BigM, GlobalOptions, Pattern
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
-from micro.nonassociative.global_search import highs as gh
-from micro.nonassociative.global_search.bounds import BoundError, big_m
-from micro.nonassociative.global_search.model import Layout, build_mip, pattern_of, solution_vector
-from micro.nonassociative.global_search.pattern import collapse_residuals, force_state, is_collapse_state, mechanism
-from micro.nonassociative.global_search.results import BigM, GlobalOptions, Pattern
 
 FloatArray = NDArray[np.float64]
 
@@ -115,8 +115,8 @@ def _configure(h: gh.Model, opts: GlobalOptions) -> None:
     h.setOptionValue("random_seed", int(opts.seed))
     h.setOptionValue("mip_feasibility_tolerance", MIP_FEASIBILITY)
     h.setOptionValue("primal_feasibility_tolerance", MIP_FEASIBILITY)
-    if opts.time_limit is not None:
-        h.setOptionValue("time_limit", float(opts.time_limit))
+    if opts.direction_time_limit is not None:
+        h.setOptionValue("time_limit", float(opts.direction_time_limit))
     if opts.node_limit is not None:
         h.setOptionValue("mip_max_nodes", int(opts.node_limit))
 
@@ -125,12 +125,12 @@ def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts
     """The branch and bound by HiGHS, or by SCIP on the same model (``opts.solver``)."""
     start = None if inc is None else solution_vector(lp, layout, inc.pattern, inc.n, inc.s, inc.load_factor, inc.v)
     if opts.solver == "scip":
-        from micro.nonassociative.global_search import scip
+        from micro.global_search import scip
 
         m, xs = scip.from_model(h)
         if start is not None:
             scip.set_start(m, xs, start)
-        return scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.time_limit, mip_gap=opts.mip_gap,
+        return scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.direction_time_limit, mip_gap=opts.mip_gap,
                                abs_gap=MIP_ABS_GAP, feasibility=MIP_FEASIBILITY, seed=opts.seed, log=opts.log)
     if start is not None:
         gh.set_start(h, start)

@@ -13,6 +13,13 @@ against the collapse conditions (:mod:`.pattern`) before it is reported
 (:mod:`.search`: one load direction). Options and results: :mod:`.results`.
 Derivation and figures: ``docs/micro/global-search.md``. A reference tool
 for small walls: the search closes on tens of blocks, not thousands.
+
+The search is composed by its caller, not reached through the iterated LP's
+options: ``solve_global(lp, start=result)`` starts from a finished
+:class:`~micro.NonAssociativeResult` (its lowest certified states, else its
+converged states). The iterated LP knows nothing of this package; this
+package reads the iterated LP's result types only, and its patterns are
+checked by :func:`micro.nonassociative.checks.state_residuals`.
 """
 
 from __future__ import annotations
@@ -23,8 +30,7 @@ from collections.abc import Sequence
 from typing import Literal
 
 from micro.geometry import BlockWall
-from micro.lp import LimitLP, assemble
-from micro.nonassociative.global_search.results import (
+from micro.global_search.results import (
     INFEASIBLE,
     NODE_LIMIT,
     OPTIMAL,
@@ -40,7 +46,10 @@ from micro.nonassociative.global_search.results import (
     global_summary,
     relative_gap,
 )
-from micro.nonassociative.global_search.search import Incumbent, search_direction
+from micro.global_search.search import Incumbent, search_direction
+from micro.lp import LimitLP, assemble
+from micro.nonassociative.results import NonAssociativeResult
+from micro.results import direction_sign
 
 __all__ = [
     "INFEASIBLE",
@@ -58,13 +67,14 @@ __all__ = [
     "global_summary",
     "relative_gap",
     "solve_global",
+    "starts_from",
 ]
 _DIR_NAME = {1: "+x", -1: "-x"}
 
 
 def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "both", "auto"] = "auto",
                  options: GlobalOptions | None = None,
-                 start: StartState | Sequence[StartState] | None = None) -> GlobalResult:
+                 start: StartState | Sequence[StartState] | NonAssociativeResult | None = None) -> GlobalResult:
     """Least collapse load factor with non-associative friction, with a proof.
 
     Args:
@@ -75,7 +85,9 @@ def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "bot
         start: a known collapse state of one direction (or one state per
             direction): its contact pattern is rebuilt into an exact state,
             handed to HiGHS as the first incumbent, and its load factor
-            bounds the search.
+            bounds the search. A :class:`~micro.NonAssociativeResult` of
+            the same wall gives its states (:func:`starts_from`), and with
+            ``direction="auto"`` its directions.
 
     Returns:
         The :class:`GlobalResult`.
@@ -88,18 +100,29 @@ def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "bot
         on every machine (a time limit would depend on the machine):
 
         >>> import micro
-        >>> from micro.nonassociative import GlobalOptions, solve_global
+        >>> from micro.global_search import GlobalOptions, solve_global
         >>> wall = micro.build_wall(length=2.0, block_length=1.0, block_height=0.5, rows=(2,),
         ...                         thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.6)
         >>> result = solve_global(wall, options=GlobalOptions(node_limit=100))
         >>> result.status, round(result.load_factor, 4), result.lower_bound <= result.load_factor
         ('node_limit', 0.6, True)
+
+        Composed after the iterated LP, started from its states:
+
+        >>> iterated = micro.solve_nonassociative(wall)
+        >>> started = solve_global(micro.assemble(wall), start=iterated, options=GlobalOptions(node_limit=100))
+        >>> started.load_factor <= iterated.load_factor + 1e-9
+        True
     """
     opts = GlobalOptions() if options is None else options
     if not isinstance(opts, GlobalOptions):
         raise ValueError(f"options must be a GlobalOptions, got {type(opts).__name__}")
     t0 = time.perf_counter()
     lp = wall_or_lp if isinstance(wall_or_lp, LimitLP) else assemble(wall_or_lp)
+    if isinstance(start, NonAssociativeResult):
+        if direction == "auto":
+            direction = "both" if len(start.directions) > 1 else 1 if start.directions[0].direction == "+x" else -1
+        start = starts_from(lp, start)
     if direction in (1, -1):
         dirs: tuple[int, ...] = (int(direction),)
     elif direction == "both" or (direction == "auto" and not lp.wall.mirror_symmetric):
@@ -115,6 +138,21 @@ def solve_global(wall_or_lp: BlockWall | LimitLP, direction: Literal[1, -1, "bot
     by_dir = {st.direction: st for st in starts}
     results = tuple(_direction(lp, d, opts, by_dir.get(d)) for d in dirs)
     return _combine(results, opts, time.perf_counter() - t0)
+
+
+def starts_from(lp: LimitLP, result: NonAssociativeResult) -> list[StartState]:
+    """The start states a finished iterated LP gives: the lowest certified state
+    of each direction, else the direction's converged state (none for a
+    direction that did not converge).
+
+    Args:
+        lp: the LP of the wall ``result`` was solved on.
+        result: :func:`micro.solve_nonassociative`'s result.
+    """
+    starts = [StartState.from_iterated(lp, low.state) for low in result.lowest if low.state is not None]
+    have = {st.direction for st in starts}
+    return starts + [StartState.from_iterated(lp, r) for r in result.directions
+                     if r.converged and direction_sign(r.direction) not in have]
 
 
 def _direction(lp: LimitLP, d: int, opts: GlobalOptions, start: StartState | None) -> GlobalDirection:
