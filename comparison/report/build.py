@@ -7,8 +7,9 @@ plan on an executor (local worker processes,
 display whose ETA weighs each computation by its expected cost), reads the whole plan into
 :class:`~comparison.report.results.Results`, and renders the tables, figures
 and text from them into ``REPORT.md``, one CSV per table, ``report.json`` (every
-number shown) and the figures; the sections of the tables committed with the
-report read them from its tables directory (:mod:`comparison.report.committed`).
+number shown) and the figures, section by section (:mod:`comparison.report.sections`);
+the sections of the tables committed with the report read them from its tables
+directory (:mod:`comparison.report.committed`).
 """
 
 from __future__ import annotations
@@ -23,14 +24,11 @@ from typing import Any
 
 from comparison.outputs import writable_directory, write_text
 from comparison.progress import NORMAL, Progress
-from comparison.report import bond, errormap, figures, lowest
 from comparison.report.committed import BOND, ERRORMAP, LOWEST, check_tables, committed_table
-from comparison.report.findings import findings
-from comparison.report.mechanisms import mechanism_figures
 from comparison.report.plan import build_plan
 from comparison.report.results import Results, compute
 from comparison.report.robustness import bond_variants_table, robustness_table
-from comparison.report.scaling import scaling_figure
+from comparison.report.sections import Body, Bond, ErrorMap, Lowest, Section, render
 from comparison.report.tables import (
     Table,
     all_cases,
@@ -43,7 +41,6 @@ from comparison.report.tables import (
     table8,
     table9,
 )
-from comparison.report.text import document
 from comparison.report.timings import previous_seconds, write_timings
 from comparison.runner import MACRO, Prefetched, Runner, prefetch
 from comparison.runner.executor import Executor, LocalExecutor
@@ -138,33 +135,24 @@ def written_files(out: Path, since: float) -> str:
     return f"wrote {len(names)} files into {out}: {', '.join(main)}, {csv} CSV tables, {png} figures"
 
 
-def _write(res: Results, out: Path, meta: Mapping[str, Any], tables_dir: Path) -> Path:
-    """Render the tables, figures and text of ``res`` into ``out`` (run times: :mod:`~comparison.report.timings`),
-    with the sections of the committed tables in ``tables_dir``."""
-    tables = all_tables(res)
-    hist = figures.histories_figure(res, out / "histories.png")
-    scaling = scaling_figure(res, out / "scaling.png")
-    figure_list = [
-        figures.sensitivity_figure(res, out / "sensitivity.png"),
-        figures.speed_figure(res, out / "speed_accuracy.png"),
-        *([] if hist is None else [hist]),
-        *([] if scaling is None else [scaling]),
-        *mechanism_figures(res, out),
+def sections(res: Results, meta: Mapping[str, Any], tables_dir: Path) -> list[Section]:
+    """The report's sections in their order: its body, then those of the committed tables in ``tables_dir``
+    (a missing one: :func:`~comparison.report.committed.committed_table` warns and its section says so)."""
+    return [
+        Body(res, all_tables(res), meta),
+        ErrorMap(committed_table(tables_dir, ERRORMAP)),
+        Bond(committed_table(tables_dir, BOND)),
+        Lowest(committed_table(tables_dir, LOWEST)),
     ]
-    for tb in tables.values():
-        tb.write_csv(out / f"{tb.name}.csv")
-    error_map, error_numbers = errormap.write(out, committed_table(tables_dir, ERRORMAP), number=len(figure_list) + 1)
-    lowest_number = len(figure_list) + len(error_numbers.get("figures", ())) + 1
-    bond_text, bond_rows = bond.section(committed_table(tables_dir, BOND))
-    tables_json = {k: v.records() for k, v in tables.items()}
-    write_text(out / "report.json", json.dumps(
-        {"meta": meta, "tables": tables_json, "errormap": error_numbers, "table9_bond": bond_rows},
-        indent=1, default=str,
-    ))
+
+
+def _write(res: Results, out: Path, meta: Mapping[str, Any], tables_dir: Path) -> Path:
+    """Render the sections of ``res`` into ``out`` (run times: :mod:`~comparison.report.timings`), those of
+    the committed tables from ``tables_dir``: ``REPORT.md``, ``report.json``, the CSVs and the figures."""
+    text, records = render(sections(res, meta, tables_dir), out)
+    write_text(out / "report.json", json.dumps({"meta": meta, **records}, indent=1, default=str))
     path = out / "REPORT.md"
-    text = document(res, tables, findings(res), figure_list, meta)
-    lowest_text = lowest.section(committed_table(tables_dir, LOWEST), out=out, number_=lowest_number)
-    write_text(path, text + "\n" + error_map + "\n" + bond_text + "\n" + lowest_text)
+    write_text(path, text)
     return path
 
 

@@ -91,9 +91,11 @@ def status_legend(tables: Mapping[str, Table]) -> str:
     return "\n".join(f"* `{k}`: {STATUS_LEGEND[k]}." for k in shown)
 
 
-def figure_list(figures: Sequence[Figure]) -> str:
-    """Every figure, numbered, with its caption."""
-    return "\n\n".join(f"![Figure {i}]({f.name})\n\n**Figure {i}.** {f.caption}" for i, f in enumerate(figures, 1))
+def figure_list(figures: Sequence[Figure], start: int = 1) -> str:
+    """Every figure, numbered from ``start``, with its caption."""
+    return "\n\n".join(
+        f"![Figure {i}]({f.name})\n\n**Figure {i}.** {f.caption}" for i, f in enumerate(figures, start)
+    )
 
 
 def _pct(ours: float, ref: float) -> str:
@@ -186,8 +188,9 @@ def document(
     findings: str,
     figures: Sequence[Figure],
     meta: Mapping[str, Any],
+    first_figure: int = 1,
 ) -> str:
-    """The text of ``REPORT.md``.
+    """The text of ``REPORT.md`` but for the sections of the committed tables.
 
     Args:
         res: the results (for the discrepancies with the paper).
@@ -196,6 +199,7 @@ def document(
         figures: every figure with its caption, in the order they are numbered.
         meta: what was run (``quick``, ``methods``); run times, the machine and
             the cache are in ``timings.md`` (:mod:`~comparison.report.timings`).
+        first_figure: the number of the first of ``figures`` (:func:`comparison.report.sections.render`).
     """
     body = "\n\n".join(tables[k].markdown() for k in ORDER if k in tables)
     return f"""# Macro-block against rigid-block limit analysis: validation report
@@ -218,7 +222,7 @@ are at the end.
 
 ## Figures
 
-{figure_list(figures)}
+{figure_list(figures, first_figure)}
 
 The iterated LP over 120 small walls, seven settings: [stability.md](stability.md); Table 7 per
 scheme, bond phase and head-joint friction: [table7_nonassoc.md](table7_nonassoc.md)

@@ -19,8 +19,8 @@ asserts the load factor it timed against the pinned reference of
   ``slow``, one round;
 * ``assoc-cli-7575``: the whole process of ``xcheck micro`` on Set 15 with no
   ``--solver`` (the library default, :data:`micro.DEFAULT_SOLVER`), asserting
-  the back end it ran and lambda within 2e-6 of the reference (issue 30's
-  target: at most 20 s). ``slow``, one round.
+  the back end it ran and lambda within 2e-6 of the reference (target: at
+  most 20 s). ``slow``, one round.
 
 The choice of the default back end: docs/research/2026-11-25-associative-default.md.
 

@@ -1,7 +1,7 @@
 """Macro-model speed (pytest-benchmark). Run: ``pytest -m benchmark --benchmark-enable tests/benchmarks``.
 
-Targets: <= 1 ms per wall with all hinge storeys (issue 2); >= 300,000
-three-storey walls/s through :func:`macro.sweep` on one core (issue 10).
+Targets: <= 1 ms per wall with all hinge storeys; >= 300,000
+three-storey walls/s through :func:`macro.sweep` on one core.
 Pin to one core when measuring: ``OMP_NUM_THREADS=1 taskset -c 0 pytest ...``.
 """
 

@@ -1,15 +1,51 @@
-"""Fixtures shared by the comparison tests: one loopback Dask cluster for the sweeps and the report."""
+"""Fixtures shared by the comparison tests: one loopback Dask cluster for the sweeps and the report.
+
+The cluster is started by the first test that asks for it and ended after the last one (not at the end
+of the session: an idle scheduler and worker still cost CPU while the rest of the suite runs).
+"""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import contextlib
+from pathlib import Path
 
 import pytest
 from dask_cluster import cluster
 
 
+class _Cluster:
+    """The cluster of the run, opened once on demand and closed once."""
+
+    def __init__(self) -> None:
+        self.address: str | None = None
+        self.last: str | None = None  # the node id of the last test that uses it
+        self._stack = contextlib.ExitStack()
+
+    def open(self, tmp: Path) -> str:
+        if self.address is None:
+            self.address = self._stack.enter_context(cluster(tmp))[0]
+        return self.address
+
+    def close(self) -> None:
+        self._stack.close()
+
+
+CLUSTER = _Cluster()
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    users = [item.nodeid for item in session.items if "dask_scheduler" in getattr(item, "fixturenames", ())]
+    CLUSTER.last = users[-1] if users else None
+
+
+def pytest_runtest_teardown(item: pytest.Item, nextitem: pytest.Item | None) -> None:
+    if item.nodeid == CLUSTER.last:
+        CLUSTER.close()
+
+
 @pytest.fixture(scope="session")
-def dask_scheduler(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    """A ``dask.distributed`` scheduler and one worker on 127.0.0.1 (:func:`dask_cluster.cluster`)."""
-    with cluster(tmp_path_factory.mktemp("dask")) as (address, _, _):
-        yield address
+def dask_scheduler(tmp_path_factory: pytest.TempPathFactory, request: pytest.FixtureRequest) -> str:
+    """A ``dask.distributed`` scheduler and one worker on 127.0.0.1 (:func:`dask_cluster.cluster`), ended
+    after the last test that uses it (or at the end of the session, if that test did not run to its end)."""
+    request.addfinalizer(CLUSTER.close)
+    return CLUSTER.open(tmp_path_factory.mktemp("dask"))

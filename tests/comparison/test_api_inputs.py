@@ -1,4 +1,4 @@
-"""Issue 41: one rule for input at every public entry point of the Python API.
+"""One rule for input at every public entry point of the Python API.
 
 A bad value of any kind (type, NaN, inf, huge, wrong container) raises ``ValueError`` or ``TypeError``
 naming the parameter, before any work; none reaches the models to fail deep inside

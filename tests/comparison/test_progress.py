@@ -50,9 +50,9 @@ class Clock:
 
 
 def test_a_log_gets_a_status_line_every_tenth_or_30_seconds() -> None:
-    """Issue 31, item 8: off a terminal ``xcheck report`` printed nothing (25 minutes of nothing under load).
-    Without ``-q`` it now prints the plan, a status line each time another 10 % is done or 30 s have
-    passed since the last (done, cached, to go, elapsed, ETA), and its summary, on stderr."""
+    """Off a terminal, without ``-q``, a long run prints the plan, a status line each time another 10 % is
+    done or 30 s have passed since the last (done, cached, to go, elapsed, ETA), and its summary, on stderr:
+    a log shows the run is alive."""
     from comparison.progress import LOG_SECONDS
 
     stream, clock = io.StringIO(), Clock()
@@ -121,10 +121,9 @@ def test_a_log_gets_a_status_line_while_one_computation_runs_for_minutes() -> No
 
 
 def test_the_heartbeat_says_nothing_finished_only_when_the_count_did_not_move() -> None:
-    """Issue 44, item 3: a log showed ``3 of 88`` then ``5 of 88 ...; still running``, though the words were
-    documented as "nothing finished". The heartbeat's line says ``nothing finished for <time since the last
-    finish>`` only when no computation finished since the previous line; after the count moved it is the
-    plain status line."""
+    """The heartbeat's line says ``nothing finished for <time since the last finish>`` only when no
+    computation finished since the previous line; after the count moved it is the plain status line (so
+    the words mean what the docs say)."""
     from comparison.progress import LOG_SECONDS
 
     stream, clock = io.StringIO(), Clock()
@@ -157,9 +156,9 @@ def test_the_heartbeat_says_nothing_finished_only_when_the_count_did_not_move() 
 
 
 def test_the_eta_weighs_each_computation_by_its_expected_cost() -> None:
-    """Issue 43: a report runs its largest walls first, and an ETA by count said "14 of 88 done, ETA 1 h 26 min"
-    two minutes before the end. Fed 14 computations of cost 100 (done first, 100 s each) and 74 of cost 1,
-    the weighted ETA is the cost to go at the rate so far (74 s), where the count gave 7,400 s."""
+    """A report runs its largest walls first, so an ETA by count overestimates the rest. Fed 14 computations
+    of cost 100 (done first, 100 s each) and 74 of cost 1, the weighted ETA is the cost to go at the rate so
+    far (74 s), where the count would give 7,400 s."""
     stream, clock = io.StringIO(), Clock()
     costs = [100.0] * 14 + [1.0] * 74
     with Progress(NORMAL, stream, clock=clock, heartbeat=None) as p:
@@ -174,7 +173,7 @@ def test_the_eta_weighs_each_computation_by_its_expected_cost() -> None:
         last = p.status()
     assert line == "micro: 14 of 88 done (15 %), 0 cached, 74 to go; 23 min 20 s elapsed, ETA 1 min 14 s"
     assert last.endswith("24 min 34 s elapsed, ETA 0 s")
-    # the same run counted: what the issue's log showed
+    # the same run counted: what an ETA by count says of it
     counted = Progress(NORMAL, io.StringIO(), clock=clock, heartbeat=None)
     counted.start(88, "micro")
     counted._done, counted._start = 14, clock.now - 1400

@@ -1,10 +1,13 @@
 """The examples of README.md and docs/ run as written.
 
 Every fenced ``sh`` block is a list of ``xcheck`` commands, each run in a temporary folder (with a copy
-of ``examples/`` and of the report's committed tables) by the ``xcheck`` of this environment
-(``python -m comparison.cli``); it fails on an exit code other than 0 or a run over :data:`TIMEOUT`
-seconds. Every fenced ``python`` block is run as a script in such a folder. A block preceded by an HTML
-comment is marked:
+of ``examples/`` and of the report's committed tables) by the ``xcheck`` of this environment: its entry
+point :func:`comparison.cli.main`, the function the console script calls, in this process (a process per
+command would cost a second of imports each; the console script itself is run by
+``tests/comparison/cli/test_cli_macro.py``); it fails on an exit code other than 0. A command that hangs
+for :data:`TIMEOUT` seconds ends the run with every thread's traceback. Every fenced ``python`` block is
+run as a script in such a folder (a process; over :data:`TIMEOUT` seconds it fails). A block preceded by an
+HTML comment is marked:
 
 * ``<!-- skip-example: REASON -->``: not run (synopses with placeholders, installs, long runs);
 * ``<!-- expect-exit: N -->``: its commands must exit with ``N``.
@@ -22,7 +25,10 @@ kept as it was measured (their commands are those of their date) and are not col
 
 from __future__ import annotations
 
+import contextlib
+import faulthandler
 import hashlib
+import io
 import os
 import re
 import shlex
@@ -33,6 +39,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from quick_report import QuickReport, Sweep
+
+from comparison.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 #: Longest run of one example, seconds.
@@ -108,10 +117,26 @@ PYTHON_BLOCKS = [b for b in ALL if b.language in PYTHON]
 
 
 def _xcheck(argv: list[str]) -> list[str] | None:
-    """The command to run for ``argv`` when it is an ``xcheck`` command, else ``None``."""
+    """The arguments of ``xcheck`` for ``argv`` when it is an ``xcheck`` command, else ``None``."""
     if argv and Path(argv[0]).name == "xcheck":
-        return [sys.executable, "-m", "comparison.cli", *argv[1:]]
+        return argv[1:]
     return None
+
+
+def _run_xcheck(args: list[str]) -> tuple[int, str, str]:
+    """Exit code, standard output and error of ``xcheck ARGS`` run by its entry point in this process, with a
+    hang guard of :data:`TIMEOUT` seconds (the whole run ends with every thread's traceback)."""
+    out, err = io.StringIO(), io.StringIO()
+    faulthandler.dump_traceback_later(TIMEOUT, exit=True)
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main(args)
+            except SystemExit as stop:  # argparse's --help, --version and usage errors
+                code = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 1)
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+    return code, out.getvalue(), err.getvalue()
 
 
 def _first_seen() -> dict[tuple[str, ...], str]:
@@ -128,9 +153,14 @@ FIRST = _first_seen()
 
 
 @pytest.fixture(scope="module")
-def cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """One result cache for every example (so that ``report --quick`` and ``references`` share)."""
-    return tmp_path_factory.mktemp("xcheck-cache")
+def cache(tmp_path_factory: pytest.TempPathFactory, quick_report: QuickReport, own_walls_sweep: Sweep) -> Path:
+    """One result cache for every example, started from copies of the caches of the suite's shared runs
+    (``tests/conftest.py``): ``report --quick`` and the own-walls sweep read every computation from it, as
+    on a second run, and ``references`` shares it."""
+    copy = tmp_path_factory.mktemp("xcheck-cache") / "cache"
+    shutil.copytree(quick_report.cache, copy)
+    shutil.copytree(own_walls_sweep.cache, copy, dirs_exist_ok=True)
+    return copy
 
 
 def _folder(tmp_path: Path) -> Path:
@@ -185,30 +215,29 @@ def test_examples_are_collected() -> None:
     for b in SHELL_BLOCKS:
         if not b.skip:
             for argv in commands(b.text):
-                assert _xcheck(argv), f"{b.id}: {shlex.join(argv)} is not an xcheck command; mark the block"
+                assert _xcheck(argv) is not None, f"{b.id}: {shlex.join(argv)} is not an xcheck command; mark the block"
     # every skip says why
     assert all(b.skip.strip() for b in ALL if b.skip is not None)
 
 
 @pytest.mark.parametrize("block", SHELL_BLOCKS, ids=[b.id for b in SHELL_BLOCKS])
-def test_shell_example(block: Example, tmp_path: Path, cache: Path) -> None:
+def test_shell_example(block: Example, tmp_path: Path, cache: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     if block.skip:
         pytest.skip(block.skip)
     folder = _folder(tmp_path)
     committed = _snapshot(folder)
-    env = {**os.environ, "XCHECK_CACHE": str(cache), "MPLBACKEND": "Agg"}
+    monkeypatch.chdir(folder)
+    monkeypatch.setenv("XCHECK_CACHE", str(cache))
+    monkeypatch.setenv("MPLBACKEND", "Agg")
     for argv in commands(block.text):
         if FIRST[(*argv, f"exit {block.exit_code}")] != block.id:
             continue  # run where it is first written
-        cmd = _xcheck(argv)
-        assert cmd is not None, f"{block.id}: not an xcheck command: {shlex.join(argv)}"
-        try:
-            run = subprocess.run(cmd, cwd=folder, env=env, capture_output=True, text=True, timeout=TIMEOUT)
-        except subprocess.TimeoutExpired:
-            pytest.fail(f"{block.id}: `{shlex.join(argv)}` ran over {TIMEOUT} s")
-        assert run.returncode == block.exit_code, (
-            f"{block.id}: `{shlex.join(argv)}` exited with {run.returncode}, expected {block.exit_code}\n"
-            f"stdout: {run.stdout[-2000:]}\nstderr: {run.stderr[-2000:]}"
+        args = _xcheck(argv)
+        assert args is not None, f"{block.id}: not an xcheck command: {shlex.join(argv)}"
+        code, out, err = _run_xcheck(args)
+        assert code == block.exit_code, (
+            f"{block.id}: `{shlex.join(argv)}` exited with {code}, expected {block.exit_code}\n"
+            f"stdout: {out[-2000:]}\nstderr: {err[-2000:]}"
         )
     assert _snapshot(folder) == committed, f"{block.id}: an example wrote into the committed reports/"
 

@@ -40,9 +40,8 @@ def _programs(line: str) -> list[str]:
 
 
 def test_the_set_up_commands_run_what_they_install_and_say_how_long_they_take() -> None:
-    """Issue 44, items 1 and 2: the set-up commands call the environment they install (``.venv/bin/...``:
-    no PATH to get right), and each says on its own line how long it runs (the first one once started the
-    16-19 minute full report, its time given only further down)."""
+    """The set-up commands call the environment they install (``.venv/bin/...``: no PATH to get right), the
+    first builds the quick report, not the full one, and each says on its own line how long it runs."""
     first = SHELL_BLOCK.search(README)
     assert first is not None
     lines = [line for line in first.group(1).splitlines() if line.strip()]
@@ -55,7 +54,8 @@ def test_the_set_up_commands_run_what_they_install_and_say_how_long_they_take() 
 
 
 def test_every_report_command_says_how_long_it_runs() -> None:
-    """Issue 44, item 2: a line of README.md that starts a report says on that line how long it runs."""
+    """A line of README.md that starts a report says on that line how long it runs (a reader decides before
+    running it)."""
     report = [(n, line) for n, line in _shell_lines() if re.search(r"\bxcheck report\b", line)]
     assert report
     for n, line in report:
@@ -75,8 +75,8 @@ def test_the_durations_are_those_measured_on_the_speed_page() -> None:
 
 
 def test_the_environment_is_activated_before_the_first_bare_xcheck() -> None:
-    """Issue 44, item 1: after the set-up line ``xcheck ...`` failed with ``command not found``: the README
-    never said to activate ``.venv``. It says so once, before its first bare ``xcheck`` command."""
+    """The README says to activate ``.venv`` once, before its first bare ``xcheck`` command (without it the
+    command is not found after the set-up line)."""
     bare = next(n for n, line in _shell_lines() if _programs(line) and _programs(line)[0] == "xcheck")
     said = README.find(ACTIVATE)
     assert said >= 0, f"README.md never says `{ACTIVATE}`"
@@ -141,9 +141,9 @@ FULL_WALL = {"--storeys": "3", "--rows": "12", "--t": "1", "--m": "1/3", "--f": 
 
 
 def test_the_synopsis_shows_every_optional_option_in_brackets(capsys: pytest.CaptureFixture[str]) -> None:
-    """Issue 44, item 7: the synopsis showed ``--friction associative|nonassociative`` outside brackets,
-    though it defaults to associative. An option the synopsis shows as required is required: argparse
-    requires it, or (the wall's parameters) the command refuses the wall without it (exit 2)."""
+    """An option the synopsis shows outside brackets is required: argparse requires it, or (the wall's
+    parameters) the command refuses the wall without it (exit 2); an option with a default, such as
+    ``--friction``, is in brackets."""
     synopsis = _synopsis()
     assert {"macro", "micro", "report", "sweep", "WALL"} <= set(synopsis)
     sub = next(a for a in cli.build_parser()._actions if isinstance(a, argparse._SubParsersAction))
@@ -163,8 +163,8 @@ def test_the_synopsis_shows_every_optional_option_in_brackets(capsys: pytest.Cap
 
 
 def test_the_first_screen_carries_no_dated_measurement() -> None:
-    """Issue 42: the README's first 30 lines quoted a run "on a faster host" and one "at a load of 9" with
-    their dates; measurements live in docs/ (docs/speed.md, dated pages in docs/research/), linked."""
+    """The README's first 30 lines carry no date, host or machine load: measurements live in docs/
+    (docs/speed.md, dated pages in docs/research/), linked."""
     head = "\n".join(README.splitlines()[:30])
     for pattern in (r"\b20\d\d-\d\d-\d\d\b", r"\bhosts?\b", r"\bload of\b"):
         found = re.search(pattern, head, re.I)

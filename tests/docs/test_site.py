@@ -92,8 +92,8 @@ def glued_headings(markdown: str) -> list[int]:
 
 
 def test_the_checks_find_the_faults_of_the_old_back_end_table() -> None:
-    """The faults of ``docs/micro/associative.md`` before issue 42, as Python-Markdown rendered them (a
-    blank line after the delimiter row), are reported; the corrected forms are not."""
+    """Two faults a page's table can have as Python-Markdown renders it (a blank line after the delimiter
+    row: a table without rows, and its rows as a paragraph) are reported; the corrected forms are not."""
     empty = ("<table><thead><tr><th>back end</th><th>what it is</th></tr></thead>"
              "<tbody><tr><td></td><td></td></tr></tbody></table>"
              "<p>| <code>highs-ipm</code> | HiGHS interior point |\n| <code>clarabel</code> | Clarabel |</p>")

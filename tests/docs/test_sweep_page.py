@@ -12,8 +12,7 @@ import re
 from pathlib import Path
 
 import pytest
-
-from comparison.cli import main
+from quick_report import Sweep
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "examples" / "own-walls"
@@ -32,10 +31,9 @@ def test_getting_started_shows_the_example_as_it_is() -> None:
 
 
 @pytest.fixture(scope="module")
-def page(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("own-walls")
-    assert main(["sweep", str(EXAMPLE / "walls.toml"), "--out", str(out), "--cache", str(out / "cache"), "-q"]) == 0
-    return out
+def page(own_walls_sweep: Sweep) -> Path:
+    """The folder of the example's sweep and page (run once per pytest run: ``tests/conftest.py``)."""
+    return own_walls_sweep.out
 
 
 def test_the_summary_the_docs_quote_is_the_pages(page: Path) -> None:

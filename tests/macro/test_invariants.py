@@ -194,7 +194,7 @@ def test_fused_eq10_matches_term_by_term() -> None:
 
 
 def test_a_macro_record_reads_as_a_mapping_of_its_fields() -> None:
-    """Issue 44, item 5: the records of both models are read-only mappings of their fields."""
+    """The records of both models read alike: read-only mappings of their fields."""
     import dataclasses
     from collections.abc import Mapping
 

@@ -1,4 +1,4 @@
-"""The global MIP of the non-associative collapse load (issue 14, item 2).
+"""The global MIP of the non-associative collapse load.
 
 The MIP's load factor is compared with an exhaustive search over all contact
 patterns (:mod:`enumeration`, independent code) on walls of 1-6 blocks,

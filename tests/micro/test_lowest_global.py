@@ -1,4 +1,4 @@
-"""The lowest certified state against the global minimum where the MIP closes (issue 14, items 1-3).
+"""The lowest certified state against the global minimum where the MIP closes.
 
 On walls of a few blocks the branch and bound proves the global minimum of
 the non-associative collapse load (its own tests check it against an

@@ -51,7 +51,7 @@ def test_associative_record() -> None:
     # the summary (--json) is built from the record
     s = r.summary()
     assert {k: s[k] for k in d} == d
-    # the contact states once, as the record's keys (issue 31: also as a nested copy, {} on failure)
+    # the contact states once, as the record's keys (no nested copy that could disagree, {} on failure)
     assert "contact_states" not in s and rec.contact_states == {
         "closed": s["closed_contacts"], "opening": s["opening_contacts"], "sliding": s["sliding_contacts"]}
 
@@ -132,9 +132,8 @@ def test_summaries_hold_no_nan_at_any_depth() -> None:
 
 
 def test_a_record_reads_as_a_mapping_of_its_fields() -> None:
-    """Issue 44, item 5: ``to_record()`` was called JSON-ready but ``rec["lowest_stop"]`` raised
-    ``TypeError: 'NonAssociativeRecord' object is not subscriptable``. A record is a read-only mapping of its
-    fields (the values as in memory: NaN, tuples); ``to_dict()`` is its JSON form."""
+    """A record is a read-only mapping of its fields (``rec["lowest_stop"]``; the values as in memory: NaN,
+    tuples); ``to_dict()`` is its JSON form."""
     from collections.abc import Mapping
 
     r = micro.solve_nonassociative(table7_wall("set12"))

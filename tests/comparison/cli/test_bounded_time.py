@@ -24,9 +24,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[3]
 TINY = ROOT / "examples" / "sweeps" / "tiny.toml"
 #: Seconds a case may take beyond a command refused at once (started beside it, so that loading the suite
-#: on a loaded machine counts alike): the issue's bound for ``--scheduler`` (its check takes 4 s; loading
-#: dask.distributed, seconds more on a loaded machine). Before: a closed port 21-24 s more, a silent server
-#: over 400 s, the huge numbers and the named pipes forever.
+#: on a loaded machine counts alike): the bound for ``--scheduler`` (its check takes 4 s; loading
+#: dask.distributed, seconds more on a loaded machine). Without the bounds a closed port costs 20 s or
+#: more, a silent server minutes, the huge numbers and the named pipes forever.
 EXTRA_SECONDS = 10.0
 #: Seconds after which a case still running is a hang.
 HANG_SECONDS = 90.0

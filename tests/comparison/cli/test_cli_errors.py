@@ -172,7 +172,8 @@ def test_a_scene_too_large_for_the_macro_search(tmp_path: Path, capsys: pytest.C
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
 @pytest.mark.parametrize("argv", [["macro", *WALL, "--json"], ["macro", *WALL], ["micro", *WALL, "--json"]])
 def test_a_full_disk_on_stdout_is_one_line_and_exit_1(argv: list[str]) -> None:
-    """Issue 31, item 4: ``xcheck macro ... --json > /dev/full`` ended in a traceback."""
+    """A full disk on standard output (``xcheck macro ... --json > /dev/full``) is one line and exit 1,
+    no traceback: the input was fine, the output could not be written."""
     with open("/dev/full", "w") as full:
         proc = subprocess.run(
             [sys.executable, "-c", "import sys; from comparison.cli import main; sys.exit(main())", *argv],
@@ -183,7 +184,7 @@ def test_a_full_disk_on_stdout_is_one_line_and_exit_1(argv: list[str]) -> None:
 
 
 def test_macro_json_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
-    """Issue 31, item 12: ``macro --json`` was pretty-printed over many lines, ``micro --json`` one line."""
+    """``macro --json`` and ``micro --json`` both print one line (a pipeline reads one record a line)."""
     for command in ("macro", "micro"):
         code, out, _ = run(capsys, command, *WALL, "--json")
         assert code == 0 and out.count("\n") == 1 and out.startswith("{"), (command, out[:200])
@@ -203,8 +204,9 @@ def test_macro_json_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
     ids=["rows-1e300", "rows-1e400", "t-1e400", "m-1e-400", "f-2e999", "rows-not-quite-12", "storeys"],
 )
 def test_a_bad_number_is_echoed_as_given(capsys: pytest.CaptureFixture[str], argv: list[str], message: str) -> None:
-    """Issue 31, item 13: ``--rows 1e300`` printed a 300-digit integer, ``--t 1e400`` said ``got inf``,
-    ``--rows 12.0000000000000001`` was taken as 12 (read through a float)."""
+    """A bad number is echoed as the user wrote it (not as a 300-digit integer for ``--rows 1e300`` nor
+    ``inf`` for ``--t 1e400``), and ``--rows 12.0000000000000001`` is refused, not read through a float
+    as 12."""
     given = dict(zip(WALL[::2], WALL[1::2], strict=True)) | dict(zip(argv[::2], argv[1::2], strict=True))
     code, _, err = run(capsys, "macro", *[x for kv in given.items() for x in kv])
     one_line_error(code, err)
@@ -230,8 +232,8 @@ def test_an_integer_option_is_read_exactly(capsys: pytest.CaptureFixture[str]) -
 def test_an_empty_path_is_refused(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], argv: list[str]
 ) -> None:
-    """Issue 31, item 13: ``--out ''`` wrote into the working directory (``references --out ''``: over the
-    installed package's own file)."""
+    """An empty ``--out ''`` is refused: it would write into the working directory (``references --out ''``:
+    over the installed package's own file)."""
     monkeypatch.chdir(tmp_path)
     code, _, err = run(capsys, *argv)
     one_line_error(code, err, "must name a", "got ''")
@@ -241,8 +243,8 @@ def test_an_empty_path_is_refused(
 def test_references_writes_into_the_working_directory_by_default(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Issue 31, item 12: ``xcheck references`` wrote by default over the installed package's own
-    ``references.json``; it now writes ``references.json`` in the working directory unless ``--out`` says."""
+    """``xcheck references`` writes ``references.json`` in the working directory unless ``--out`` says,
+    never by default over the installed package's own file."""
     from comparison.pytest_plugin import generate
     from comparison.pytest_plugin.references import References
 
@@ -266,8 +268,8 @@ def test_references_writes_into_the_working_directory_by_default(
 def test_stability_takes_workers_like_report_and_sweep(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Issue 31, item 12: ``stability --processes`` where ``report`` and ``sweep`` say ``--workers``; the old
-    name is still read, with a warning."""
+    """``stability`` takes ``--workers`` as ``report`` and ``sweep`` do; the old name ``--processes`` is still
+    read, with a warning, and the two together are refused."""
     import comparison.stability
 
     seen: list[int] = []

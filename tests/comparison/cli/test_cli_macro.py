@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from quick_report import QuickReport
 
 from comparison.cli import main
 from comparison.scene import SceneError, parse_scene
@@ -186,26 +187,24 @@ def test_console_script_no_traceback() -> None:
     assert "Traceback" not in p.stderr and p.stderr.count("\n") == 1 and "rows" in p.stderr
 
 
-def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    cache = ["--cache", str(tmp_path / "cache")]
-    code, out, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache, "--verbose")
-    assert code == 0 and "REPORT.md" in out
+def test_report_quick_writes_tables_and_figures(
+    quick_report: QuickReport, quick_report_cache: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A first run from an empty cache prints its plan, then one line per computation; its timings count every
+    computation as computed; the report has every table and figure. A second run into a folder without the
+    committed tables warns for each, says so in REPORT.md, and reads every computation from the cache."""
+    # the first run: the shared quick report (tests/conftest.py), from an empty cache, --verbose
+    first = quick_report.out
+    assert "REPORT.md" in quick_report.stdout
+    err = quick_report.stderr
     assert err.startswith("plan: ") and "0 cached" in err.splitlines()[0]  # the plan first
     assert "micro-assoc" in err  # then one line per computation (not a terminal: no bar)
-    # issue 31, item 9: timings.md said "N computations, 0 read from the result cache" and every row
-    # "read from the cache: yes" (the records computed in the workers are read back from the cache)
-    computed = _timings(tmp_path)
+    # timings.md must not count the records computed in the workers, which come back through the cache,
+    # as read from the cache
+    computed = _timings(first)
     assert computed["cached"] == 0 and computed["yes"] == 0 and computed["rows"] > 0
-    assert "0 read from the result cache" in (tmp_path / "timings.md").read_text()
-    # the committed tables are read from --tables, by default --out: not there, so said loudly
-    # (issue 31, item 10)
-    from comparison.report.committed import BOND, ERRORMAP, LOWEST
-
-    missing = [line for line in err.splitlines() if line.startswith("xcheck: warning: the report's table ")]
-    assert [line.split()[5] for line in missing] == [str(tmp_path / n) for n in (ERRORMAP, BOND, LOWEST)], err
-    assert "The sweep table `reports/sweeps/errormap.csv` is missing." in (tmp_path / "REPORT.md").read_text()
-    cache += ["--tables", str(ROOT / "reports")]
-    text = (tmp_path / "REPORT.md").read_text()
+    assert "0 read from the result cache" in (first / "timings.md").read_text()
+    text = (first / "REPORT.md").read_text()
     for heading in (
         "Table 5",
         "Table 7",
@@ -216,22 +215,47 @@ def test_report_quick_writes_tables_and_figures(tmp_path: Path, capsys: pytest.C
     ):
         assert heading in text
     for name in ("table7.csv", "report.json", "sensitivity.png", "speed_accuracy.png", "mechanism_12.png"):
-        assert (tmp_path / name).stat().st_size > 0, name
-    # a second run reads everything from the cache; not on a terminal and not --verbose: the plan and what
-    # it wrote, on stderr (issue 31, item 8: it was silent; with something to compute, status lines between)
-    code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache)
+        assert (first / name).stat().st_size > 0, name
+    assert "is missing" not in text  # the committed tables read from --tables
+    # a second run, into a folder without the committed tables (read from --tables, by default --out): it
+    # warns once per table and its sections say so; not on a terminal and not --verbose, it prints the plan,
+    # the warnings and what it wrote on stderr, and no status line (everything is read from the cache)
+    from comparison.report.committed import BOND, ERRORMAP, LOWEST
+
+    cache = ["--cache", str(quick_report_cache)]
+    code, out, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache)
+    assert code == 0 and "REPORT.md" in out
     lines = err.splitlines()
-    assert code == 0 and lines[0].startswith("plan: ") and ", 0 to compute" in lines[0], err
+    missing = [line for line in lines if line.startswith("xcheck: warning: the report's table ")]
+    assert [line.split()[5] for line in missing] == [str(tmp_path / n) for n in (ERRORMAP, BOND, LOWEST)], err
+    assert "The sweep table `reports/sweeps/errormap.csv` is missing." in (tmp_path / "REPORT.md").read_text()
+    assert lines[0].startswith("plan: ") and ", 0 to compute" in lines[0], err
     assert lines[-1].startswith(f"wrote {len(list(tmp_path.glob('*.*')))} files into {tmp_path}: REPORT.md, "
                                 "report.json, timings.md, "), err
-    assert len(lines) == 2 and "micro-assoc" not in err  # nothing to compute: no status line
+    assert lines[1:-1] == missing and "micro-assoc" not in err  # nothing to compute: no status line
     again = _timings(tmp_path)
     assert again["cached"] == again["yes"] == again["rows"] == computed["rows"]
-    assert "The sweep table `reports/sweeps/errormap.csv` is missing." not in (tmp_path / "REPORT.md").read_text()
-    code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache, "--verbose")
-    assert code == 0 and ", 0 to compute" in err and "micro-assoc" not in err
-    code, _, err = run(capsys, "report", "--out", str(tmp_path), "--quick", *cache, "-q")
-    assert code == 0 and err == ""
+
+
+@pytest.mark.parametrize(("flag", "said"), [("--verbose", ["plan: ", "wrote "]), ("-q", [])])
+def test_a_report_read_from_the_cache_prints_by_its_verbosity(
+    flag: str, said: list[str], quick_report_cache: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Everything read from the cache: ``--verbose`` prints the plan and what it wrote, no line per computation
+    (there is none); ``-q`` nothing. What is printed, not what is drawn, is checked here: the rendering (the
+    same as a first run's, above) is left out."""
+    import comparison.report.build
+
+    def render(res: object, out: Path, meta: object, tables_dir: Path) -> Path:
+        (out / "REPORT.md").write_text("")
+        return out / "REPORT.md"
+
+    monkeypatch.setattr(comparison.report.build, "_write", render)
+    argv = ["report", "--out", str(tmp_path), "--quick", "--cache", str(quick_report_cache)]
+    code, _, err = run(capsys, *argv, "--tables", str(ROOT / "reports"), flag)
+    assert code == 0 and [line[: len(p)] for line, p in zip(err.splitlines(), said, strict=True)] == said, err
+    assert ", 0 to compute" in err if said else err == ""
 
 
 def _timings(out: Path) -> dict[str, int]:
@@ -272,7 +296,8 @@ def test_an_error_inside_a_model_is_not_a_usage_error(monkeypatch: pytest.Monkey
     ids=["top-level", "in-wall", "storeys-in-wall", "single-table", "none"],
 )
 def test_a_scene_without_storey_tables_is_told_how_to_write_them(text: str, where: str) -> None:
-    """Issue 31, item 13: ``storey = 5`` was told ``no [[storey]] given`` and not how to write one."""
+    """A scene without ``[[storey]]`` tables (e.g. ``storey = 5``) is told how to write one, not only that
+    none is given."""
     from comparison.scene import STOREY_HOWTO
 
     with pytest.raises(SceneError) as exc:

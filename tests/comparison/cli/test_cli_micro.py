@@ -117,7 +117,7 @@ def test_json_stdout_of_a_real_process_is_one_json_line() -> None:
 def test_the_plot_title_names_the_friction_law(
     tmp_path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], friction: str, law: str
 ) -> None:  # type: ignore[no-untyped-def]
-    """Issue 31, item 12: an associative ``--plot``'s title did not say which friction law drew it."""
+    """A ``--plot``'s title says which friction law drew it, associative as well as non-associative."""
     import micro.plot
 
     titles: list[str] = []
@@ -129,8 +129,8 @@ def test_the_plot_title_names_the_friction_law(
 
 
 def test_a_failed_run_prints_the_line_the_readme_documents(capsys: pytest.CaptureFixture[str]) -> None:
-    """Issue 31, item 13: what a failed run prints, with and without ``-q``, is stated in the README; under
-    ``-q`` the failure line alone."""
+    """A failed run prints the line the README documents, with and without ``-q``; under ``-q`` that line
+    alone."""
     import re
     from pathlib import Path
 
@@ -160,8 +160,9 @@ def test_a_failed_run_prints_the_line_the_readme_documents(capsys: pytest.Captur
 
 @pytest.mark.parametrize("friction", ["associative", "nonassociative"])
 def test_the_plot_marks_the_floors_and_the_macro_hinge(friction: str, tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
-    """Issue 44, item 8: ``xcheck micro --plot`` marks the floors between storeys and the macro model's hinge
-    storey (the comparison solves the macro model for it; micro only draws the numbers it is given)."""
+    """``xcheck micro --plot`` marks the floors between storeys and the macro model's hinge storey, so the two
+    mechanisms can be compared on one picture (the comparison solves the macro model for it; micro only
+    draws the numbers it is given)."""
     import matplotlib.figure
 
     import macro

@@ -1,5 +1,5 @@
-"""Issue 41, wrong behaviour of options: every option given either acts or is refused (one line, exit 2),
-and every research knob can be set through ``--tuning``."""
+"""Every option given either acts or is refused (one line, exit 2): none is silently ignored, and every
+research knob can be set through ``--tuning``."""
 
 from __future__ import annotations
 

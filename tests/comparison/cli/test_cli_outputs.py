@@ -1,6 +1,5 @@
 """Outputs that cannot be written: the result is printed all the same, no cut or empty file is left,
-and the exit code is 1 (the input was fine), never 2 or a traceback (issue 41, items 6 and 7 and the
-output tracebacks).
+and the exit code is 1 (the input was fine), never 2 or a traceback.
 
 A full disk is simulated by a write that stores half its bytes and then fails with ENOSPC (what a
 filling disk does); ``/dev/full`` where a real device is enough.

@@ -101,9 +101,9 @@ CYCLING = ["--t", "0.5", "--m", "1/3", "--rows", "12", "--f", "0.4", "--tuning",
 def test_every_failure_status_matches_the_schema(
     argv: list[str], status: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Issue 31, item 1: a failed run printed ``"contact_states": {}`` where the schema requires closed,
-    opening and sliding, so a pipeline validating its input rejected exactly the failure records. The
-    contact states are now the record's ``*_contacts`` keys alone (0 without a mechanism)."""
+    """A failed run's JSON validates against the schema: the contact states are the record's
+    ``*_contacts`` keys alone (0 without a mechanism), so a pipeline validating its input does not reject
+    exactly the failure records."""
     rc, doc = _run(["micro", *argv, "--json"], capsys)
     assert (rc, doc["status"], doc["load_factor"]) == (1, status, None)
     assert _errors(_validator("micro"), doc) == []
@@ -112,9 +112,9 @@ def test_every_failure_status_matches_the_schema(
 
 
 def test_a_failed_nonassociative_run_carries_no_mechanism_band(capsys: pytest.CaptureFixture[str]) -> None:
-    """Issue 41, item 5: a run whose certified state then failed the equilibrium check (``solver_failure``,
-    exit 1) still printed the certificate's ``mechanism_band``, which the schema calls the band of exact
-    collapse states; the schema now refuses a band beside any status but converged."""
+    """A run whose certified state then fails the equilibrium check (``solver_failure``, exit 1) prints no
+    ``mechanism_band``: the schema calls it the band of exact collapse states and refuses it beside any
+    status but converged."""
     argv = ["micro", "--rows", "12", "--t", "1", "--m", "1/3", "--f", "10", "--p", "16666",
             "--friction", "nonassociative", "--json"]
     rc, doc = _run(argv, capsys)
@@ -125,8 +125,8 @@ def test_a_failed_nonassociative_run_carries_no_mechanism_band(capsys: pytest.Ca
 
 
 def test_micro_json_names_the_wall_once(capsys: pytest.CaptureFixture[str]) -> None:
-    """Issue 31, item 12: ``"wall": ""`` for a wall given by its parameters, and the contact counts twice.
-    The wall is now its name or null, with its paper parameters as ``macro --json`` gives them."""
+    """The wall is named once: its name or null (never ``""``), with its paper parameters as
+    ``macro --json`` gives them, and the contact counts once."""
     _, doc = _run(["micro", *WALL, "--json"], capsys)
     _, mdoc = _run(["macro", *WALL, "--json"], capsys)
     assert doc["wall"] is None and doc["paper_parameters"] == mdoc["paper_parameters"]

@@ -206,8 +206,8 @@ RANDOM_SIGINT = {
     "clarabel-120-rows": (["micro", "--rows", "120", "--t", "1", "--m", "1/3", "--f", "0.6",
                            "--solver", "clarabel"], 6.0),
 }  # fmt: skip
-#: Ctrl-Cs per run of the test (``XCHECK_SIGNAL_TRIES``): 10 keep it near a minute; the issue's
-#: measurement of 50 used the same test with ``XCHECK_SIGNAL_TRIES=50``.
+#: Ctrl-Cs per run of the test (``XCHECK_SIGNAL_TRIES``): 10 keep it near a minute; a longer run of the
+#: same test: ``XCHECK_SIGNAL_TRIES=50``.
 SIGNAL_TRIES = int(os.environ.get("XCHECK_SIGNAL_TRIES", "10"))
 
 

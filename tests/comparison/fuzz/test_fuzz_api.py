@@ -2,9 +2,9 @@
 
 Any draw either raises ``ValueError`` (a parameter named) or gives a result
 whose success status comes with a finite positive load factor, no larger than
-the rigid bounds (sliding ``f``, overturning). The issue's fuzzing of
-``from_paper`` + ``macro.solve`` found 353 draws with ``m`` below 1e-16 that
-came out NaN, negative or 0 with status optimal.
+the rigid bounds (sliding ``f``, overturning). Draws with ``m`` below 1e-16
+are the ones to watch: they must not come out NaN, negative or 0 with status
+optimal.
 """
 
 from __future__ import annotations
@@ -141,7 +141,7 @@ def test_fuzz_micro_wall_and_lp(
     event("solved" if r.ok else f"failed: {r.status}")
 
 
-#: Anything a caller might pass by mistake (issue 41: ``None``, a ``WallSpec`` where a wall is expected,
+#: Anything a caller might pass by mistake (``None``, a ``WallSpec`` where a wall is expected,
 #: ``tuning='b'``, ``options='fast'``, ``progress='print'``, ``time_limit=10**400``, ``chunk=0``, arrays).
 ODD = st.one_of(
     st.none(), st.sampled_from([0, -1, 10**400, -(10**400), 2.5, "b", "fast", "print", "", [], {}, [1.0, 2.0],

@@ -1,4 +1,4 @@
-"""Fuzzing the pytest plugin's helpers and fixtures (issue 41): ``xcheck_references.check``/``get``/``value``,
+"""Fuzzing the pytest plugin's helpers and fixtures: ``xcheck_references.check``/``get``/``value``,
 ``xcheck_table.add``, ``paper_cases``, ``select_cases`` and the walls file.
 
 Any draw either gives an answer or raises ``TypeError``/``ValueError`` (a parameter named), a

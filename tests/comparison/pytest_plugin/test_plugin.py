@@ -120,8 +120,8 @@ def test_walls_file_errors_name_file_wall_and_key(tmp_path: Path) -> None:
 
 
 def test_own_walls_are_selected_by_name(tmp_path: Path) -> None:
-    """Issue 31, item 11: ``--xcheck-cases "my squat wall"`` was refused (``case must be Ref or 1..17``)
-    although the option takes the walls of ``--xcheck-walls`` too; they ran only beside paper cases."""
+    """``--xcheck-cases`` selects the walls of ``--xcheck-walls`` by name too (``"my squat wall"``), alone and
+    not only beside paper cases."""
     (tmp_path / "walls.toml").write_text(
         '[[wall]]\nname = "my squat wall"\nt = 0.5\nm = "1/2"\nrows = 8\nf = 0.6\n'
         '[[wall]]\nname = "pier"\nt = 2\nm = "1/2"\nrows = 8\nf = 0.6\n'
@@ -140,8 +140,8 @@ def test_own_walls_are_selected_by_name(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("value", [None, "0.5", [0.5], True])
 def test_a_value_that_is_not_a_number_names_the_case_the_method_and_what_came(value: object) -> None:
-    """Issue 31, item 7: ``None`` or a string from the model raised a bare ``TypeError`` (``check``) or
-    was read as a number (``xcheck_table.add("0.5")`` gave 0.5)."""
+    """A value from the model that is not a number (``None``, ``"0.5"``, a list, a bool) is refused naming
+    the case, the method and what came: neither a bare ``TypeError`` nor read as a number."""
     refs = References.load()
     table = ComparisonTable(refs)
     got = re.escape(repr(value))

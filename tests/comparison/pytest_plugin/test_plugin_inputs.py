@@ -1,4 +1,4 @@
-"""Issue 41: the plugin's helpers and fixtures refuse bad input at once, naming the parameter; no silent pass,
+"""The plugin's helpers and fixtures refuse bad input at once, naming the parameter; no silent pass,
 no silently empty selection, no INTERNALERROR, no traceback when the table cannot be written."""
 
 from __future__ import annotations

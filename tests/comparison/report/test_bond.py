@@ -71,10 +71,9 @@ def test_the_committed_table_has_its_non_associative_values_below_the_associativ
 
 
 def test_the_report_reads_its_committed_tables_from_a_stated_directory(tmp_path: Path) -> None:
-    """Issue 31, item 10: the report read its committed tables through the source tree
-    (``Path(__file__).parents[2] / "reports"``), so an installed package silently rendered "table missing".
-    They are read from the tables directory (``--tables``, default ``--out``); a missing one is a warning
-    naming its path and the command that makes it."""
+    """The report reads its committed tables from the tables directory (``--tables``, default ``--out``), not
+    through the source tree, so an installed package finds them too; a missing one is a warning naming its
+    path and the command that makes it, never a silent "table missing"."""
     import shutil
     import warnings
 

@@ -1,7 +1,7 @@
-"""Issue 41, item 3: ``xcheck report --tables DIR`` refuses a committed table it cannot read whole, with one
-line naming the file and the line, before any work; it read truncated tables silently (REPORT.md then said
-"0 of 3 walls" and quoted a row cut mid-number), and binary junk and wrong columns were tracebacks
-(``UnicodeDecodeError``, ``KeyError: 't'``)."""
+"""``xcheck report --tables DIR`` refuses a committed table it cannot read whole, with one line naming the
+file and the line, before any work: a truncated table read silently would make REPORT.md quote a row cut
+mid-number, and binary junk or wrong columns must not end in a traceback (``UnicodeDecodeError``,
+``KeyError``)."""
 
 from __future__ import annotations
 

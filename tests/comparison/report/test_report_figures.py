@@ -231,10 +231,10 @@ def _marks_drawn(ax: object, block_height: float) -> dict[str, object]:
 
 
 def test_the_mechanism_plot_marks_floors_and_a_hinge_given_as_plain_numbers() -> None:
-    """Issue 44, item 8: the mechanism plots marked neither the floors nor the macro model's hinge. The micro
-    plot takes them as plain numbers (micro imports neither macro nor comparison): dashed lines across the wall
-    at the floors, the storeys named on a second axis, the hinge as a labelled circle at the toe the wall
-    rotates about (the side the load pushes towards)."""
+    """The mechanism plots mark the floors and the macro model's hinge, which the micro plot takes as plain
+    numbers (micro imports neither macro nor comparison): dashed lines across the wall at the floors, the
+    storeys named on a second axis, the hinge as a labelled circle at the toe the wall rotates about (the
+    side the load pushes towards)."""
     from comparison.scene import load_scene
     from micro.plot import draw_mechanism
 

@@ -74,8 +74,8 @@ def test_the_reports_associative_method_is_the_library_default() -> None:
 
 @pytest.mark.parametrize("skip", ["not_run", "not_applicable"])
 def test_all_cases_explains_n_a_only_where_a_cell_shows_it(skip: str) -> None:
-    """Issue 44, item 7: REPORT.md's "All cases" table carried the note "n/a: the micro wall cannot be
-    built" with no n/a cell in it. The note says so only when a cell shows n/a."""
+    """REPORT.md's "All cases" table carries the note explaining n/a only when a cell shows n/a (a note
+    with nothing to explain misleads)."""
     import macro
     from comparison.report.results import Results
     from comparison.report.tables import all_cases

@@ -109,7 +109,7 @@ def test_a_range_by_count() -> None:
         (("m = [", "q = 1\nm = ["), ["unknown key axes.q"]),
         (("f = 0.6\n", ""), ["missing key axes.f"]),
         (("step = 6", "stride = 6"), ["axes.rows", "range"]),
-        # issue 41: OverflowError (cannot convert float infinity to integer) in the count of the range
+        # a step so small that counting the range overflows a float: refused, not an OverflowError
         (("step = 6", "step = 5e-324"), ["axes.rows", "the range gives more than 10000 values (step = 4.94066e-324)"]),
         (("from = 12, to = 24, step = 6", "from = 24, to = 12, step = 5e-324"),
          ["axes.rows", "from must not exceed to, got from = 24, to = 12"]),
@@ -243,8 +243,8 @@ def test_missing_grid_file_and_bad_options(tmp_path: Path, capsys: pytest.Captur
 def test_a_grid_above_the_cell_limit_is_refused_before_it_is_built(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Issue 31, item 2: 10,000 x 10,000 walls were planned in memory (5 GB, then a MemoryError traceback);
-    the grid is now counted, not built, and refused in one line with exit 2."""
+    """A grid of 10,000 x 10,000 walls is counted, not built (planned in memory it takes about 5 GB), and
+    refused in one line with exit 2."""
     from comparison.sweep.grid import MAX_CELLS, cell_count
 
     path = tmp_path / "huge.toml"
@@ -277,7 +277,8 @@ def test_a_grid_above_the_cell_limit_is_refused_before_it_is_built(
 def test_a_bad_scheduler_address_is_refused_before_connecting(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], address: str
 ) -> None:
-    """Issue 31, item 3: these waited for the connection's time-out (about 40 s), then a traceback and exit 1."""
+    """A scheduler address that cannot be one is refused at once, in one line with exit 2, before any
+    connection is tried (which would wait for its time-out, about 40 s)."""
     from comparison.cli.options import scheduler_address
 
     good = tmp_path / "g.toml"
@@ -292,8 +293,8 @@ def test_a_bad_scheduler_address_is_refused_before_connecting(
 def test_more_workers_than_cpus_are_capped_with_a_warning(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Issue 31, item 6: ``--workers 100000`` split the memory 100,000 ways and every micro cell was refused
-    (``exceeds a worker's 0 GB``); it is capped at the CPU count, with a warning."""
+    """``--workers`` above the CPU count is capped at it, with a warning: the memory is split between the
+    workers, and 100,000 of them would refuse every micro cell (``exceeds a worker's 0 GB``)."""
     monkeypatch.setattr("os.cpu_count", lambda: 2)
     seen: list[int | None] = []
 
@@ -314,7 +315,7 @@ def test_more_workers_than_cpus_are_capped_with_a_warning(
 
 
 def test_the_tiny_grid_is_what_its_comment_says() -> None:
-    """Issue 31, item 12: the comment described walls (one of 12 rows) that the grid does not build."""
+    """The grid's comment describes the walls the grid builds, and only those."""
     path = ROOT / "examples" / "sweeps" / "tiny.toml"
     comment = " ".join(line.lstrip("# ") for line in path.read_text().splitlines() if line.startswith("#"))
     grid = load_grid(path)

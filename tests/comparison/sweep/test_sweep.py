@@ -78,8 +78,8 @@ def _page(out: Path, name: str) -> tuple[str, dict[str, bytes]]:
 
 
 def test_the_sweep_writes_its_validation_page(tiny_local) -> None:
-    """Issue 43: ``xcheck sweep`` leaves ``NAME.md`` beside its table, with the summary, the error map, the
-    scatter, the histogram and the time against blocks, each figure numbered and there."""
+    """``xcheck sweep`` leaves ``NAME.md`` beside its table, with the summary, the error map, the scatter,
+    the histogram and the time against blocks, each figure numbered and there."""
     tmp, rows, _ = tiny_local
     text, figures = _page(tmp / "out", "tiny")
     assert list(figures) == ["tiny-map.png", "tiny-scatter.png", "tiny-histogram.png", "tiny-time.png"]
@@ -101,7 +101,7 @@ def test_the_sweep_writes_its_validation_page(tiny_local) -> None:
 
 
 def test_a_second_run_reads_everything_from_the_cache(tiny_local) -> None:
-    """... and writes the same page, figures included (issue 43: the page is drawn from the table alone)."""
+    """... and writes the same page, figures included: the page is drawn from the table alone."""
     tmp, rows, _ = tiny_local
     first = _page(tmp / "out", "tiny")
     code, again, meta = _sweep(tmp, TINY, tmp / "cache", "--workers", "1")
@@ -167,8 +167,8 @@ def test_a_grid_with_failing_cells_counts_and_lists_them_on_its_page(tiny_local,
 
 
 def test_a_user_model_gets_its_column_and_figures(tiny_local, tmp_path: Path) -> None:
-    """Issue 43: a grid names ``module:function`` as an extra macro column; the table holds its values and
-    the page its row of the summary, its error map and its points in the scatter and histogram."""
+    """A grid naming ``module:function`` as an extra macro column: the table holds its values and the page
+    its row of the summary, its error map and its points in the scatter and histogram."""
     tmp, local, _ = tiny_local
     (tmp_path / "half43.py").write_text("def lam(t, m, rows, f, p, storeys):\n    return min(f, 1 / t) / 2\n")
     grid = tmp_path / "tiny.toml"

@@ -57,6 +57,6 @@ def test_continuation_needs_a_vertex_sequence_of_scheme_a(kw: dict[str, str]) ->
 
 def test_continuation_is_a_flag() -> None:
     assert Tuning(continuation=True, selection="vertex+proximal").continuation is True
-    # issue 41: a flag is a bool (1 was read as True, and so was "no"); like global_=1, it is refused
+    # a flag is a bool (1 or "no" would read as True); like global_=1, it is refused
     with pytest.raises(ValueError, match=r"^continuation must be True or False or None \(by the wall's size\), got 1$"):
         Tuning(continuation=1, selection="vertex+proximal")  # type: ignore[arg-type]

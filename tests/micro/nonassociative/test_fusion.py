@@ -125,7 +125,7 @@ def test_a_state_the_wall_rejects_is_a_failure(monkeypatch: pytest.MonkeyPatch) 
 
 def test_fuse_option_is_a_flag() -> None:
     assert dataclasses.replace(Tuning(), fuse=True).fuse
-    with pytest.raises(ValueError, match=r"^fuse must be True or False"):  # issue 41: a bool, not 1 or "no"
+    with pytest.raises(ValueError, match=r"^fuse must be True or False"):  # a bool, not 1 or "no"
         Tuning(fuse=1)  # type: ignore[arg-type]
 
 

@@ -1,4 +1,4 @@
-"""The lowest certified collapse state (issue 14, item 1): the descent and its two LPs."""
+"""The lowest certified collapse state: the descent and its two LPs."""
 
 from __future__ import annotations
 

@@ -195,7 +195,7 @@ def test_cli_leads_with_the_lowest_certified_state(capsys: pytest.CaptureFixture
     assert main(args) == 0
     out = capsys.readouterr().out
     first, second = out.splitlines()[:2]
-    assert "nan" not in out  # issue 44, item 6: the warm/cold difference of a certified state was printed as nan
+    assert "nan" not in out  # a certified state's warm/cold difference is a number or absent, never nan
     assert first.startswith("lambda = 0.691108 (+x): the lowest certified collapse state") and "finished" in first
     assert "iterated LP" in second and "lambda = 0.708622" in second and "[0.694899, 0.710055]" in second
     assert main([*args, "--lowest", "3"]) == 0

@@ -1,0 +1,48 @@
+"""The quick report, built once per pytest run and shared by every test that reads it.
+
+Building ``xcheck report --quick`` computes about a hundred micro solves; the tests that read a quick
+report (its cells against the golden values, its files, the command line's first run, the documentation's
+``report --quick`` example, the Dask and reproducibility comparisons) read this one build instead of making
+their own. It is built as a user builds it: by the command line, from an empty result cache, with the
+committed tables of ``reports/``, verbose, its standard output and error kept for the tests of what the
+command prints on a first run. Tests that run the report again (from the cache, on a cluster, without a
+cache) start from a copy of its cache (:func:`quick_report_cache`) or compare their output with its files.
+
+Likewise the sweep of the documentation's own-walls example (:func:`own_walls_sweep`), whose page the docs
+quote and whose command the docs' examples run: computed once, its cache seeds the examples' cache.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from quick_report import OWN_WALLS, QuickReport, Sweep, build, sweep
+
+
+@pytest.fixture(scope="session")
+def quick_report(tmp_path_factory: pytest.TempPathFactory) -> QuickReport:
+    """The quick report, computed once per run from an empty cache (see the module docstring)."""
+    return build(tmp_path_factory.mktemp("quick-report"))
+
+
+@pytest.fixture(scope="session")
+def quick_report_dir(quick_report: QuickReport) -> Path:
+    """The shared quick report's directory."""
+    return quick_report.out
+
+
+@pytest.fixture
+def quick_report_cache(quick_report: QuickReport, tmp_path: Path) -> Path:
+    """A copy of the shared quick report's result cache, for a test's own runs (every quick computation
+    cached; the shared cache itself stays as the build left it)."""
+    copy = tmp_path / "quick-cache"
+    shutil.copytree(quick_report.cache, copy)
+    return copy
+
+
+@pytest.fixture(scope="session")
+def own_walls_sweep(tmp_path_factory: pytest.TempPathFactory) -> Sweep:
+    """``xcheck sweep examples/own-walls/walls.toml``, computed once per run from an empty cache."""
+    return sweep(OWN_WALLS, tmp_path_factory.mktemp("own-walls"))
