@@ -76,7 +76,7 @@ def read_input_file(path: str | os.PathLike[str], max_bytes: int | None = None, 
             os.close(fd)
 
 
-def write_whole(path: str | os.PathLike[str], data: bytes) -> Path:
+def write_whole(path: str | os.PathLike[str], data: bytes, *, follow_symlinks: bool = True) -> Path:
     """Write ``data`` to ``path`` whole or not at all: a new temporary file beside it, renamed over it.
 
     The temporary file is created with mode 0o666 less the umask (as ``open`` would) and removed on any
@@ -84,11 +84,29 @@ def write_whole(path: str | os.PathLike[str], data: bytes) -> Path:
     ``open()`` writes it: the file it points to is replaced (the temporary file beside that one) and the
     link stays, where a rename over the link replaced the link with a file (``--plot link.png``).
 
+    Only a regular file (or a name that does not exist yet) is ever replaced: a rename over a device, a
+    FIFO or a directory would put a file in its place (run as root, ``--state /dev/null`` or a cache
+    entry linked to ``/dev/zero`` replaced the device node), so such a target is refused with
+    ``OSError`` ("not a regular file: a character device").
+
+    Args:
+        follow_symlinks: ``False`` to replace a symbolic link itself rather than the file it points to,
+            for folders the suite writes itself and never links (the result cache): a link, a FIFO or a
+            device node there is damage, and the new entry takes its place (the rename replaces the name
+            in that folder, never what a link pointed to).
+
     Returns:
         The written path.
     """
     out = Path(path)
-    target = Path(os.path.realpath(out)) if out.is_symlink() else out  # written through, as open() writes
+    target = Path(os.path.realpath(out)) if follow_symlinks and out.is_symlink() else out
+    try:
+        mode = os.lstat(target).st_mode
+    except FileNotFoundError:
+        mode = None
+    if follow_symlinks and mode is not None and not stat.S_ISREG(mode):
+        kind = next((name for test, name in _KINDS if test(mode)), "a special file")
+        raise OSError(errno.EINVAL, f"not a regular file: {kind}", str(out))
     tmp = target.with_name(f".{target.name}.{uuid.uuid4().hex[:8]}.tmp")
     try:
         _write_new(tmp, data)

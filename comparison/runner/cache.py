@@ -272,9 +272,9 @@ class ResultCache:
             data = buf.getvalue()
             sha = hashlib.sha256(data).hexdigest()
             npz = path.with_name(f"{path.stem}.{sha[:16]}.npz")
-            write_atomic(npz, data)
+            write_atomic(npz, data, follow_symlinks=False)
             stored["mechanism"] = {"file": npz.name, "sha256": sha}
-        write_atomic(path, json.dumps(stored, indent=1).encode())
+        write_atomic(path, json.dumps(stored, indent=1).encode(), follow_symlinks=False)
 
     def _read(self, path: Path) -> tuple[Record, MechanismRecord | None]:
         """Read and check one entry.

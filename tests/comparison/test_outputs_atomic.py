@@ -13,6 +13,7 @@ import json
 import os
 import resource
 import signal
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -98,3 +99,33 @@ def test_an_output_gets_the_mode_of_a_file_the_process_creates(tmp_path: Path) -
         os.umask(mask)
     assert path.stat().st_mode & 0o777 == plain.stat().st_mode & 0o777 == 0o644
     assert json.loads(write_text(tmp_path / "c.json", "[1]").read_text()) == [1]
+
+
+@pytest.mark.parametrize("through_link", [False, True])
+def test_a_target_that_is_not_a_regular_file_is_refused_and_left_as_it_is(tmp_path: Path,
+                                                                          through_link: bool) -> None:
+    """A rename over a FIFO or a device puts a file in its place (as root, ``--state /dev/null`` replaced the
+    device node): the writer refuses such a target, directly or through a link, and leaves it be."""
+    from micro.files import write_whole
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    path = fifo
+    if through_link:
+        path = tmp_path / "link.png"
+        path.symlink_to(fifo)
+    with pytest.raises(OSError, match="not a regular file: a named pipe"):
+        write_whole(path, b"data")
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode) and sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        ["pipe", *(["link.png"] if through_link else [])])
+
+
+def test_the_cache_replaces_a_link_rather_than_write_through_it(tmp_path: Path) -> None:
+    from micro.files import write_whole
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    entry = tmp_path / "entry.json"
+    entry.symlink_to(fifo)
+    write_whole(entry, b"{}", follow_symlinks=False)
+    assert entry.read_bytes() == b"{}" and not entry.is_symlink() and stat.S_ISFIFO(os.stat(fifo).st_mode)

@@ -233,7 +233,7 @@ def test_a_cache_that_cannot_be_written_warns_once_and_its_run_keeps_every_resul
 
     entry = Runner(None)._entry(SPEC, MICRO_ASSOC)
 
-    def full(path: Path, data: bytes) -> None:
+    def full(path: Path, data: bytes, **_: object) -> None:
         raise OSError(errno.ENOSPC, "No space left on device", str(path))
 
     monkeypatch.setattr(cache_module, "write_atomic", full)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import shutil
 import signal
+import stat
 import tracemalloc
 from collections.abc import Iterator
 from pathlib import Path
@@ -103,6 +104,14 @@ def _recomputed(cache_dir: Path, match: str) -> None:
     assert record.load_factor == pytest.approx(0.75, abs=1e-6) and not record.cached and runner.computed == 1
 
 
+def _replaced_not_written_through(entry: Path, damage: str) -> None:
+    """The recomputed entry took the damaged one's place (a regular file; a directory cannot be renamed
+    over), and whatever a link pointed to is untouched (written through, a link to ``/dev/zero`` replaced
+    the device node with a file)."""
+    assert damage == "directory" or stat.S_ISREG(os.lstat(entry).st_mode)
+    assert stat.S_ISCHR(os.stat("/dev/zero").st_mode)
+
+
 @pytest.mark.parametrize("damage", DAMAGES)
 def test_a_record_that_is_not_a_regular_file_is_warned_and_recomputed(
     stored: Path, damage: str, monkeypatch: pytest.MonkeyPatch
@@ -111,6 +120,7 @@ def test_a_record_that_is_not_a_regular_file_is_warned_and_recomputed(
     run, a sparse file be read whole."""
     _replace(stored, damage, monkeypatch)
     _recomputed(stored.parent.parent, str(stored))
+    _replaced_not_written_through(stored, damage)
 
 
 @pytest.mark.parametrize("damage", DAMAGES)
@@ -119,6 +129,7 @@ def test_a_mechanism_that_is_not_a_regular_file_is_warned_and_recomputed(
 ) -> None:
     _replace(_npz(stored), damage, monkeypatch)
     _recomputed(stored.parent.parent, str(stored))
+    _replaced_not_written_through(_npz(stored), damage)
 
 
 def test_a_kind_folder_that_is_a_file_is_warned_and_recomputed(stored: Path) -> None:
