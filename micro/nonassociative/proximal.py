@@ -31,7 +31,11 @@ z_l / (x - lower) + z_u / (upper - x)``, factorised by CHOLMOD
 (:class:`~micro.backends.normal_matrix.NormalMatrix`) where Clarabel
 factorises a KKT system with a row per variable and per bound (``5P + 3
 n_blocks`` rows): 2.7-3.9 times faster per QP on Sets 2 and 9
-(``docs/micro/nonassociative.md``). Mehrotra's
+(``docs/micro/nonassociative.md``). CHOLMOD's simplicial factorisation, not
+its supernodal one: the supernodal kernels are BLAS calls, whose last bits
+differ between OpenBLAS's kernels, and the projection decides the next
+``nbar``; with them Set 9's sequence reached another state on another
+machine (``docs/research/2026-11-28-blas-independent-descent.md``). Mehrotra's
 predictor-corrector, one step length for the primal and the dual (the
 Hessian couples them). Both solvers are built once per direction; only the
 right-hand side, the target and the bounds change between iterates
@@ -133,8 +137,10 @@ class LeastDistanceQP:
 
     def __init__(self, A: sp.spmatrix, settings: LeastDistanceSettings = LEAST_DISTANCE) -> None:
         self.settings = settings
-        self.M = NormalMatrix(A, regularization=settings.regularization, refine_steps=settings.refine_steps,
-                              refine_tol=settings.refine_tol)
+        # simplicial: CHOLMOD's supernodal kernels are BLAS calls, whose last bits depend on the
+        # kernel, and the projection decides the next nbar (the path of the sequence)
+        self.M = NormalMatrix(A, regularization=settings.regularization, supernodal=False,
+                              refine_steps=settings.refine_steps, refine_tol=settings.refine_tol)
         self.A, self.AT = self.M.A, self.M.AT
 
     def solve(self, t: FloatArray, b: FloatArray, lower: FloatArray, upper: FloatArray) -> LeastDistanceResult:
