@@ -5,7 +5,9 @@ whose numbers decide the path (every HiGHS run, every Clarabel solve, the proxim
 its normal-matrix solves, the refinement of a force LP's vertex, the pattern of a mechanism, the
 descent's states) and writes one line per call: the step, and a digest of what it returned
 (SHA-1 of the arrays' bytes; load factors with 17 digits). Run it under each kernel and ``diff``
-the logs; the first line that differs names the first step whose result depends on the kernel::
+the logs (each line is written as it comes, so that the prefixes of runs stopped early compare
+too; the last line is the process's CPU seconds); the first line that differs names the first
+step whose result depends on the kernel::
 
     OPENBLAS_CORETYPE=Prescott python docs/research/2026-11-28-blas-independent-descent.py 5 /tmp/p.log
     OPENBLAS_CORETYPE=Haswell python docs/research/2026-11-28-blas-independent-descent.py 5 /tmp/h.log
@@ -35,6 +37,14 @@ from micro.backends import highs, normal_matrix
 from micro.nonassociative import lowest, proximal, states
 
 LOG: list[str] = []
+#: the log file, each line written as it comes (a run stopped early can still be compared by prefix)
+STREAM: list[Any] = []
+
+
+def log(line: str) -> None:
+    LOG.append(line)
+    for fh in STREAM:
+        print(line, file=fh, flush=True)
 
 
 def digest(a: Any) -> str:
@@ -51,7 +61,7 @@ def wrap(owner: Any, name: str, show: Callable[..., str]) -> None:
     @functools.wraps(real)
     def traced(*args: Any, **kwargs: Any) -> Any:
         out = real(*args, **kwargs)
-        LOG.append(f"{name}: {show(out, *args)}")
+        log(f"{name}: {show(out, *args)}")
         return out
 
     setattr(owner, name, traced)
@@ -78,18 +88,21 @@ def main() -> None:
     wrap(states, "restricted_columns", lambda r, *a: f"v={digest(a[1])} -> {digest(r)}")
     wrap(lowest, "restricted_columns", lambda r, *a: f"v={digest(a[1])} -> {digest(r)}")
     wrap(lowest.Descent, "settle", lambda s, *a: "-" if s is None else f"{s.load_factor!r} {s.origin}")
-    t0 = time.process_time()
-    r = micro.solve_nonassociative(wall, tuning=tuning)
-    cpu = time.process_time() - t0
     kernels = sorted({str(i.get("architecture")) for i in threadpool_info() if i["internal_api"] == "openblas"})
-    head = [f"# kernels {kernels}", f"# cpu {cpu:.1f} s"]
-    for d in r.directions:
-        LOG.append(f"result {d.direction}: {d.status} {d.load_factor!r}")
-    for lo in r.lowest:
-        LOG.append(f"lowest {lo.direction}: {lo.status} {lo.stop} {lo.load_factor!r} lps={lo.lps} {lo.origin}")
     with open(path, "w", encoding="utf-8") as fh:
-        fh.write("\n".join(head + LOG) + "\n")
-    print(*head, f"load_factor {r.load_factor!r}", *LOG[-2 * len(r.directions):], sep="\n")
+        STREAM.append(fh)
+        print(f"# kernels {kernels}", file=fh, flush=True)
+        t0 = time.process_time()
+        r = micro.solve_nonassociative(wall, tuning=tuning, progress=lambda e: log(
+            f"progress: {e.direction} {e.stage} {e.lp} {e.load_factor!r} {e.step!r} {e.algorithm}"))
+        cpu = time.process_time() - t0
+        for d in r.directions:
+            log(f"result {d.direction}: {d.status} {d.load_factor!r}")
+        for lo in r.lowest:
+            log(f"lowest {lo.direction}: {lo.status} {lo.stop} {lo.load_factor!r} lps={lo.lps} {lo.origin}")
+        print(f"# cpu {cpu:.1f} s", file=fh)
+    print(f"# kernels {kernels}", f"# cpu {cpu:.1f} s", f"load_factor {r.load_factor!r}",
+          *LOG[-2 * len(r.directions):], sep="\n")
 
 
 def _value(text: str) -> Any:
