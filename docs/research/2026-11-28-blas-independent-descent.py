@@ -101,7 +101,7 @@ def main() -> None:
         for lo in r.lowest:
             log(f"lowest {lo.direction}: {lo.status} {lo.stop} {lo.load_factor!r} lps={lo.lps} {lo.origin}")
         print(f"# cpu {cpu:.1f} s", file=fh)
-    print(f"# kernels {kernels}", f"# cpu {cpu:.1f} s", f"load_factor {r.load_factor!r}",
+    print(f"# kernels {kernels}", f"# cpu {cpu:.1f} s", f"load_factor {r.load_factor!r}",  # noqa: T201
           *LOG[-2 * len(r.directions):], sep="\n")
 
 
