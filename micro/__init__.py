@@ -20,7 +20,8 @@ Every result has a flat record (``result.to_record()``: a read-only mapping of i
 ``record["load_factor"]``; ``record.to_dict()`` is its JSON form).
 
 Layout: ``geometry`` (the wall), ``lp`` (the LP), ``backends`` (the solvers),
-``mechanism``, ``results`` and ``records`` (what comes out), ``associative``
+``mechanism``, ``results`` and ``records`` (what comes out), ``local`` (is the governing
+mechanism a loose piece's, not the wall's?) and ``hold`` (blocks held to their hosts), ``associative``
 and ``nonassociative`` (the two analyses), ``plot``. The method, its options and which
 value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, global-search).
 """
@@ -28,6 +29,8 @@ value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, glo
 from micro.associative import solve_associative
 from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backend
 from micro.geometry import BlockWall, build_wall, estimate_bytes
+from micro.hold import HeldWall, hold_blocks
+from micro.local import LOCAL_WEIGHT_SHARE, LocalMechanism, find_local, local_mechanism
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
 from micro.nonassociative import (
@@ -46,15 +49,18 @@ from micro.results import DirectionResult, LimitResult
 
 __all__ = [
     "DEFAULT_SOLVER",
+    "LOCAL_WEIGHT_SHARE",
     "SCHEMES",
     "SOLVERS",
     "AssociativeRecord",
     "BlockWall",
     "DirectionResult",
     "GlobalOptions",
+    "HeldWall",
     "IterationRecord",
     "LimitLP",
     "LimitResult",
+    "LocalMechanism",
     "Mechanism",
     "MicroRecord",
     "NonAssociativeOptions",
@@ -67,6 +73,9 @@ __all__ = [
     "assemble",
     "build_wall",
     "estimate_bytes",
+    "find_local",
+    "hold_blocks",
+    "local_mechanism",
     "make_backend",
     "mechanism_from_duals",
     "solve_associative",

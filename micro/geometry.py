@@ -15,7 +15,9 @@ otherwise the last block of each course is CUT, to a length in ``(0, l/2)``
 in one course type and in ``(l/2, l)`` in the other. Only the last block of
 a course is cut; a sliver is kept however thin (it did
 not hurt the LP's conditioning, and merging it into its neighbour made the
-load factor jump with ``L``; see ``docs/micro/walls.md``).
+load factor jump with ``L``; see ``docs/micro/walls.md``). A cut piece of the
+TOP course carries nothing and tips over alone at a load factor that goes to 0
+with its width: :mod:`micro.local` tells that mechanism apart.
 
 Conventions
 -----------

@@ -20,7 +20,7 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from importlib import metadata
 
-from comparison.cli import macro, micro, references, report, stability, sweep
+from comparison.cli import compare, macro, micro, references, report, stability, sweep
 from comparison.cli.options import (
     DISK_FULL,
     EXIT_BROKEN_PIPE,
@@ -57,7 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"xcheck {version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for module in (macro, micro, report, stability, sweep, references):
+    for module in (compare, macro, micro, report, stability, sweep, references):
         module.register(sub)
     return parser
 

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
+    from comparison.local import WallMechanism
     from comparison.wall import WallSpec
     from micro import BlockWall, LimitResult, NonAssociativeResult, Tuning
     from micro.nonassociative import LPProgress
@@ -149,10 +150,9 @@ def run(args: argparse.Namespace) -> int:
     _options_apply(args)
     if args.friction == "nonassociative":
         return _run_nonassociative(args, spec, wall, time_limit)
-    if args.solver is None:  # the library's default back end
-        result = micro.solve_associative(wall, time_limit=time_limit)
-    else:
-        result = micro.solve_associative(wall, solver=args.solver, time_limit=time_limit)
+    solver = {} if args.solver is None else {"solver": args.solver}  # else the library's default back end
+    result = micro.solve_associative(wall, time_limit=time_limit, **solver)
+    own = _wall_mechanism(wall, result, lambda w: micro.solve_associative(w, time_limit=time_limit, **solver))
     plot_error = None
     if args.plot is not None and result.ok:
         from comparison.report.mechanisms import storey_marks
@@ -160,9 +160,10 @@ def run(args: argparse.Namespace) -> int:
 
         plot_error = _write_plot(lambda: plot_mechanism(wall, result, args.plot, **storey_marks(spec)), args.plot)
     if args.json:
-        print(_json(result.summary(), args, spec, plotted=result.ok and plot_error is None))
+        print(_json({**result.summary(), **own.to_dict()}, args, spec, plotted=result.ok and plot_error is None))
     else:
         _print_associative(result, args.verbosity)
+        _print_local(own, args.verbosity)
     return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED
 
 
@@ -204,6 +205,30 @@ def _print_associative(result: LimitResult, verbosity: int) -> None:
         rec = result.to_record()
         print(f"  LP: {rec.variables} variables, {rec.rows} rows, {rec.nnz} nonzeros; contact points {rec.points}")
         print("  contacts of the mechanism: " + ", ".join(f"{n} {k}" for k, n in rec.contact_states.items()))
+
+
+def _wall_mechanism(wall: BlockWall, result: Any, solve: Callable[[BlockWall], Any]) -> WallMechanism:
+    """The block model's result told apart from a local mechanism, and the wall's own
+    (:func:`comparison.local.solve_wall_mechanism`; the held wall is solved only where a local one governs)."""
+    from comparison.local import solve_wall_mechanism
+
+    return solve_wall_mechanism(wall, solve, first=result)
+
+
+def _print_local(own: WallMechanism, verbosity: int) -> None:
+    """Where a local mechanism governs, what moves and the wall's own load factor (the one compared with the
+    macro model): two lines after the result, none when quiet."""
+    if own.local is None or verbosity == QUIET:
+        return
+    loc = own.local
+    print(f"  local mechanism: {loc.description} (lambda = {loc.load_factor:.6f}, {loc.direction}, "
+          f"{100 * loc.weight_share:.2g} % of the weight): the block model's, not the wall's")
+    if math.isfinite(own.load_factor):
+        print(f"  the wall's own mechanism ({len(own.held)} block{'s' if len(own.held) != 1 else ''} held to "
+              f"the block below): wall lambda = {own.load_factor:.6f} ({own.result.direction}); compare this "
+              "with the macro model")
+    else:
+        print(f"  the wall's own mechanism: not found ({own.message})")
 
 
 def _write_plot(draw: Callable[[], object], path: str) -> str | None:
@@ -327,10 +352,11 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
     if args.global_:  # the search's limits: --node-limit, and --time-limit as for every LP
         limits = {"node_limit": nodes} if time_limit is None else {"node_limit": nodes, "time_limit": time_limit}
         given["global_"] = micro.GlobalOptions(**limits)
-    result = micro.solve_nonassociative(
-        wall, tuning=tuning, progress=_progress_line if args.verbosity >= VERBOSE else None,
-        lowest=LOWEST_CHOICES[lowest], **given,
-    )
+    progress = _progress_line if args.verbosity >= VERBOSE else None
+    result = micro.solve_nonassociative(wall, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest],
+                                        **given)
+    own = _wall_mechanism(wall, result, lambda w: micro.solve_nonassociative(
+        w, tuning=tuning, progress=progress, lowest=LOWEST_CHOICES[lowest], **given))
     mechanism = result.governing.mechanism if result.ok and result.governing is not None else None
     plot_error = None
     if args.plot is not None and mechanism is not None:
@@ -350,9 +376,11 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
             args.plot,
         )
     if args.json:
-        print(_json(result.summary(), args, spec, plotted=mechanism is not None and plot_error is None))
+        print(_json({**result.summary(), **own.to_dict()}, args, spec,
+                    plotted=mechanism is not None and plot_error is None))
     else:
         _print_nonassociative(result, args.verbosity)
+        _print_local(own, args.verbosity)
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
     return _plot_failed(plot_error) if plot_error else EXIT_OK if result.ok else EXIT_FAILED

@@ -52,7 +52,8 @@ def beyond_table7_finding(res: Results) -> str | None:
     above = [d for _, d in big if d > 0]
     if not above:
         return (
-            f"* **Macro against micro beyond Table 7.** The macro λ lies below the micro one on all {len(big)} walls."
+            f"* **Macro against micro beyond Table 7.** The macro λ lies below the micro one on all {len(big)} walls: "
+            "not refuted (no lower bound of the collapse load is computed, so not shown safe either)."
         )
     n_na = sum(1 for c, _ in big if _finite(res.record(c.spec(), res.plan.reference).load_factor))
     ref_note = (
@@ -68,7 +69,8 @@ def beyond_table7_finding(res: Results) -> str | None:
         f"{len(above)}, by "
         f"{min(above):+.1f} % to {max(above):+.1f} %"
         + ref_note
-        + "; below it only "
+        + "; below it, not refuted (no lower bound of the collapse load is computed, so not shown safe either), "
+        "only "
         + ", ".join(f"{c.label} ({d:+.1f} %)" for c, d in big if d <= 0)
         + "."
     )

@@ -75,7 +75,7 @@ def robustness_note(t: Table) -> str:
         above, known = (int(x) for x in row[-1].split(" of "))
         (every if above == known > 0 else none if above == 0 else some).append(str(row[0]))
     parts = [f"under every bond on {', '.join(every)}" if every else "",
-             f"under no bond on {', '.join(none)}" if none else "",
+             f"under no bond on {', '.join(none)} (not refuted there)" if none else "",
              f"under some bonds only on {', '.join(some)} (the verdict depends on the bond)" if some else ""]
     return ("The macro λ lies above the lowest certified micro state " + "; ".join(p for p in parts if p) + ". "
             "Bonds: the bottom course starting with a full or a half block, head joints with or without friction. "

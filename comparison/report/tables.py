@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from comparison.cases import SET4_HINGE_LOAD_FACTORS, PaperCase, cases_in_table
+from comparison.local import LocalRecord
 from comparison.report.plan import table9_alternative
 from comparison.report.results import Results
 from comparison.runner import MICRO_ASSOC, NONASSOC_RETRY_LPS, Record
@@ -313,14 +314,25 @@ def all_cases(res: Results) -> Table:
             blocks = blocks if micro is None else micro.blocks
         ref = res.nonassoc_record(c.spec())
         row += [None if ref is None else ref.iterated_load_factor,
-                pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
+                pct(r.load_factor, res.best_micro(c.spec()).wall_load_factor), blocks]
         t.add(*row)
     cut = ("A length that is not a whole number of half blocks (Set 8: L = 20, l = 3) ends every course with a cut "
            "block.")
     # the n/a note only where an n/a cell is shown
     na = any(lam_cell(res.record(c.spec(), m)) == "n/a" for c in res.plan.cases for m in res.plan.methods)
     t.note = f"n/a: the micro wall cannot be built (shorter than half a block). {cut}" if na else cut
+    local = [_local_note(c.label, m.column, rec.local) for c in res.plan.cases for m in res.plan.methods
+             if (rec := res.record(c.spec(), m)).local is not None]
+    if local:  # none of the paper's walls (docs/micro/walls.md); said wherever one is
+        t.note += (" A local mechanism governs the block model of " + "; ".join(local)
+                   + ": Δ % is taken against the wall's own λ.")
     return t
+
+
+def _local_note(case: str, column: str, local: LocalRecord) -> str:
+    """``Set 8, micro-assoc: the cut end piece ... tips over alone at λ = 0.5 (the wall's own λ 0.52)``."""
+    return (f"{case}, {column}: {local.description} at λ = {local.load_factor:.4f} (the wall's own λ "
+            f"{local.wall_load_factor:.4f})")
 
 
 def mechanism_record(res: Results, case: PaperCase) -> Record:

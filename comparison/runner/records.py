@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from comparison.failure import FailureMode
+from comparison.local import LocalRecord
 from comparison.runner.methods import Method
 from macro.records import MacroRecord
 from micro.records import AssociativeRecord, NonAssociativeRecord
@@ -54,6 +55,8 @@ class Record:
             ``"not_run"`` (left out of the report), else ``""``.
         message: why it was skipped, or why the mechanism could not be read.
         cached: True when read from the cache.
+        local: the local mechanism that governs the micro result and the wall's own value
+            (:func:`comparison.local.solve_wall_mechanism`; ``None`` when nothing local governs).
     """
 
     wall: str
@@ -64,6 +67,7 @@ class Record:
     skipped: Skip = ""
     message: str = ""
     cached: bool = False
+    local: LocalRecord | None = None
 
     @property
     def load_factor(self) -> float:
@@ -71,6 +75,12 @@ class Record:
         non-associative method the lowest certified collapse state where the descent found one,
         else the iterated LP's (:attr:`iterated_load_factor`)."""
         return math.nan if self.result is None else self.result.load_factor
+
+    @property
+    def wall_load_factor(self) -> float:
+        """The wall's own load factor, the micro value compared with the macro model: :attr:`load_factor`
+        unless a local mechanism governs (:attr:`local`), then the held wall's."""
+        return self.local.wall_load_factor if self.local is not None else self.load_factor
 
     @property
     def iterated_load_factor(self) -> float:
@@ -102,6 +112,7 @@ class Record:
             "failure": None if self.failure is None else self.failure.to_dict(),
             "skipped": self.skipped,
             "message": self.message,
+            "local": None if self.local is None else self.local.to_dict(),
         }
 
     @classmethod
@@ -111,4 +122,5 @@ class Record:
         method = Method(**{**m, "tuning": tuple(tuple(pair) for pair in m.get("tuning", ()))})
         result = None if d["result"] is None else RESULT_TYPES[method.kind].from_dict(d["result"])
         failure = None if d["failure"] is None else FailureMode.from_dict(d["failure"])
-        return cls(d["wall"], method, d["seconds"], result, failure, d["skipped"], d["message"], cached)
+        local = None if d.get("local") is None else LocalRecord.from_dict(d["local"])
+        return cls(d["wall"], method, d["seconds"], result, failure, d["skipped"], d["message"], cached, local)

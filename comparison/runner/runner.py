@@ -9,6 +9,7 @@ figures.
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -16,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from comparison.failure import FailureMode, failure_mode
+from comparison.local import solve_wall_mechanism
 from comparison.runner.cache import ResultCache
 from comparison.runner.methods import Method
 from comparison.runner.records import MechanismRecord, Record
@@ -25,6 +27,10 @@ from micro.records import AssociativeRecord, NonAssociativeRecord
 
 def compute(spec: WallSpec, method: Method) -> tuple[Record, MechanismRecord | None]:
     """Run ``method`` on ``spec``: its record and, for a micro solve with a mechanism, the mechanism.
+
+    A micro record says whether a local mechanism governs and gives the wall's own value
+    (``Record.local``, :func:`comparison.local.solve_wall_mechanism`: the held wall is solved only then);
+    the mechanism kept for the figures is the block model's.
 
     A micro wall that cannot be built (e.g. a length that is not a whole number
     of half blocks) gives a ``not_applicable`` record, not an exception.
@@ -44,13 +50,19 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, MechanismRecord | N
         return Record(name, method, 0.0, skipped="not_applicable", message=str(exc)), None
     mechanism = None
     record: AssociativeRecord | NonAssociativeRecord
+    solve: Callable[[micro.BlockWall], micro.LimitResult | micro.NonAssociativeResult]
     if method.kind == "micro-assoc":
         res = micro.solve_associative(wall, solver=method.solver)
+        solve = functools.partial(micro.solve_associative, solver=method.solver)
         record = res.to_record()
+        first: micro.LimitResult | micro.NonAssociativeResult = res
         if res.velocities is not None and res.direction:
             mechanism = MechanismRecord(np.asarray(res.velocities), res.direction)
     else:
-        nres = micro.solve_nonassociative(wall, tuning=method.nonassoc_tuning() if method.tuning else None)
+        solve = functools.partial(micro.solve_nonassociative,
+                                  tuning=method.nonassoc_tuning() if method.tuning else None)
+        nres = solve(wall)
+        first = nres
         record = nres.to_record()
         # the mechanism of the state quoted: the lowest certified one, else the iterated LP's
         low = nres.lowest_state
@@ -65,7 +77,8 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, MechanismRecord | N
             failure = failure_mode(wall, mechanism.velocities, mechanism.direction)
         except ValueError as exc:
             message = str(exc)
-    return Record(name, method, time.perf_counter() - t0, record, failure, message=message), mechanism
+    local = solve_wall_mechanism(wall, solve, first=first).to_record()
+    return Record(name, method, time.perf_counter() - t0, record, failure, message=message, local=local), mechanism
 
 
 def summary_line(record: Record) -> str:

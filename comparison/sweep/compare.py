@@ -3,13 +3,22 @@
 The *macro columns* are the paper's macro model (``macro``) and the user's models
 (:mod:`~comparison.sweep.usermodel`), each with its value on every wall. The
 *micro reference* of a wall in a bond is the non-associative method's value where
-it converged (the table's ``load_factor``: the value to quote, its lowest
-certified collapse state where the descent found one; the iterated LP's own
+it converged (the table's ``wall_load_factor``: the value to quote, its lowest
+certified collapse state where the descent found one, of the wall's own
+mechanism: where a local mechanism governs the block model, a cut end piece of
+the top course that tips over alone, the analysis with it held, and the table's
+``load_factor`` in a table without that column; the iterated LP's own
 value is the ``iterated_load_factor`` column), else the associative LP's (an
 upper bound of the non-associative load factor, so that a macro value above it is
 unsafe for certain). The difference of a column is
-``(λ_column − λ_micro) / λ_micro``; a wall is *unsafe* for a column where it
+``(λ_column − λ_micro) / λ_micro``; a column lies *above* the reference on a wall where it
 exceeds :data:`AGREEMENT`.
+
+The *verdict* on a column (:meth:`Wall.verdict`) is :func:`comparison.compare.judge`'s, as ``xcheck
+compare`` gives it: unsafe by the associative bound, unsafe by a certified state (the value to quote
+where it is the lowest certified state: the table's ``quoted`` column), not refuted (below every state
+found), or no verdict (no converged non-associative value, or one not certified below the macro value, and
+the bound does not settle it).
 
 Everything here is read from the table's rows (strings, as
 :func:`~comparison.sweep.table.read_table` gives them), never recomputed, and
@@ -21,18 +30,22 @@ from __future__ import annotations
 import math
 import statistics
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from comparison.compare import ACCURACY, ASSOCIATIVE_BOUND, judge
 from comparison.sweep.grid import BOND
 from comparison.sweep.table import number
+from micro.nonassociative.results import QUOTED_LOWEST
 from micro.records import SUCCESS_STATUSES
 
-#: Relative difference within which a macro column and the micro reference agree (the LPs are solved to
-#: about 1e-6 relative): a wall is unsafe for a column whose value exceeds the reference by more. Walls where
-#: both slide at lambda = f differ by 1e-9 and count as agreeing.
-AGREEMENT = 1e-4
+#: Relative difference within which a macro column and the micro reference agree: the solvers' accuracy of
+#: the verdict (:data:`comparison.compare.ACCURACY`). Walls where both slide at lambda = f differ by 1e-9 and
+#: count as agreeing.
+AGREEMENT = ACCURACY
+#: The verdicts a page counts, as it words them (:func:`verdict_label`), in this order.
+VERDICT_LABELS = ("unsafe, by the associative bound", "unsafe, by a certified state", "not refuted", "no verdict")
 #: The margins of the summary: walls where a macro column lies above the micro reference by more than each.
 MARGINS = (0.05, 0.10)
 #: The kinds whose rows are macro columns (one value per wall).
@@ -57,8 +70,14 @@ class Wall:
         first_course, head_joints: the bond of its micro values (``""`` when the sweep ran no micro method).
         blocks: blocks of its micro wall (0 when none was built).
         macro: each macro column's value on it, by name (NaN where it gave none).
-        assoc: the associative LP's load factor (NaN when not run or failed).
-        nonassoc: the non-associative method's value to quote where it converged (NaN otherwise).
+        assoc: the associative LP's load factor (NaN when not run or failed): the wall's own.
+        nonassoc: the non-associative method's value to quote where it converged (NaN otherwise): the wall's
+            own.
+        certified: that value is a certified collapse state (the lowest certified; ``False`` for the iterated
+            LP's value and for a table without the ``quoted`` column, which cannot tell).
+        local: by micro kind, the local mechanism that governs the block model there and its load factor
+            (``(description, lambda)``; empty when none). ``assoc`` and ``nonassoc`` are then the wall's own
+            values (the table's ``wall_load_factor``), not the local ones.
     """
 
     t: float
@@ -73,6 +92,8 @@ class Wall:
     macro: Mapping[str, float]
     assoc: float
     nonassoc: float
+    certified: bool = False
+    local: Mapping[str, tuple[str, float]] = field(default_factory=dict)
 
     @property
     def reference(self) -> float:
@@ -91,6 +112,15 @@ class Wall:
         ref, lam = self.reference, self.macro.get(column, math.nan)
         return (lam - ref) / ref if math.isfinite(ref) and math.isfinite(lam) else math.nan
 
+    def verdict(self, column: str) -> tuple[str | None, str | None]:
+        """The verdict on ``column`` and its proof (:func:`comparison.compare.judge`)."""
+        return judge(self.macro.get(column, math.nan), self.assoc, self.nonassoc if self.certified else math.nan,
+                     found_load_factor=self.nonassoc)
+
+    def verdict_label(self, column: str) -> str:
+        """The verdict on ``column`` as the page words it (one of :data:`VERDICT_LABELS`)."""
+        return verdict_label(*self.verdict(column))
+
     def value(self, axis: str) -> float | str:
         """The wall's value of ``axis`` (:data:`AXES`)."""
         return getattr(self, axis)
@@ -98,6 +128,24 @@ class Wall:
     def parameters(self, axes: Iterable[str] = AXES) -> str:
         """``t = 1, m = 1/3, o = 12, ...`` over ``axes`` (the bond only where there is one)."""
         return ", ".join(f"{SYMBOLS[a]} = {shown(a, self.value(a))}" for a in axes if self.value(a) != "")
+
+
+def verdict_label(verdict: str | None, proof: str | None) -> str:
+    """``"unsafe, by a certified state"``, ``"not refuted"``, ``"no verdict"``, ... (:data:`VERDICT_LABELS`)."""
+    if verdict is None:
+        return "no verdict"
+    return f"{verdict}, by {'the ' if proof == ASSOCIATIVE_BOUND else 'a '}{proof}" if proof else verdict
+
+
+def verdicts(ws: Sequence[Wall], column: str) -> dict[str, int]:
+    """The walls of ``ws`` where ``column`` has a value, counted by verdict (:data:`VERDICT_LABELS`; a
+    "safe" verdict, which needs a global search a sweep does not run, would be counted after them)."""
+    out = dict.fromkeys(VERDICT_LABELS, 0)
+    for w in ws:
+        if math.isfinite(w.macro.get(column, math.nan)):
+            label = w.verdict_label(column)
+            out[label] = out.get(label, 0) + 1
+    return out
 
 
 def shown(axis: str, value: float | str) -> str:
@@ -130,23 +178,32 @@ def walls(rows: Sequence[Mapping[str, str]]) -> list[Wall]:
         key = tuple(row[k] for k in _PARAMS)
         w = points.setdefault(key, {"macro": dict.fromkeys(macro_cols, math.nan), "bonds": {}})
         kind, ok = row["kind"], success(row["kind"], row["status"])
-        lam = number(row["load_factor"]) if ok else math.nan
+        # the micro value compared is the wall's own (a table before local mechanisms has load_factor only)
+        value = row["load_factor"] if kind in MACRO_KINDS else row.get("wall_load_factor") or row["load_factor"]
+        lam = number(value) if ok else math.nan
         if kind in MACRO_KINDS:
             w["macro"][row["method"]] = lam
             continue
         bond = w["bonds"].setdefault((row.get("first_course") or "full", row.get("head_joints") or "frictional"),
-                                     {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0})
+                                     {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0,
+                                      "certified": False, "local": {}})
         if row.get("blocks"):
             bond["blocks"] = max(bond["blocks"], int(float(row["blocks"])))
         if kind in ("micro-assoc", "micro-nonassoc") and math.isfinite(lam) and not math.isfinite(bond[kind]):
             bond[kind] = lam  # the first method of its kind in the grid's order
+            if row.get("local_mechanism"):
+                bond["local"][kind] = (row["local_mechanism"], number(row.get("local_load_factor", "")))
+            if kind == "micro-nonassoc":
+                bond["certified"] = row.get("quoted") == QUOTED_LOWEST
     out = []
     for key, w in points.items():
         t, m, o, f, p, n = (number(x) for x in key)
         params = (t, m, int(o), f, p, int(n))
-        bonds = w["bonds"] or {("", ""): {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0}}
+        bonds = w["bonds"] or {("", ""): {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0,
+                                          "local": {}}}
         for (fc, hj), b in sorted(bonds.items(), key=lambda kv: _bond_order(kv[0])):
-            out.append(Wall(*params, fc, hj, b["blocks"], dict(w["macro"]), b["micro-assoc"], b["micro-nonassoc"]))
+            out.append(Wall(*params, fc, hj, b["blocks"], dict(w["macro"]), b["micro-assoc"], b["micro-nonassoc"],
+                            b.get("certified", False), b["local"]))
     return out
 
 
@@ -186,8 +243,8 @@ def part(ws: Sequence[Wall], column: str) -> dict[str, Any]:
 
 def summary(ws: Sequence[Wall], column: str, groups: Sequence[str] = ()) -> dict[str, Any]:
     """The counts of ``column`` (:func:`part`) over all walls, against each kind of reference, by the values
-    of the axes ``groups`` (``"N=1, o=12"``), and the walls without a micro reference (or a value of the
-    column)."""
+    of the axes ``groups`` (``"N=1, o=12"``), the walls by verdict (:func:`verdicts`), and the walls without a
+    micro reference (or a value of the column)."""
     compared = [w for w in ws if math.isfinite(w.error(column))]
     by_group: dict[str, Any] = {}
     if groups:
@@ -198,6 +255,7 @@ def summary(ws: Sequence[Wall], column: str, groups: Sequence[str] = ()) -> dict
             by_group[label] = part([w for w in compared if tuple(w.value(a) for a in groups) == k], column)
     return {
         "all": part(compared, column),
+        "verdicts": verdicts(ws, column),
         "nonassoc": part([w for w in compared if w.reference_kind == "non-assoc"], column),
         "assoc": part([w for w in compared if w.reference_kind == "assoc"], column),
         "by_group": by_group,

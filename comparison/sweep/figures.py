@@ -8,6 +8,12 @@
 * :func:`histogram`: the distribution of the differences, per macro column;
 * :func:`time_against_blocks`: each micro computation's seconds against its blocks (log-log).
 
+One outlier (a local mechanism, a wall whose micro value is far off) must not flatten the others: the
+error map's colour scale and the histogram's range end at the outlier fences (:func:`scale`), and a wall
+beyond them is drawn at the end of the scale (its cell outlined, its number the true one) or in the
+histogram's end bin (counted in the legend). Tukey's fences on the quartiles rather than a percentile: on
+a grid of a dozen walls any high percentile still lies among the outliers.
+
 Every function writes a PNG whole or not at all (:func:`micro.plot.save_figure`) and returns its path, or
 ``None`` when there is nothing to draw.
 """
@@ -34,6 +40,14 @@ DARK = 0.3
 MIN_WIDTH = 7.5
 #: The histogram's bins: 'auto' (numpy's) unless it gives fewer than the first or more than the second.
 MIN_BINS, MAX_BINS = 10, 40
+#: The outlier fences: quartiles ± this many interquartile ranges (Tukey's "far out")...
+FENCE_IQR = 3.0
+#: ... and at least this far beyond the quartiles (a grid whose walls mostly agree has an interquartile
+#: range near 0, and a difference of a few per cent is no outlier).
+FENCE_FLOOR = 0.05
+#: Outliers are left out of a scale only where they would stretch it more than this many times (two walls
+#: at +26 % and +27 % are not told apart as in- and outlier).
+STRETCH = 1.5
 #: Statuses of a micro row that has no record (and so no time of a computation to draw).
 NO_RECORD = frozenset({"not_applicable", "not_run", "refused_memory", "error", "worker_died"})
 
@@ -69,6 +83,27 @@ def fixed(ws: Sequence[Wall]) -> str:
                      if a not in moving)
 
 
+def fences(values: Sequence[float]) -> tuple[float, float]:
+    """The outlier fences of ``values``: ``(Q1 − r, Q3 + r)`` with ``r = max(FENCE_IQR · IQR, FENCE_FLOOR)``
+    (:data:`FENCE_IQR`, :data:`FENCE_FLOOR`); a value outside them is an outlier."""
+    import numpy as np
+
+    q1, q3 = (float(q) for q in np.percentile(values, [25, 75]))
+    reach = max(FENCE_IQR * (q3 - q1), FENCE_FLOOR)
+    return q1 - reach, q3 + reach
+
+
+def scale(values: Sequence[float]) -> tuple[float, float]:
+    """The range a figure's scale spans: the inliers' (within :func:`fences`) where the outliers would stretch
+    it more than :data:`STRETCH` times, else every value's."""
+    lo, hi = fences(values)
+    inliers = [v for v in values if lo <= v <= hi] or list(values)
+    a, b = min(inliers), max(inliers)
+    if max(values) - min(values) <= STRETCH * max(b - a, FENCE_FLOOR):
+        return min(values), max(values)
+    return a, b
+
+
 def error_map(ws: Sequence[Wall], column: str, path: Path) -> Path | None:
     """Heat maps of ``column``'s difference from the micro reference (module docstring)."""
     if not any(math.isfinite(w.error(column)) for w in ws):
@@ -82,7 +117,8 @@ def error_map(ws: Sequence[Wall], column: str, path: Path) -> Path | None:
     cols = axis_values(ws, panel_col) if panel_col else [None]
     rows = list(itertools.product(*(axis_values(ws, a) for a in panel_rows)))
     errs = [e for w in ws if math.isfinite(e := w.error(column))]
-    span = max(0.05, max(abs(e) for e in errs))
+    span = max(0.05, *(abs(e) for e in scale(errs)))
+    clipped = any(abs(e) > span for e in errs)
     norm = TwoSlopeNorm(0.0, -span, span)
     width, height = (max(2.2, min(6.0, 0.6 + 0.4 * len(xs))), max(1.8, min(5.0, 0.5 + 0.4 * len(ys))))
     size = (max(width * len(cols) + 1.4, MIN_WIDTH), height * len(rows) + 1.1)
@@ -107,13 +143,15 @@ def error_map(ws: Sequence[Wall], column: str, path: Path) -> Path | None:
             if j == 0 and up:
                 ax.set_ylabel(_axis_label(up))
     if mesh is not None:
-        bar = fig.colorbar(mesh, ax=axes, shrink=0.8, format=lambda x, _: f"{100 * x:+.0f} %")
+        bar = fig.colorbar(mesh, ax=axes, shrink=0.8, format=lambda x, _: f"{100 * x:+.0f} %",
+                           extend="both" if clipped else "neither")
         bar.set_label(f"(λ {column} − λ micro) / λ micro")
     where = fixed(ws)
     fig.suptitle(
         f"λ {column} against λ micro" + (f" ({where})" if where else "") + ". Red: above micro (unsafe); black "
         "line: where it turns unsafe;\nnumbers in %; * the associative LP is the reference (elsewhere the "
-        "non-associative); grey: no micro value",
+        "non-associative); grey: no micro value"
+        + (";\noutlined: an outlier beyond the colour scale (its own number written)" if clipped else ""),
         fontsize=9,
     )
     return _save(fig, path)
@@ -138,9 +176,18 @@ def _panel(ax: Any, panel: Sequence[Sequence[Wall | None]], column: str, norm: A
                         color="w" if dark else "k")
     ax.set_facecolor("0.85")
     mesh = ax.pcolormesh(np.ma.masked_invalid(grid), cmap="RdBu_r", norm=norm, shading="nearest")
+    for a, b in zip(*np.nonzero(np.abs(np.nan_to_num(grid)) > norm.vmax), strict=True):  # beyond the scale
+        ax.add_patch(_outline(int(a), int(b)))
     for (a0, b0), (a1, b1) in _unsafe_edges(grid):
         ax.plot([b0, b1], [a0, a1], color="k", lw=1.8, solid_capstyle="butt")
     return mesh
+
+
+def _outline(a: int, b: int) -> Any:
+    """The dashed outline of the heat map's cell ``(a, b)`` (an outlier beyond the colour scale)."""
+    from matplotlib.patches import Rectangle
+
+    return Rectangle((b - 0.45, a - 0.45), 0.9, 0.9, fill=False, edgecolor="k", lw=1.0, ls="--")
 
 
 def _unsafe_edges(grid: Any) -> list[tuple[tuple[float, float], tuple[float, float]]]:
@@ -225,8 +272,9 @@ def scatter(ws: Sequence[Wall], macro_columns: Sequence[str], path: Path) -> Pat
     ax.set_ylim(low, top)
     ax.set_aspect("equal")
     ax.set_xlabel("λ micro (reference)")
-    ax.set_ylabel("λ macro")
-    ax.legend(fontsize=7, loc="upper left")
+    ax.set_ylabel("λ " + ", λ ".join(points))  # each macro column by its name
+    # below the axes, clear of the points (which fill the square along its diagonal)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncols=2, frameon=False)
     ax.set_title("Above the 1:1 line: the macro value is unsafe", fontsize=9)
     return _save(fig, path)
 
@@ -241,8 +289,8 @@ def histogram(ws: Sequence[Wall], macro_columns: Sequence[str], path: Path) -> P
         return None
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(6.0, 3.6), layout="constrained")
-    lo, hi = min(every), max(every)
-    auto = np.histogram_bin_edges(every, bins="auto")
+    lo, hi = (100 * x for x in scale([d / 100 for d in every]))
+    auto = np.histogram_bin_edges([d for d in every if lo <= d <= hi], bins="auto")
     bins = len(auto) - 1 if MIN_BINS <= len(auto) - 1 <= MAX_BINS else min(MAX_BINS, max(MIN_BINS, len(every)))
     width = (hi - lo) / bins if hi - lo > 1e-9 else 1.0
     # one bin centred on 0: the walls where the two agree (both sliding at f) sit on 0, not beside it
@@ -253,8 +301,12 @@ def histogram(ws: Sequence[Wall], macro_columns: Sequence[str], path: Path) -> P
         ax.axvspan(0, edges[-1], color="tab:red", alpha=0.08, lw=0)
     for k, (column, ds) in enumerate(diffs.items()):
         kind = "stepfilled" if len(diffs) == 1 else "step"
-        ax.hist(ds, bins=edges, histtype=kind, color=f"C{k}", alpha=0.8 if len(diffs) == 1 else 1.0, lw=1.5,
-                label=f"{column} ({len(ds)} walls)")
+        below, beyond = sum(d < edges[0] for d in ds), sum(d > edges[-1] for d in ds)
+        out = [f"{n} below {edges[0]:+.0f} %" for n in (below,) if n] + [
+            f"{n} above {edges[-1]:+.0f} %" for n in (beyond,) if n]
+        shown_ = np.clip(ds, edges[0], edges[-1])  # outliers in the end bins, counted in the label
+        ax.hist(shown_, bins=edges, histtype=kind, color=f"C{k}", alpha=0.8 if len(diffs) == 1 else 1.0, lw=1.5,
+                label=f"{column} ({len(ds)} walls" + (f"; {', '.join(out)}: in the end bin" if out else "") + ")")
     ax.axvline(0, color="k", lw=1)
     ax.set_xlabel("(λ macro − λ micro) / λ micro, %  (right of 0: unsafe)")
     ax.set_ylabel("walls")

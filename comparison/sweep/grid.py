@@ -17,7 +17,9 @@ Format (see ``examples/sweeps/``)::
     head_joints = "frictional"         # default "frictional"
 
     [limits]                           # optional
-    max_blocks = 1500                  # micro walls of more blocks are not run
+    max_blocks = 1500                  # non-associative micro walls of more blocks are not run
+                                       # (the associative LP runs on every wall: its bound
+                                       # gives a verdict where it settles it)
 
     [[method]]
     kind = "macro"
@@ -125,7 +127,8 @@ class Grid:
         axes: the values of ``t``, ``m``, ``rows``, ``f``, ``p``, ``storeys``, in that order.
         bond: the values of ``first_course`` and ``head_joints``.
         methods: the methods.
-        max_blocks: micro walls of more blocks are not run (``None``: no limit).
+        max_blocks: non-associative micro walls of more blocks are not run (``None``: no limit); the
+            associative LP runs on every wall up to its own method's ``max_blocks``.
     """
 
     name: str

@@ -8,8 +8,10 @@ report's error-map section is this page drawn from its committed sweep
 
 * a summary: the walls, the micro computations, and per macro column
   (:mod:`~comparison.sweep.compare`) how many walls it lies above the micro
-  reference on (unsafe), by more than 5 % and 10 %, the median and worst
-  difference and the worst wall;
+  reference on, by more than 5 % and 10 %, the median and worst
+  difference and the worst wall; then the walls by verdict and proof, as
+  ``xcheck compare`` gives them (:func:`comparison.compare.judge`): unsafe by
+  the associative bound, unsafe by a certified state, not refuted, no verdict;
 * the cells that gave no value, counted by method and status and listed
   (the first :data:`LISTED` of each status; the table's ``status`` column
   holds them all), never dropped;
@@ -36,6 +38,7 @@ from comparison.sweep.compare import (
     MACRO_KINDS,
     MARGINS,
     SYMBOLS,
+    VERDICT_LABELS,
     Wall,
     axis_values,
     columns,
@@ -179,6 +182,7 @@ def render(
         if bad:
             lines += ["", f"{h2} Worst walls" + ("" if len(macro_columns) == 1 else f": {c}"), "",
                       *_worst_table(bad, c, moving)]
+    lines += _local_section(ws, moving, h2)
     timing = figure(figures.time_against_blocks(rows, out_dir / f"{prefix}-time.png"), _time_caption(source))
     if timing:
         lines += ["", f"{h2} Time against blocks", *timing]
@@ -199,8 +203,12 @@ def _how(macro_columns: Sequence[str], functions: Mapping[str, str]) -> str:
         "method's value to quote where it converged (the table's `load_factor`: its lowest certified collapse "
         "state where the descent found one; the iterated LP's own value is the `iterated_load_factor` column), "
         "else the associative LP (an upper bound of the non-associative load factor: a macro value above it is "
-        f"unsafe for certain). Difference: (λ macro − λ micro) / λ micro; above {AGREEMENT:.0e} the macro value "
-        "is unsafe."
+        f"unsafe for certain). Difference: (λ macro − λ micro) / λ micro; a macro value lies above the reference "
+        f"where the difference exceeds {AGREEMENT:.0e}, the solvers' accuracy. The verdict is that of "
+        "`xcheck compare`: *unsafe* where the macro value lies above the associative LP (a bound of every "
+        "non-associative collapse load) or above a certified collapse state (the lowest certified), *not "
+        "refuted* where it lies below every state found (no lower bound is computed, so never *safe*), *no "
+        "verdict* where there is no converged non-associative value and the bound does not settle it."
     )
 
 
@@ -246,7 +254,7 @@ def _wall_axes(moving: Sequence[str]) -> list[str]:
 def _summary_table(ws: Sequence[Wall], sums: Mapping[str, Any], moving: Sequence[str]) -> list[str]:
     margins = " | ".join(f"above by > {round(100 * m)} %" for m in MARGINS)
     lines = [
-        f"| macro column | walls compared | above micro (unsafe) | {margins} | agree within {AGREEMENT:.0e} "
+        f"| macro column | walls compared | above micro | {margins} | agree within {AGREEMENT:.0e} "
         "| median difference | worst difference | worst wall |",
         "|---" * (7 + len(MARGINS)) + "|",
     ]
@@ -268,6 +276,16 @@ def _summary_table(ws: Sequence[Wall], sums: Mapping[str, Any], moving: Sequence
             parts.append(f"{s['no_reference']} walls without a micro reference or a value of the column")
         if parts:
             lines.append(f"* `{c}`: " + "; ".join(parts) + ".")
+    return [*lines, "", *_verdict_table(sums)]
+
+
+def _verdict_table(sums: Mapping[str, Any]) -> list[str]:
+    """The walls of each macro column by verdict and proof."""
+    labels = list(dict.fromkeys([*VERDICT_LABELS, *(k for s in sums.values() for k in s["verdicts"])]))
+    lines = ["Walls by verdict (what the micro values prove about the macro value):", "",
+             "| macro column | " + " | ".join(labels) + " |", "|---" * (len(labels) + 1) + "|"]
+    for c, s in sums.items():
+        lines.append(f"| {c} | " + " | ".join(str(s["verdicts"].get(label, 0)) for label in labels) + " |")
     return lines
 
 
@@ -323,7 +341,7 @@ def _group_table(s: Mapping[str, Any], groups: Sequence[str]) -> list[str]:
     if not s["by_group"]:
         return []
     head = ", ".join(SYMBOLS[g] for g in groups)
-    lines = [f"| {head} | walls | unsafe | > +10 % | agree | median | worst |", "|---|---|---|---|---|---|---|"]
+    lines = [f"| {head} | walls | above | > +10 % | agree | median | worst |", "|---|---|---|---|---|---|---|"]
     for label, g in s["by_group"].items():
         lines.append(f"| {label} | {g['walls']} | {g['unsafe']} | {g['above_10pct']} | {g['agree']} "
                      f"| {_pct(g['median'])} | {_pct(g['max'])} |")
@@ -333,19 +351,42 @@ def _group_table(s: Mapping[str, Any], groups: Sequence[str]) -> list[str]:
 def _worst_table(bad: Sequence[Wall], column: str, moving: Sequence[str]) -> list[str]:
     axes = _wall_axes(moving)
     head = " | ".join(SYMBOLS[a] for a in axes)
-    lines = [f"| {head} | blocks | λ {column} | λ micro | reference | difference |",
-             "|---" * (len(axes) + 5) + "|"]
+    lines = [f"| {head} | blocks | λ {column} | λ micro | reference | difference | verdict |",
+             "|---" * (len(axes) + 6) + "|"]
     for w in bad:
         values = " | ".join(shown(a, w.value(a)) for a in axes)
         lines.append(f"| {values} | {w.blocks or '–'} | {w.macro[column]:.4f} | {w.reference:.4f} "
-                     f"| {w.reference_kind} | {_pct(w.error(column))} |")
+                     f"| {w.reference_kind} | {_pct(w.error(column))} | {w.verdict_label(column)} |")
+    return lines
+
+
+def _local_section(ws: Sequence[Wall], moving: Sequence[str], h2: str) -> list[str]:
+    """The walls whose block model a local mechanism governs (a cut end piece of the top course that tips
+    over alone): what moves, its λ, and the wall's own λ that the comparisons above use instead (no section
+    when there are none)."""
+    local = [w for w in ws if w.local]
+    if not local:
+        return []
+    axes = _wall_axes(moving)
+    head = " | ".join(SYMBOLS[a] for a in axes)
+    lines = ["", f"{h2} Local mechanisms", "",
+             "The block model of these walls collapses first by a local mechanism, a mechanism of loose "
+             "pieces, not of the wall (docs/micro/walls.md). Every comparison on this page uses the wall's own "
+             "λ, the same analysis with the pieces held to the block below (the table's `wall_load_factor`).",
+             "", f"| {head} | method | what moves | λ local | λ wall's own |", "|---" * (len(axes) + 4) + "|"]
+    for w in local:
+        values = " | ".join(shown(a, w.value(a)) for a in axes)
+        for kind, (what, lam) in sorted(w.local.items()):
+            own = w.nonassoc if kind == "micro-nonassoc" else w.assoc
+            lines.append(f"| {values} | {kind} | {what} | {lam:.4f} | {own:.4f} |")
     return lines
 
 
 def _wall_numbers(w: Wall, column: str) -> dict[str, Any]:
     out: dict[str, Any] = {a: w.value(a) for a in AXES}
+    verdict, proof = w.verdict(column)
     out.update(blocks=w.blocks, macro=w.macro[column], reference=w.reference, reference_kind=w.reference_kind,
-               error=w.error(column))
+               error=w.error(column), verdict=verdict, proof=proof)
     return out
 
 
@@ -362,7 +403,9 @@ def _map_caption(ws: Sequence[Wall], column: str, source: str) -> str:
         f"(λ {column} − λ micro)/λ micro in per cent" + (" " + ", ".join(parts) if parts else "")
         + (f"; {where}" if where else "") + ". Red: the macro value above the micro reference (unsafe), blue: "
         "below; the black line: where it turns unsafe. The reference is the converged non-associative value, or "
-        f"(marked *) the associative LP; grey cells: no micro value. Data: `{source}`."
+        "(marked *) the associative LP; grey cells: no micro value. The colour scale ends at the outlier fences "
+        f"(the quartiles ± {figures.FENCE_IQR:g} interquartile ranges): a wall beyond them is outlined, its "
+        f"number its own. Data: `{source}`."
     )
 
 
@@ -374,7 +417,9 @@ def _scatter_caption(source: str) -> str:
 
 def _hist_caption(source: str) -> str:
     return ("The differences (λ macro − λ micro)/λ micro of every wall with a micro reference, in per cent, "
-            f"one histogram per macro column; right of 0 (shaded) the macro value is unsafe. Data: `{source}`.")
+            "one histogram per macro column; right of 0 (shaded) the macro value is unsafe. Walls beyond the outlier "
+            f"fences (the quartiles ± {figures.FENCE_IQR:g} interquartile ranges) are drawn in the end bins and "
+            f"counted in the legend. Data: `{source}`.")
 
 
 def _time_caption(source: str) -> str:

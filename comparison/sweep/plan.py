@@ -160,7 +160,12 @@ def unbuildable(points: Sequence[WallPoint]) -> dict[int, str]:
 
 
 def _limit(grid: Grid, gm: GridMethod) -> int | None:
-    limits = [x for x in (grid.max_blocks, gm.max_blocks) if x is not None]
+    """A micro method's block limit: its own ``max_blocks``, and the grid's except for the associative LP, which
+    runs on every wall up to its own limit: one LP (seconds for thousands of blocks) whose bound settles the
+    verdict wherever the macro value lies above it (:func:`comparison.compare.judge`), so that a wall above the
+    non-associative limit still gets a verdict."""
+    grid_limit = None if gm.method.kind == "micro-assoc" else grid.max_blocks
+    limits = [x for x in (grid_limit, gm.max_blocks) if x is not None]
     return min(limits) if limits else None
 
 

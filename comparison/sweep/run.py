@@ -253,6 +253,9 @@ def _record_fields(record: Record) -> dict[str, Any]:
     if r is None:
         return {**fields, "message": record.message}
     fields.update(blocks=r.blocks, iterations=r.iterations, direction=r.direction, message=r.message or record.message)
+    local = record.local
+    fields.update(wall_load_factor=record.wall_load_factor, local_load_factor=local.load_factor if local else None,
+                  local_mechanism=local.description if local else None)
     na = record.nonassoc
     if na is not None:
         band, mband = na.lambda_band or (None, None), na.mechanism_band or (None, None)

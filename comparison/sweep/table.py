@@ -23,7 +23,10 @@ from typing import Any
 
 #: The table's columns, in order. ``load_factor`` is the value to quote: for the non-associative
 #: method the lowest certified collapse state (``quoted`` says which), its iterated LP's own value in
-#: ``iterated_load_factor``, and ``lowest_stop`` whether the descent finished.
+#: ``iterated_load_factor``, and ``lowest_stop`` whether the descent finished. ``wall_load_factor`` is the
+#: wall's own value, the one compared with the macro model: ``load_factor`` unless a local mechanism
+#: governs the block model (``local_mechanism`` says what moves, ``local_load_factor`` is its value, equal
+#: to ``load_factor``), then the analysis with the local blocks held (``docs/micro/walls.md``).
 COLUMNS = (
     "cell",
     "wall",
@@ -44,6 +47,9 @@ COLUMNS = (
     "quoted",
     "iterated_load_factor",
     "lowest_stop",
+    "wall_load_factor",
+    "local_load_factor",
+    "local_mechanism",
     "status",
     "iterations",
     "direction",

@@ -8,10 +8,12 @@ from typing import Any
 import pytest
 
 import micro
+from comparison.compare import compare, judge
 from micro.nonassociative import solve_global
 
 #: The documented entry points whose docstrings carry an Examples section.
-DOCUMENTED: list[Any] = [micro.build_wall, micro.solve_associative, micro.solve_nonassociative, solve_global]
+DOCUMENTED: list[Any] = [micro.build_wall, micro.solve_associative, micro.solve_nonassociative, solve_global,
+                         judge, compare]
 
 
 @pytest.mark.parametrize("obj", DOCUMENTED, ids=lambda o: o.__qualname__)

@@ -10,10 +10,10 @@ from comparison.cli.options import EXIT_FAILED, EXIT_USAGE, NORMAL, QUIET, VERBO
 WALL = ["--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75"]  # Table 7, Set 12
 
 
-@pytest.mark.parametrize("command", ["macro", "micro", "report", "stability"])
+@pytest.mark.parametrize("command", ["compare", "macro", "micro", "report", "stability"])
 def test_every_command_has_verbosity_and_documents_exit_codes(command: str) -> None:
     parser = build_parser()
-    extra = WALL if command in ("macro", "micro") else []
+    extra = WALL if command in ("compare", "macro", "micro") else []
     assert parser.parse_args([command, *extra]).verbosity == NORMAL
     assert parser.parse_args([command, *extra, "-q"]).verbosity == QUIET
     assert parser.parse_args([command, *extra, "--verbose"]).verbosity == VERBOSE

@@ -137,3 +137,34 @@ def test_micro_json_names_the_wall_once(capsys: pytest.CaptureFixture[str]) -> N
     _, sdoc = _run(["micro", "--scene", str(Path(__file__).parents[3] / "examples" / "three-storey.toml"),
                     "--json"], capsys)
     assert sdoc["wall"] == "three-storey example" and _errors(_validator("micro"), sdoc) == []
+
+
+@pytest.mark.parametrize(
+    ("argv", "rc_expected", "verdict"),
+    [
+        (["--rows", "12", "--t", "1", "--m", "1/2", "--f", "0.75"], 0, "unsafe"),  # Set 13, by a certified state
+        (WALL, 0, "not refuted"),
+        (["--storeys", "2", "--rows", "20", "--t", "1", "--m", "1/3", "--f", "0.75"], 0, "unsafe"),  # the bound
+        ([*WALL, "--time-limit", "1e-9"], 1, None),  # every LP stopped: no verdict, no number
+        (["--scene", str(Path(__file__).parents[3] / "examples" / "three-storey.toml")], 0, "unsafe"),  # by the bound
+    ],
+    ids=["set13", "set12", "bound", "failed", "scene"],
+)
+def test_compare_json_matches_schema(
+    argv: list[str], rc_expected: int, verdict: str | None, capsys: pytest.CaptureFixture[str]
+) -> None:
+    rc, doc = _run(["compare", *argv, "--json"], capsys)
+    assert (rc, doc["verdict"]) == (rc_expected, verdict)
+    assert _errors(_validator("compare"), doc) == []
+
+
+def test_compare_schema_refuses_a_verdict_without_its_proof(capsys: pytest.CaptureFixture[str]) -> None:
+    """The schema can fail: an undocumented key, "unsafe" without a proof, a proof beside "not refuted", and a
+    micro value where the non-associative solve did not run are refused."""
+    _, doc = _run(["compare", *WALL, "--json"], capsys)
+    v = _validator("compare")
+    assert _errors(v, {**doc, "undocumented": 1})
+    assert _errors(v, {**doc, "verdict": "unsafe"})
+    assert _errors(v, {**doc, "proof": "certified state"})
+    assert _errors(v, {**doc, "verdict": "safe", "proof": "global bound"})  # no closed global search
+    assert _errors(v, {**doc, "nonassociative_status": None})

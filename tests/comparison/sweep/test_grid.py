@@ -55,6 +55,11 @@ def test_a_grid_expands_to_its_cells() -> None:
     na = [c for c in cs if c.method.kind == "micro-nonassoc" and not c.skip]
     assert na and all(c.blocks <= 50 for c in na)
     assert any(c.skip == "not_run" and c.method.kind == "micro-nonassoc" and c.blocks <= 100 for c in cs)
+    # the associative LP runs on the walls above the grid's limit too (its bound can settle their verdict)
+    big = [c for c in cs if c.method.kind == "micro-assoc" and c.blocks > 100]
+    assert big and all(c.skip == "" for c in big)
+    own = cells(parse_grid(GOOD.replace('solver = "clarabel"', 'solver = "clarabel"\nmax_blocks = 60')))
+    assert all(c.skip == "not_run" for c in own if c.method.kind == "micro-assoc" and c.blocks > 60)
 
 
 def test_points_that_make_no_wall_are_skipped_with_the_reason() -> None:

@@ -128,8 +128,6 @@ m = 1
 rows = 6
 f = 0.75
 storeys = [1, 4]
-[limits]
-max_blocks = 30
 [[method]]
 kind = "macro"
 [[method]]
@@ -139,6 +137,7 @@ function = "fragile43:lam"
 [[method]]
 kind = "micro-assoc"
 solver = "highs-ipm"
+max_blocks = 30
 """
 
 

@@ -1,0 +1,503 @@
+"""One wall, both models, and what may be concluded: the macro λ against the micro one, the verdict and its proof.
+
+:func:`compare` solves the macro-block model and the rigid-block (micro) model of one wall and says whether
+the macro model is on the safe side for it, and how that is known (:func:`judge`):
+
+* The associative λ bounds every non-associative collapse load from above (Drucker 1954: joints "cemented"
+  with a normality-obeying material carry at least as much). So a macro λ above the associative λ is
+  **unsafe**, proof ``"associative bound"``: one LP settles it, and the non-associative solve is skipped
+  (unless ``full``).
+* Every certified collapse state is a load at which the wall can collapse. So a macro λ above a certified
+  state's λ is **unsafe**, proof ``"certified state"``.
+* No lower bound on the non-associative collapse load of dry joints is known short of a closed global search
+  (Drucker's frictionless bound is 0 under horizontal load; the reduced friction ``tan φ* = sin φ`` is no
+  bound for joints of fixed orientation). So a macro λ below every state found is **not refuted**, never
+  safe, unless a global search that closed (status ``optimal``) proves a lower bound above it: **safe**,
+  proof ``"global bound"``.
+
+A method that fails gives a verdict only from what was proven (a macro λ above the associative bound is
+unsafe whatever the non-associative solve did); where nothing proves either way there is no verdict
+(``None``), and ``diagnostics`` say what is missing. No number is made up for a method that failed.
+
+"Above" means above by more than :data:`ACCURACY`, the relative accuracy of the solvers: a macro λ that
+agrees with a micro one within it is neither above nor below it.
+
+Every micro solve goes through :func:`solve_micro` (one place to change how the micro model is asked),
+and each method through :func:`comparison.local.solve_wall_mechanism`: where the block model's governing
+mechanism is local (a cut end piece of the top course that tips over alone, :mod:`micro.local`), the value
+compared with the macro model is the wall's own, the same analysis with the local pieces held to the blocks
+that carry them, and ``local_mechanism`` says what moved. The associative LP runs first; the
+non-associative solve runs on the wall it held (so the associative bound and the certified state are of the
+same wall) and holds more if its own mechanism is local there.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any, Literal, cast, overload
+
+from comparison.wall import WallSpec
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    import macro
+    import micro
+    from comparison.local import WallMechanism
+
+#: Relative accuracy of the solvers' load factors: the LPs are solved to about 1e-6 relative, a certified
+#: state's residuals are at rounding level, the macro minimum is exact to about 1e-9. One value is *above*
+#: another only when it exceeds it by more than this fraction (walls where both models slide at λ = f agree
+#: to 1e-9 and are not told apart). The same margin as the sweeps' (:data:`comparison.sweep.compare.AGREEMENT`).
+ACCURACY = 1e-4
+
+#: Values of :attr:`Comparison.verdict` (``None``: no verdict, nothing proves either way).
+UNSAFE, NOT_REFUTED, SAFE = "unsafe", "not refuted", "safe"
+VERDICTS = (UNSAFE, NOT_REFUTED, SAFE)
+#: Values of :attr:`Comparison.proof` (``None`` with "not refuted" or no verdict).
+ASSOCIATIVE_BOUND, CERTIFIED_STATE, GLOBAL_BOUND = "associative bound", "certified state", "global bound"
+PROOFS = (ASSOCIATIVE_BOUND, CERTIFIED_STATE, GLOBAL_BOUND)
+#: Values of :attr:`Comparison.status`: every method that ran gave its value, or one failed.
+OK, FAILED = "ok", "failed"
+#: The global search's status when it closed (its lower bound is proven to its gap).
+GLOBAL_CLOSED = "optimal"
+#: Values of :attr:`CompareOptions.first_course` and :attr:`CompareOptions.head_joints`.
+FIRST_COURSES = ("full", "half")
+HEAD_JOINTS = ("frictional", "frictionless")
+
+
+def above(value: float, reference: float) -> bool:
+    """Whether ``value`` exceeds ``reference`` by more than :data:`ACCURACY` (relative); ``False`` unless both
+    are finite."""
+    return math.isfinite(value) and math.isfinite(reference) and value > reference * (1.0 + ACCURACY)
+
+
+def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
+          certified_load_factor: float = math.nan, *, found_load_factor: float = math.nan,
+          global_lower_bound: float = math.nan) -> tuple[str | None, str | None]:
+    """The verdict on a macro λ and its proof (module docstring), from what the micro model proved.
+
+    Args:
+        macro_load_factor: the macro model's λ (NaN: it gave none, no verdict).
+        associative_load_factor: the associative LP's λ (NaN: not run or failed).
+        certified_load_factor: the lowest λ of a certified collapse state found (NaN: none).
+        found_load_factor: the lowest λ of the non-associative states found, certified or not (the value to
+            quote of a converged solve; NaN: the solve did not run or failed). A macro λ not above it is "not
+            refuted"; without it, or above an uncertified one, and no proof, there is no verdict.
+        global_lower_bound: the lower bound of a global search that closed (NaN: none; pass only a bound of
+            status :data:`GLOBAL_CLOSED`).
+
+    Returns:
+        ``(verdict, proof)``: one of :data:`VERDICTS` or ``None``, one of :data:`PROOFS` or ``None``.
+
+    Examples:
+        >>> from comparison.compare import judge
+        >>> judge(0.61, 0.505)
+        ('unsafe', 'associative bound')
+        >>> judge(0.4914, 0.5564, 0.4895, found_load_factor=0.4895)
+        ('unsafe', 'certified state')
+        >>> judge(0.6481, 0.7303, 0.6911, found_load_factor=0.6911)
+        ('not refuted', None)
+        >>> judge(0.6481, 0.7303)  # the non-associative solve failed: nothing proves either way
+        (None, None)
+    """
+    if not math.isfinite(macro_load_factor):
+        return None, None
+    if above(macro_load_factor, associative_load_factor):
+        return UNSAFE, ASSOCIATIVE_BOUND
+    if above(macro_load_factor, certified_load_factor):
+        return UNSAFE, CERTIFIED_STATE
+    if above(global_lower_bound, macro_load_factor):
+        return SAFE, GLOBAL_BOUND
+    if math.isfinite(found_load_factor) and not above(macro_load_factor, found_load_factor):
+        return NOT_REFUTED, None
+    return None, None
+
+
+@dataclass(frozen=True)
+class CompareOptions:
+    """What :func:`compare` computes.
+
+    Attributes:
+        first_course, head_joints: the micro wall's bond (:meth:`comparison.wall.WallSpec.to_micro`).
+        full: every number, also the non-associative solve when the associative bound settles the verdict.
+        global_: after the non-associative solve, the global search by branch and bound (a lower bound: the
+            only way to a "safe" verdict; a reference tool for walls of a few blocks).
+        lowest: the descent to the lowest certified collapse state (the value to quote); ``False``: the
+            iterated LP's state only.
+        time_limit: seconds per LP solve, and of each direction's branch and bound (``None``: the
+            library's defaults).
+        node_limit: branch-and-bound nodes per direction of the global search (``None``: no limit).
+    """
+
+    first_course: Literal["full", "half"] = "full"
+    head_joints: Literal["frictional", "frictionless"] = "frictional"
+    full: bool = False
+    global_: bool = False
+    lowest: bool = True
+    time_limit: float | None = None
+    node_limit: int | None = None
+
+    def __post_init__(self) -> None:
+        if self.first_course not in FIRST_COURSES:
+            raise ValueError(f"first_course must be one of {', '.join(FIRST_COURSES)}, got {self.first_course!r}")
+        if self.head_joints not in HEAD_JOINTS:
+            raise ValueError(f"head_joints must be one of {', '.join(HEAD_JOINTS)}, got {self.head_joints!r}")
+        t = self.time_limit
+        if t is not None and (isinstance(t, bool) or not isinstance(t, (int, float)) or not 0 < t < math.inf):
+            raise ValueError(f"time_limit must be a positive number of seconds, got {t!r}")
+        n = self.node_limit
+        if n is not None and (isinstance(n, bool) or not isinstance(n, int) or n < 1):
+            raise ValueError(f"node_limit must be a positive integer, got {n!r}")
+        if n is not None and not self.global_:
+            raise ValueError("node_limit applies to global_ only (the branch and bound's nodes)")
+
+
+@dataclass(frozen=True)
+class Seconds:
+    """Wall time of each stage (NaN: the stage did not run)."""
+
+    macro: float
+    associative: float
+    nonassociative: float
+    total: float
+
+
+@dataclass(frozen=True, eq=False)
+class Comparison:
+    """One wall by both models, and the verdict on the macro model.
+
+    Attributes:
+        status: :data:`OK` (every method that ran gave its value) or :data:`FAILED` (one failed:
+            ``diagnostics`` say which and what the verdict then rests on).
+        diagnostics: what was not computed or failed, and why, one sentence each.
+        verdict: :data:`UNSAFE`, :data:`NOT_REFUTED`, :data:`SAFE` or ``None`` (:func:`judge`).
+        proof: :data:`ASSOCIATIVE_BOUND`, :data:`CERTIFIED_STATE`, :data:`GLOBAL_BOUND` or ``None``.
+        macro_load_factor, macro_mechanism: the macro model's λ and mechanism (NaN, ``""`` when it failed).
+        associative_load_factor: the associative LP's λ, an upper bound of every non-associative collapse
+            load (NaN when it failed).
+        micro_load_factor: the non-associative λ to quote, the value compared (the lowest certified state,
+            else the iterated LP's); NaN when the solve was skipped or failed.
+        micro_quoted: which that is, ``"lowest certified"`` or ``"iterated"`` (``""`` without one).
+        certified_load_factor: the lowest λ of a certified collapse state found (the quoted one when it is
+            certified, or the global search's best state when lower); NaN without one.
+        iterated_load_factor, mechanism_band: the iterated LP's λ and the band of λ over the collapse states
+            of its mechanism (NaN, ``None`` without them).
+        difference_percent: ``(macro − micro) / micro · 100`` (NaN without both).
+        global_status, global_lower_bound: the global search's status and proven lower bound (``""``, NaN
+            when it did not run).
+        local_mechanism: what moved alone where the block model's governing mechanism is local rather than
+            the wall's (``None``: none): the method that found it, its description, its λ (``load_factor``),
+            the moving blocks' weight share, the blocks held and the wall's own λ. The λs compared
+            (``associative_load_factor``, ``micro_load_factor``) are then the wall's own.
+        seconds: each stage's wall time.
+        blocks: blocks of the micro wall.
+        wall, options: what was compared, and how.
+        macro_result, associative_result, nonassociative_result: the models' own results (``None`` where a
+            stage did not run), for plots and states.
+        associative_wall, nonassociative_wall: the micro walls those results are of (the wall as built, or
+            with a local mechanism's pieces held).
+    """
+
+    status: str
+    diagnostics: tuple[str, ...]
+    verdict: str | None
+    proof: str | None
+    macro_load_factor: float
+    macro_mechanism: str
+    associative_load_factor: float
+    micro_load_factor: float
+    micro_quoted: str
+    certified_load_factor: float
+    iterated_load_factor: float
+    mechanism_band: tuple[float, float] | None
+    difference_percent: float
+    global_status: str
+    global_lower_bound: float
+    seconds: Seconds
+    blocks: int
+    wall: WallSpec = field(repr=False)
+    options: CompareOptions = field(repr=False)
+    local_mechanism: Any | None = None
+    macro_result: macro.MacroResult | None = field(default=None, repr=False)
+    associative_result: micro.LimitResult | None = field(default=None, repr=False)
+    nonassociative_result: micro.NonAssociativeResult | None = field(default=None, repr=False)
+    associative_wall: micro.BlockWall | None = field(default=None, repr=False)
+    nonassociative_wall: micro.BlockWall | None = field(default=None, repr=False)
+
+    @property
+    def nonassociative_run(self) -> bool:
+        """Whether the non-associative solve ran (it is skipped when the associative bound settles the
+        verdict and ``full`` was not asked)."""
+        return self.nonassociative_result is not None
+
+    def sentence(self) -> str:
+        """The verdict and its proof in one sentence (the first line of ``xcheck compare``)."""
+        return verdict_sentence(self)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready (NaN -> ``None``), in the field names of ``docs/schemas/compare.schema.json``."""
+        num = _json_number
+        nonassoc = self.nonassociative_result
+        return {
+            "verdict": self.verdict,
+            "proof": self.proof,
+            "status": self.status,
+            "diagnostics": list(self.diagnostics),
+            "macro_load_factor": num(self.macro_load_factor),
+            "micro_load_factor": num(self.micro_load_factor),
+            "difference_percent": num(self.difference_percent),
+            "associative_load_factor": num(self.associative_load_factor),
+            "certified_load_factor": num(self.certified_load_factor),
+            "micro_quoted": self.micro_quoted or None,
+            "iterated_load_factor": num(self.iterated_load_factor),
+            "mechanism_band": None if self.mechanism_band is None else [num(x) for x in self.mechanism_band],
+            "macro_mechanism": self.macro_mechanism or None,
+            "macro_status": None if self.macro_result is None else self.macro_result.status,
+            "associative_status": None if self.associative_result is None else self.associative_result.status,
+            "nonassociative_status": None if nonassoc is None else nonassoc.status,
+            "global_status": self.global_status or None,
+            "global_lower_bound": num(self.global_lower_bound),
+            "local_mechanism": self.local_mechanism,
+            "blocks": self.blocks,
+            "first_course": self.options.first_course,
+            "head_joints": self.options.head_joints,
+            "full": self.options.full,
+            "seconds": {k: num(v) for k, v in self.seconds.__dict__.items()},
+        }
+
+
+def _json_number(value: float) -> float | None:
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+def _nonassociative_values(result: micro.NonAssociativeResult) -> tuple[float, float]:
+    """``(the value to quote, the iterated LP's λ)`` of a non-associative result (the one place that reads
+    them by name)."""
+    return result.load_factor, result.iterated_load_factor
+
+
+@overload
+def solve_micro(wall: micro.BlockWall, friction: Literal["associative"], options: CompareOptions) -> micro.LimitResult:
+    ...
+
+
+@overload
+def solve_micro(wall: micro.BlockWall, friction: Literal["nonassociative"],
+                options: CompareOptions) -> micro.NonAssociativeResult:
+    ...
+
+
+def solve_micro(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
+    """The micro model of ``wall`` with ``friction`` (``"associative"``: the LP with the library's default
+    back end; ``"nonassociative"``: the report's method, with the descent and the global search as
+    ``options`` ask). Every micro solve of :func:`compare` goes through here."""
+    import micro
+
+    if friction == "associative":
+        return micro.solve_associative(wall, time_limit=options.time_limit)
+    limit: dict[str, Any] = {} if options.time_limit is None else {"time_limit": options.time_limit}
+    extra: dict[str, Any] = dict(limit)
+    if options.global_:
+        extra["global_"] = micro.GlobalOptions(node_limit=options.node_limit, **limit)
+    return micro.solve_nonassociative(wall, lowest=options.lowest, **extra)
+
+
+def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions) -> WallMechanism:
+    """The micro method ``friction`` on ``wall`` with a local mechanism told apart and the wall's own
+    computed (:func:`comparison.local.solve_wall_mechanism`); every solve through :func:`solve_micro`."""
+    from comparison.local import solve_wall_mechanism
+
+    return solve_wall_mechanism(wall, lambda w: solve_micro(w, friction, options))  # type: ignore[call-overload]
+
+
+def _analysed(wm: WallMechanism, wall: micro.BlockWall) -> micro.BlockWall:
+    """The wall ``wm.result`` is of: ``wall`` as given, or the held one."""
+    return wm.held_wall.wall if wm.held_wall is not None else wall
+
+
+def _local(assoc: WallMechanism, nonassoc: WallMechanism | None) -> dict[str, Any] | None:
+    """What moved alone in the block model, for :attr:`Comparison.local_mechanism`: the non-associative
+    method's local mechanism when it found one, else the associative LP's (``None`` when neither did)."""
+    for method, wm in (("nonassociative", nonassoc), ("associative", assoc)):
+        if wm is not None and wm.local is not None:
+            d = wm.to_dict()
+            return {"method": method, **d["local_mechanism"], "wall_load_factor": d["wall_load_factor"]}
+    return None
+
+
+def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: Any) -> Comparison:
+    """The macro model against the micro model on ``wall``, and the verdict (module docstring).
+
+    Computes no more than the verdict needs: the macro model, the associative LP, and the non-associative
+    solve only when the associative bound does not settle the verdict (or ``full``).
+
+    Args:
+        wall: the wall (:meth:`WallSpec.from_paper`, :func:`comparison.scene.load_scene`).
+        options: what to compute (``None``: the defaults).
+        **overrides: fields of :class:`CompareOptions` to change (``full=True``).
+
+    Raises:
+        ValueError: a bad option, or a wall a model refuses (too large for the memory, a micro wall that
+            cannot be built): the message names it.
+
+    Examples:
+        >>> import comparison
+        >>> from comparison.wall import WallSpec
+        >>> c = comparison.compare(WallSpec.from_paper(t=1, m=1/2, rows=12, f=0.75))
+        >>> c.verdict, c.proof, round(c.macro_load_factor, 4), round(c.micro_load_factor, 4)
+        ('unsafe', 'certified state', 0.4914, 0.4895)
+    """
+    import macro
+    from comparison.local import LOCAL_LEFT
+
+    if not isinstance(wall, WallSpec):
+        raise TypeError(f"wall must be a comparison.wall.WallSpec, got {type(wall).__name__}")
+    o = replace(options or CompareOptions(), **overrides)
+    notes: list[str] = []
+    start = time.perf_counter()
+    macro_result = macro.solve(wall.to_macro())
+    t_macro = time.perf_counter() - start
+    macro_ok = macro_result.status == "optimal"
+    lam_macro = macro_result.load_factor if macro_ok else math.nan
+    if not macro_ok:
+        notes.append(f"the macro model gave no load factor (status {macro_result.status})")
+    block_wall = wall.to_micro(first_course=o.first_course, head_joints=o.head_joints)
+    t0 = time.perf_counter()
+    assoc_wall = solve_wall(block_wall, "associative", o)
+    assoc = cast("micro.LimitResult", assoc_wall.result)
+    t_assoc = time.perf_counter() - t0
+    lam_assoc = assoc_wall.load_factor if assoc.ok else math.nan
+    if not assoc.ok:
+        notes.append(f"the associative LP failed (status {assoc.status}: {assoc.message}); no bound checked")
+    elif assoc_wall.message:
+        notes.append(f"associative LP: {assoc_wall.message}")
+    settled = above(lam_macro, lam_assoc)
+    nonassoc = None
+    nonassoc_wall = None
+    held = block_wall
+    t_nonassoc = math.nan
+    if macro_ok and settled and not o.full:
+        notes.append("the non-associative solve was skipped: the associative bound settles the verdict "
+                     "(--full, full=True, computes it)")
+    elif macro_ok or o.full:
+        t0 = time.perf_counter()
+        held = _analysed(assoc_wall, block_wall)
+        nonassoc_wall = solve_wall(held, "nonassociative", o)
+        nonassoc = cast("micro.NonAssociativeResult", nonassoc_wall.result)
+        if nonassoc.ok and nonassoc_wall.message:
+            notes.append(f"non-associative solve: {nonassoc_wall.message}")
+        t_nonassoc = time.perf_counter() - t0
+    values = _micro_values(None if nonassoc_wall is not None and nonassoc_wall.status == LOCAL_LEFT else nonassoc,
+                           notes)
+    certified = values["certified_load_factor"]
+    micro_lam = values["micro_load_factor"]
+    verdict, proof = judge(lam_macro, lam_assoc, certified, found_load_factor=micro_lam,
+                           global_lower_bound=values["closed_bound"])
+    failed = not macro_ok or not assoc.ok or (nonassoc is not None and not nonassoc.ok)
+    return Comparison(
+        status=FAILED if failed else OK,
+        diagnostics=tuple(notes),
+        verdict=verdict,
+        proof=proof,
+        macro_load_factor=lam_macro,
+        macro_mechanism=macro_result.mechanism if macro_ok else "",
+        associative_load_factor=lam_assoc,
+        micro_load_factor=micro_lam,
+        micro_quoted=values["micro_quoted"],
+        certified_load_factor=certified,
+        iterated_load_factor=values["iterated_load_factor"],
+        mechanism_band=values["mechanism_band"],
+        difference_percent=100.0 * (lam_macro - micro_lam) / micro_lam if math.isfinite(micro_lam) else math.nan,
+        global_status=values["global_status"],
+        global_lower_bound=values["global_lower_bound"],
+        seconds=Seconds(t_macro, t_assoc, t_nonassoc, time.perf_counter() - start),
+        blocks=block_wall.n_blocks,
+        wall=wall,
+        options=o,
+        local_mechanism=_local(assoc_wall, nonassoc_wall),
+        macro_result=macro_result,
+        associative_result=assoc,
+        nonassociative_result=nonassoc,
+        associative_wall=_analysed(assoc_wall, block_wall),
+        nonassociative_wall=None if nonassoc_wall is None else _analysed(nonassoc_wall, held),
+    )
+
+
+def _micro_values(result: micro.NonAssociativeResult | None, notes: list[str]) -> dict[str, Any]:
+    """The non-associative numbers a :class:`Comparison` holds (NaN, ``None`` and ``""`` where there are none),
+    the global search's bound when it closed (``closed_bound``); what is missing goes to ``notes``."""
+    out: dict[str, Any] = {"micro_load_factor": math.nan, "micro_quoted": "", "certified_load_factor": math.nan,
+                           "iterated_load_factor": math.nan, "mechanism_band": None, "global_status": "",
+                           "global_lower_bound": math.nan, "closed_bound": math.nan}
+    if result is None:
+        return out
+    if not result.ok:
+        notes.append(f"the non-associative solve failed (status {result.status}: {result.message}); "
+                     "no collapse state to compare")
+        return out
+    from micro.nonassociative.results import QUOTED_LOWEST
+
+    quoted, iterated = _nonassociative_values(result)
+    certified = result.quoted == QUOTED_LOWEST or result.stop_reason == "certified"
+    if not certified:
+        notes.append(f"the value quoted is the iterated LP's, whose state is not certified (it stopped "
+                     f"{result.stop_reason}): no proof by a certified state")
+    states = [quoted] if certified else []
+    g = result.global_search
+    if g is not None:
+        out.update(global_status=g.status, global_lower_bound=g.lower_bound)
+        if math.isfinite(g.load_factor):
+            states.append(g.load_factor)
+        if g.status == GLOBAL_CLOSED:
+            out["closed_bound"] = g.lower_bound
+        else:
+            notes.append(f"the global search did not close (status {g.status}): its lower bound "
+                         f"{g.lower_bound:.6g} is not proven to the gap")
+    out.update(micro_load_factor=quoted, micro_quoted=result.quoted, iterated_load_factor=iterated,
+               mechanism_band=result.mechanism_band,
+               certified_load_factor=min(states) if states else math.nan)
+    return out
+
+
+def verdict_sentence(c: Comparison) -> str:
+    """The verdict and its proof in one sentence, with the numbers it rests on."""
+    macro_lam = c.macro_load_factor
+    lam = f"{macro_lam:.4f}"
+    if c.verdict == UNSAFE and c.proof == ASSOCIATIVE_BOUND:
+        return (f"The macro model is unsafe for this wall: its λ {lam} is above the associative bound "
+                f"{c.associative_load_factor:.4f} ({_percent(macro_lam, c.associative_load_factor)}), which no "
+                "non-associative collapse load exceeds.")
+    if c.verdict == UNSAFE:
+        return (f"The macro model is unsafe for this wall: its λ {lam} is above the certified collapse state's "
+                f"{c.certified_load_factor:.4f} ({_percent(macro_lam, c.certified_load_factor)}).")
+    if c.verdict == SAFE:
+        return (f"The macro model is safe for this wall: its λ {lam} lies below the global search's proven lower "
+                f"bound {c.global_lower_bound:.4f} on every collapse load "
+                f"({_percent(macro_lam, c.global_lower_bound)}).")
+    if c.verdict == NOT_REFUTED:
+        what = "lowest certified" if c.micro_quoted == "lowest certified" else "the iterated LP's"
+        where = ("lies below every collapse state found" if above(c.micro_load_factor, macro_lam)
+                 else "agrees with the lowest collapse state found within the solvers' accuracy")
+        bound = ("no lower bound was computed" if not c.global_status else
+                 f"the global search's lower bound {c.global_lower_bound:.4f} does not lie above it"
+                 if c.global_status == GLOBAL_CLOSED else
+                 f"the global search did not close ({c.global_status}; lower bound {c.global_lower_bound:.4f})")
+        return (f"The macro model is not refuted for this wall: its λ {lam} {where} ({what} "
+                f"{c.micro_load_factor:.4f}, {_percent(macro_lam, c.micro_load_factor)}); {bound}.")
+    if not math.isfinite(macro_lam):
+        return "No verdict for this wall: the macro model gave no load factor."
+    bound = f" {c.associative_load_factor:.4f}" if math.isfinite(c.associative_load_factor) else ""
+    if math.isfinite(c.micro_load_factor):  # above a state that is not certified
+        return (f"No verdict for this wall: the macro λ {lam} is not above the associative bound{bound}, and the "
+                f"state it lies above ({c.micro_load_factor:.4f}, "
+                f"{_percent(macro_lam, c.micro_load_factor)}) is not certified (" + "; ".join(c.diagnostics) + ").")
+    return (f"No verdict for this wall: the macro λ {lam} is not above the associative bound{bound}, and no "
+            "collapse state was found to compare it with (" + "; ".join(c.diagnostics) + ").")
+
+
+def _percent(value: float, reference: float) -> str:
+    """``+0.4 %`` / ``−6.2 %``: ``value`` relative to ``reference``."""
+    d = 100.0 * (value - reference) / reference
+    return f"{'+' if d >= 0 else '−'}{abs(d):.1f} %"

@@ -1,0 +1,92 @@
+"""``xcheck compare``: the verdict's sentence first, the JSON keys of the issue, exit codes (0 whatever the
+verdict, 1 when a method failed, 2 on bad input with one line naming the parameter)."""
+
+from __future__ import annotations
+
+import importlib
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import micro
+from comparison.cli import main
+from comparison.compare import CompareOptions
+
+SET12 = ["--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75"]
+SET13 = ["--rows", "12", "--t", "1", "--m", "1/2", "--f", "0.75"]
+COMPARE = importlib.import_module("comparison.compare")
+
+
+def test_set13_words(capsys: pytest.CaptureFixture[str]) -> None:
+    rc = main(["compare", *SET13])
+    lines = capsys.readouterr().out.splitlines()
+    assert rc == 0
+    assert lines[0] == ("The macro model is unsafe for this wall: its λ 0.4914 is above the certified collapse "
+                        "state's 0.4895 (+0.4 %).")
+    assert any(line.lstrip().startswith("macro model:") and "0.491381" in line for line in lines[1:])
+    assert any("0.489459" in line and "lowest certified" in line for line in lines[1:])
+
+
+def test_set12_json_and_quiet(capsys: pytest.CaptureFixture[str]) -> None:
+    rc = main(["compare", *SET12, "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    assert rc == 0
+    assert (doc["verdict"], doc["proof"], doc["status"], doc["local_mechanism"]) == ("not refuted", None, "ok", None)
+    assert doc["micro_load_factor"] == pytest.approx(0.6911, abs=1e-4)
+    assert doc["difference_percent"] == pytest.approx(
+        100 * (doc["macro_load_factor"] - doc["micro_load_factor"]) / doc["micro_load_factor"], rel=1e-12)
+    assert doc["associative_load_factor"] > doc["iterated_load_factor"] >= doc["micro_load_factor"]
+    assert main(["compare", *SET12, "-q"]) == 0
+    assert capsys.readouterr().out == "not refuted\n"
+
+
+def test_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    png = tmp_path / "c.png"
+    assert main(["compare", *SET13, "--json", "--plot", str(png)]) == 0
+    assert json.loads(capsys.readouterr().out)["plot"] == str(png)
+    assert png.stat().st_size > 1000
+
+
+def test_a_failed_method_exits_1_with_what_is_missing(monkeypatch: pytest.MonkeyPatch,
+                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    real = COMPARE.solve_micro
+
+    def failing(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
+        if friction == "associative":
+            return real(wall, friction, options)
+        return micro.solve_nonassociative(wall, max_iterations=2, tuning=micro.Tuning(selection="vertex"))
+
+    monkeypatch.setattr(COMPARE, "solve_micro", failing)
+    rc = main(["compare", *SET13])
+    out = capsys.readouterr().out
+    assert rc == 1
+    assert out.startswith("No verdict for this wall")
+    assert "non-associative solve failed" in out and "non-associative:" not in out  # no number for it
+
+
+@pytest.mark.parametrize(
+    ("argv", "word"),
+    [
+        (["--rows", "12", "--t", "1", "--m", "1/3"], "--f"),
+        ([*SET12, "--f", "x"], "f must be"),
+        ([*SET12, "--first-course", "third"], "--first-course"),
+        ([*SET12, "--head-joints", "glued"], "--head-joints"),
+        ([*SET12, "--lowest", "maybe"], "--lowest"),
+        ([*SET12, "--node-limit", "5"], "--node-limit"),
+        ([*SET12, "--global", "--node-limit", "0"], "--node-limit"),
+        ([*SET12, "--time-limit", "-1"], "--time-limit"),
+        ([*SET12, "--plot", "out.txt"], "--plot"),
+        ([*SET12, "--plot", "/no/such/folder/c.png"], "--plot"),
+        ([*SET12, "--scene", "examples/three-storey.toml"], "--scene"),
+        (["--t", "1", "--m", "1/3", "--rows", "0", "--f", "0.75"], "rows"),
+        ([*SET12, "--friction", "associative"], "--friction"),  # not an option of compare
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(argv: list[str], word: str, capsys: pytest.CaptureFixture[str]) -> None:
+    rc = main(["compare", *argv])
+    captured = capsys.readouterr()
+    assert rc == 2 and captured.out == ""
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("xcheck: error: ") and word in err[0]

@@ -1,0 +1,78 @@
+"""A sweep's page counts its walls by verdict and proof, as ``xcheck compare`` gives them, and a wall above
+the grid's block limit still gets the associative LP and a verdict by its bound."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from comparison.cli import main
+from comparison.compare import compare
+from comparison.sweep import read_table
+from comparison.wall import WallSpec
+
+#: Set 12 (12 rows, 54 blocks: not refuted) and the same t, m, f with 20 rows (150 blocks, above the grid's
+#: limit: no non-associative solve; its macro λ 0.631 lies above the associative 0.621).
+GRID = """
+name = "verdicts"
+[axes]
+t = 1
+m = "1/3"
+rows = [12, 20]
+f = 0.75
+[limits]
+max_blocks = 100
+[[method]]
+kind = "macro"
+[[method]]
+kind = "micro-assoc"
+[[method]]
+kind = "micro-nonassoc"
+"""
+
+
+def test_the_page_counts_walls_by_verdict_as_compare_gives_them(tmp_path: Path) -> None:
+    grid = tmp_path / "verdicts.toml"
+    grid.write_text(GRID)
+    out = tmp_path / "out"
+    assert main(["sweep", str(grid), "--out", str(out), "--cache", str(tmp_path / "cache"), "--quiet",
+                 "--workers", "1"]) == 0
+    status = {(r["kind"], r["rows"]): r["status"] for r in read_table(out / "verdicts.csv")}
+    assert status[("micro-assoc", "20")] == "optimal" and status[("micro-nonassoc", "20")] == "not_run"
+    text = (out / "verdicts.md").read_text()
+    assert ("| macro column | unsafe, by the associative bound | unsafe, by a certified state | not refuted "
+            "| no verdict |") in text
+    assert "| macro | 1 | 0 | 1 | 0 |" in text
+    worst = json.loads(json.dumps(_numbers(out)))
+    for wall in worst:  # the same verdict as compare's on each wall
+        c = compare(WallSpec.from_paper(t=1, m=1 / 3, rows=wall["rows"], f=0.75))
+        assert (wall["verdict"], wall["proof"]) == (c.verdict, c.proof)
+
+
+def _numbers(out: Path) -> list[dict[str, object]]:
+    from comparison.sweep.page import render
+
+    page = render(read_table(out / "verdicts.csv"), out, title="t", intro="", prefix="again", source="verdicts.csv")
+    walls = page.numbers["worst"]["macro"]
+    assert page.numbers["columns"]["macro"]["verdicts"] == {
+        "unsafe, by the associative bound": 1, "unsafe, by a certified state": 0, "not refuted": 1, "no verdict": 0}
+    return walls
+
+
+@pytest.mark.parametrize(("quoted", "label"), [("lowest certified", "unsafe, by a certified state"),
+                                               ("iterated", "no verdict"), ("", "no verdict")])
+def test_a_value_above_the_quoted_one_is_proven_only_by_a_certified_state(quoted: str, label: str) -> None:
+    """The iterated LP's value (or a table too old to say) is not known to be a certified state: a macro value
+    above it is not proven unsafe, and without a converged certified value nothing else proves either way."""
+    from comparison.sweep.compare import walls
+
+    base = {"t": "1", "m": "0.5", "rows": "12", "f": "0.75", "p": "0", "storeys": "1", "first_course": "full",
+            "head_joints": "frictional", "blocks": "78", "quoted": "", "message": ""}
+    rows = [{**base, "method": "macro", "kind": "macro", "load_factor": "0.4914", "status": "optimal"},
+            {**base, "method": "micro-assoc", "kind": "micro-assoc", "load_factor": "0.5564", "status": "optimal"},
+            {**base, "method": "micro-nonassoc", "kind": "micro-nonassoc", "load_factor": "0.4895",
+             "status": "converged", "quoted": quoted}]
+    (w,) = walls(rows)
+    assert w.verdict_label("macro") == label

@@ -1,0 +1,192 @@
+"""``comparison.compare``: the verdict on the macro model and its proof, on the paper's walls and on the rule.
+
+What may be concluded: a macro λ above the associative λ is unsafe by that bound (the non-associative solve
+is then not needed); above a certified collapse state's λ, unsafe by that state; below every state found,
+"not refuted" (never "safe" without a closed global search's bound); a method that fails leaves only the
+verdict that was proven.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+import comparison
+import micro
+from comparison.compare import ACCURACY, CompareOptions, Comparison, judge
+from comparison.wall import WallSpec
+
+SET12 = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75)
+SET13 = WallSpec.from_paper(t=1, m=1 / 2, rows=12, f=0.75)
+#: Two storeys of 10 rows, t = 1, m = 1/3, f = 0.75 (150 blocks): the macro λ (0.633) lies above the
+#: associative λ (0.621), so the associative bound settles the verdict.
+ABOVE_BOUND = WallSpec.from_paper(t=1, m=1 / 3, rows=20, f=0.75, storeys=2)
+COMPARE = importlib.import_module("comparison.compare")
+
+
+@pytest.fixture(scope="module")
+def set12() -> Comparison:
+    return comparison.compare(SET12)
+
+
+@pytest.fixture(scope="module")
+def set13() -> Comparison:
+    return comparison.compare(SET13)
+
+
+def test_set13_unsafe_by_certified_state(set13: Comparison) -> None:
+    c = set13
+    assert (c.verdict, c.proof, c.status, c.diagnostics) == ("unsafe", "certified state", "ok", ())
+    assert c.micro_quoted == "lowest certified" and c.certified_load_factor == c.micro_load_factor
+    assert c.macro_load_factor > c.micro_load_factor * (1 + ACCURACY)
+    assert c.macro_load_factor < c.associative_load_factor  # the bound alone would not settle it
+    assert c.micro_load_factor <= c.iterated_load_factor <= c.associative_load_factor
+    assert c.difference_percent == pytest.approx(100 * (c.macro_load_factor / c.micro_load_factor - 1), rel=1e-12)
+    assert c.sentence().startswith("The macro model is unsafe for this wall: its λ 0.4914 is above the certified "
+                                   "collapse state's 0.4895 (+0.4 %)")
+
+
+def test_set12_not_refuted(set12: Comparison) -> None:
+    c = set12
+    assert (c.verdict, c.proof, c.status) == ("not refuted", None, "ok")
+    assert c.macro_load_factor < c.micro_load_factor < c.associative_load_factor
+    assert c.micro_load_factor == pytest.approx(0.6911, abs=1e-4)
+    assert c.sentence() == ("The macro model is not refuted for this wall: its λ 0.6481 lies below every collapse "
+                            "state found (lowest certified 0.6911, −6.2 %); no lower bound was computed.")
+
+
+def test_the_models_values_are_theirs(set12: Comparison) -> None:
+    """The comparison reports the models' own values, not recomputed ones."""
+    import macro
+
+    assert set12.macro_load_factor == macro.solve(SET12.to_macro()).load_factor
+    assert set12.macro_mechanism == set12.macro_result.mechanism  # type: ignore[union-attr]
+    na = set12.nonassociative_result
+    assert na is not None and set12.micro_load_factor == na.load_factor
+    assert set12.associative_load_factor == pytest.approx(na.associative_load_factor, rel=1e-6)
+    assert set12.local_mechanism is None and set12.blocks == 54
+
+
+def test_associative_bound_settles_without_the_nonassociative_solve(monkeypatch: pytest.MonkeyPatch) -> None:
+    calls: list[str] = []
+    real = COMPARE.solve_micro
+
+    def spy(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
+        calls.append(friction)
+        return real(wall, friction, options)
+
+    monkeypatch.setattr(COMPARE, "solve_micro", spy)
+    c = comparison.compare(ABOVE_BOUND)
+    assert calls == ["associative"]
+    assert (c.verdict, c.proof, c.status) == ("unsafe", "associative bound", "ok")
+    assert not c.nonassociative_run and math.isnan(c.micro_load_factor) and math.isnan(c.seconds.nonassociative)
+    assert c.macro_load_factor > c.associative_load_factor * (1 + ACCURACY)
+    assert "skipped" in c.diagnostics[0]
+    calls.clear()
+    full = comparison.compare(ABOVE_BOUND, full=True)
+    # the non-associative state of the wall as built is local (its top course's cut end piece, half a block
+    # high, tips over alone at lambda = w/b = 0.5): a second solve gives the wall's own, with the piece held
+    assert calls == ["associative", "nonassociative", "nonassociative"]
+    loc = full.local_mechanism
+    assert loc is not None and loc["method"] == "nonassociative" and loc["load_factor"] == pytest.approx(0.5)
+    assert (full.verdict, full.proof) == ("unsafe", "associative bound") and full.nonassociative_run
+    assert full.micro_load_factor <= full.associative_load_factor and full.diagnostics == ()
+
+
+def _failing_nonassociative(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every non-associative solve stopped after 2 LPs of the vertex sequence (status max_iterations)."""
+    real = COMPARE.solve_micro
+
+    def failing(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
+        if friction == "associative":
+            return real(wall, friction, options)
+        return micro.solve_nonassociative(wall, max_iterations=2, tuning=micro.Tuning(selection="vertex"))
+
+    monkeypatch.setattr(COMPARE, "solve_micro", failing)
+
+
+def test_a_failed_solve_leaves_only_what_was_proven(monkeypatch: pytest.MonkeyPatch) -> None:
+    _failing_nonassociative(monkeypatch)
+    c = comparison.compare(SET13)  # unsafe by a certified state when the solve converges: now nothing proves it
+    assert (c.status, c.verdict, c.proof) == ("failed", None, None)
+    assert math.isnan(c.micro_load_factor) and math.isnan(c.difference_percent)
+    assert any("non-associative solve failed" in d for d in c.diagnostics)
+    assert c.sentence().startswith("No verdict for this wall")
+    bound = comparison.compare(ABOVE_BOUND, full=True)  # the bound holds whatever the solve did
+    assert (bound.status, bound.verdict, bound.proof) == ("failed", "unsafe", "associative bound")
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "expected"),
+    [
+        ((0.61, 0.505), {}, ("unsafe", "associative bound")),
+        ((0.5, 0.5 * (1 + 0.5 * ACCURACY)), {}, (None, None)),  # within the accuracy: not above the bound
+        ((0.5 * (1 + 2 * ACCURACY), 0.6, 0.5), {"found_load_factor": 0.5}, ("unsafe", "certified state")),
+        ((0.5 * (1 + 0.5 * ACCURACY), 0.6, 0.5), {"found_load_factor": 0.5}, ("not refuted", None)),  # agrees
+        ((0.45, 0.6, 0.5), {"found_load_factor": 0.5}, ("not refuted", None)),
+        ((0.45, 0.6, 0.5), {"found_load_factor": 0.5, "global_lower_bound": 0.49}, ("safe", "global bound")),
+        ((0.45, 0.6, 0.5), {"found_load_factor": 0.5, "global_lower_bound": 0.45}, ("not refuted", None)),
+        ((0.45, 0.6, 0.5), {}, (None, None)),  # no non-associative value: nothing to be below
+        ((0.45, 0.6), {"found_load_factor": 0.5}, ("not refuted", None)),  # below a state not certified
+        ((0.55, 0.6), {"found_load_factor": 0.5}, (None, None)),  # above a state not certified: no proof
+        ((math.nan, 0.6, 0.5), {"found_load_factor": 0.5}, (None, None)),  # the macro model failed
+        ((0.7, math.nan, 0.5), {"found_load_factor": 0.5}, ("unsafe", "certified state")),  # no associative LP
+    ],
+)
+def test_judge(args: tuple[float, ...], kwargs: dict[str, Any], expected: tuple[str | None, str | None]) -> None:
+    assert judge(*args, **kwargs) == expected
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "word"),
+    [({"first_course": "third"}, "first_course"), ({"head_joints": "glued"}, "head_joints"),
+     ({"time_limit": 0}, "time_limit"), ({"node_limit": 5}, "node_limit"),
+     ({"global_": True, "node_limit": 0}, "node_limit")],
+)
+def test_bad_options_name_themselves(kwargs: dict[str, Any], word: str) -> None:
+    with pytest.raises(ValueError, match=word):
+        CompareOptions(**kwargs)
+
+
+def test_not_a_wall_spec() -> None:
+    with pytest.raises(TypeError, match="WallSpec"):
+        comparison.compare({"t": 1})  # type: ignore[arg-type]
+
+
+#: t = 3/2, m = 1/3, 16 rows, f = 0.65 (72 blocks): the top course's cut end piece (1/6 of a block wide)
+#: tips over alone, at ``lambda = (w/b)(1 + mu^2)/(1 - mu^2 + 2 mu w/b)`` in the associative LP; the
+#: comparison is with the wall's own mechanism, the piece held to the block that carries it.
+CUT_TOP = WallSpec.from_paper(t=1.5, m=1 / 3, rows=16, f=0.65)
+
+
+def test_a_local_mechanism_is_named_and_the_wall_s_own_is_compared() -> None:
+    c = comparison.compare(CUT_TOP)
+    loc = c.local_mechanism
+    assert loc is not None and loc["method"] == "associative"
+    assert "cut end piece of course 16" in loc["description"]
+    w_b, mu = 1 / 6, 0.65  # the piece's width over its height (block heights), the friction coefficient
+    assert loc["load_factor"] == pytest.approx(w_b * (1 + mu**2) / (1 - mu**2 + 2 * mu * w_b), rel=1e-6)
+    assert 0 < loc["weight_share"] <= micro.LOCAL_WEIGHT_SHARE
+    # the values compared are the held wall's: above the local lambda, and the held wall has a block fewer
+    assert c.associative_load_factor > loc["load_factor"] * 1.5
+    assert c.associative_wall is not None and c.associative_wall.n_blocks == c.blocks - 1
+    assert c.nonassociative_wall is not None and c.nonassociative_wall.n_blocks == c.blocks - 1
+    assert c.micro_load_factor <= c.associative_load_factor * (1 + ACCURACY)
+    assert loc["wall_load_factor"] == pytest.approx(c.associative_load_factor, rel=1e-12)
+    assert c.verdict is not None and c.to_dict()["local_mechanism"]["description"] == loc["description"]
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads((Path(__file__).parents[2] / "docs" / "schemas" / "compare.schema.json").read_text())
+    doc = json.loads(json.dumps({**c.to_dict(), "wall": {}, "paper_parameters": {}, "plot": None}))
+    errors = [e.message for e in jsonschema.Draft202012Validator(schema).iter_errors(doc)
+              if e.path and e.path[0] == "local_mechanism"]
+    assert errors == []
+
+
+def test_no_local_mechanism_on_the_paper_s_walls(set12: Comparison, set13: Comparison) -> None:
+    assert set12.local_mechanism is None and set13.local_mechanism is None
+    assert set13.associative_wall is not None and set13.associative_wall.n_blocks == set13.blocks
