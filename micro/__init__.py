@@ -22,7 +22,8 @@ Every result has a flat record (``result.to_record()``: a read-only mapping of i
 Layout: ``geometry`` (the wall), ``lp`` (the LP), ``backends`` (the solvers),
 ``mechanism``, ``results`` and ``records`` (what comes out), ``local`` (is the governing
 mechanism a loose piece's, not the wall's?) and ``hold`` (blocks held to their hosts), ``associative``
-and ``nonassociative`` (the two analyses), ``plot``. The method, its options and which
+and ``nonassociative`` (the two analyses), ``plot``, ``exact`` (dot products whose last bits
+do not depend on the BLAS kernel). The method, its options and which
 value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, global-search).
 """
 
