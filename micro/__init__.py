@@ -31,7 +31,8 @@ mechanism a loose piece's, not the wall's?) and ``hold`` (blocks held to their h
 collapse state as data), ``files`` (reading and writing files safely), ``associative``
 and ``nonassociative`` (the two analyses), ``global_search`` (the proven global
 minimum, composed after a non-associative run: ``solve_global(lp, start=result)``),
-``plot``. The method, its options and which
+``plot``, ``exact`` (dot products whose last bits do not depend on the BLAS kernel). The method, its
+options and which
 value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, global-search).
 """
 

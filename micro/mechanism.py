@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.exact import exact_dot
 from micro.lp import LimitLP
 
 FloatArray = NDArray[np.float64]
@@ -96,7 +97,7 @@ def mechanism_from_duals(
         The :class:`Mechanism` with the live load doing unit work.
     """
     y = np.asarray(velocities, dtype=float)
-    live_work = float(direction) * float(lp.live @ y)
+    live_work = float(direction) * exact_dot(lp.live, y)  # the same on every BLAS kernel: it scales y
     if live_work != 0.0 and np.isfinite(live_work):
         y = y / live_work
     dn = lp.Bn.T @ y
@@ -109,8 +110,8 @@ def mechanism_from_duals(
         opening_rate=dn,
         slip_rate=ds,
         contact_state=state,
-        live_work=float(direction) * float(lp.live @ y),
-        dead_work=float(lp.dead @ y),
+        live_work=float(direction) * exact_dot(lp.live, y),
+        dead_work=exact_dot(lp.dead, y),
     )
 
 

@@ -19,6 +19,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.exact import exact_dot
 from micro.lp import LimitLP
 
 FloatArray = NDArray[np.float64]
@@ -118,7 +119,7 @@ def recheck(lp: LimitLP, direction: int, out: Outcome) -> Outcome:
     assert out.n is not None and out.s is not None and out.duals is not None
     lam = float(direction) * out.load_factor  # the value of the lambda column
     res = lp.primal_residual(out.n, out.s, lam)
-    live_work = float(direction) * float(lp.live @ out.duals)
+    live_work = float(direction) * exact_dot(lp.live, out.duals)
     info = {**out.info, "primal_residual": res, "live_work": live_work, "raw_load_factor": out.load_factor}
     if not np.isfinite(res) or res > MAX_RESIDUAL:
         return dataclasses.replace(out, status=Status.INACCURATE, load_factor=math.nan, info=info)

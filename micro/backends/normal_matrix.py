@@ -93,7 +93,9 @@ class NormalMatrix:
         A: ``(n, m)`` sparse matrix of full row rank.
         regularization: the relative diagonal shift.
         supernodal: CHOLMOD's supernodal factorisation (``False``: simplicial,
-            2-7 times slower on walls, kept for measurements).
+            2-7 times slower on walls, but no BLAS call: the same factors and
+            solves under every BLAS kernel and on every CPU, for a solve that
+            decides a path).
         refine_steps: refinement steps at most per solve.
         refine_tol: a solve stops refining when its residual is below this
             times the right-hand side (max norms).

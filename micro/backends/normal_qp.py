@@ -13,7 +13,12 @@ reduces, as for the associative LP of ``normal-ipm``
 order ``rows`` (``3 n_blocks`` for a wall), ``h = 1 + z_l / (x - lower) + z_u /
 (upper - x)``, factorised by CHOLMOD
 (:class:`~micro.backends.normal_matrix.NormalMatrix`) where Clarabel
-factorises a KKT system with a row per variable and per bound. Mehrotra's
+factorises a KKT system with a row per variable and per bound. CHOLMOD's
+simplicial factorisation, not its supernodal one: the supernodal kernels are
+BLAS calls, whose last bits differ between OpenBLAS's kernels, and the
+projection decides the next ``nbar``; with them Set 9's sequence reached
+another state on another machine
+(``docs/research/2026-11-28-blas-independent-descent.md``). Mehrotra's
 predictor-corrector, one step length for the primal and the dual (the
 Hessian couples them). Why it is the default (faster per QP than Clarabel on
 the walls where the proximal selection runs): the measurement is on
@@ -102,8 +107,10 @@ class LeastDistanceQP:
 
     def __init__(self, A: sp.spmatrix, settings: LeastDistanceSettings = LEAST_DISTANCE) -> None:
         self.settings = settings
-        self.M = NormalMatrix(A, regularization=settings.regularization, refine_steps=settings.refine_steps,
-                              refine_tol=settings.refine_tol)
+        # simplicial: CHOLMOD's supernodal kernels are BLAS calls, whose last bits depend on the
+        # kernel, and the projection decides the next nbar (the path of the sequence)
+        self.M = NormalMatrix(A, regularization=settings.regularization, supernodal=False,
+                              refine_steps=settings.refine_steps, refine_tol=settings.refine_tol)
         self.A, self.AT = self.M.A, self.M.AT
 
     def solve(self, t: FloatArray, b: FloatArray, lower: FloatArray, upper: FloatArray) -> LeastDistanceResult:

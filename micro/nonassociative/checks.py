@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.exact import exact_dot
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
 from micro.nonassociative.config import TINY
@@ -184,7 +185,7 @@ def state_residuals(lp: LimitLP, direction: int, n: FloatArray, s: FloatArray, l
     nsc = max(float(np.max(n, initial=0.0)), 1e-300)
     slip = np.abs(ds) > slip_tol * rate
     eq = lp.Bn @ n + lp.Bs @ s + (lam * direction) * lp.live - lp.rhs
-    balance = lam * live_work + dead_work + float(ds @ s)  # work of the loads minus the dissipation
+    balance = lam * live_work + dead_work + exact_dot(ds, s)  # work of the loads minus the dissipation
     return {
         "equilibrium": float(np.max(np.abs(eq), initial=0.0)),
         "coulomb": max(float(np.max(np.abs(s) - lp.mu * n, initial=0.0)), 0.0) / nsc,

@@ -33,17 +33,16 @@ slips: its shear is zero whatever the slip.
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
+from micro.backends.normal_matrix import NormalMatrix, NotPositiveDefinite
 from micro.backends.roles import PersistentLP
 from micro.lp import LimitLP
 from micro.nonassociative.certificate import point_states
@@ -134,9 +133,14 @@ def refine(lp: LimitLP, x: FloatArray) -> FloatArray:
     HiGHS's simplex meets its tolerances on the scaled model: on the
     1,230-block wall a vertex with forces up to 570 block weights missed
     equilibrium by 1.8e-5 block weights. Newton steps on the columns in the
-    support (a sparse LU solve when they form a square system, the normal
-    equations otherwise) bring it to ~1e-13 without changing the support;
-    a step that would make a column negative is not taken.
+    support (least squares: the normal equations ``A^T A dx = A^T r``,
+    factorised once by CHOLMOD's simplicial code) bring it to ~1e-13 without
+    changing the support; a step that would make a column negative, or does
+    not lower the residual, is not taken. The factorisation calls no BLAS:
+    the refined field, which the descent compares and reads patterns from,
+    is the same under every BLAS kernel (SuperLU, used before, is not;
+    ``docs/research/2026-11-28-blas-independent-descent.md``). Its vertices
+    are square systems, on which both give the same step to ~1e-15.
 
     Args:
         lp: the wall's LP.
@@ -150,19 +154,27 @@ def refine(lp: LimitLP, x: FloatArray) -> FloatArray:
     cols = np.flatnonzero(x > 0.0)
     cols = np.union1d(cols, [lp.lam_col])
     A = lp.A[:, cols].tocsc()
+    normal: NormalMatrix | None = None
+    r = lp.rhs - lp.A @ x
+    res = float(np.max(np.abs(r), initial=0.0))
     for _ in range(REFINE_STEPS):
-        r = lp.rhs - lp.A @ x
-        if float(np.max(np.abs(r), initial=0.0)) <= REFINED:
+        if res <= REFINED:
             break
-        square = A.shape[0] == A.shape[1]
-        with warnings.catch_warnings():  # a singular support gives NaN: the vertex is kept as it is
-            warnings.simplefilter("ignore", spla.MatrixRankWarning)
-            dx = spla.spsolve(A, r) if square else spla.spsolve((A.T @ A).tocsc(), A.T @ r)
+        if normal is None:
+            try:
+                normal = NormalMatrix(A.T, regularization=0.0, supernodal=False)
+                normal.factor(np.ones(A.shape[0]))
+            except NotPositiveDefinite:  # a singular support: the vertex is kept as it is
+                break
         step = x.copy()
-        step[cols] += dx
+        step[cols] += normal.solve(A.T @ r)
         if np.any(step[: 2 * lp.n_points] < 0.0) or not np.all(np.isfinite(step)):
             break
-        x = step
+        r_step = lp.rhs - lp.A @ step
+        res_step = float(np.max(np.abs(r_step), initial=0.0))
+        if not res_step < res:
+            break
+        x, r, res = step, r_step, res_step
     return x
 
 
