@@ -34,7 +34,8 @@ from comparison.cases import case
 from comparison.wall import WallSpec
 from micro.backends import clarabel as clarabel_backend
 from micro.backends import highs, normal_matrix
-from micro.nonassociative import lowest, proximal, states
+from micro.nonassociative import proximal
+from micro.nonassociative.descent import lowest, states
 
 LOG: list[str] = []
 #: the log file, each line written as it comes (a run stopped early can still be compared by prefix)
