@@ -15,10 +15,20 @@ quote and whose command the docs' examples run: computed once, its cache seeds t
 from __future__ import annotations
 
 import shutil
+import sys
 from pathlib import Path
 
 import pytest
-from quick_report import OWN_WALLS, QuickReport, Sweep, build, sweep
+
+# pytest puts this folder (``tests/``) first on ``sys.path`` to import this file; its subfolders are named
+# like the packages (``tests/comparison``, ``tests/micro``), so a process the tests start (a report's worker,
+# spawned with the parent's ``sys.path``) found ``tests/comparison`` for ``comparison``
+# ("No module named 'comparison.runner.executor'"): the repository goes before it.
+_REPO = str(Path(__file__).resolve().parents[1])
+if sys.path[0] != _REPO:
+    sys.path.insert(0, _REPO)
+
+from quick_report import OWN_WALLS, QuickReport, Sweep, build, sweep  # noqa: E402
 
 
 @pytest.fixture(scope="session")
