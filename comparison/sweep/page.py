@@ -10,7 +10,7 @@ report's error-map section is this page drawn from its committed sweep
   (:mod:`~comparison.sweep.compare`) how many walls it lies above the micro
   reference on, by more than 5 % and 10 %, the median and worst
   difference and the worst wall; then the walls by verdict and proof, as
-  ``xcheck compare`` gives them (:func:`comparison.verdict.judge`): unsafe by
+  ``xcheck compare`` gives them (:func:`comparison.proof.judge`): unsafe by
   the associative bound, unsafe by a certified state, not refuted, no verdict;
 * the cells that gave no value, counted by method and status and listed
   (the first :data:`LISTED` of each status; the table's ``status`` column

@@ -162,7 +162,7 @@ def unbuildable(points: Sequence[WallPoint]) -> dict[int, str]:
 def _limit(grid: Grid, gm: GridMethod) -> int | None:
     """A micro method's block limit: its own ``max_blocks``, and the grid's except for the associative LP, which
     runs on every wall up to its own limit: one LP (seconds for thousands of blocks) whose bound settles the
-    verdict wherever the macro value lies above it (:func:`comparison.verdict.judge`), so that a wall above the
+    verdict wherever the macro value lies above it (:func:`comparison.proof.judge`), so that a wall above the
     non-associative limit still gets a verdict."""
     grid_limit = None if gm.method.kind == "micro-assoc" else grid.max_blocks
     limits = [x for x in (grid_limit, gm.max_blocks) if x is not None]

@@ -18,7 +18,8 @@ import pytest
 
 import comparison
 import micro
-from comparison.verdict import ACCURACY, CompareOptions, Comparison, judge
+from comparison.proof import ACCURACY, judge
+from comparison.verdict import CompareOptions, Comparison
 from comparison.wall import WallSpec
 
 SET12 = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75)
