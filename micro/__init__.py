@@ -38,12 +38,13 @@ value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, glo
 
 from micro.associative import solve_associative
 from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backend
-from micro.geometry import BlockWall, build_wall, estimate_bytes
+from micro.geometry import BlockWall, build_wall
 from micro.global_search import GlobalOptions, GlobalResult, solve_global
 from micro.hold import HeldWall, hold_blocks
 from micro.local import LOCAL_WEIGHT_SHARE, LocalMechanism, find_local, local_mechanism
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
+from micro.memory import estimate_bytes
 from micro.nonassociative import (
     SCHEMES,
     IterationRecord,

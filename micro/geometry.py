@@ -37,13 +37,13 @@ Conventions
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.memory import guard_memory
 from micro.wall_checks import _number, _per_storey, _positive_int, physical_bounds
 
 FloatArray = NDArray[np.float64]
@@ -53,35 +53,10 @@ IntArray = NDArray[np.int64]
 BASE, BED, HEAD = 0, 1, 2
 CONTACT_KIND_NAMES = ("base", "bed", "head")
 
-#: Rough memory footprint per block of building and solving the LP (bytes).
-#: Measured: peak resident memory ~245 MB solving the 7,575-block wall with
-#: Clarabel (~32 kB per block, ~100 MB of it interpreter and libraries);
-#: doubled to leave room for cvxpy's canonicalisation copies.
-BYTES_PER_BLOCK = 60_000
-
 #: A length within this relative distance of a whole number of half blocks is
 #: that whole number (the builder's tolerance before cut end blocks, kept so
 #: that such walls come out exactly as before).
 WHOLE_TOLERANCE = 1e-9
-
-
-def available_memory_bytes() -> int | None:
-    """Memory the process may still use, from ``/proc/meminfo`` (Linux).
-
-    Returns:
-        ``MemAvailable`` in bytes, or ``None`` when it cannot be read.
-    """
-    try:
-        with open("/proc/meminfo", encoding="ascii") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        return int(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):
-        return None
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:
@@ -287,11 +262,6 @@ def _course_edges(last: int, end: float, half: float, starts_full: bool) -> Floa
     return np.concatenate([[0.0], inner * half, [end]])
 
 
-def estimate_bytes(n_blocks: int) -> int:
-    """Estimated peak memory of building and solving a wall of ``n_blocks``."""
-    return int(n_blocks) * BYTES_PER_BLOCK
-
-
 def build_wall(
     *,
     length: float,
@@ -380,7 +350,7 @@ def build_wall(
     bottom_full = first_course == "full"
     n_courses = sum(rows_t)
     n_even = (n_courses + 1) // 2  # courses 0, 2, 4, ... (same type as the bottom one)
-    _guard_memory(n_even * _count_blocks(last, bottom_full) + (n_courses // 2) * _count_blocks(last, not bottom_full),
+    guard_memory(n_even * _count_blocks(last, bottom_full) + (n_courses // 2) * _count_blocks(last, not bottom_full),
                   max_bytes)
 
     end = r * half if whole else L
@@ -399,17 +369,6 @@ def build_wall(
         x0=blocks.x0, x1=blocks.x1, y0=y0, y1=y0 + hb, course=blocks.course,
         storey=storey, dead=dead, live=live, mu=mu_c, **contacts,
     )
-
-
-def _guard_memory(n_blocks: int, max_bytes: int | None) -> None:
-    """Refuse a wall whose estimated memory exceeds the budget (arithmetic only)."""
-    need = estimate_bytes(n_blocks)
-    budget = available_memory_bytes() if max_bytes is None else int(max_bytes)
-    if budget is not None and need > budget:
-        raise ValueError(
-            f"wall too large: {n_blocks:,} blocks need an estimated {need / 1e9:.3g} GB "
-            f"({need:,} bytes) but only {budget / 1e9:.3g} GB ({budget:,} bytes) are available"
-        )
 
 
 @dataclass(frozen=True)

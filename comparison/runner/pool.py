@@ -48,7 +48,7 @@ def expected_seconds(spec: WallSpec, method: Method) -> float:
 def compute_task(spec: WallSpec, method: Method, seconds: float | None = None) -> Task:
     """The task that computes ``method`` on ``spec``: its cost the seconds it is expected to take (``seconds``,
     e.g. what it took last time, else :func:`expected_seconds`), its memory the blocks' estimate."""
-    from micro.geometry import estimate_bytes
+    from micro.memory import estimate_bytes
 
     blocks = approximate_blocks(spec)
     memory = 0 if method.kind == "macro" else estimate_bytes(blocks)

@@ -8,7 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import micro
-from micro.geometry import BASE, BED, HEAD, available_memory_bytes
+from micro.geometry import BASE, BED, HEAD
+from micro.memory import available_memory_bytes
 
 
 def tiny(**kw: object) -> micro.BlockWall:

@@ -13,7 +13,8 @@ from hypothesis import strategies as st
 from wall_fingerprints import fingerprint, whole_wall_cases
 
 import micro
-from micro.geometry import BASE, BED, HEAD, estimate_bytes
+from micro.geometry import BASE, BED, HEAD
+from micro.memory import estimate_bytes
 
 
 def cut_wall(length: float, rows: tuple[int, ...] = (2,), **kw: object) -> micro.BlockWall:

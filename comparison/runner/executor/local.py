@@ -139,7 +139,7 @@ class LocalExecutor:
             raise ValueError(f"workers must be a positive integer, got {workers!r}")
         self.workers = workers
         if memory_per_worker is None:
-            from micro.geometry import available_memory_bytes
+            from micro.memory import available_memory_bytes
 
             available = available_memory_bytes()
             memory_per_worker = None if available is None else available // workers
