@@ -10,7 +10,7 @@ sum of the (correctly rounded) products once: the same float everywhere.
 Sparse products (scipy's own loops) and numpy's reductions of elementwise
 products (its pairwise sum) need no such care; BLAS-backed factorisations do
 (SuperLU, CHOLMOD's supernodal code): see
-``docs/research/2026-11-28-blas-independent-descent.md``.
+the research page on the BLAS-independent descent (``docs/research/``).
 """
 
 from __future__ import annotations

@@ -15,7 +15,7 @@ An interrupted command exits without the interpreter's garbage collection of
 what it built (:func:`_skip_collection_at_exit`): after a Ctrl-C inside
 ``--solver cvxpy`` on a 1,230-block wall the collection at exit took about a
 second of the time to exit 130 (the research page
-``docs/research/2026-11-28-interrupt-exit.md`` has the figures).
+the research page on Ctrl-C and the exit (``docs/research/``) has the figures).
 """
 
 from __future__ import annotations

@@ -85,7 +85,7 @@ from comparison.wall import WallSpec
 CACHE_FORMAT = 4
 
 #: The largest record file read (bytes). A record is scalars and the load factor of every LP of the
-#: iterated sequence, a few kB (docs/research/2026-11-28-cache-and-outputs.md measures them): a cap
+#: iterated sequence, a few kB (the research page on the cache and outputs (docs/research/) measures them): a cap
 #: hundreds of times the largest refuses no real entry and bounds what a read holds.
 MAX_RECORD_BYTES = 1 << 20
 #: The largest mechanism file read, and the most its arrays may unpack to (bytes): 24 bytes a block,

@@ -18,11 +18,11 @@ simplicial factorisation, not its supernodal one: the supernodal kernels are
 BLAS calls, whose last bits differ between OpenBLAS's kernels, and the
 projection decides the next ``nbar``; with them Set 9's sequence reached
 another state on another machine
-(``docs/research/2026-11-28-blas-independent-descent.md``). Mehrotra's
+(the research page on the BLAS-independent descent (``docs/research/``)). Mehrotra's
 predictor-corrector, one step length for the primal and the dual (the
 Hessian couples them). Why it is the default (faster per QP than Clarabel on
 the walls where the proximal selection runs): the measurement is on
-``docs/research/2026-11-26-proximal-projection.md``.
+the research page on the proximal projection (``docs/research/``).
 
 :class:`ClarabelLeastDistance`: the same QP by Clarabel's interior point, where
 the first does not converge. Clarabel's ``update`` changes ``q`` and ``b``

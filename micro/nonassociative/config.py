@@ -218,7 +218,7 @@ TUNING_KNOBS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(Tuning)
 #: The descent ends by its own rules well within it on every wall measured
 #: (the walls of ``xcheck stability --lowest`` and of Table 5), so the budget
 #: is a guard, not a stop that shapes the answer: the counts are on
-#: ``docs/research/2026-11-28-house.md`` ("Figures moved from the code").
+#: the research page on the re-cut of the non-associative package (``docs/research/``) ("Figures moved from the code").
 LOWEST_BUDGET = 100
 
 

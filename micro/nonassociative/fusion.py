@@ -2,7 +2,7 @@
 
 THE FUSED WALL. On a large wall most contacts of the collapse mechanism
 neither open nor slip (on Set 10, most of its contacts; the count is on
-``docs/research/2026-11-28-house.md``), yet
+the research page on the re-cut of the non-associative package (``docs/research/``)), yet
 every LP carries all their forces and the warm dual simplex wanders through
 their statically indeterminate fields. :func:`rigid_bodies` joins the blocks
 linked by such RIGID contacts into bodies (those linked to the ground into
@@ -57,7 +57,8 @@ IntArray = NDArray[np.int64]
 #: fused states of the paper's walls that need fusing are still certified on
 #: the whole wall (a looser one fuses blocks that move, and the state lands at
 #: the end of its band where the wall's certificate misses it). The counts per
-#: threshold: ``docs/research/2026-11-28-house.md`` ("Figures moved from the code").
+#: threshold: the research page on the re-cut of the non-associative package
+#: (``docs/research/``, "Figures moved from the code").
 FUSE_RIGID_TOL = 1e-5
 
 
@@ -76,7 +77,7 @@ def rigid_bodies(lp: LimitLP, velocities: FloatArray, tol: float = FUSE_RIGID_TO
         contact that is not rigid is a body of its own, so that the sequence
         can shift a crack of the associative mechanism by a block (fused up
         to its moving contacts, Set 9 ended at the LP cap; as here, it is
-        certified: ``docs/research/2026-11-28-house.md``).
+        certified: the research page on the re-cut of the non-associative package (``docs/research/``)).
     """
     wall = lp.wall
     nb = wall.n_blocks

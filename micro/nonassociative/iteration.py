@@ -108,7 +108,8 @@ class LPSequence:
     # ------------------------------------------------------------ iterate 0
     def _start(self) -> tuple[Outcome, str, FloatArray | None]:
         """The associative LP (iterate 0): ``"interior"`` by the interior-point role (Clarabel, tight
-        tolerances; faster than HiGHS IPM: ``docs/research/2026-11-28-house.md``),
+        tolerances; faster than HiGHS IPM: the research page on the re-cut of the non-associative package,
+        ``docs/research/``),
         HiGHS IPM if Clarabel fails; ``"vertex"`` by HiGHS IPM + crossover +
         dual simplex (a basic optimal solution).
 

@@ -110,7 +110,7 @@ def _fused_continuation(lp: LimitLP, direction: int, recipe: Recipe, before: Att
     the direction's result, with the wall's sequences in ``sequence.unfused_attempt``; a failed one
     leaves the wall's result, its message extended. Either way the LPs and seconds of all runs count.
     Why it is in the chain (walls on which the vertex and the proximal sequences both end at their caps,
-    certified by it): ``docs/research/2026-11-24-fused-retry.md``."""
+    certified by it): the research page on the fused retry (``docs/research/``)."""
     assert before is not None
     first = before.result
     third, _ = solve_fused(lp, direction, dataclasses.replace(recipe, fuse=True, continuation=True))

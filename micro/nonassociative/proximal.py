@@ -53,7 +53,7 @@ PROJECTION_SOLVERS = ("normal-ipm", "clarabel")
 #: (:class:`Projection`). Smaller, the feasible set is too thin for the QP's
 #: solvers; larger, the sequence settles too far from a collapse state to be
 #: certified within its cap: the values tried and what each gave are on
-#: ``docs/research/2026-11-24-proximal-selection.md``.
+#: the research page on the proximal selection (``docs/research/``).
 PROX_MARGIN = 1e-4
 #: Clarabel settings of the proximal QP: a projection needs no more than
 #: 1e-8 (it only chooses the next ``nbar``; the certificate decides

@@ -11,7 +11,7 @@ simplex iterations a warm run may take (:attr:`WarmColdPolicy.warm_limit`),
 and tells it the work of every run (:meth:`WarmColdPolicy.account`,
 :meth:`WarmColdPolicy.slow_warm`). The measurements behind the constants are on
 the research pages each names; the iterated LP's warm and cold runs are
-described on ``docs/research/2026-11-23-iterated-lp.md``.
+described on the research page on the iterated LP (``docs/research/``).
 """
 
 from __future__ import annotations
@@ -29,8 +29,8 @@ WARM = "simplex-warm"
 # a loaded or slower machine follows the same path to the same numbers.
 #: On large walls a warm dual simplex can cost more than a cold solve, on
 #: walls of about a thousand blocks it is several times faster
-#: (``docs/research/2026-11-24-lowest-certified-state.md``,
-#: ``docs/research/2026-11-25-nonassociative-profile.md``). Scheme (a) solves
+#: (the research page on the lowest certified state (``docs/research/``),
+#: the research page on the non-associative profile (``docs/research/``)). Scheme (a) solves
 #: an iterate cold while the last warm run took more than this many simplex
 #: iterations per equilibrium row of the wall ...
 COLD_SWITCH_PIVOTS = 2.0
@@ -40,7 +40,7 @@ COLD_SWITCH_PIVOTS = 2.0
 COLD_STREAK = 3
 #: A warm run that takes more than this many simplex iterations per
 #: equilibrium row is stuck (a small infeasible LP took seconds to be
-#: declared so: ``docs/research/2026-11-28-house.md``): it is stopped and
+#: declared so: the research page on the re-cut of the non-associative package (``docs/research/``)): it is stopped and
 #: recovered ...
 WARM_LIMIT_PIVOTS = 10.0
 #: ... with at least this many iterations on small walls.
@@ -55,7 +55,7 @@ class WarmColdPolicy:
     cold iterates in a row (:data:`COLD_STREAK`, doubled each time the warm run
     after a cold streak is slow again, or stopped at :attr:`warm_limit`: on
     Set 10 warm runs after a cold streak were several times slower than cold
-    ones, ``docs/research/2026-11-28-house.md``).
+    ones, the research page on the re-cut of the non-associative package (``docs/research/``)).
 
     Args:
         n_eq: equilibrium rows of the LP (the counts are per row).

@@ -34,7 +34,7 @@ SCALES. Each residual is relative to the state's own scale, so a state in any un
 balance's three terms. A point is pressed when ``n > PRESSED * F`` and slips when
 ``|ds| > SLIPPING * R``. The tolerances are named below; ``docs/files.md`` lists them, and the residuals
 of the report's walls they were set against are on the research page
-``docs/research/2026-11-28-collapse-state-files.md``.
+the research page on collapse state files (``docs/research/``).
 """
 
 from __future__ import annotations

@@ -63,18 +63,18 @@ REFINE_STEPS = 3
 REFINED = 1e-12
 #: Simplex iterations per row a warm run may take before it is redone cold:
 #: after a large change of the pattern a warm dual simplex can cost several
-#: times a cold solve (``docs/research/2026-11-28-house.md``, "Figures moved
-#: from the code").
+#: times a cold solve (the research page on the re-cut of the non-associative
+#: package, ``docs/research/``, "Figures moved from the code").
 WARM_ITERATIONS = 2
 #: Callbacks beyond one per simplex iteration a primal run may make
 #: (:meth:`~micro.backends.highs.PersistentHighsModel.limit_excess_calls`):
 #: the runs that solve make few, those that fail many, slowly; the counts are
-#: on ``docs/research/2026-11-26-warm-descent.md`` and
-#: ``docs/research/2026-11-28-house.md``.
+#: on the research page on the warm descent (``docs/research/``) and
+#: the research page on the re-cut of the non-associative package (``docs/research/``).
 PRIMAL_EXCESS_CALLS = 200
 #: Simplex iterations per row a primal run from a carried-over basis may
 #: take: above the runs that solve, below those that did not
-#: (``docs/research/2026-11-28-house.md``).
+#: (the research page on the re-cut of the non-associative package (``docs/research/``)).
 PRIMAL_ITERATIONS = 0.5
 #: Weight of every restricted column in the mechanism LP beside the
 #: reduced-cost weights (normalised to at most 1): among compatible
@@ -139,7 +139,7 @@ def refine(lp: LimitLP, x: FloatArray) -> FloatArray:
     not lower the residual, is not taken. The factorisation calls no BLAS:
     the refined field, which the descent compares and reads patterns from,
     is the same under every BLAS kernel (SuperLU, used before, is not;
-    ``docs/research/2026-11-28-blas-independent-descent.md``). Its vertices
+    the research page on the BLAS-independent descent (``docs/research/``)). Its vertices
     are square systems, on which both give the same step to ~1e-15.
 
     Args:
