@@ -15,16 +15,17 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from comparison.cli.options import (
+    PLOT_SUFFIXES,
     QUIET,
     SOLVER_COUNT_MAX,
     VERBOSE,
     UsageError,
     add_command,
     add_wall_options,
+    check_output_path,
     choice,
     exit_after_outputs,
     in_range,
@@ -99,10 +100,7 @@ def run(args: argparse.Namespace) -> int:
     from comparison.verdict import compare
 
     options = options_from_args(args)
-    if args.plot is not None and not args.plot.lower().endswith((".png", ".pdf", ".svg")):
-        raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
-    if args.plot is not None and not Path(args.plot).parent.is_dir():  # before the solves, not after
-        raise UsageError(f"--plot: the folder of {args.plot!r} does not exist")
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)  # before the solves, not after
     check_state_path(args)
     spec = wall_from_args(args)
     try:

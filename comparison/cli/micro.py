@@ -16,7 +16,6 @@ import json
 import math
 import sys
 from collections.abc import Callable
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
@@ -27,12 +26,14 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
     from micro.nonassociative import LPProgress
 
 from comparison.cli.options import (
+    PLOT_SUFFIXES,
     QUIET,
     SOLVER_COUNT_MAX,
     VERBOSE,
     UsageError,
     add_command,
     add_wall_options,
+    check_output_path,
     choice,
     exit_after_outputs,
     in_range,
@@ -143,10 +144,7 @@ def run(args: argparse.Namespace) -> int:
     choice("--first-course", args.first_course, ("full", "half"))
     choice("--head-joints", args.head_joints, ("frictional", "frictionless"))
     time_limit = in_range("--time-limit", args.time_limit, "a positive number of seconds", math.inf)
-    if args.plot is not None and not args.plot.lower().endswith((".png", ".pdf", ".svg")):
-        raise UsageError(f"--plot must name a .png, .pdf or .svg file, got {args.plot!r}")
-    if args.plot is not None and not Path(args.plot).parent.is_dir():  # before minutes of solving, not after
-        raise UsageError(f"--plot: the folder of {args.plot!r} does not exist")
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)  # before the solves, not after
     check_state_path(args)
     spec = wall_from_args(args)
     try:

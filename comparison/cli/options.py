@@ -54,6 +54,33 @@ exit codes:
 """
 
 
+#: The figure formats ``--plot`` writes.
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
+
+
+def check_output_path(option: str, path: str | None, suffixes: tuple[str, ...] = ()) -> None:
+    """Refuse an output file that cannot be written, before any work (``--plot``, ``--state``).
+
+    Raises:
+        UsageError: an empty name, a suffix not among ``suffixes`` (when given), a directory, an existing
+            file that is not a regular file (a device or FIFO, directly or through a link: the writer never
+            replaces one), or a folder that does not exist.
+    """
+    if path is None:
+        return
+    if not path.strip():
+        raise UsageError(f"{option} must name a file, got {path!r}")
+    if suffixes and not path.lower().endswith(suffixes):
+        raise UsageError(f"{option} must name a {', '.join(suffixes[:-1])} or {suffixes[-1]} file, got {path!r}")
+    target = Path(path)
+    if target.is_dir():
+        raise UsageError(f"{option}: {path!r} is a directory; name the file, e.g. {target / 'out'}")
+    if target.exists() and not target.is_file():
+        raise UsageError(f"{option}: {path!r} is not a regular file (a device, a FIFO or a socket)")
+    if not target.parent.is_dir():
+        raise UsageError(f"{option}: the folder of {path!r} does not exist")
+
+
 def exit_after_outputs(ok: bool, *unwritten: str | None) -> int:
     """After the result is printed: one line ``xcheck: error: MESSAGE`` on stderr for each output that could
     not be written (a plot, a state file; ``None``: written or not asked for), then :data:`EXIT_FAILED`

@@ -9,10 +9,9 @@ is checked before solving, as ``--plot``'s is. A command that adds ``--state`` c
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from comparison.cli.options import UsageError
+from comparison.cli.options import check_output_path
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.wall import WallSpec
@@ -27,20 +26,13 @@ def add_state_option(group: Any) -> None:
 
 
 def check_state_path(args: argparse.Namespace) -> None:
-    """Refuse a ``--state`` that cannot be written, before the solve.
+    """Refuse a ``--state`` that cannot be written, before the solve
+    (:func:`~comparison.cli.options.check_output_path`).
 
     Raises:
-        UsageError: an empty name, a directory, or a folder that does not exist.
+        UsageError: an empty name, a directory, a device or FIFO, or a folder that does not exist.
     """
-    if args.state is None:
-        return
-    if not args.state.strip():
-        raise UsageError(f"--state must name a file, got {args.state!r}")
-    path = Path(args.state)
-    if path.is_dir():
-        raise UsageError(f"--state: {args.state!r} is a directory; name the file, e.g. {path / 'state.json'}")
-    if not path.parent.is_dir():
-        raise UsageError(f"--state: the folder of {args.state!r} does not exist")
+    check_output_path("--state", args.state)
 
 
 def write_state_file(args: argparse.Namespace, result: Any, wall: BlockWall,

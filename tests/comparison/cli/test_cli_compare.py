@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import importlib
 import json
+import os
+import stat
 from pathlib import Path
 from typing import Any
 
@@ -124,3 +126,19 @@ def test_state_in_a_missing_folder_is_refused_before_the_solves(capsys: pytest.C
     assert main(["compare", *SET13, "--state", "/no/such/folder/s.json"]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and "--state" in captured.err and len(captured.err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("option", ["--state", "--plot"])
+def test_an_output_that_is_not_a_regular_file_is_refused_before_the_solves(
+        tmp_path: Path, option: str, capsys: pytest.CaptureFixture[str]) -> None:
+    """A device or FIFO named as an output (directly or through a link) is bad input: one line, exit 2,
+    nothing solved, and the device left as it is (the writer never replaces one)."""
+    fifo = tmp_path / "pipe.png"
+    os.mkfifo(fifo)
+    device = tmp_path / "null.png"
+    device.symlink_to("/dev/null")
+    for target in (device, fifo):
+        assert main(["compare", *SET13, option, str(target)]) == 2
+        captured = capsys.readouterr()
+        assert captured.out == "" and "not a regular file" in captured.err
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode) and stat.S_ISFIFO(os.stat(fifo).st_mode)
