@@ -6,7 +6,8 @@ point :func:`comparison.cli.main`, the function the console script calls, in thi
 command would cost a second of imports each; the console script itself is run by
 ``tests/comparison/cli/test_cli_macro.py``); it fails on an exit code other than 0. A command that hangs
 for :data:`TIMEOUT` seconds ends the run with every thread's traceback. Every fenced ``python`` block is
-run as a script in such a folder (a process; over :data:`TIMEOUT` seconds it fails). A block preceded by an
+run as a script in such a folder, as ``__main__`` in this process too (:mod:`runpy`, a fresh namespace, the
+folder first on ``sys.path``; an exception is exit 1), under the same hang guard. A block preceded by an
 HTML comment is marked:
 
 * ``<!-- skip-example: REASON -->``: not run (synopses with placeholders, installs, long runs);
@@ -29,12 +30,12 @@ import contextlib
 import faulthandler
 import hashlib
 import io
-import os
 import re
+import runpy
 import shlex
 import shutil
-import subprocess
 import sys
+import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -242,19 +243,42 @@ def test_shell_example(block: Example, tmp_path: Path, cache: Path, monkeypatch:
     assert _snapshot(folder) == committed, f"{block.id}: an example wrote into the committed reports/"
 
 
+def _run_script(script: Path) -> tuple[int, str]:
+    """Exit code and standard error of ``python SCRIPT`` run as ``__main__`` in this process (:mod:`runpy`:
+    a fresh namespace, so a missing import fails as in a process of its own; a process per example would
+    cost a second of imports each), with the hang guard of :func:`_run_xcheck`; an exception is exit 1 with
+    its traceback, as the interpreter gives it."""
+    err = io.StringIO()
+    faulthandler.dump_traceback_later(TIMEOUT, exit=True)
+    try:
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
+            try:
+                runpy.run_path(str(script), run_name="__main__")
+                code = 0
+            except SystemExit as stop:
+                code = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 1)
+            except Exception:
+                traceback.print_exc()
+                code = 1
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+        if "matplotlib.pyplot" in sys.modules:  # an example's figures do not outlive it
+            sys.modules["matplotlib.pyplot"].close("all")
+    return code, err.getvalue()
+
+
 @pytest.mark.parametrize("block", PYTHON_BLOCKS, ids=[b.id for b in PYTHON_BLOCKS])
-def test_python_example(block: Example, tmp_path: Path, cache: Path) -> None:
+def test_python_example(block: Example, tmp_path: Path, cache: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     if block.skip:
         pytest.skip(block.skip)
     folder = _folder(tmp_path)
     committed = _snapshot(folder)
     script = folder / "example.py"
     script.write_text(block.text + "\n", encoding="utf-8")
-    env = {**os.environ, "XCHECK_CACHE": str(cache), "MPLBACKEND": "Agg"}
-    try:
-        run = subprocess.run([sys.executable, str(script)], cwd=folder, env=env, capture_output=True, text=True,
-                             timeout=TIMEOUT)  # fmt: skip
-    except subprocess.TimeoutExpired:
-        pytest.fail(f"{block.id}: ran over {TIMEOUT} s")
-    assert run.returncode == block.exit_code, f"{block.id}: exited with {run.returncode}\n{run.stderr[-3000:]}"
+    monkeypatch.chdir(folder)
+    monkeypatch.setenv("XCHECK_CACHE", str(cache))
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    monkeypatch.syspath_prepend(str(folder))  # the script's folder first on sys.path, as for ``python SCRIPT``
+    code, err = _run_script(script)
+    assert code == block.exit_code, f"{block.id}: exited with {code}\n{err[-3000:]}"
     assert _snapshot(folder) == committed, f"{block.id}: the example wrote into the committed reports/"
