@@ -30,6 +30,9 @@ if sys.path[0] != _REPO:
 
 from quick_report import OWN_WALLS, QuickReport, Sweep, build, sweep  # noqa: E402
 
+#: ``pytester``: the pytest plugin's tests run a downstream project's pytest in their own process.
+pytest_plugins = ("pytester",)
+
 
 @pytest.fixture(scope="session")
 def quick_report(tmp_path_factory: pytest.TempPathFactory) -> QuickReport:

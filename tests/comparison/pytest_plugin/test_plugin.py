@@ -1,15 +1,14 @@
-"""The plugin as a downstream project sees it: a pytest run in a fresh directory, through the entry point."""
+"""The plugin as a downstream project sees it: a pytest run in a fresh directory, through the entry point
+(the first in a process of its own, the others in this process: ``downstream.py``)."""
 
 from __future__ import annotations
 
-import os
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from downstream import Run, in_a_process, in_this_process
 
 from comparison.pytest_plugin import ComparisonTable, References, UserWall, paper_cases, select_cases, walls_from_file
 from comparison.pytest_plugin.walls import cases_and_walls
@@ -41,17 +40,16 @@ def test_own_wall_references(xcheck_case, xcheck_references, request):
 """
 
 
-def _pytest(tmp_path: Path, *args: str) -> subprocess.CompletedProcess[str]:
-    (tmp_path / "test_down.py").write_text(TEST_FILE)
-    env = {**os.environ, "XCHECK_CACHE": str(tmp_path / "cache")}
-    return subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:randomly", *args],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env=env,
-    )
+def _pytest(folder: Path, *args: str) -> Run:
+    """A downstream run of :data:`TEST_FILE` in a process of its own (``folder``)."""
+    (folder / "test_down.py").write_text(TEST_FILE)
+    return in_a_process(folder, *args)
+
+
+def _inline(pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, *args: str) -> Run:
+    """The same run in this process (``pytester.path``): see ``downstream.py``."""
+    (pytester.path / "test_down.py").write_text(TEST_FILE)
+    return in_this_process(pytester, monkeypatch, *args)
 
 
 def test_downstream_run_table_and_failure_message(tmp_path: Path) -> None:
@@ -76,21 +74,24 @@ def test_downstream_run_table_and_failure_message(tmp_path: Path) -> None:
     assert table[2] == "Set 12,mine,0.7,0.68,2.9"
 
 
-def test_user_walls_file(tmp_path: Path) -> None:
+def test_user_walls_file(pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch) -> None:
+    tmp_path = pytester.path
     (tmp_path / "walls.toml").write_text('[[wall]]\nname = "pier"\nt = 2\nm = "1/2"\nrows = 8\nf = 0.6\n')
     # the user's wall (t = 2, m = 1/2, 8 rows) runs test_any_wall, with our macro model and associative LP
     # computed as its references
-    run = _pytest(tmp_path, "--xcheck-walls", "walls.toml", "--xcheck-compute", "macro,micro-assoc", "-k", "pier", "-s")
+    compute = ("--xcheck-compute", "macro,micro-assoc")
+    run = _inline(pytester, monkeypatch, "--xcheck-walls", "walls.toml", *compute, "-k", "pier", "-s")
     assert run.returncode == 0 and "2 passed" in run.stdout, run.stdout
     assert "pier macro 0." in run.stdout and "pier micro-assoc 0." in run.stdout
     assert any((tmp_path / "cache").rglob("*.json"))  # through the result cache
 
 
-def test_bad_selection_is_a_usage_error(tmp_path: Path) -> None:
-    run = _pytest(tmp_path, "--xcheck-cases", "Set 99", "-k", "any_wall")
+def test_bad_selection_is_a_usage_error(pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch) -> None:
+    tmp_path = pytester.path
+    run = _inline(pytester, monkeypatch, "--xcheck-cases", "Set 99", "-k", "any_wall")
     assert run.returncode == 4 and "'Set 99' is neither a table (5, 6, 7, 8, 9), a paper case" in run.stderr, run.stderr
     (tmp_path / "w.toml").write_text("[[wall]]\nname = 1\n")
-    run = _pytest(tmp_path, "--xcheck-walls", "w.toml")
+    run = _inline(pytester, monkeypatch, "--xcheck-walls", "w.toml")
     assert run.returncode == 4 and "w.toml: wall[0]: missing 'f'" in run.stderr, run.stderr
 
 
@@ -119,16 +120,18 @@ def test_walls_file_errors_name_file_wall_and_key(tmp_path: Path) -> None:
         walls_from_file(bad)
 
 
-def test_own_walls_are_selected_by_name(tmp_path: Path) -> None:
+def test_own_walls_are_selected_by_name(pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch) -> None:
     """``--xcheck-cases`` selects the walls of ``--xcheck-walls`` by name too (``"my squat wall"``), alone and
     not only beside paper cases."""
+    tmp_path = pytester.path
     (tmp_path / "walls.toml").write_text(
         '[[wall]]\nname = "my squat wall"\nt = 0.5\nm = "1/2"\nrows = 8\nf = 0.6\n'
         '[[wall]]\nname = "pier"\nt = 2\nm = "1/2"\nrows = 8\nf = 0.6\n'
     )
-    run = _pytest(tmp_path, "--xcheck-walls", "walls.toml", "--xcheck-cases", "my squat wall", "-k", "any_wall", "-vv")
+    walls = ("--xcheck-walls", "walls.toml")
+    run = _inline(pytester, monkeypatch, *walls, "--xcheck-cases", "my squat wall", "-k", "any_wall", "-vv")
     assert run.returncode == 0 and "1 passed" in run.stdout and "my squat wall" in run.stdout, run.stdout
-    run = _pytest(tmp_path, "--xcheck-walls", "walls.toml", "--xcheck-cases", "Ref,pier", "-k", "any_wall", "-vv")
+    run = _inline(pytester, monkeypatch, *walls, "--xcheck-cases", "Ref,pier", "-k", "any_wall", "-vv")
     assert run.returncode == 0 and "2 passed" in run.stdout and "[pier]" in run.stdout, run.stdout
     own = walls_from_file(tmp_path / "walls.toml")
     assert [c.label for c in cases_and_walls("7", str(tmp_path / "walls.toml"))] == [

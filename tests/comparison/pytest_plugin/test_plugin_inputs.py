@@ -6,11 +6,10 @@ from __future__ import annotations
 import errno
 import math
 import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+from downstream import Run, in_a_process, in_this_process
 
 from comparison.pytest_plugin import ComparisonTable, References, paper_cases, select_cases, walls_from_file
 
@@ -162,15 +161,14 @@ Path.write_text = _refuse
 """
 
 
-def _pytest(tmp_path: Path, *args: str, conftest: str = "") -> subprocess.CompletedProcess[str]:
-    (tmp_path / "test_down.py").write_text(TEST_FILE)
+def _pytest(pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, *args: str, conftest: str = "") -> Run:
+    """A downstream run of :data:`TEST_FILE` in ``pytester.path``: in this process, or with a ``conftest`` (one
+    that patches the interpreter for good) in a process of its own (``downstream.py``)."""
+    (pytester.path / "test_down.py").write_text(TEST_FILE)
     if conftest:
-        (tmp_path / "conftest.py").write_text(conftest)
-    return subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:randomly", *args],
-        cwd=tmp_path, capture_output=True, text=True, timeout=120,
-        env={**os.environ, "XCHECK_CACHE": str(tmp_path / "cache")},
-    )  # fmt: skip
+        (pytester.path / "conftest.py").write_text(conftest)
+        return in_a_process(pytester.path, *args)
+    return in_this_process(pytester, monkeypatch, *args)
 
 
 @pytest.mark.parametrize(("args", "line"), [
@@ -180,20 +178,25 @@ def _pytest(tmp_path: Path, *args: str, conftest: str = "") -> subprocess.Comple
     (("--xcheck-against", "bogus"), "ERROR: --xcheck-against: bogus not among paper, macro, orduna-micro"),
     (("--xcheck-against", ","), "ERROR: --xcheck-against: no method given; the methods are paper, macro"),
 ])
-def test_plugin_options_are_checked_before_the_tests(tmp_path: Path, args: tuple[str, ...], line: str) -> None:
+def test_plugin_options_are_checked_before_the_tests(
+    pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, args: tuple[str, ...], line: str
+) -> None:
     """``--xcheck-against bogus`` was accepted (an empty column) while ``--xcheck-compute bogus`` was refused;
     a table into a missing folder was a traceback after the tests."""
-    run = _pytest(tmp_path, *args)
+    run = _pytest(pytester, monkeypatch, *args)
     assert run.returncode == 4 and run.stderr.startswith(line) and "Traceback" not in run.stderr, run.stderr
 
 
 @pytest.mark.parametrize("where", ["full", "read-only"])
-def test_a_table_on_a_full_or_read_only_disk_is_one_line_and_a_failed_run(tmp_path: Path, where: str) -> None:
+def test_a_table_on_a_full_or_read_only_disk_is_one_line_and_a_failed_run(
+    pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, where: str
+) -> None:
     """``--xcheck-table`` on ``/dev/full`` or a read-only disk: a traceback (``OSError``) after the tests, exit 0."""
     if where == "full" and not Path("/dev/full").exists():
         pytest.skip("no /dev/full")
     path = "/dev/full" if where == "full" else "t.md"
-    run = _pytest(tmp_path, "--xcheck-table", path, conftest=READ_ONLY if where == "read-only" else "")
+    tmp_path = pytester.path
+    run = _pytest(pytester, monkeypatch, "--xcheck-table", path, conftest=READ_ONLY if where == "read-only" else "")
     reason = "No space left on device" if where == "full" else "Read-only file system"
     assert run.returncode == 1, run.stdout + run.stderr
     assert f"xcheck: error: cannot write the table to {path} ({reason})" in run.stdout, run.stdout
@@ -201,12 +204,14 @@ def test_a_table_on_a_full_or_read_only_disk_is_one_line_and_a_failed_run(tmp_pa
     assert "1 passed" in run.stdout and not (tmp_path / "t.md").exists()
 
 
-def test_a_known_gap_without_a_reason_is_a_collection_error_not_an_internal_error(tmp_path: Path) -> None:
-    (tmp_path / "test_gap.py").write_text(
+def test_a_known_gap_without_a_reason_is_a_collection_error_not_an_internal_error(
+    pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (pytester.path / "test_gap.py").write_text(
         "import pytest\nfrom comparison.pytest_plugin import paper_cases\n\n"
         "@pytest.mark.parametrize('case', paper_cases('7', known_gaps={'Set 11': None}))\n"
         "def test_k(case):\n    pass\n"
     )
-    run = _pytest(tmp_path, "test_gap.py")
+    run = _pytest(pytester, monkeypatch, "test_gap.py")
     assert run.returncode == 2 and "INTERNALERROR" not in run.stdout + run.stderr, run.stdout
     assert "known_gaps['Set 11'] must be the reason, a string, got None" in run.stdout
