@@ -215,8 +215,10 @@ def test_slowed_clock_gives_the_same_path(monkeypatch: pytest.MonkeyPatch, schem
     on, so every run looks slower than the one before, as on a machine
     getting loaded) gives the same LPs, algorithms, certificate outcomes and
     load factor. (With the former rules, warm runs measured against the
-    first LP's seconds, this clock switched the sequence to cold solves.)"""
-    w = wall(1.0, 1 / 2)
+    first LP's seconds, this clock switched the sequence to cold solves.) The path does not depend on the
+    wall's size: on 8 rows (36 blocks) scheme (b) takes warm runs, fallback steps and failed certificates
+    (37 LPs), scheme (a) warm runs and a certified stop."""
+    w = wall(1.0, 1 / 2, rows=8)
     ref = solve_nonassociative(w, tuning=Tuning(scheme=scheme))
     real = time.perf_counter
     calls = iter(range(10**9))
@@ -231,6 +233,7 @@ def test_slowed_clock_gives_the_same_path(monkeypatch: pytest.MonkeyPatch, schem
     assert path(slow) == path(ref)
     assert slow.load_factor == ref.load_factor or (math.isnan(slow.load_factor) and math.isnan(ref.load_factor))
     assert max(h.seconds for h in slow.history) > 50.0  # the clock did run slow
+    assert "simplex-warm" in {h.algorithm for h in ref.history}  # warm runs, whose rule once read the clock
 
 
 def test_stalled_warm_runs_are_recovered_not_waited_for(monkeypatch: pytest.MonkeyPatch) -> None:
