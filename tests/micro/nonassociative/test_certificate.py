@@ -44,12 +44,12 @@ def test_scheme_b_certified_states_are_collapse_states(relaxation: float) -> Non
         assert cert.pattern(-vel) is None
 
 
-def test_certified_stop() -> None:
+def test_certified_stop(table7_default: list[micro.NonAssociativeResult]) -> None:
     """Set 14: the LPs' own forces never satisfy Coulomb (the plain sequence
     cycles), but a settled iterate's mechanism admits an exact collapse state
     at its load factor; the band of such states contains it."""
     w = wall(1.0, 1.0)
-    r = solve_nonassociative(w)
+    r = table7_default[3]  # solve_nonassociative(w), shared (conftest.py)
     assert r.stop_reason == "certified" and r.converged
     assert r.history[-1].certificate == "certified"
     assert r.history[-1].certificate_iterations > 0
@@ -61,10 +61,10 @@ def test_certified_stop() -> None:
     assert not solve_nonassociative(w, tuning=Tuning(certify=False)).converged
 
 
-def test_certificate_rejects_wrong_load_factor() -> None:
+def test_certificate_rejects_wrong_load_factor(table7_default: list[micro.NonAssociativeResult]) -> None:
     """The certificate can fail: no state of the final mechanism lies far outside its band."""
     w = wall(1.0, 1.0)
-    r = solve_nonassociative(w)
+    r = table7_default[3]  # solve_nonassociative(w), shared (conftest.py)
     lp = micro.assemble(w)
     cert = Certificate(lp, 1, "a")
     v = np.asarray(r.governing.mechanism.velocities).ravel()
@@ -77,12 +77,11 @@ def test_certificate_rejects_wrong_load_factor() -> None:
     assert np.max(np.abs(s) - lp.mu * n) <= 1e-9 * n.max()
 
 
-def test_certificate_only_ends_the_sequence_earlier() -> None:
+def test_certificate_only_ends_the_sequence_earlier(table7_default: list[micro.NonAssociativeResult]) -> None:
     """The certificate does not change the path of the sequence: with and
     without it the LPs are the same up to the certified stop."""
-    for t, m, _ in TABLE7:
+    for (t, m, _), cert in zip(TABLE7, table7_default, strict=True):
         w = wall(t, m)
-        cert = solve_nonassociative(w)
         plain = solve_nonassociative(w, tuning=Tuning(certify=False, selection="vertex"))
         assert cert.converged
         assert plain.iterations >= cert.iterations

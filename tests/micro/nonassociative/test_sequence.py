@@ -25,11 +25,6 @@ def wall(t: float, m: float, rows: int = 12, storeys: int = 1, f: float = 0.75, 
     return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=0, storeys=storeys).to_micro(**kw)
 
 
-@pytest.fixture(scope="module")
-def table7_default() -> list[micro.NonAssociativeResult]:
-    return [solve_nonassociative(wall(t, m)) for t, m, _ in TABLE7]
-
-
 @pytest.mark.parametrize("i", range(4))
 def test_table7_within_5_percent(table7_default: list, i: int) -> None:
     """Last iterate (or the band of a cycling sequence) within 5 % of Orduna's value."""
