@@ -1,4 +1,5 @@
-"""Crash safety of the result cache, with real processes.
+"""Crash safety of the result cache, with real processes (forked from the test's, which solved their walls:
+a new interpreter would cost a second of imports each).
 
 * a process SIGKILLed at every step of a store leaves no entry or a whole one
   (a record always with its mechanism);
@@ -14,12 +15,13 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 import re
 import signal
-import subprocess
-import sys
-import textwrap
-from collections.abc import Iterator, Sequence
+import time
+import traceback
+import warnings
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -30,64 +32,80 @@ from comparison.runner.executor import Task, TaskOutcome
 from comparison.wall import WallSpec
 
 SPEC = WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75, name="six rows")
-ROOT = Path(__file__).resolve().parents[3]
 
-#: A subprocess that computes the entry of SPEC and stores it, with a hook
-#: that SIGKILLs it at one step of the store (the hook's name and the call count).
-KILL_SCRIPT = """
-import os, signal, sys
-import numpy as np
-from comparison.runner import MICRO_ASSOC, ResultCache, Runner, cache as cache_module
-from comparison.wall import WallSpec
-
-spec = WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75, name="six rows")
-runner = Runner(None)
-record, mechanism = runner.run(spec, MICRO_ASSOC), runner.mechanism(spec, MICRO_ASSOC)
-hook, at = sys.argv[2], int(sys.argv[3])
-calls = [0]
-
-def killer(original):
-    def wrapped(*args, **kwargs):
-        calls[0] += 1
-        if calls[0] == at:
-            os.kill(os.getpid(), signal.SIGKILL)
-        return original(*args, **kwargs)
-    return wrapped
-
-if hook == "savez":
-    np.savez_compressed = killer(np.savez_compressed)
-else:
-    setattr(os, hook, killer(getattr(os, hook)))
-ResultCache(sys.argv[1]).store(spec, record, mechanism)
-"""
-
-#: Two of these run at once: each stores the entries of three walls over and
-#: over and reads them back; any exception or incomplete entry exits 1.
-WRITER_SCRIPT = """
-import sys, warnings
-warnings.simplefilter("error")
-from comparison.runner import MICRO_ASSOC, ResultCache, Runner, prefetch
-from comparison.runner.executor import TaskOutcome, Task
-from comparison.wall import WallSpec
-
-specs = [WallSpec.from_paper(t=1, m=1 / 3, rows=r, f=0.75) for r in (3, 6, 9)]
-runner = Runner(None)
-entries = [(s, runner.run(s, MICRO_ASSOC), runner.mechanism(s, MICRO_ASSOC)) for s in specs]
-cache = ResultCache(sys.argv[1])
-for i in range(int(sys.argv[2])):
-    for spec, record, mechanism in entries:
-        cache.store(spec, record, mechanism)
-        got = cache.load(spec, MICRO_ASSOC)
-        mech = cache.mechanism(spec, MICRO_ASSOC)
-        if got is None or got.load_factor != record.load_factor or mech is None:
-            sys.exit(f"iteration {i}: incomplete entry {got!r} {mech!r}")
-"""
+def _forked(child: Callable[[], None], errors: Path) -> int:
+    """Run ``child`` in a process forked from this one (its imports paid, its walls solved here), which
+    ends with ``os._exit``: 0 when ``child`` returns, 1 with the traceback in ``errors`` when it raises.
+    Returns the child's pid."""
+    pid = os.fork()
+    if pid == 0:  # the child: never back into pytest
+        code = 1
+        try:
+            child()
+            code = 0
+        except BaseException:
+            errors.write_text(traceback.format_exc())
+        finally:
+            os._exit(code)
+    return pid
 
 
-def _python(script: str, *args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-c", textwrap.dedent(script), *args], cwd=ROOT, capture_output=True, text=True, timeout=120
-    )
+def _wait(pid: int, timeout: float = 300.0) -> int:
+    """The exit code of the forked child ``pid`` (minus the signal that ended it, as :mod:`subprocess`
+    gives it); a child alive after ``timeout`` seconds is killed and fails the test."""
+    end = time.monotonic() + timeout
+    while True:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            return os.waitstatus_to_exitcode(status)
+        if time.monotonic() > end:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+            pytest.fail(f"a forked child ran over {timeout} s")
+        time.sleep(0.01)
+
+
+def _killed_store(directory: Path, hook: str, at: int, record: object, mechanism: object) -> Callable[[], None]:
+    """The child that stores SPEC's entry into ``directory`` and SIGKILLs itself at the ``at``-th call of
+    ``hook`` (``savez``: :func:`numpy.savez_compressed`; else that function of :mod:`os`)."""
+
+    def child() -> None:
+        calls = [0]
+
+        def killer(original: Callable[..., object]) -> Callable[..., object]:
+            def wrapped(*args: object, **kwargs: object) -> object:
+                calls[0] += 1
+                if calls[0] == at:
+                    os.kill(os.getpid(), signal.SIGKILL)
+                return original(*args, **kwargs)
+
+            return wrapped
+
+        if hook == "savez":
+            np.savez_compressed = killer(np.savez_compressed)  # type: ignore[assignment]
+        else:
+            setattr(os, hook, killer(getattr(os, hook)))
+        ResultCache(directory).store(SPEC, record, mechanism)  # type: ignore[arg-type]
+
+    return child
+
+
+def _writer(directory: Path, entries: list[tuple[WallSpec, object, object]], rounds: int) -> Callable[[], None]:
+    """One of two children run at once: each stores the entries of three walls over and over and reads
+    them back; a warning, an exception or an incomplete entry fails it."""
+
+    def child() -> None:
+        warnings.simplefilter("error")
+        cache = ResultCache(directory)
+        for i in range(rounds):
+            for spec, record, mechanism in entries:
+                cache.store(spec, record, mechanism)  # type: ignore[arg-type]
+                got = cache.load(spec, MICRO_ASSOC)
+                mech = cache.mechanism(spec, MICRO_ASSOC)
+                if got is None or got.load_factor != record.load_factor or mech is None:  # type: ignore[attr-defined]
+                    raise AssertionError(f"iteration {i}: incomplete entry {got!r} {mech!r}")
+
+    return child
 
 
 def _entry_is_whole_or_absent(directory: Path) -> None:
@@ -104,8 +122,11 @@ def _entry_is_whole_or_absent(directory: Path) -> None:
     ids=["compressing the arrays", "writing the arrays", "renaming the arrays", "writing the record", "renaming it"],
 )
 def test_a_store_killed_at_any_step_leaves_no_entry_or_a_whole_one(tmp_path: Path, hook: str, at: int) -> None:
-    done = _python(KILL_SCRIPT, str(tmp_path), hook, str(at))
-    assert done.returncode in (0, -signal.SIGKILL), done.stderr
+    runner = Runner(None)
+    record, mechanism = runner.run(SPEC, MICRO_ASSOC), runner.mechanism(SPEC, MICRO_ASSOC)
+    errors = tmp_path.parent / f"{tmp_path.name}-errors.txt"
+    code = _wait(_forked(_killed_store(tmp_path, hook, at, record, mechanism), errors))
+    assert code in (0, -signal.SIGKILL), errors.read_text() if errors.exists() else code
     _entry_is_whole_or_absent(tmp_path)
     # the next run computes what is missing and stores a whole entry
     with_warnings = Runner(tmp_path)
@@ -157,20 +178,16 @@ def test_a_damaged_entry_is_warned_with_its_path_and_recomputed(stored: Path, da
 
 
 def test_two_processes_storing_and_reading_one_cache(tmp_path: Path) -> None:
-    procs = [
-        subprocess.Popen(
-            [sys.executable, "-c", textwrap.dedent(WRITER_SCRIPT), str(tmp_path), "150"],
-            cwd=ROOT,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-        for _ in range(2)
-    ]
-    outputs = [p.communicate(timeout=300) for p in procs]
-    for p, (_, err) in zip(procs, outputs, strict=True):
-        assert p.returncode == 0, err[-2000:]
-    assert not list(tmp_path.rglob("*.tmp"))
+    specs = [WallSpec.from_paper(t=1, m=1 / 3, rows=r, f=0.75) for r in (3, 6, 9)]
+    runner = Runner(None)
+    entries = [(s, runner.run(s, MICRO_ASSOC), runner.mechanism(s, MICRO_ASSOC)) for s in specs]
+    cache = tmp_path / "cache"
+    errors = [tmp_path / f"errors-{k}.txt" for k in range(2)]
+    pids = [_forked(_writer(cache, entries, 150), e) for e in errors]  # type: ignore[arg-type]
+    codes = [_wait(pid) for pid in pids]
+    for code, e in zip(codes, errors, strict=True):
+        assert code == 0, e.read_text()[-2000:] if e.exists() else code
+    assert not list(cache.rglob("*.tmp"))
 
 
 def test_a_result_stopped_by_the_clock_is_not_stored(tmp_path: Path) -> None:
