@@ -45,6 +45,7 @@ def test_version(capsys: pytest.CaptureFixture[str]) -> None:
     assert code == 0 and out.startswith("xcheck ") and out.strip().split()[1][0].isdigit()
 
 
+@pytest.mark.processes  # a console process on a real pipe
 def test_a_closed_pipe_ends_quietly() -> None:
     """``xcheck macro --json | head``: the reader closes before the output is written."""
     proc = subprocess.Popen(
@@ -169,6 +170,7 @@ def test_a_scene_too_large_for_the_macro_search(tmp_path: Path, capsys: pytest.C
     one_line_error(code, err, "storeys", "GB")
 
 
+@pytest.mark.processes  # a console process whose standard output is /dev/full
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
 @pytest.mark.parametrize("argv", [["macro", *WALL, "--json"], ["macro", *WALL], ["micro", *WALL, "--json"]])
 def test_a_full_disk_on_stdout_is_one_line_and_exit_1(argv: list[str]) -> None:

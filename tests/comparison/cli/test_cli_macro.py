@@ -178,6 +178,7 @@ def test_scene_error_via_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     shutil.which("xcheck") is None and not (Path(sys.executable).parent / "xcheck").exists(),
     reason="console script not installed",
 )
+@pytest.mark.processes  # the installed console script, a process of its own
 def test_console_script_no_traceback() -> None:
     exe = shutil.which("xcheck") or str(Path(sys.executable).parent / "xcheck")
     p = subprocess.run(

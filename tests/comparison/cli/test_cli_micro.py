@@ -96,6 +96,7 @@ def test_bad_wall_one_line(capsys: pytest.CaptureFixture[str]) -> None:
     assert rc == 2 and "t must be in" in err and "one block long" in err and err.count("\n") == 1
 
 
+@pytest.mark.processes  # a fresh process's standard output, descriptor 1
 def test_json_stdout_of_a_real_process_is_one_json_line() -> None:
     """In a fresh process (where HiGHS builds its first instance) stdout is
     the JSON line alone: highspy 1.16 prints a banner on descriptor 1 when its

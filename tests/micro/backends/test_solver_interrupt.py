@@ -4,7 +4,8 @@ through its own callback and the signal's handler runs after it returned; nothin
 Each HiGHS case runs in a child process: before the fix a Ctrl-C inside HiGHS' callback left the
 model broken and its next run crashed the process (a segmentation fault), which would have taken
 the test runner with it. The signal is raised from inside the callback itself, so the case is
-deterministic (a Ctrl-C at a random time is the ``processes`` test in tests/comparison/cli).
+deterministic (a Ctrl-C at a random time is the ``processes`` test in tests/comparison/cli). The cases in a
+child process are marked ``processes`` (``pytest -m processes``, as ``.ci/run`` runs them).
 """
 
 from __future__ import annotations
@@ -52,6 +53,7 @@ def _child(case: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
 
 
+@pytest.mark.processes  # a child process that gets the signal
 def test_ctrl_c_inside_highs_stops_the_run_and_raises_after_it() -> None:
     """A Ctrl-C raised inside HiGHS' callback: the run stops there (HiGHS' own
     interrupt), ``KeyboardInterrupt`` comes out of ``run()``, and the same model
@@ -81,6 +83,7 @@ def test_ctrl_c_inside_highs_stops_the_run_and_raises_after_it() -> None:
     assert status == "optimal" and float(lam) > 0.5
 
 
+@pytest.mark.processes  # a child process that gets the signal
 def test_an_error_inside_the_callback_is_raised_after_highs_returned() -> None:
     out = _child("""
         def TICK(n):
@@ -99,6 +102,7 @@ def test_an_error_inside_the_callback_is_raised_after_highs_returned() -> None:
     assert out.stdout.splitlines() == ["raised: inside the callback", "optimal"]
 
 
+@pytest.mark.processes  # a child process that gets the signal
 def test_a_signal_with_its_own_handler_waits_for_the_run_and_does_not_stop_it() -> None:
     """A handler other than Ctrl-C's (here SIGUSR1's) is only deferred: the run is not
     interrupted (its result stays what it would have been) and the handler runs once."""
