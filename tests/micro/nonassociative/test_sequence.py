@@ -115,25 +115,36 @@ def test_scheme_b_converges_with_small_dilatancy() -> None:
     assert abs(r.iterated_load_factor / 0.68 - 1) <= 0.05
 
 
-@pytest.mark.parametrize("t, m", [(0.5, 1 / 3), (1.0, 1 / 3), (1.0, 1.0)])
-def test_naive_scheme_cycles_default_converges(t: float, m: float) -> None:
+#: The plain iterated LP: scheme (a), no relaxation, no certificate, the vertex sequence alone.
+NAIVE = Tuning(scheme="a", relaxation=1.0, certify=False, selection="vertex")
+
+
+@pytest.fixture(scope="module")
+def naive_set14() -> micro.NonAssociativeResult:
+    """The plain iterated LP on Set 14 (read by two tests)."""
+    return solve_nonassociative(wall(1.0, 1.0), tuning=NAIVE)
+
+
+@pytest.mark.parametrize("i", [0, 1, 3])  # Sets 11, 12 and 14
+def test_naive_scheme_cycles_default_converges(
+    i: int, table7_default: list[micro.NonAssociativeResult], naive_set14: micro.NonAssociativeResult
+) -> None:
     """Regression: the plain iterated LP (scheme a, no relaxation, no certificate)
-    cycles on these walls; the default converges."""
-    w = wall(t, m)
-    naive = solve_nonassociative(w, tuning=Tuning(scheme="a", relaxation=1.0, certify=False, selection="vertex"))
+    cycles on these walls; the default (solved once: conftest.py) converges."""
+    t, m, _ = TABLE7[i]
+    naive = naive_set14 if i == 3 else solve_nonassociative(wall(t, m), tuning=NAIVE)
     assert naive.status == CYCLING
     assert not naive.converged and not naive.ok
     assert math.isnan(naive.load_factor)
     lo, hi = naive.lambda_band
     assert lo <= naive.last_load_factor <= hi
     assert naive.stop_reason in ("repeating", "oscillating", "stagnation")
-    assert solve_nonassociative(w).status == CONVERGED
+    assert table7_default[i].status == CONVERGED
 
 
-def test_cycling_band_on_set_14() -> None:
+def test_cycling_band_on_set_14(naive_set14: micro.NonAssociativeResult) -> None:
     """Set 14 (m = 1): the naive scheme oscillates by ~5 %; the band is reported."""
-    naive = Tuning(scheme="a", relaxation=1.0, certify=False, selection="vertex")
-    r = solve_nonassociative(wall(1.0, 1.0), tuning=naive)
+    r = naive_set14
     assert r.status == CYCLING
     lo, hi = r.lambda_band
     assert hi > lo * 1.01
