@@ -9,7 +9,8 @@ command prints on a first run. Tests that run the report again (from the cache, 
 cache) start from a copy of its cache (:func:`quick_report_cache`) or compare their output with its files.
 
 Likewise the sweep of the documentation's own-walls example (:func:`own_walls_sweep`), whose page the docs
-quote and whose command the docs' examples run: computed once, its cache seeds the examples' cache.
+quote and whose command the docs' examples run, and the tiny sweep (:func:`tiny_sweep`) that the sweep tests
+read and the README's example runs: computed once, their caches seed the examples' cache.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ _REPO = str(Path(__file__).resolve().parents[1])
 if sys.path[0] != _REPO:
     sys.path.insert(0, _REPO)
 
-from quick_report import OWN_WALLS, QuickReport, Sweep, build, sweep  # noqa: E402
+from quick_report import OWN_WALLS, TINY, QuickReport, Sweep, build, sweep  # noqa: E402
 
 #: ``pytester``: the pytest plugin's tests run a downstream project's pytest in their own process.
 pytest_plugins = ("pytester",)
@@ -59,3 +60,10 @@ def quick_report_cache(quick_report: QuickReport, tmp_path: Path) -> Path:
 def own_walls_sweep(tmp_path_factory: pytest.TempPathFactory) -> Sweep:
     """``xcheck sweep examples/own-walls/walls.toml``, computed once per run from an empty cache."""
     return sweep(OWN_WALLS, tmp_path_factory.mktemp("own-walls"))
+
+
+@pytest.fixture(scope="session")
+def tiny_sweep(tmp_path_factory: pytest.TempPathFactory) -> Sweep:
+    """``xcheck sweep examples/sweeps/tiny.toml --workers 2``, computed once per run from an empty cache (the
+    sweep tests add to its cache)."""
+    return sweep(TINY, tmp_path_factory.mktemp("tiny"), "--workers", "2")

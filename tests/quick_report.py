@@ -44,6 +44,8 @@ def build(root: Path) -> QuickReport:
 
 #: The grid of the documentation's own-walls example (``docs/getting-started.md``, ``docs/sweeps.md``).
 OWN_WALLS = ROOT / "examples" / "own-walls" / "walls.toml"
+#: The tiny grid of the README's sweep example and of the sweep tests.
+TINY = ROOT / "examples" / "sweeps" / "tiny.toml"
 
 
 @dataclass(frozen=True)
@@ -54,9 +56,9 @@ class Sweep:
     cache: Path
 
 
-def sweep(grid: Path, root: Path) -> Sweep:
-    """Run ``xcheck sweep GRID -q`` into ``root/out`` with an empty cache ``root/cache``."""
+def sweep(grid: Path, root: Path, *extra: str) -> Sweep:
+    """Run ``xcheck sweep GRID -q EXTRA`` into ``root/out`` with an empty cache ``root/cache``."""
     out, cache = root / "out", root / "cache"
-    code = main(["sweep", str(grid), "--out", str(out), "--cache", str(cache), "-q"])
+    code = main(["sweep", str(grid), "--out", str(out), "--cache", str(cache), "-q", *extra])
     assert code == 0, f"xcheck sweep {grid} exited with {code}"
     return Sweep(out, cache)

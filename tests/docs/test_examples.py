@@ -154,13 +154,16 @@ FIRST = _first_seen()
 
 
 @pytest.fixture(scope="module")
-def cache(tmp_path_factory: pytest.TempPathFactory, quick_report: QuickReport, own_walls_sweep: Sweep) -> Path:
+def cache(
+    tmp_path_factory: pytest.TempPathFactory, quick_report: QuickReport, own_walls_sweep: Sweep, tiny_sweep: Sweep
+) -> Path:
     """One result cache for every example, started from copies of the caches of the suite's shared runs
-    (``tests/conftest.py``): ``report --quick`` and the own-walls sweep read every computation from it, as
-    on a second run, and ``references`` shares it."""
+    (``tests/conftest.py``): ``report --quick``, the own-walls sweep and the tiny sweep read every computation
+    from it, as on a second run, and ``references`` shares it."""
     copy = tmp_path_factory.mktemp("xcheck-cache") / "cache"
     shutil.copytree(quick_report.cache, copy)
     shutil.copytree(own_walls_sweep.cache, copy, dirs_exist_ok=True)
+    shutil.copytree(tiny_sweep.cache, copy, dirs_exist_ok=True)
     return copy
 
 

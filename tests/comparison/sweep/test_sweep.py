@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pytest
 from dask_cluster import cluster, with_group
+from quick_report import Sweep
 
 import macro
 from comparison.cli import main
@@ -37,11 +38,11 @@ def _results(rows: list[dict[str, str]]) -> list[dict[str, str]]:
 
 
 @pytest.fixture(scope="module")
-def tiny_local(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[dict[str, str]], dict]:
-    tmp = tmp_path_factory.mktemp("tiny")
-    code, rows, meta = _sweep(tmp, TINY, tmp / "cache", "--workers", "2")
-    assert code == 0
-    return tmp, rows, meta
+def tiny_local(tiny_sweep: Sweep) -> tuple[Path, list[dict[str, str]], dict]:
+    """The tiny grid swept by two local workers from an empty cache (``tests/conftest.py``): its folder (the
+    table in ``out/``, the cache in ``cache/``), its rows and its metadata."""
+    out = tiny_sweep.out
+    return out.parent, read_table(out / "tiny.csv"), json.loads((out / "tiny.json").read_text())
 
 
 def test_the_table_holds_every_cell_once_with_inputs_and_results(tiny_local) -> None:
