@@ -9,10 +9,12 @@ seam, so the package itself is not touched.
 from __future__ import annotations
 
 import json
+import shutil
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from quick_report import Sweep
 
 from comparison.cli import main
 from comparison.runner import cache as cache_module
@@ -63,10 +65,15 @@ def test_an_edit_that_changes_no_behaviour_keeps_the_key(monkeypatch: pytest.Mon
 
 
 def test_a_docstring_edit_leaves_the_tiny_sweep_nothing_to_compute_and_a_behaviour_change_everything(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, tiny_sweep: Sweep
 ) -> None:
+    """The tiny sweep's 8 micro cells, computed from an empty cache by the unedited code (the suite's shared
+    run, ``tests/conftest.py``, in a copy of its cache), are all read back; after a docstring edit still all;
+    after a change of behaviour all 8 are computed again."""
+    assert int(json.loads((tiny_sweep.out / "tiny.json").read_text())["counts"]["computed"]) == 8
     cache = tmp_path / "cache"
-    assert _computed(tmp_path, cache) == 8
+    shutil.copytree(tiny_sweep.cache, cache)
+    assert _computed(tmp_path, cache) == 0
     _edited(monkeypatch, KEEPS["docstring"])
     assert _computed(tmp_path, cache) == 0
     _edited(monkeypatch, lambda s: s + "\nA_NEW_CONSTANT = 1\n")
