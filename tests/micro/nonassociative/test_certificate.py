@@ -50,10 +50,10 @@ def test_certified_stop() -> None:
     at its load factor; the band of such states contains it."""
     w = wall(1.0, 1.0)
     r = solve_nonassociative(w)
-    assert r.stop_reason == "certified" and r.converged
-    assert r.history[-1].certificate == "certified"
-    assert r.history[-1].certificate_iterations > 0
-    assert r.coulomb_residual <= 1e-9
+    assert r.sequence.stop_reason == "certified" and r.converged
+    assert r.sequence.history[-1].certificate == "certified"
+    assert r.sequence.history[-1].certificate_iterations > 0
+    assert r.sequence.coulomb_residual <= 1e-9
     lo, hi = r.mechanism_band
     assert lo <= r.iterated_load_factor <= hi
     assert hi <= r.associative_load_factor * (1 + 1e-7)
@@ -87,4 +87,5 @@ def test_certificate_only_ends_the_sequence_earlier() -> None:
         assert cert.converged
         assert plain.iterations >= cert.iterations
         k = cert.iterations
-        assert [h.load_factor for h in plain.history[: k + 1]] == [h.load_factor for h in cert.history]
+        cert_lambdas = [h.load_factor for h in cert.sequence.history]
+        assert [h.load_factor for h in plain.sequence.history[: k + 1]] == cert_lambdas
