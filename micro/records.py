@@ -12,7 +12,7 @@ lists for tuples) and :meth:`MicroRecord.from_dict` reads it back, so
 **One declaration per field.** Each field is declared once, here, by :func:`column`: its type, its
 description, where the result holds its value (a dotted path from the result object, by default the
 field's own name) and, where its type does not say enough, its JSON schema. From that one declaration
-come the record a result makes (:func:`record_of`), its JSON form, the CSV column of a sweep, the
+come the record a result makes (:func:`record_of`), its JSON form (the result cache stores it), the
 summary printed by ``xcheck micro --json`` and the JSON schema that documents it
 (:func:`record_schema`, written into ``docs/schemas/micro.schema.json``). A diagnostic that a result
 already holds becomes a column with one :func:`column` line (docs/api.md, "Records").
