@@ -386,10 +386,10 @@ def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResu
     from micro.nonassociative.results import QUOTED_LOWEST
 
     quoted, iterated = _nonassociative_values(result)
-    certified = result.quoted == QUOTED_LOWEST or result.stop_reason == "certified"
+    certified = result.quoted == QUOTED_LOWEST or result.sequence.stop_reason == "certified"
     if not certified:
         notes.append(f"the value quoted is the iterated LP's, whose state is not certified (it stopped "
-                     f"{result.stop_reason}): no proof by a certified state")
+                     f"{result.sequence.stop_reason}): no proof by a certified state")
     states = [quoted] if certified else []
     if g is not None:
         out.update(global_status=g.status, global_lower_bound=g.lower_bound)

@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Status
 from micro.mechanism import CONTACT_STATE_NAMES, Mechanism
-from micro.records import AssociativeRecord, check_success, json_number
+from micro.records import AssociativeRecord, check_success, json_number, record_of
 
 FloatArray = NDArray[np.float64]
 
@@ -58,22 +58,14 @@ def direction_sign(name: str) -> int:
     return 1 if name == "+x" else -1
 
 
-#: Fields of :class:`micro.records.MicroRecord` that a result has under the same name.
-_RECORD_NAMES = ("load_factor", "status", "direction", "blocks", "contacts", "points", "variables", "rows", "nnz",
-                 "iterations", "total_iterations", "build_seconds", "solve_seconds", "mirror_symmetric", "message")
-
-
-def record_fields(result: Any, mechanism: Mechanism | None,
-                  by_direction: Mapping[str, float] | None = None) -> dict[str, Any]:
-    """The :class:`~micro.records.MicroRecord` fields but ``solver`` of a
-    result (:class:`LimitResult` or :class:`micro.NonAssociativeResult`):
-    its own fields, ``lambda`` per direction (``by_direction``, else each
-    direction's own ``load_factor``) and the contact states of the
-    governing ``mechanism``."""
+def given_fields(directions: tuple[DirectionResult, ...], mechanism: Mechanism | None,
+                 by_direction: Mapping[str, float] | None = None) -> dict[str, Any]:
+    """The :class:`~micro.records.MicroRecord` fields a result computes for its record (the others it holds
+    under their names): ``lambda`` per direction (``by_direction``, else each direction's own
+    ``load_factor``) and the contact states of the governing ``mechanism``."""
     counts = dict.fromkeys(CONTACT_STATE_NAMES, 0) if mechanism is None else mechanism.state_counts()
-    by_dir = {d.direction: d.load_factor for d in result.directions} if by_direction is None else by_direction
+    by_dir = {d.direction: d.load_factor for d in directions} if by_direction is None else by_direction
     return {
-        **{name: getattr(result, name) for name in _RECORD_NAMES},
         "load_factor_plus": by_dir.get("+x", math.nan), "load_factor_minus": by_dir.get("-x", math.nan),
         "closed_contacts": counts["closed"], "opening_contacts": counts["opening"],
         "sliding_contacts": counts["sliding"],
@@ -212,7 +204,7 @@ class LimitResult:
     def to_record(self) -> AssociativeRecord:
         """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form
         (see :mod:`micro.records`)."""
-        return AssociativeRecord(solver=self.solver, **record_fields(self, self.mechanism))
+        return record_of(AssociativeRecord, self, solver=self.solver, **given_fields(self.directions, self.mechanism))
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary: the record (:meth:`to_record`, whose ``*_contacts``

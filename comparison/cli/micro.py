@@ -373,7 +373,8 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int, search: 
         band = result.mechanism_band
         states = "" if band is None else f"; its mechanism's collapse states: lambda in [{band[0]:.6f}, {band[1]:.6f}]"
         print(f"  iterated LP (Gilbert et al., scheme {result.scheme}, relaxation {result.relaxation:g}): "
-              f"lambda = {result.iterated_load_factor:.6f}, converged in {result.iterations} LPs ({result.stop_reason})"
+              f"lambda = {result.iterated_load_factor:.6f}, converged in {result.iterations} LPs "
+              f"({result.sequence.stop_reason})"
               f"{states}")
         print(f"  associative lambda = {result.associative_load_factor:.6f}")
         _print_retry(result)
@@ -381,8 +382,8 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int, search: 
     else:
         window = (
             ""
-            if result.lambda_band is None
-            else f", lambda in [{result.lambda_band[0]:.6f}, {result.lambda_band[1]:.6f}]"
+            if result.sequence.lambda_band is None
+            else f", lambda in [{result.sequence.lambda_band[0]:.6f}, {result.sequence.lambda_band[1]:.6f}]"
         )
         print(f"status {result.status} after {result.iterations} LPs{window}: {result.message}")
         if verbosity == QUIET:  # the failure line alone (docs/cli.md, "Exit codes")
@@ -391,15 +392,15 @@ def _print_nonassociative(result: NonAssociativeResult, verbosity: int, search: 
     _print_fusion(result)
     if verbosity == QUIET:
         return
-    cold = ("" if not math.isfinite(result.warm_cold_rel_diff)
-            else f"final LP re-solved cold: rel. difference {result.warm_cold_rel_diff:.2e}, ")
+    cold = ("" if not math.isfinite(result.sequence.warm_cold_rel_diff)
+            else f"final LP re-solved cold: rel. difference {result.sequence.warm_cold_rel_diff:.2e}, ")
     print(
-        f"  {cold}Coulomb residual {result.coulomb_residual:.2e}, dilatancy residual "
-        f"{result.dilatancy_residual:.2e}, {result.blocks} blocks, {result.solve_seconds:.3f} s"
+        f"  {cold}Coulomb residual {result.sequence.coulomb_residual:.2e}, dilatancy residual "
+        f"{result.sequence.dilatancy_residual:.2e}, {result.blocks} blocks, {result.solve_seconds:.3f} s"
     )
     if verbosity >= VERBOSE:
         print("  LP   lambda      max dn     simplex it.  seconds  algorithm  certificate")
-        for r in result.history:
+        for r in result.sequence.history:
             dn = "" if r.max_dn is None or not math.isfinite(r.max_dn) else f"{r.max_dn:.2e}"
             print(
                 f"  {r.iteration:>3}  {r.load_factor:.6f}  {dn:>9}  {r.simplex_iterations:>11}  "
@@ -443,7 +444,7 @@ def _print_retry(result: NonAssociativeResult) -> None:
     if first is None:
         return
     band = "" if first.lambda_band is None else f", lambda in [{first.lambda_band[0]:.6f}, {first.lambda_band[1]:.6f}]"
-    print(f"  {result.sequence.selection} sequence ({len(result.history) - 1} LPs) after the vertex sequence "
+    print(f"  {result.sequence.selection} sequence ({len(result.sequence.history) - 1} LPs) after the vertex sequence "
           f"ended {first.stop_reason} "
           f"({len(first.history) - 1} LPs{band})")
 

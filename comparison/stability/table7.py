@@ -47,8 +47,8 @@ def _cell(case: PaperCase, wall: tuple[str, str], setting: Setting7) -> str:
             f"{assoc:.4f} / **{lam:.4f}** ({(lam / _orduna(case) - 1) * 100:+.1f} %, "
             f"{r.iterations} LPs" + (f"; band [{mb[0]:.4f}, {mb[1]:.4f}]" if mb else "") + ")"
         )
-    if r.lambda_band is not None:
-        return f"{assoc:.4f} / cyc [{r.lambda_band[0]:.4f}, {r.lambda_band[1]:.4f}]"
+    if r.sequence.lambda_band is not None:
+        return f"{assoc:.4f} / cyc [{r.sequence.lambda_band[0]:.4f}, {r.sequence.lambda_band[1]:.4f}]"
     return f"{assoc:.4f} / {r.status}"
 
 

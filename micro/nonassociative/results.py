@@ -10,8 +10,8 @@ from typing import Any
 
 from micro.nonassociative.config import Recipe
 from micro.nonassociative.descent.results import LowestDirection, lowest_fields, lowest_summary
-from micro.records import NonAssociativeRecord, check_success, json_number
-from micro.results import DirectionResult, record_fields
+from micro.records import NonAssociativeRecord, check_success, json_number, record_of
+from micro.results import DirectionResult, given_fields
 
 #: Values of ``status``. ``max_iterations``: the cap on LPs or the work budget
 #: (simplex iterations) spent; ``time_limit``: stopped by a user's wall-clock
@@ -284,26 +284,6 @@ class NonAssociativeResult:
         return sum(d.iterations for d in self.directions)
 
     @property
-    def history(self) -> tuple[IterationRecord, ...]:
-        """The governing direction's LPs."""
-        return self.sequence.history
-
-    @property
-    def stop_reason(self) -> str:
-        """What stopped the governing direction's sequence."""
-        return self.sequence.stop_reason
-
-    @property
-    def last_load_factor(self) -> float:
-        """``lambda`` of the governing direction's last successful iterate."""
-        return self.sequence.last_load_factor
-
-    @property
-    def lambda_band(self) -> Band | None:
-        """The governing direction's band when not converged."""
-        return self.sequence.lambda_band
-
-    @property
     def mechanism_band(self) -> Band | None:
         """``(min, max)`` of ``lambda`` over the collapse states with the
         governing direction's final mechanism (:class:`SequenceDiagnostics`)."""
@@ -313,26 +293,6 @@ class NonAssociativeResult:
     def associative_load_factor(self) -> float:
         """Smallest associative ``lambda`` over the directions solved."""
         return min((diagnostics(d).associative_load_factor for d in self.directions), default=math.nan)
-
-    @property
-    def cold_load_factor(self) -> float:
-        """The governing final iterate re-solved cold."""
-        return self.sequence.cold_load_factor
-
-    @property
-    def warm_cold_rel_diff(self) -> float:
-        """``|warm - cold| / |cold|`` of the governing direction."""
-        return self.sequence.warm_cold_rel_diff
-
-    @property
-    def coulomb_residual(self) -> float:
-        """Coulomb residual of the governing final state."""
-        return self.sequence.coulomb_residual
-
-    @property
-    def dilatancy_residual(self) -> float:
-        """Dilatancy residual of the governing final state."""
-        return self.sequence.dilatancy_residual
 
     @property
     def lowest_state(self) -> LowestDirection | None:
@@ -373,27 +333,16 @@ class NonAssociativeResult:
         return {d.direction: lowest[d.direction] if use_lowest else d.load_factor for d in self.directions}
 
     def to_record(self) -> NonAssociativeRecord:
-        """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form
-        (see :mod:`micro.records`)."""
-        q = self.sequence
-        return NonAssociativeRecord(
+        """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form.
+        Each field is read along its declared source (:mod:`micro.records`); this method gives only the
+        values computed over the directions."""
+        return record_of(
+            NonAssociativeRecord, self,
             solver=self.recipe.solver_description(),
-            **record_fields(self, self.governing.mechanism, self.direction_load_factors()),
-            iterated_load_factor=self.iterated_load_factor,
-            scheme=self.scheme, relaxation=self.relaxation, converged=self.converged, stop_reason=q.stop_reason,
-            lambda_band=q.lambda_band, mechanism_band=q.mechanism_band, last_load_factor=q.last_load_factor,
-            associative_load_factor=self.associative_load_factor, cold_load_factor=q.cold_load_factor,
-            warm_cold_rel_diff=q.warm_cold_rel_diff, coulomb_residual=q.coulomb_residual,
-            dilatancy_residual=q.dilatancy_residual, history_load_factor=tuple(r.load_factor for r in q.history),
-            cold_algorithm=q.cold_algorithm,
+            **given_fields(self.directions, self.governing.mechanism, self.direction_load_factors()),
+            history_load_factor=tuple(r.load_factor for r in self.sequence.history),
             fallback_steps=sum(diagnostics(d).fallback_steps for d in self.directions),
-            selection=q.selection, vertex_stop_reason="" if q.vertex_attempt is None else q.vertex_attempt.stop_reason,
-            quoted=self.quoted,
-            vertex_lambda_band=None if q.vertex_attempt is None else q.vertex_attempt.lambda_band,
             **lowest_fields(self.lowest_state, self.lowest),
-            fused_bodies=0 if q.fusion is None else q.fusion.bodies,
-            fused_points=0 if q.fusion is None else q.fusion.points,
-            unfused_stop_reason="" if q.unfused_attempt is None else q.unfused_attempt.stop_reason,
         )
 
     def summary(self) -> dict[str, Any]:
@@ -413,7 +362,7 @@ class NonAssociativeResult:
             **{k: record[k] for k in first}, **record,
             "lowest": [lowest_summary(low) for low in self.lowest],
             "options": self.recipe.as_dict(),
-            "history": [r.as_dict() for r in self.history],
+            "history": [r.as_dict() for r in self.sequence.history],
             "directions": {
                 d.direction: {
                     "status": d.status,

@@ -62,12 +62,12 @@ def _wall(rows: int, storeys: int, t: float = 1.0, m: float = 1 / 3, f: float = 
 def _record(benchmark, r: micro.NonAssociativeResult) -> None:  # type: ignore[no-untyped-def]
     benchmark.extra_info.update(
         status=r.status, iterations=r.iterations, load_factor=r.load_factor,
-        last_load_factor=r.last_load_factor,
-        lambda_band=list(r.lambda_band) if r.lambda_band else None,
+        last_load_factor=r.sequence.last_load_factor,
+        lambda_band=list(r.sequence.lambda_band) if r.sequence.lambda_band else None,
         mechanism_band=list(r.mechanism_band) if r.mechanism_band else None,
-        stop_reason=r.stop_reason,
-        lp_seconds=sum(h.seconds + h.certificate_seconds for h in r.history),
-        associative_load_factor=r.associative_load_factor, warm_cold_rel_diff=r.warm_cold_rel_diff,
+        stop_reason=r.sequence.stop_reason,
+        lp_seconds=sum(h.seconds + h.certificate_seconds for h in r.sequence.history),
+        associative_load_factor=r.associative_load_factor, warm_cold_rel_diff=r.sequence.warm_cold_rel_diff,
         blocks=r.blocks,
     )
 
@@ -113,7 +113,7 @@ def test_bench_1230_nonassoc(benchmark, scheme: str) -> None:  # type: ignore[no
         assert r.converged, r.message  # measured: certified after 9 LPs
         assert r.load_factor == pytest.approx(NONASSOC["w1230"][0], rel=1e-6)
     assert r.status in ("converged", "cycling", "max_iterations", "time_limit")
-    assert r.last_load_factor <= r.associative_load_factor * (1 + 1e-5)
+    assert r.sequence.last_load_factor <= r.associative_load_factor * (1 + 1e-5)
 
 
 @pytest.mark.benchmark(group="nonassoc-1230")
@@ -124,7 +124,7 @@ def test_bench_1230_f075_nonassoc(benchmark) -> None:  # type: ignore[no-untyped
                            rounds=1, iterations=1)
     _record(benchmark, r)
     assert r.status in ("converged", "cycling", "max_iterations")
-    assert r.last_load_factor <= r.associative_load_factor * (1 + 1e-7)
+    assert r.sequence.last_load_factor <= r.associative_load_factor * (1 + 1e-7)
 
 
 @pytest.mark.slow
@@ -153,7 +153,7 @@ def _certified(benchmark, name: str, selection: str) -> None:  # type: ignore[no
                            rounds=1, iterations=1)
     _record(benchmark, r)
     lam, lps = NONASSOC[f"set{name}-{selection}"]
-    assert r.converged and r.stop_reason == "certified", r.message
+    assert r.converged and r.sequence.stop_reason == "certified", r.message
     assert r.load_factor == pytest.approx(lam, rel=1e-6) and r.iterations == lps
     v = micro.verify_collapse_state(micro.assemble(w), r.governing)
     assert v["equilibrium"] <= 1e-9 and v["coulomb"] <= 1e-12 and v["interpenetration"] <= 1e-6
@@ -201,7 +201,7 @@ def test_bench_set10_fused_continuation(benchmark) -> None:  # type: ignore[no-u
                            kwargs=dict(lowest=False), rounds=1, iterations=1)  # fused with the continuation by default
     _record(benchmark, r)
     lam, lps = NONASSOC["set10-fused-continuation"]
-    assert r.converged and r.stop_reason == "certified", r.message
+    assert r.converged and r.sequence.stop_reason == "certified", r.message
     assert r.load_factor == pytest.approx(lam, rel=1e-6) and r.iterations == lps
     assert r.sequence.fusion is not None and r.sequence.fusion.wall_certificate == "certified"
     v = micro.verify_collapse_state(micro.assemble(w), r.governing)
@@ -230,7 +230,7 @@ def test_bench_errormap_fused_retry(benchmark) -> None:  # type: ignore[no-untyp
                            rounds=1, iterations=1)
     _record(benchmark, r)
     lam, lps = NONASSOC["errormap-882-fused-retry"]
-    assert r.converged and r.stop_reason == "certified", r.message
+    assert r.converged and r.sequence.stop_reason == "certified", r.message
     assert r.load_factor == pytest.approx(lam, rel=1e-6) and r.iterations == lps
     q = r.sequence
     assert q.unfused_attempt is not None and q.unfused_attempt.stop_reason == "max_iterations"

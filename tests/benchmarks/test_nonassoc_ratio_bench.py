@@ -75,7 +75,7 @@ def _ratio(benchmark: Any, monkeypatch: pytest.MonkeyPatch, name: str, rounds: i
     r = kept["result"]
     benchmark.extra_info.update(
         wall=name, blocks=r.blocks, status=r.status, load_factor=r.load_factor, iterations=r.iterations,
-        stop_reason=r.stop_reason, selection=nonassoc.result.selection,
+        stop_reason=r.sequence.stop_reason, selection=nonassoc.result.selection,
         associative_load_factor=assoc.result.load_factor, associative_seconds=a, nonassociative_seconds=n,
         ratio=n / a,
     )

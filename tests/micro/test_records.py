@@ -75,7 +75,7 @@ def test_nonassociative_record(kw: dict) -> None:
     rec = r.to_record()
     assert isinstance(rec, micro.NonAssociativeRecord)
     assert rec.status == r.status and rec.converged == r.converged and rec.scheme == "a"
-    assert rec.stop_reason == r.stop_reason
+    assert rec.stop_reason == r.sequence.stop_reason
     # load_factor is the value to quote, the iterated LP's value beside it; NaN both when the run failed
     assert _same_number(rec.load_factor, r.load_factor) and _same_number(rec.iterated_load_factor,
                                                                           r.iterated_load_factor)
@@ -88,8 +88,8 @@ def test_nonassociative_record(kw: dict) -> None:
         assert math.isnan(rec.load_factor) and math.isnan(rec.iterated_load_factor) and rec.quoted == ""
     assert rec.iterations == r.iterations == len(rec.history_load_factor) - 1
     assert rec.total_iterations == sum(d.iterations for d in r.directions)
-    assert rec.lambda_band == r.lambda_band and rec.mechanism_band == r.mechanism_band
-    assert rec.history_load_factor == tuple(h.load_factor for h in r.history)
+    assert rec.lambda_band == r.sequence.lambda_band and rec.mechanism_band == r.mechanism_band
+    assert rec.history_load_factor == tuple(h.load_factor for h in r.sequence.history)
     assert rec.solver == "clarabel (start, certificate) + highs-simplex (iterated) + highs-ipm (cold check)"
     d = rec.to_dict()
     _flat(d)
@@ -153,3 +153,56 @@ def test_a_record_reads_as_a_mapping_of_its_fields() -> None:
     frec = failed.to_record()
     assert math.isnan(frec["load_factor"]) and frec.to_dict()["load_factor"] is None
     assert rec == r.to_record() and rec != dict(rec)  # equality stays the record's, field by field
+
+
+def test_a_field_declared_once_reaches_the_record_its_json_and_its_schema() -> None:
+    """One :func:`~micro.records.column` line is all a diagnostic the result already holds needs: the record
+    reads it along its source, its JSON form and ``from_dict`` carry it, the schema documents it with its
+    type and description (here ``sliding_points``, which the iterated LP's diagnostics hold)."""
+    import dataclasses
+
+    from micro.records import NonAssociativeRecord, column, record_of, record_schema
+
+    @dataclasses.dataclass(frozen=True)
+    class Extended(NonAssociativeRecord):
+        sliding_points: int = column("Points of the final mechanism that slide in contact.",
+                                     source="sequence.sliding_points", default=0)
+
+    r = micro.solve_nonassociative(table7_wall("set12"))
+    plain = r.to_record()
+    assert type(plain) is NonAssociativeRecord and "sliding_points" not in plain
+    # the values the result computes are given as its to_record gives them; the new field is read
+    given = {k: plain[k] for k in plain if NonAssociativeRecord.__dataclass_fields__[k].metadata["source"] == ""}
+    ext = record_of(Extended, r, **given)
+    assert _same(plain, NonAssociativeRecord.from_dict(ext.to_dict()))
+    assert ext.sliding_points == r.sequence.sliding_points and ext.to_dict()["sliding_points"] == ext.sliding_points
+    assert _same(Extended.from_dict(json.loads(json.dumps(ext.to_dict()))), ext)
+    schema = record_schema(Extended, inherited=False)
+    assert schema["sliding_points"] == {"type": "integer", "minimum": 0,
+                                        "description": "Points of the final mechanism that slide in contact."}
+
+
+def test_record_sources_break_off_at_none_to_the_default_and_unknown_values_are_refused() -> None:
+    """A source path through an absent part (no vertex attempt, no fused wall) gives the field's default; a
+    value given for a field the record does not have is refused, naming it."""
+    from micro.records import NonAssociativeRecord, record_of
+
+    r = micro.solve_nonassociative(table7_wall("set12"), tuning=micro.Tuning(selection="vertex"))
+    assert r.sequence.vertex_attempt is None and r.sequence.fusion is None
+    rec = r.to_record()
+    assert (rec.vertex_stop_reason, rec.vertex_lambda_band, rec.fused_bodies, rec.fused_points) == ("", None, 0, 0)
+    with pytest.raises(TypeError, match="no field 'nonsense'"):
+        record_of(NonAssociativeRecord, r, nonsense=1)
+
+
+def test_every_record_field_is_described_and_typed_in_the_schema() -> None:
+    """Every field of both records has a description and a JSON type (the schema's properties are made
+    from them, :func:`micro.records.record_schema`)."""
+    from micro.records import AssociativeRecord, NonAssociativeRecord, record_schema
+
+    for cls in (AssociativeRecord, NonAssociativeRecord):
+        schema = record_schema(cls)
+        assert list(schema) == list(cls.__dataclass_fields__)
+        for name, entry in schema.items():
+            assert entry["description"].strip(), name
+            assert {"type", "$ref", "enum"} & set(entry), name

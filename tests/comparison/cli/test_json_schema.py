@@ -168,3 +168,13 @@ def test_compare_schema_refuses_a_verdict_without_its_proof(capsys: pytest.Captu
     assert _errors(v, {**doc, "proof": "certified state"})
     assert _errors(v, {**doc, "verdict": "safe", "proof": "global bound"})  # no closed global search
     assert _errors(v, {**doc, "nonassociative_status": None})
+
+
+def test_the_committed_micro_schema_is_the_one_the_records_declare() -> None:
+    """``docs/schemas/micro.schema.json`` is generated (``python -m comparison.cli.micro_schema``): its record
+    keys from the records' field declarations, so a field added to a record fails here until the file is
+    rewritten, and a hand edit of the file fails too."""
+    from comparison.cli import micro_schema
+
+    assert (SCHEMAS / "micro.schema.json").read_text(encoding="utf-8") == micro_schema.render(), (
+        "docs/schemas/micro.schema.json is stale: run python -m comparison.cli.micro_schema")

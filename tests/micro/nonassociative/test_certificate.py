@@ -50,10 +50,10 @@ def test_certified_stop(table7_default: list[micro.NonAssociativeResult]) -> Non
     at its load factor; the band of such states contains it."""
     w = wall(1.0, 1.0)
     r = table7_default[3]  # solve_nonassociative(w), shared (conftest.py)
-    assert r.stop_reason == "certified" and r.converged
-    assert r.history[-1].certificate == "certified"
-    assert r.history[-1].certificate_iterations > 0
-    assert r.coulomb_residual <= 1e-9
+    assert r.sequence.stop_reason == "certified" and r.converged
+    assert r.sequence.history[-1].certificate == "certified"
+    assert r.sequence.history[-1].certificate_iterations > 0
+    assert r.sequence.coulomb_residual <= 1e-9
     lo, hi = r.mechanism_band
     assert lo <= r.iterated_load_factor <= hi
     assert hi <= r.associative_load_factor * (1 + 1e-7)
@@ -86,4 +86,5 @@ def test_certificate_only_ends_the_sequence_earlier(table7_default: list[micro.N
         assert cert.converged
         assert plain.iterations >= cert.iterations
         k = cert.iterations
-        assert [h.load_factor for h in plain.history[: k + 1]] == [h.load_factor for h in cert.history]
+        cert_lambdas = [h.load_factor for h in cert.sequence.history]
+        assert [h.load_factor for h in plain.sequence.history[: k + 1]] == cert_lambdas

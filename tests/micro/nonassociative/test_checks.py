@@ -71,7 +71,7 @@ def test_pattern_check_and_state_check_agree() -> None:
     sign = direction_sign(d.direction)
     n, s = d.normal / lp.force_scale, d.shear / lp.force_scale
     v = d.mechanism.velocities.ravel()
-    lam = r.last_load_factor
+    lam = r.sequence.last_load_factor
     a, b = verify_collapse_state(lp, d), collapse_residuals(lp, sign, n, s, lam, v)
     for key in ("equilibrium", "coulomb", "interpenetration", "dilatancy", "friction_direction"):
         assert a[key] == pytest.approx(b[key], rel=1e-9, abs=1e-15), key
@@ -101,10 +101,11 @@ def test_cold_resolve_only_after_an_exact_stop(monkeypatch: pytest.MonkeyPatch) 
     monkeypatch.setattr(checks, "cold_check", counted)
     w = wall(1.0, 1 / 3)  # Table 7's Set 12
     certified = solve_nonassociative(w, lowest=False)
-    assert certified.stop_reason == "certified" and not calls and math.isnan(certified.warm_cold_rel_diff)
+    assert certified.sequence.stop_reason == "certified" and not calls
+    assert math.isnan(certified.sequence.warm_cold_rel_diff)
     cycling = solve_nonassociative(wall(1.0, 1.0), lowest=False,
                                    tuning=Tuning(relaxation=1.0, certify=False, selection="vertex"))
     assert cycling.status == CYCLING and not calls
     exact = solve_nonassociative(w, lowest=False, tuning=Tuning(certify=False, selection="vertex"))
-    assert exact.stop_reason in COLD_CHECKED_STOPS and len(calls) == 1
-    assert exact.warm_cold_rel_diff == calls[0] <= 1e-6
+    assert exact.sequence.stop_reason in COLD_CHECKED_STOPS and len(calls) == 1
+    assert exact.sequence.warm_cold_rel_diff == calls[0] <= 1e-6

@@ -75,7 +75,7 @@ def test_options_and_tuning_are_frozen_defaults_and_overrides() -> None:
     w = wall(1.0, 1 / 3, rows=6)
     r1 = solve_nonassociative(w, micro.NonAssociativeOptions(max_iterations=10), Tuning(scheme="b"))
     r2 = solve_nonassociative(w, tuning=Tuning(scheme="b"), max_iterations=10)
-    assert [h.load_factor for h in r1.history] == [h.load_factor for h in r2.history]
+    assert [h.load_factor for h in r1.sequence.history] == [h.load_factor for h in r2.sequence.history]
     assert r1.recipe == r2.recipe and r1.summary()["options"]["relaxation"] == 0.6
 
 

@@ -35,7 +35,7 @@ def test_table7_within_5_percent(table7_default: list, i: int) -> None:
     if r.converged:
         assert abs(r.iterated_load_factor / ref - 1) <= 0.05
     else:
-        lo, hi = r.lambda_band
+        lo, hi = r.sequence.lambda_band
         assert abs(lo / ref - 1) <= 0.05 and abs(hi / ref - 1) <= 0.05
 
 
@@ -63,9 +63,9 @@ def test_below_associative(table7_default: list, i: int) -> None:
     assoc = micro.solve_associative(wall(*TABLE7[i][:2])).load_factor
     assert r.associative_load_factor == pytest.approx(assoc, rel=1e-6)
     # intermediate iterates may exceed it (|s| <= mu nbar with n free); the final one may not
-    assert r.last_load_factor <= assoc * (1 + 1e-7)
-    if r.lambda_band is not None:
-        assert r.lambda_band[1] <= assoc * (1 + 1e-7)
+    assert r.sequence.last_load_factor <= assoc * (1 + 1e-7)
+    if r.sequence.lambda_band is not None:
+        assert r.sequence.lambda_band[1] <= assoc * (1 + 1e-7)
 
 
 @pytest.mark.parametrize("scheme", ["a", "b"])
@@ -89,12 +89,12 @@ def test_below_associative_other_walls(scheme: str, kw: dict) -> None:
 def test_final_state_checks_scheme_a(table7_default: list, i: int) -> None:
     r = table7_default[i]
     assert r.converged
-    assert r.coulomb_residual <= 1e-6
-    assert r.dilatancy_residual <= 1e-8  # |s| <= mu nbar: no dilatancy by construction
-    if r.stop_reason in COLD_CHECKED_STOPS:  # an exact stop's warm vertex is re-solved cold
-        assert r.warm_cold_rel_diff <= 1e-6
+    assert r.sequence.coulomb_residual <= 1e-6
+    assert r.sequence.dilatancy_residual <= 1e-8  # |s| <= mu nbar: no dilatancy by construction
+    if r.sequence.stop_reason in COLD_CHECKED_STOPS:  # an exact stop's warm vertex is re-solved cold
+        assert r.sequence.warm_cold_rel_diff <= 1e-6
     else:  # a certified state is the certificate's, not the warm vertex's: no cold re-solve
-        assert r.stop_reason == "certified" and math.isnan(r.warm_cold_rel_diff)
+        assert r.sequence.stop_reason == "certified" and math.isnan(r.sequence.warm_cold_rel_diff)
     g = r.governing
     assert g.sequence.equilibrium_residual <= 1e-7
     assert g.sequence.sliding_points > 0
@@ -108,10 +108,10 @@ def test_final_state_checks_scheme_a(table7_default: list, i: int) -> None:
 def test_scheme_b_converges_with_small_dilatancy() -> None:
     r = solve_nonassociative(wall(1.0, 1 / 3), tuning=Tuning(scheme="b"))
     assert r.status == CONVERGED
-    assert r.history[-1].alpha == pytest.approx(1e-3)
-    assert r.dilatancy_residual <= 2 * 1e-3 * 0.75  # slope alpha mu of the last line
-    assert r.coulomb_residual <= 1e-5
-    assert r.stop_reason in COLD_CHECKED_STOPS and r.warm_cold_rel_diff <= 1e-6
+    assert r.sequence.history[-1].alpha == pytest.approx(1e-3)
+    assert r.sequence.dilatancy_residual <= 2 * 1e-3 * 0.75  # slope alpha mu of the last line
+    assert r.sequence.coulomb_residual <= 1e-5
+    assert r.sequence.stop_reason in COLD_CHECKED_STOPS and r.sequence.warm_cold_rel_diff <= 1e-6
     assert abs(r.iterated_load_factor / 0.68 - 1) <= 0.05
 
 
@@ -136,9 +136,9 @@ def test_naive_scheme_cycles_default_converges(
     assert naive.status == CYCLING
     assert not naive.converged and not naive.ok
     assert math.isnan(naive.load_factor)
-    lo, hi = naive.lambda_band
-    assert lo <= naive.last_load_factor <= hi
-    assert naive.stop_reason in ("repeating", "oscillating", "stagnation")
+    lo, hi = naive.sequence.lambda_band
+    assert lo <= naive.sequence.last_load_factor <= hi
+    assert naive.sequence.stop_reason in ("repeating", "oscillating", "stagnation")
     assert table7_default[i].status == CONVERGED
 
 
@@ -146,7 +146,7 @@ def test_cycling_band_on_set_14(naive_set14: micro.NonAssociativeResult) -> None
     """Set 14 (m = 1): the naive scheme oscillates by ~5 %; the band is reported."""
     r = naive_set14
     assert r.status == CYCLING
-    lo, hi = r.lambda_band
+    lo, hi = r.sequence.lambda_band
     assert hi > lo * 1.01
     assert r.summary()["lambda_band"] == [lo, hi]
     assert r.summary()["load_factor"] is None
@@ -156,13 +156,13 @@ def test_max_iterations_is_not_converged() -> None:
     r = solve_nonassociative(wall(1.0, 1 / 2), tuning=Tuning(selection="vertex"), max_iterations=3)
     assert r.status == MAX_ITERATIONS
     assert math.isnan(r.load_factor) and not r.converged
-    assert r.iterations == 3 and len(r.history) == 4
-    assert r.lambda_band is not None
+    assert r.iterations == 3 and len(r.sequence.history) == 4
+    assert r.sequence.lambda_band is not None
 
 
 def test_history_contents(table7_default: list) -> None:
     r = table7_default[1]
-    h = r.history
+    h = r.sequence.history
     assert h[0].iteration == 0 and h[0].algorithm in ("clarabel", "ipm", "ipm+crossover+simplex")
     assert h[0].load_factor == pytest.approx(r.associative_load_factor)
     assert [rec.iteration for rec in h] == list(range(len(h)))
@@ -182,16 +182,16 @@ def test_history_contents(table7_default: list) -> None:
 
 def test_vertex_start() -> None:
     r = solve_nonassociative(wall(1.0, 1 / 3), tuning=Tuning(start="vertex"))
-    assert r.history[0].algorithm == "ipm+crossover+simplex"
-    assert r.last_load_factor <= r.associative_load_factor * (1 + 1e-7)
-    assert abs(r.last_load_factor / 0.68 - 1) <= 0.05
+    assert r.sequence.history[0].algorithm == "ipm+crossover+simplex"
+    assert r.sequence.last_load_factor <= r.associative_load_factor * (1 + 1e-7)
+    assert abs(r.sequence.last_load_factor / 0.68 - 1) <= 0.05
 
 
 def test_time_budget_is_its_own_status() -> None:
     # a wall-clock stop is no final answer: status time_limit, never max_iterations
     r = solve_nonassociative(wall(1.0, 1.0), tuning=Tuning(relaxation=1.0), max_seconds=1e-3)
-    assert r.status == TIME_LIMIT and r.stop_reason == "time_budget"
-    assert math.isnan(r.load_factor) and r.lambda_band is not None
+    assert r.status == TIME_LIMIT and r.sequence.stop_reason == "time_budget"
+    assert math.isnan(r.load_factor) and r.sequence.lambda_band is not None
     with pytest.raises(ValueError, match="max_seconds"):
         solve_nonassociative(wall(1.0, 1.0), max_seconds=0)
 
@@ -206,10 +206,10 @@ def test_work_budget_is_deterministic() -> None:
     tuning = Tuning(relaxation=1.0, max_simplex_iterations=300, selection="vertex")
     runs = [solve_nonassociative(wall(1.0, 1.0), tuning=tuning) for _ in range(2)]
     for r in runs:
-        assert r.status == MAX_ITERATIONS and r.stop_reason == "work_budget"
-        assert sum(h.simplex_iterations for h in r.history[1:]) >= 300
-        assert sum(h.simplex_iterations for h in r.history[1:-1]) < 300
-    assert [h.load_factor for h in runs[0].history] == [h.load_factor for h in runs[1].history]
+        assert r.status == MAX_ITERATIONS and r.sequence.stop_reason == "work_budget"
+        assert sum(h.simplex_iterations for h in r.sequence.history[1:]) >= 300
+        assert sum(h.simplex_iterations for h in r.sequence.history[1:-1]) < 300
+    assert [h.load_factor for h in runs[0].sequence.history] == [h.load_factor for h in runs[1].sequence.history]
     with pytest.raises(ValueError, match="max_simplex_iterations"):
         solve_nonassociative(wall(1.0, 1.0), tuning=Tuning(max_simplex_iterations=0))
 
@@ -233,13 +233,13 @@ def test_slowed_clock_gives_the_same_path(monkeypatch: pytest.MonkeyPatch, schem
     monkeypatch.undo()
 
     def path(r: micro.NonAssociativeResult) -> list[tuple[object, ...]]:
-        return [(h.load_factor, h.algorithm, h.simplex_iterations, h.certificate) for h in r.history]
+        return [(h.load_factor, h.algorithm, h.simplex_iterations, h.certificate) for h in r.sequence.history]
 
-    assert slow.status == ref.status and slow.stop_reason == ref.stop_reason
+    assert slow.status == ref.status and slow.sequence.stop_reason == ref.sequence.stop_reason
     assert path(slow) == path(ref)
     assert slow.load_factor == ref.load_factor or (math.isnan(slow.load_factor) and math.isnan(ref.load_factor))
-    assert max(h.seconds for h in slow.history) > 50.0  # the clock did run slow
-    assert "simplex-warm" in {h.algorithm for h in ref.history}  # warm runs, whose rule once read the clock
+    assert max(h.seconds for h in slow.sequence.history) > 50.0  # the clock did run slow
+    assert "simplex-warm" in {h.algorithm for h in ref.sequence.history}  # warm runs, whose rule once read the clock
 
 
 def test_stalled_warm_runs_are_recovered_not_waited_for(monkeypatch: pytest.MonkeyPatch) -> None:
