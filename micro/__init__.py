@@ -14,7 +14,7 @@ and with non-associative (zero-dilatancy) friction by the iterated LP of
 Gilbert, Casapulla & Ahmed (2006) with :func:`solve_nonassociative`::
 
     result = micro.solve_nonassociative(wall)   # the report's method
-    result.load_factor, result.status, result.iterated_load_factor, result.history  # quote the first
+    result.load_factor, result.status, result.iterated_load_factor, result.mechanism_band  # quote the first
 
 The collapse state behind a result, as a file that another program can check and write
 (:mod:`micro.state`)::

@@ -150,7 +150,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         >>> wall = micro.build_wall(length=3.0, block_length=1.0, block_height=0.5, rows=(6,),
         ...                         thickness=(1.0,), overload=(0.0,), unit_weight=1.0, friction=0.75)
         >>> result = micro.solve_nonassociative(wall)
-        >>> result.status, result.stop_reason, round(result.load_factor, 4)
+        >>> result.status, result.sequence.stop_reason, round(result.load_factor, 4)
         ('converged', 'certified', 0.5789)
         >>> result.load_factor <= result.associative_load_factor
         True
@@ -165,7 +165,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         Options as keywords, research knobs through ``tuning``:
 
         >>> plain = micro.solve_nonassociative(wall, lowest=False, tuning=micro.Tuning(certify=False))
-        >>> plain.stop_reason in ("lambda_and_forces", "lambda_and_coulomb", "repeating", "oscillating")
+        >>> plain.sequence.stop_reason in ("lambda_and_forces", "lambda_and_coulomb", "repeating", "oscillating")
         True
     """
     check_block_wall(wall)
