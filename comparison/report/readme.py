@@ -206,10 +206,10 @@ def _errormap(d: Data) -> str:
     from comparison.sweep.compare import AGREEMENT
 
     summary = d.json["errormap"]["summary"]
-    part = summary["all"]
+    nonassoc, verdicts = summary["nonassoc"], summary["verdicts"]
     cells = load(d.reports / "sweeps" / "errormap.csv")
     limit = tomllib.loads((d.root / ERRORMAP_GRID).read_text(encoding="utf-8"))["limits"]["max_blocks"]
-    with_ref = [c for c in cells if math.isfinite(c.error("macro"))]
+    with_ref = [c for c in cells if c.reference_kind == "non-assoc" and math.isfinite(c.error("macro"))]
 
     def above_from(rows: int) -> bool:
         return all(c.error("macro") > AGREEMENT for c in with_ref if c.rows >= rows and c.m < 1)
@@ -218,12 +218,17 @@ def _errormap(d: Data) -> str:
     fs = {c.f for c in cells}
     _require(len(fs) == 1, "at f = F", f"the error map has several f: {sorted(fs)}")
     _require(max(c.blocks for c in with_ref) <= limit, "of up to N blocks", "a wall above the grid's max_blocks")
+    bound, state = verdicts.get("unsafe, by the associative bound", 0), verdicts.get("unsafe, by a certified state", 0)
+    open_, none = verdicts.get("not refuted", 0), verdicts.get("no verdict", 0)
+    _require(bound + state + open_ + none == len(cells), "walls by verdict", "the verdicts do not add up to the walls")
     return (
-        f"**The error map** ({part['walls'] + summary['no_reference']} walls: t × m × rows × storeys at "
-        f"f = {fs.pop():g}, the micro model on the {part['walls']} of up to {limit:,} blocks): the macro λ lies "
-        f"above the micro one on {part['unsafe']} of {part['walls']} walls, by more than 10 % on "
-        f"{part['above_10pct']}, by up to {_bound(100 * part['max'])} %; from {first} rows on it is above on every "
-        "wall with m < 1."
+        f"**The error map** ({len(cells)} walls: t × m × rows × storeys at f = {fs.pop():g}; the non-associative "
+        f"micro model on the {nonassoc['walls']} of up to {limit:,} blocks, the associative LP on all): the macro "
+        f"model is unsafe on {bound + state} walls, proven by the associative bound on {bound} and by a certified "
+        f"collapse state on {state}; it is not refuted on {open_}, and {none} walls above the block limit have no "
+        f"verdict. Against the non-associative value the macro λ lies above on {nonassoc['unsafe']} of "
+        f"{nonassoc['walls']} walls, by more than 10 % on {nonassoc['above_10pct']}, by up to "
+        f"{_bound(100 * nonassoc['max'])} %; from {first} rows on it is above on every wall with m < 1."
     )
 
 
