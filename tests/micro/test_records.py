@@ -161,7 +161,7 @@ def test_a_field_declared_once_reaches_the_record_its_json_and_its_schema() -> N
     type and description (here ``sliding_points``, which the iterated LP's diagnostics hold)."""
     import dataclasses
 
-    from micro.records import NonAssociativeRecord, column, record_of, record_schema
+    from micro.records import GIVEN, NonAssociativeRecord, column, record_of, record_schema
 
     @dataclasses.dataclass(frozen=True)
     class Extended(NonAssociativeRecord):
@@ -172,7 +172,7 @@ def test_a_field_declared_once_reaches_the_record_its_json_and_its_schema() -> N
     plain = r.to_record()
     assert type(plain) is NonAssociativeRecord and "sliding_points" not in plain
     # the values the result computes are given as its to_record gives them; the new field is read
-    given = {k: plain[k] for k in plain if NonAssociativeRecord.__dataclass_fields__[k].metadata["source"] == ""}
+    given = {k: plain[k] for k in plain if NonAssociativeRecord.__dataclass_fields__[k].metadata["source"] == GIVEN}
     ext = record_of(Extended, r, **given)
     assert _same(plain, NonAssociativeRecord.from_dict(ext.to_dict()))
     assert ext.sliding_points == r.sequence.sliding_points and ext.to_dict()["sliding_points"] == ext.sliding_points
