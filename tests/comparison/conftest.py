@@ -1,4 +1,5 @@
-"""Fixtures shared by the comparison tests: one loopback Dask cluster for the sweeps and the report.
+"""Fixtures shared by the comparison tests: one loopback Dask cluster for the sweeps and the report, and a
+``compare`` whose non-associative solve fails.
 
 The cluster is started by the first test that asks for it and ended after the last one (not at the end
 of the session: an idle scheduler and worker still cost CPU while the rest of the suite runs).
@@ -7,7 +8,9 @@ of the session: an idle scheduler and worker still cost CPU while the rest of th
 from __future__ import annotations
 
 import contextlib
+import importlib
 from pathlib import Path
+from typing import Any
 
 import pytest
 from dask_cluster import cluster
@@ -49,3 +52,20 @@ def dask_scheduler(tmp_path_factory: pytest.TempPathFactory, request: pytest.Fix
     after the last test that uses it (or at the end of the session, if that test did not run to its end)."""
     request.addfinalizer(CLUSTER.close)
     return CLUSTER.open(tmp_path_factory.mktemp("dask"))
+
+
+@pytest.fixture
+def failing_nonassociative(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every non-associative solve of ``comparison.compare`` stops after 2 LPs of the vertex sequence (status
+    ``max_iterations``); the associative LP runs as it is."""
+    import micro
+
+    verdict = importlib.import_module("comparison.verdict")
+    real = verdict.solve_micro
+
+    def failing(wall: micro.BlockWall, friction: str, options: Any) -> Any:
+        if friction == "associative":
+            return real(wall, friction, options)
+        return micro.solve_nonassociative(wall, max_iterations=2, tuning=micro.Tuning(selection="vertex"))
+
+    monkeypatch.setattr(verdict, "solve_micro", failing)

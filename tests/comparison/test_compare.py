@@ -99,20 +99,8 @@ def test_associative_bound_settles_without_the_nonassociative_solve(monkeypatch:
     assert full.micro_load_factor <= full.associative_load_factor and full.diagnostics == ()
 
 
-def _failing_nonassociative(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Every non-associative solve stopped after 2 LPs of the vertex sequence (status max_iterations)."""
-    real = COMPARE.solve_micro
-
-    def failing(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
-        if friction == "associative":
-            return real(wall, friction, options)
-        return micro.solve_nonassociative(wall, max_iterations=2, tuning=micro.Tuning(selection="vertex"))
-
-    monkeypatch.setattr(COMPARE, "solve_micro", failing)
-
-
-def test_a_failed_solve_leaves_only_what_was_proven(monkeypatch: pytest.MonkeyPatch) -> None:
-    _failing_nonassociative(monkeypatch)
+@pytest.mark.usefixtures("failing_nonassociative")
+def test_a_failed_solve_leaves_only_what_was_proven() -> None:
     c = comparison.compare(SET13)  # unsafe by a certified state when the solve converges: now nothing proves it
     assert (c.status, c.verdict, c.proof) == ("failed", None, None)
     assert math.isnan(c.micro_load_factor) and math.isnan(c.difference_percent)

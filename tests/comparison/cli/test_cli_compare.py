@@ -3,22 +3,18 @@ verdict, 1 when a method failed, 2 on bad input with one line naming the paramet
 
 from __future__ import annotations
 
-import importlib
 import json
 import os
 import stat
 from pathlib import Path
-from typing import Any
 
 import pytest
 
 import micro
 from comparison.cli import main
-from comparison.verdict import CompareOptions
 
 SET12 = ["--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75"]
 SET13 = ["--rows", "12", "--t", "1", "--m", "1/2", "--f", "0.75"]
-COMPARE = importlib.import_module("comparison.verdict")
 
 
 def test_set13_words(capsys: pytest.CaptureFixture[str]) -> None:
@@ -51,16 +47,8 @@ def test_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert png.stat().st_size > 1000
 
 
-def test_a_failed_method_exits_1_with_what_is_missing(monkeypatch: pytest.MonkeyPatch,
-                                                       capsys: pytest.CaptureFixture[str]) -> None:
-    real = COMPARE.solve_micro
-
-    def failing(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
-        if friction == "associative":
-            return real(wall, friction, options)
-        return micro.solve_nonassociative(wall, max_iterations=2, tuning=micro.Tuning(selection="vertex"))
-
-    monkeypatch.setattr(COMPARE, "solve_micro", failing)
+@pytest.mark.usefixtures("failing_nonassociative")
+def test_a_failed_method_exits_1_with_what_is_missing(capsys: pytest.CaptureFixture[str]) -> None:
     rc = main(["compare", *SET13])
     out = capsys.readouterr().out
     assert rc == 1
