@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from comparison.outputs import write_text
 from micro.backends.base import Status
 from micro.nonassociative.results import STATUSES
 from micro.records import MicroRecord, NonAssociativeRecord, record_schema
@@ -355,9 +356,15 @@ def render() -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Write :data:`PATH` under the directory given (default: the current one)."""
+    """Write :data:`PATH` under the repository root given (default: the current folder), whole or not at
+    all; a root without ``docs/schemas/`` is one line on standard error and exit code 2."""
     root = Path((argv if argv is not None else sys.argv[1:] or ["."])[0])
-    (root / PATH).write_text(render(), encoding="utf-8")
+    target = root / PATH
+    if not target.parent.is_dir():
+        print(f"micro_schema: error: {target.parent} is not a folder: give the repository's root", file=sys.stderr)
+        return 2
+    write_text(target, render())
+    print(target)
     return 0
 
 

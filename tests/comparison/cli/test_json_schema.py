@@ -178,3 +178,17 @@ def test_the_committed_micro_schema_is_the_one_the_records_declare() -> None:
 
     assert (SCHEMAS / "micro.schema.json").read_text(encoding="utf-8") == micro_schema.render(), (
         "docs/schemas/micro.schema.json is stale: run python -m comparison.cli.micro_schema")
+
+
+def test_the_schema_writer_refuses_a_root_without_the_schemas_folder(tmp_path: Path,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """``python -m comparison.cli.micro_schema ROOT`` writes ``ROOT/docs/schemas/micro.schema.json``; a root
+    without that folder is one line naming it and exit 2, nothing written."""
+    from comparison.cli import micro_schema
+
+    assert micro_schema.main([str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "docs/schemas is not a folder" in err and not any(tmp_path.iterdir())
+    (tmp_path / "docs" / "schemas").mkdir(parents=True)
+    assert micro_schema.main([str(tmp_path)]) == 0
+    assert (tmp_path / micro_schema.PATH).read_text(encoding="utf-8") == micro_schema.render()
