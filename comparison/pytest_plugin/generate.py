@@ -21,9 +21,9 @@ from comparison.outputs import write_text
 from comparison.progress import NORMAL, Progress
 from comparison.pytest_plugin.references import LOAD_FACTOR, Reference, References
 from comparison.report.plan import build_plan
-from comparison.report.reproduce import package_versions
 from comparison.runner import MACRO, Method, Record, Runner, code_version, prefetch
 from comparison.runner.executor import LocalExecutor
+from comparison.runner.fingerprint import versions_used
 from macro.records import MacroRecord
 
 #: Relative tolerance of the macro model's cells: its global search is within 6e-10 of a
@@ -195,8 +195,8 @@ def generate(
         cells += micro_cells(c, rec)
     meta = {
         "generated_by": "xcheck references" + (" --quick" if quick else ""),
-        "versions": package_versions(),
-        "code_version": {"macro": code_version("macro"), "micro": code_version("micro")},
+        "versions": versions_used(),
+        "code_version": code_version(),
         "tolerances": {"macro": MACRO_RTOL, "micro-assoc": ASSOC_RTOL, "micro-nonassoc": NONASSOC_RTOL},
         "tolerance_rule": "tolerance = rtol * |value| (rtol by method, above); macro alpha_c_deg: "
         f"{MACRO_ANGLE_TOL:g} degrees; macro hinge storey: exact; published values: half a unit of the last "
