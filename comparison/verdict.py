@@ -114,8 +114,8 @@ class Comparison:
         difference_percent: ``(macro − micro) / micro · 100`` (NaN without both).
         global_status, global_lower_bound: the global search's status and proven lower bound (``""``, NaN
             when it did not run).
-        local_mechanism: where a sliver's local mechanism governs the wall as built (``None``: none): the
-            method that found it, its description, its λ (``load_factor``, the wall as built's), the moving
+        local_mechanism: where a sliver's local mechanism governs the wall as built by the method the verdict
+            rests on (``None``: none): that method, the mechanism's description, its λ (``load_factor``, the wall as built's), the moving
             blocks and their weight share, the slivers held and the held wall's λ (``held_load_factor``: another
             structure, reported beside the wall as built, never compared).
         seconds: each stage's wall time.
@@ -253,12 +253,13 @@ def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions) ->
     return solve_wall_mechanism(wall, lambda w: solve_micro(w, friction, options))  # type: ignore[call-overload]
 
 
-def _local(assoc: WallMechanism, nonassoc: WallMechanism | None) -> dict[str, Any] | None:
-    """What a sliver lets collapse in the wall as built, for :attr:`Comparison.local_mechanism`: the
-    non-associative method's local mechanism when it ran, else the associative LP's (``None`` when the method
-    compared has none)."""
-    wm, method = (nonassoc, "nonassociative") if nonassoc is not None else (assoc, "associative")
-    if wm.local is None:
+def _local(assoc: WallMechanism, nonassoc: WallMechanism | None, proof: str | None) -> dict[str, Any] | None:
+    """What a sliver lets collapse in the wall as built, for :attr:`Comparison.local_mechanism`: of the method the
+    verdict rests on (the associative LP's where its bound proves it, else the non-associative method's when it
+    ran); ``None`` when that method's mechanism is not local."""
+    use_assoc = nonassoc is None or proof == ASSOCIATIVE_BOUND
+    wm, method = (assoc, "associative") if use_assoc else (nonassoc, "nonassociative")
+    if wm is None or wm.local is None:
         return None
     d = wm.to_dict()
     return {"method": method, **d["local_mechanism"], "held_load_factor": d["held_load_factor"]}
@@ -351,7 +352,7 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         blocks=block_wall.n_blocks,
         wall=wall,
         options=o,
-        local_mechanism=_local(assoc_wall, nonassoc_wall),
+        local_mechanism=_local(assoc_wall, nonassoc_wall, proof),
         macro_result=macro_result,
         associative_result=assoc,
         nonassociative_result=nonassoc,
