@@ -20,7 +20,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import csv_text, write_text
+from comparison.utilities.outputs import csv_text, write_text
 
 #: The table's columns, in order. ``load_factor`` is the value to quote: for the non-associative
 #: method the lowest certified collapse state (``quoted`` says which), its iterated LP's own value in
