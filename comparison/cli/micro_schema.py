@@ -15,9 +15,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import write_text
+from comparison.utilities.outputs import write_text
 from micro.backends.base import Status
-from micro.nonassociative.results import STATUSES
+from micro.nonassociative.nonassociative_result import STATUSES
 from micro.records import MicroRecord, NonAssociativeRecord, record_schema
 
 #: The schema's version: raised when a key changes meaning or goes (docs/schemas.md); a new key keeps it.
@@ -125,7 +125,7 @@ _COMMAND_KEYS: dict[str, Any] = {
         "type": ["object", "null"],
         "description": "The local mechanism that governs the wall as built: blocks at one of its top "
         "corners that a sliver (a piece narrower than a closer, ends = cut) lets collapse on their own, e.g. "
-        "a cut end piece that tips over at lambda = width/height (micro.local); null when none.",
+        "a cut end piece that tips over at lambda = width/height (micro.local_mechanisms); null when none.",
         "additionalProperties": False,
         "required": [
             "blocks",

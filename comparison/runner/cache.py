@@ -33,7 +33,7 @@ How an entry is read, so that no file in the cache folder can hang a run or
 exhaust its memory (a cache folder is shared, synced, restored from backups):
 
 * a file is opened without following a symbolic link and without blocking
-  (:func:`comparison.inputs.read_input_file`), and only a regular file is read:
+  (:func:`comparison.utilities.inputs.read_input_file`), and only a regular file is read:
   a FIFO, a directory, a device, a symbolic link (to ``/dev/zero``, or a loop),
   an unreadable file or a kind folder that is a file is a :class:`CacheWarning`
   and a recompute, like a truncated entry;
@@ -70,12 +70,12 @@ from typing import Any
 
 import numpy as np
 
-from comparison.inputs import read_input_file
-from comparison.outputs import write_atomic
+from comparison.domain.wall import WallSpec
 from comparison.runner.fingerprint import code_version
 from comparison.runner.methods import Method
 from comparison.runner.records import MechanismRecord, Record
-from comparison.wall import WallSpec
+from comparison.utilities.inputs import read_input_file
+from comparison.utilities.outputs import write_atomic
 
 #: Part of every key: bump it when the stored form of a record changes, so that
 #: entries of an older form are never misread (2: typed records; 3: the record

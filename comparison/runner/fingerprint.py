@@ -38,8 +38,8 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-from comparison.inputs import read_input_file
-from comparison.outputs import write_atomic
+from comparison.utilities.inputs import read_input_file
+from comparison.utilities.outputs import write_atomic
 
 #: The module that holds :func:`~comparison.runner.runner.compute`: where the import graph starts.
 COMPUTATION = "comparison.runner.runner"

@@ -26,7 +26,6 @@ from typing import Any
 
 import numpy as np
 
-from comparison.progress import Progress
 from comparison.runner import Method, Prefetched, Record, ResultCache, code_version, prefetch
 from comparison.runner.executor import Executor
 from comparison.runner.fingerprint import versions_used
@@ -34,6 +33,7 @@ from comparison.sweep.grid import Grid
 from comparison.sweep.plan import Cell, WallPoint, cells
 from comparison.sweep.table import machine, number, read_table, write_meta, write_table
 from comparison.sweep.usermodel import UserModel
+from comparison.utilities.progress import Progress
 
 #: The status of a cell whose computation gave no record, by the executor's outcome.
 FAILURE_STATUS = {"failed": "error", "lost": "worker_died", "refused": "refused_memory"}

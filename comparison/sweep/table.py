@@ -20,7 +20,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import csv_text, write_text
+from comparison.utilities.outputs import csv_text, write_text
 
 #: The table's columns, in order. ``load_factor`` is the value to quote and the one compared with the macro
 #: model, of the wall as built: for the non-associative method the lowest certified collapse state

@@ -51,7 +51,7 @@ def _lambdas(spec, ends: str) -> tuple[float, float, int]:
 
 
 def scan() -> list[dict[str, object]]:
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
 
     rows_out = []
     for label, rows, storeys, m, f, lo, hi in SCANS:
@@ -103,7 +103,7 @@ def plot_layout(path: Path) -> None:
     import matplotlib.pyplot as plt
     from matplotlib.patches import Rectangle
 
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
 
     cases = [("t = 1.3, m = 0.4, 10 rows, f = 0.6: L = 6.15 half blocks",
               WallSpec.from_paper(t=1.3, m=0.4, rows=10, f=0.6)),
@@ -139,7 +139,7 @@ def plot_layout(path: Path) -> None:
 
 
 def pairs() -> None:
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
 
     print("| wall (rows, storeys, m, f) | t | half blocks | cut: assoc / non-assoc | closers: assoc / non-assoc "
           "| whole t | whole: assoc / non-assoc | closers vs whole, non-assoc |")

@@ -16,10 +16,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.geometry import BlockWall, check_block_wall
+from micro.limit_result import DirectionResult, LimitResult, direction_sign
 from micro.lp import point_columns, point_geometry
 from micro.mechanism import CONTACT_STATE_NAMES, CONTACT_STATE_TOL, classify_rates
 from micro.nonassociative import NonAssociativeResult
-from micro.results import DirectionResult, LimitResult, direction_sign
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]

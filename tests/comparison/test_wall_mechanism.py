@@ -1,5 +1,5 @@
 """The wall as built and, where a sliver's local mechanism governs it, the held wall
-(``comparison.local.solve_wall_mechanism``).
+(``comparison.domain.wall_mechanism.solve_wall_mechanism``).
 
 The grid walls of cut ends whose top course ends with a sliver (t = 3/2, m = 1/2, 8 rows: a 1/3-wide piece;
 t = 1, m = 1/3, 8 rows: 1/2) are governed by that piece alone; the paper's walls of Table 7 (Sets 12-14)
@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.cases import case
-from comparison.local import FAILED, WALL, solve_wall_mechanism
-from comparison.wall import WallSpec
-from micro.local import slivers
+from comparison.domain.cases import case
+from comparison.domain.wall import WallSpec
+from comparison.domain.wall_mechanism import FAILED, WALL, solve_wall_mechanism
+from micro.local_mechanisms import slivers
 
 SOLVES = {"associative": micro.solve_associative,
           "nonassociative": functools.partial(micro.solve_nonassociative, lowest=True)}

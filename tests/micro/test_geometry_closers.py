@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.geometry import closer_width
 
 
@@ -36,7 +36,7 @@ def test_closer_width_is_mu_b_capped_at_a_quarter_block() -> None:
 
 @pytest.mark.parametrize("w_over_b", [0.2, 0.6, 0.75])
 def test_a_closer_mu_b_wide_tips_alone_at_mu_under_both_flow_rules(w_over_b: float) -> None:
-    """The closed forms of a piece that carries nothing (micro.local): non-associative ``w/b``, associative
+    """The closed forms of a piece that carries nothing (micro.local_mechanisms): non-associative ``w/b``, associative
     ``(w/b)(1 + mu^2)/(1 - mu^2 + 2 mu w/b)``; at ``w = mu b`` both are ``mu``, the wall's base-sliding load."""
     mu = w_over_b
     assoc = w_over_b * (1 + mu**2) / (1 - mu**2 + 2 * mu * w_over_b)
@@ -132,9 +132,9 @@ def test_the_load_factor_does_not_jump_at_a_whole_length(rows: int, storeys: int
 
 
 def test_the_shared_wall_names_the_same_end_treatments() -> None:
-    import comparison.wall
+    import comparison.domain.wall
 
-    assert comparison.wall.ENDS == micro.ENDS and micro.ENDS[0] == "closers"
+    assert comparison.domain.wall.ENDS == micro.ENDS and micro.ENDS[0] == "closers"
     spec = WallSpec.from_paper(t=1.5, m=0.5, rows=8, f=0.65)
     assert spec.ends == "closers" and spec.to_micro().ends == "closers"
     assert WallSpec.from_paper(t=1.5, m=0.5, rows=8, f=0.65, ends="cut").to_micro().ends == "cut"

@@ -1,7 +1,7 @@
 """Local mechanisms (a sliver's: a cut end piece of the top course that tips over alone, or the corner wedge
 over a sliver) and held walls, on walls of cut ends (``ends="cut"``).
 
-Closed forms (``micro.local``): the piece, ``w`` wide and ``b`` high, loaded by
+Closed forms (``micro.local_mechanisms``): the piece, ``w`` wide and ``b`` high, loaded by
 ``lambda W`` at its centroid, tips over about its outer bottom corner. With
 non-associative friction its head joint opens and nothing holds it:
 ``lambda = w/b``. With associative friction the head joint must dilate as it
@@ -21,7 +21,7 @@ import pytest
 
 import micro
 from micro.hold import GROUND, hold_blocks, host_block
-from micro.local import find_local, local_mechanism, slivers
+from micro.local_mechanisms import find_local, local_mechanism, slivers
 
 MU = 0.65
 
@@ -109,7 +109,7 @@ def test_the_corner_wedge_over_a_sliver_is_local() -> None:
     """t = 1.3, m = 0.4, 10 rows, f = 0.6, cut ends: the top course's end block and the 0.19-wide sliver under
     it tip over together at 0.3071 (the whole wall of t = 4/3: 0.5690), two courses, 2.1 % of the weight: the
     rule that asked for the top course alone and 2 % of the weight missed it."""
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
 
     wall = WallSpec.from_paper(t=1.3, m=0.4, rows=10, f=0.6, ends="cut").to_micro()
     r = micro.solve_nonassociative(wall)

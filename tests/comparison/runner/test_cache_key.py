@@ -58,9 +58,10 @@ def _docstring_edited(text: str) -> str:
 def test_the_graph_starts_at_the_computation_and_holds_what_it_imports() -> None:
     assert compute.__module__ == fp.COMPUTATION
     graph = imported_modules()
-    for module in ("comparison.wall", "comparison.local", "comparison.failure", "comparison.runner.records",
-                   "macro.solve", "macro.kernel", "micro.lp", "micro.hold", "micro.nonassociative.iteration",
-                   "micro.backends.highs", "micro.backends.normal_ipm", "micro.backends.cvxpy_"):
+    for module in ("comparison.domain.wall", "comparison.domain.wall_mechanism", "comparison.domain.failure",
+                   "comparison.runner.records", "macro.solve", "macro.kernel", "micro.lp", "micro.hold",
+                   "micro.nonassociative.iteration", "micro.backends.highs", "micro.backends.normal_ipm",
+                   "micro.backends.cvxpy_"):
         assert module in graph.modules, module  # the back ends: imported by name (the registry)
     assert "comparison.cli" not in graph.modules and "comparison.report" not in graph.modules
     for package in ("numpy", "scipy", "highspy", "clarabel", "cvxopt", "numba"):
@@ -85,7 +86,7 @@ def test_a_behaviour_edit_of_each_module_is_a_new_key_and_a_docstring_edit_is_no
 def test_a_new_module_the_computation_imports_joins_the_key(copy: Path) -> None:
     base = fingerprint().modules
     (copy / "comparison" / "new_helper.py").write_text('"""A helper."""\nVALUE = 1\n')
-    local = copy / "comparison" / "local.py"
+    local = copy / "comparison" / "domain" / "wall_mechanism.py"
     _edit(local, local.read_text() + "\nfrom comparison.new_helper import VALUE\n")
     assert set(fingerprint().modules) - set(base) == {"comparison/new_helper.py"}
 
@@ -101,11 +102,11 @@ def test_an_edit_of_the_walls_conversion_to_the_block_model_recomputes_the_tiny_
 ) -> None:
     """The tiny sweep's 8 micro cells, computed once from an empty cache (the suite's shared run), are all
     read back; after a docstring edit of ``WallSpec.to_micro`` still all; after an edit that gives the block wall
-    half the friction, all 8 are computed again (before, ``comparison/wall.py`` was not in the key: 0)."""
+    half the friction, all 8 are computed again (before, ``comparison/domain/wall.py`` was not in the key: 0)."""
     cache = tmp_path / "cache"
     shutil.copytree(tiny_sweep.cache, cache)
     assert _computed(tmp_path, cache) == 0
-    wall = copy / "comparison" / "wall.py"
+    wall = copy / "comparison" / "domain" / "wall.py"
     text = wall.read_text()
     start = text.index("    def to_micro(")
     doc = text.index('"""', start)
@@ -121,8 +122,8 @@ def test_an_edit_of_the_walls_conversion_to_the_block_model_recomputes_the_tiny_
 def test_another_dependency_version_or_python_misses_every_entry(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    from comparison.domain.wall import WallSpec
     from comparison.runner import MACRO
-    from comparison.wall import WallSpec
 
     spec = WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75)
     cache = ResultCache(tmp_path / "cache")

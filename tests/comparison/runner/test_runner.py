@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 import micro
+from comparison.domain.wall import WallSpec
 from comparison.runner import MACRO, MICRO_ASSOC, MICRO_NONASSOC, Record, ResultCache, Runner
 from comparison.runner.cache import default_cache_dir
-from comparison.wall import WallSpec
 from macro.records import MacroRecord
 from micro.records import AssociativeRecord, NonAssociativeRecord
 

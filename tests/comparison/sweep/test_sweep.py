@@ -199,11 +199,11 @@ def test_a_user_model_from_the_python_api(tiny_local, tmp_path: Path) -> None:
     """The Python API takes the callable itself."""
     from dataclasses import replace
 
-    from comparison.progress import QUIET, Progress
     from comparison.runner import ResultCache
     from comparison.runner.executor import LocalExecutor
     from comparison.sweep import GridMethod, run_sweep
     from comparison.sweep.usermodel import UserModel
+    from comparison.utilities.progress import QUIET, Progress
 
     tmp, _, _ = tiny_local
     grid = load_grid(TINY)

@@ -1,7 +1,7 @@
 """The wall as built and, where a sliver allows a local mechanism, the held wall: :func:`solve_wall_mechanism`.
 
 A sliver (a piece narrower than a closer, laid only with ``ends="cut"``) lets a corner of the block model
-collapse on its own: the piece tips over alone, or the block above rocks out over it (:mod:`micro.local`).
+collapse on its own: the piece tips over alone, or the block above rocks out over it (:mod:`micro.local_mechanisms`).
 That is a true mechanism of the wall as built, and the value every comparison rests on; but it says
 little about the wall's own strength. So where one governs, the same analysis runs again with every sliver
 of the wall held to the block that carries it (:func:`micro.hold_blocks`; the held wall has no sliver left,
@@ -22,7 +22,7 @@ import numpy as np
 
 import micro
 from micro import HeldWall, LimitResult, LocalMechanism, NonAssociativeResult, hold_blocks, local_mechanism
-from micro.local import slivers
+from micro.local_mechanisms import slivers
 from micro.records import json_number
 
 MicroResult = LimitResult | NonAssociativeResult
@@ -138,7 +138,7 @@ def solve_wall_mechanism(wall: micro.BlockWall, solve: Solve, *, first: MicroRes
         wm.held_load_factor   # the held wall's lambda (NaN when nothing local governs)
 
     Args:
-        wall: the wall as built (:meth:`comparison.wall.WallSpec.to_micro`).
+        wall: the wall as built (:meth:`comparison.domain.wall.WallSpec.to_micro`).
         solve: the micro method, a function of a wall (``micro.solve_associative``,
             ``micro.solve_nonassociative``, or a ``functools.partial`` of either with its options).
         first: the method's result on ``wall`` when already computed (it is not computed again).

@@ -29,7 +29,7 @@ that happens to carry a sliver along (the whole end of the wall rocking, say) fr
 
 The held wall (:func:`micro.hold_blocks`) has the slivers the mechanism moves or rests on held to the
 block that carries them: it is a different structure, reported beside the wall as built
-(``comparison.local.solve_wall_mechanism``), never in its place.
+(``comparison.domain.wall_mechanism.solve_wall_mechanism``), never in its place.
 """
 
 from __future__ import annotations
