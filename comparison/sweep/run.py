@@ -31,12 +31,9 @@ from comparison.runner.executor import Executor
 from comparison.runner.fingerprint import versions_used
 from comparison.sweep.grid import Grid
 from comparison.sweep.plan import Cell, WallPoint, cells
-from comparison.sweep.table import machine, number, read_table, write_meta, write_table
+from comparison.sweep.table import FAILURE_STATUS, machine, number, read_table, write_meta, write_table
 from comparison.sweep.usermodel import UserModel
 from comparison.utilities.progress import Progress
-
-#: The status of a cell whose computation gave no record, by the executor's outcome.
-FAILURE_STATUS = {"failed": "error", "lost": "worker_died", "refused": "refused_memory"}
 
 
 @dataclass(frozen=True)
