@@ -89,13 +89,13 @@ def _stand_in_full(folder: Path) -> Path:
 @pytest.mark.processes  # the console script in a process of its own, its descriptor 2 a device or closed
 @pytest.mark.parametrize("stderr", ["full", "closed"])
 def test_the_console_with_a_full_or_closed_standard_error(tmp_path: Path, stderr: str) -> None:
-    xcheck = Path(sys.executable).parent / "xcheck"
-    argv = [str(xcheck), "micro", *WALL, "--friction", "nonassociative", "-v"]
+    argv = [sys.executable, "-m", "comparison.cli", "micro", *WALL, "--friction", "nonassociative", "-v"]
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}  # this checkout's packages, whatever is installed
     if stderr == "full":
         with _stand_in_full(tmp_path).open("w") as full:
-            run = subprocess.run(argv, stdout=subprocess.PIPE, stderr=full, text=True, timeout=300)
+            run = subprocess.run(argv, stdout=subprocess.PIPE, stderr=full, text=True, timeout=300, env=env)
     else:
-        run = subprocess.run(argv, stdout=subprocess.PIPE, text=True, timeout=300,
+        run = subprocess.run(argv, stdout=subprocess.PIPE, text=True, timeout=300, env=env,
                              preexec_fn=lambda: os.close(2))  # noqa: PLW1509 - a closed descriptor 2 is the case
     assert run.returncode == 0 and run.stdout.startswith("lambda = 0.6911"), run.stdout
     assert " vertex LP " not in run.stdout

@@ -7,6 +7,7 @@ Each model here lives in a module of its own name (Python imports a module once 
 from __future__ import annotations
 
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -220,3 +221,24 @@ def test_a_user_model_cannot_end_fork_or_silence_the_sweep(
     assert mine["1.0"]["status"] == "optimal" and mine["1.0"]["load_factor"] == "0.3"
     assert mine["2.0"]["status"] == status and words in mine["2.0"]["message"], mine["2.0"]
     assert (tmp_path / "out" / "u.md").is_file()
+
+
+@pytest.mark.processes  # the console script in a process of its own: its descriptor 1 is a real pipe
+@pytest.mark.parametrize("call", ["os.close(1)", "os.fork()", "os._exit(0)"])
+def test_the_console_sweep_survives_a_model_that_closes_forks_or_exits(tmp_path: Path, call: str) -> None:
+    """In a process of its own: a model's ``os.close(1)`` closed the sweep's standard output (a traceback),
+    ``os.fork()`` ran the rest of the sweep twice (every path printed twice), ``os._exit(0)`` ended it with
+    exit 0 and nothing written."""
+    import subprocess
+
+    module = f"console_{abs(hash(call))}"
+    body = f"import os, sys\ndef lam(t, m, rows, f, p, storeys):\n    if t > 1:\n        {call}\n    return 0.3\n"
+    grid = _grid(tmp_path, module, body)
+    root = Path(__file__).resolve().parents[3]  # this checkout's packages, whatever is installed
+    run = subprocess.run([sys.executable, "-m", "comparison.cli", "sweep", str(grid), "--out", str(tmp_path / "out"),
+                          "--cache", str(tmp_path / "cache"), "-q"], capture_output=True, text=True, timeout=300,
+                         env={**os.environ, "PYTHONPATH": str(root)})
+    written = [f"{what}: {tmp_path / 'out' / f'u.{kind}'}" for what, kind in (("table", "csv"), ("meta", "json"),
+                                                                              ("page", "md"))]
+    assert run.stdout.splitlines() == written, run.stdout + run.stderr
+    assert run.returncode == (1 if call == "os._exit(0)" else 0) and "Traceback" not in run.stderr, run.stderr
