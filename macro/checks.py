@@ -1,7 +1,7 @@
 """The wall-parameter checks and their messages, one vocabulary for the whole suite.
 
 Every validator of a wall parameter (``macro.MacroWall``, ``macro.sweep``,
-``comparison.wall.WallSpec`` and its ``from_paper``, the scene files and the
+``comparison.domain.wall.WallSpec`` and its ``from_paper``, the scene files and the
 command line) raises :class:`ValueError` with one of these messages, naming the
 parameter as the caller spells it (``block_length``, ``t``, ``rows[1]`` for the
 entry of storey 2, ...). ``micro`` may not import this module (``macro`` and

@@ -14,7 +14,7 @@ does not change the load factor:
   (``p_height="storey"``) gives ``q = p H/N``.
 
 :func:`paper_walls` is used by :func:`macro.sweep` and by
-``comparison.wall.WallSpec.from_paper``, so that both read the parameters alike.
+``comparison.domain.wall.WallSpec.from_paper``, so that both read the parameters alike.
 """
 
 from __future__ import annotations

@@ -41,7 +41,8 @@ from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backen
 from micro.geometry import BlockWall, build_wall
 from micro.global_search import GlobalOptions, GlobalResult, solve_global
 from micro.hold import HeldWall, hold_blocks
-from micro.local import LOCAL_WEIGHT_SHARE, LocalMechanism, find_local, local_mechanism
+from micro.limit_result import DirectionResult, LimitResult
+from micro.local_mechanisms import LOCAL_WEIGHT_SHARE, LocalMechanism, find_local, local_mechanism
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
 from micro.memory import estimate_bytes
@@ -56,7 +57,6 @@ from micro.nonassociative import (
     verify_collapse_state,
 )
 from micro.records import AssociativeRecord, MicroRecord, NonAssociativeRecord
-from micro.results import DirectionResult, LimitResult
 from micro.state import (
     CollapseStateData,
     StateCheck,

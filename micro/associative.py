@@ -13,9 +13,9 @@ import time
 from micro.backends.base import Outcome, Status, check_time_limit
 from micro.backends.registry import DEFAULT_SOLVER, make_backend
 from micro.geometry import BlockWall, check_block_wall
+from micro.limit_result import DIR_NAME, DirectionResult, Directions, LimitResult, check_directions, load_directions
 from micro.lp import LimitLP, assemble
 from micro.mechanism import mechanism_from_duals
-from micro.results import DIR_NAME, DirectionResult, Directions, LimitResult, check_directions, load_directions
 
 #: The message of a failed analysis, by status.
 _FAILURE_MESSAGE = {
@@ -43,7 +43,7 @@ def solve_associative(
         time_limit: seconds per solve (``None``: unlimited).
 
     Returns:
-        The :class:`~micro.results.LimitResult`. A failed solve is reported
+        The :class:`~micro.limit_result.LimitResult`. A failed solve is reported
         in ``status`` (``infeasible``: the wall cannot stand under its own
         weight; ``unbounded``: no live load or nothing limits it;
         ``time_limit``, ``iteration_limit``, ``inaccurate``,

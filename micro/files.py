@@ -7,7 +7,7 @@ regular file (a pipe, a directory, a device such as ``/dev/zero``, which
 would never end) with an ``OSError`` whose ``strerror`` says what it is, so
 that the callers' "cannot read (...)" lines name it. It lives in ``micro``
 (the package below ``comparison``) so that :mod:`micro.state` reads a state
-file with it; ``comparison.inputs`` gives it to the scenes and grids.
+file with it; ``comparison.utilities.inputs`` gives it to the scenes and grids.
 
 :func:`write_whole` writes a new file beside the target and renames it over
 the target: a disk that fills up (or any error) leaves the old file or no

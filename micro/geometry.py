@@ -17,7 +17,7 @@ a course is cut; a sliver is kept however thin (it did
 not hurt the LP's conditioning, and merging it into its neighbour made the
 load factor jump with ``L``; see ``docs/micro/walls.md``). A cut piece of the
 TOP course carries nothing and tips over alone at a load factor that goes to 0
-with its width: :mod:`micro.local` tells that mechanism apart.
+with its width: :mod:`micro.local_mechanisms` tells that mechanism apart.
 
 Conventions
 -----------

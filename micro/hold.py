@@ -11,7 +11,7 @@ no yield condition), and every analysis (:func:`micro.solve_associative`,
 :func:`micro.solve_nonassociative`) runs on the held wall unchanged.
 
 Its use: a cut end piece of the top course carries nothing above it and tips
-over alone at ``lambda = width / height`` (:mod:`micro.local`); held to its
+over alone at ``lambda = width / height`` (:mod:`micro.local_mechanisms`); held to its
 neighbour below, the analysis gives the wall's own mechanism.
 
 The host keeps its own rectangle (``x0, x1, y0, y1``): a plot of the held wall

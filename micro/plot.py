@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 
 from micro.files import write_whole
 from micro.geometry import BlockWall
-from micro.results import LimitResult
+from micro.limit_result import LimitResult
 
 #: The largest virtual displacement drawn, as a fraction of the wall height (when no amplification is given).
 LARGEST_DISPLACEMENT = 0.2

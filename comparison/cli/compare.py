@@ -5,7 +5,7 @@ Example::
     xcheck compare --rows 12 --t 1 --m 1/2 --f 0.75
     xcheck compare --storeys 5 --rows 150 --t 1 --m 1/3 --f 0.75 --json
 
-The first line states the verdict and its proof (:func:`comparison.verdict.verdict_sentence`), the next
+The first line states the verdict and its proof (:func:`comparison.domain.verdict.verdict_sentence`), the next
 ones the numbers. Exit 0 whatever the verdict, 1 when a method failed (the verdict is then only what was
 proven, and the lines say what is missing), 2 on bad input.
 """
@@ -35,8 +35,8 @@ from comparison.cli.options import (
 from comparison.cli.state import check_state_path, write_state_file
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
-    from comparison.verdict import CompareOptions, Comparison
-    from comparison.wall import WallSpec
+    from comparison.domain.verdict import CompareOptions, Comparison
+    from comparison.domain.wall import WallSpec
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -77,12 +77,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def options_from_args(args: argparse.Namespace) -> CompareOptions:
-    """The :class:`~comparison.verdict.CompareOptions` the options ask for.
+    """The :class:`~comparison.domain.verdict.CompareOptions` the options ask for.
 
     Raises:
         UsageError: a malformed option, naming it.
     """
-    from comparison.verdict import FIRST_COURSES, HEAD_JOINTS, CompareOptions
+    from comparison.domain.verdict import FIRST_COURSES, HEAD_JOINTS, CompareOptions
 
     first = choice("--first-course", args.first_course, FIRST_COURSES)
     head = choice("--head-joints", args.head_joints, HEAD_JOINTS)
@@ -97,7 +97,7 @@ def options_from_args(args: argparse.Namespace) -> CompareOptions:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck compare``."""
-    from comparison.verdict import compare
+    from comparison.domain.verdict import compare
 
     options = options_from_args(args)
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)  # before the solves, not after

@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
 
 def format_result(r: macro.MacroResult, p_storeys: Sequence[float]) -> str:
     """A human-readable account of a macro result, Eq. (10) term by term; ``p_storeys``: each storey's
-    p = q/(gamma H b) (:meth:`comparison.wall.WallSpec.paper_parameters`)."""
+    p = q/(gamma H b) (:meth:`comparison.domain.wall.WallSpec.paper_parameters`)."""
     w = r.wall
     lines = [
         f"macro-block model: {w.storeys} storey(s), rows {list(w.rows)}, L = {w.length:g}, "

@@ -19,8 +19,8 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
-    from comparison.local import WallMechanism
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
+    from comparison.domain.wall_mechanism import WallMechanism
     from micro import BlockWall, LimitResult, NonAssociativeResult
     from micro.global_search import GlobalResult
     from micro.nonassociative import LPProgress
@@ -218,8 +218,9 @@ def _print_associative(result: LimitResult, verbosity: int) -> None:
 
 def _wall_mechanism(wall: BlockWall, result: Any, solve: Callable[[BlockWall], Any]) -> WallMechanism:
     """The block model's result told apart from a local mechanism, and the wall's own
-    (:func:`comparison.local.solve_wall_mechanism`; the held wall is solved only where a local one governs)."""
-    from comparison.local import solve_wall_mechanism
+    (:func:`comparison.domain.wall_mechanism.solve_wall_mechanism`; the held wall is solved only where a local
+    one governs)."""
+    from comparison.domain.wall_mechanism import solve_wall_mechanism
 
     return solve_wall_mechanism(wall, solve, first=result)
 

@@ -15,9 +15,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import write_text
+from comparison.utilities.outputs import write_text
 from micro.backends.base import Status
-from micro.nonassociative.results import STATUSES
+from micro.nonassociative.nonassociative_result import STATUSES
 from micro.records import MicroRecord, NonAssociativeRecord, record_schema
 
 #: The schema's version: raised when a key changes meaning or goes (docs/schemas.md); a new key keeps it.

@@ -16,9 +16,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 from urllib.parse import urlsplit
 
-from comparison import numbers
-from comparison.progress import NORMAL, QUIET, VERBOSE
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
+from comparison.utilities import numbers
+from comparison.utilities.progress import NORMAL, QUIET, VERBOSE
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.runner.executor import Executor
@@ -139,7 +139,7 @@ def parse_fraction(name: str, text: str | float) -> float:
 def int_option(name: str, text: str, minimum: int = 1, maximum: int | None = None) -> int:
     """An integer option of at least ``minimum`` (a positive integer by default) and at most ``maximum``.
 
-    The text is read exactly by the suite's rule for numbers (:func:`comparison.numbers.exact`:
+    The text is read exactly by the suite's rule for numbers (:func:`comparison.utilities.numbers.exact`:
     ``12.0000000000000001`` is not 12, ``1e3`` is 1000, ``1_0`` and ``+3`` are refused), not through a float.
     A count that reaches a solver takes ``maximum=``:data:`SOLVER_COUNT_MAX`.
 
@@ -172,7 +172,7 @@ def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
 
 def in_range(option: str, text: str | None, rule: str, upper: float) -> float | None:
     """``None`` for an option not given, else a number in ``(0, upper]``, read by the suite's rule for
-    numbers (:func:`comparison.numbers.exact`).
+    numbers (:func:`comparison.utilities.numbers.exact`).
 
     Raises:
         UsageError: naming ``option`` and ``rule``.
@@ -237,7 +237,7 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
         UsageError: a missing or malformed option, or an invalid wall.
     """
     if args.scene:
-        from comparison.scene import load_scene
+        from comparison.domain.scene import load_scene
 
         clash = [f"--{k}" for k in WALL_OPTIONS if getattr(args, k) is not None]
         if clash:
@@ -314,13 +314,14 @@ def cache_directory(cache: str | None, *, create: bool = True) -> Path:
 
 
 def output_directory(option: str, path: str | os.PathLike[str], *, create: bool = True) -> Path:
-    """A directory the command writes into, checked before any work (see :func:`comparison.outputs.writable_directory`;
+    """A directory the command writes into, checked before any work
+    (see :func:`comparison.utilities.outputs.writable_directory`;
     ``create=False`` checks it and creates nothing).
 
     Raises:
         UsageError: naming ``option``.
     """
-    from comparison.outputs import writable_directory
+    from comparison.utilities.outputs import writable_directory
 
     try:
         return writable_directory(option, path, create=create)

@@ -61,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     """Write the report and say where it is.
 
     ``args.verbosity`` is the setting the progress display follows
-    (:mod:`comparison.progress`).
+    (:mod:`comparison.utilities.progress`).
     """
     from comparison.report import build_report
     from comparison.report.committed import BadTable, check_tables

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 from comparison.cli.options import check_output_path
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
     from micro import BlockWall
 
 

@@ -72,10 +72,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck sweep``."""
-    from comparison.progress import Progress
     from comparison.runner import ResultCache
     from comparison.runner.executor.cluster import ClusterError
     from comparison.sweep import GridError, load_grid, run_sweep
+    from comparison.utilities.progress import Progress
 
     # Every input is checked before a folder is made (bad input leaves nothing behind), and the output and
     # cache folders are absolute before the grid's user models (code that may change the working

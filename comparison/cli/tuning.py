@@ -1,5 +1,5 @@
 """``--tuning KEY=VALUE``: the research knobs of the non-associative method (:class:`micro.Tuning`), read by
-each knob's type, numbers by the suite's rule (:mod:`comparison.numbers`)."""
+each knob's type, numbers by the suite's rule (:mod:`comparison.utilities.numbers`)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import types
 import typing
 from typing import TYPE_CHECKING, Any
 
-from comparison import numbers
 from comparison.cli.options import SOLVER_COUNT_MAX, UsageError
+from comparison.utilities import numbers
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from micro import Tuning

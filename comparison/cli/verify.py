@@ -89,7 +89,7 @@ def paper_wall(state: CollapseStateData) -> tuple[BlockWall | HeldWall | None, s
     blocks and end treatment of the file's ``wall``; a version-1 file's walls were cut), and a note: what
     was built, or why nothing was (a scene named only by its name, parameters that build no wall)."""
     import micro
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
 
     src = state.source
     params = src.get("paper_parameters") if isinstance(src, Mapping) else None

@@ -4,7 +4,7 @@
 the report's methods (:func:`comparison.report.plan.build_plan`: the macro
 model, the associative LP by ``normal-ipm``, the iterated LP) on every paper case the
 report runs them on, through the result cache, so that after ``xcheck report``
-it only reads. Published values come from :mod:`comparison.cases`.
+it only reads. Published values come from :mod:`comparison.domain.cases`.
 
 Each cell's tolerance says how precisely its value is known, by one rule per source:
 """
@@ -16,14 +16,14 @@ import os
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
-from comparison.cases import CASES, MODELS, PaperCase
-from comparison.outputs import write_text
-from comparison.progress import NORMAL, Progress
+from comparison.domain.cases import CASES, MODELS, PaperCase
 from comparison.pytest_plugin.references import LOAD_FACTOR, Reference, References
 from comparison.report.plan import build_plan
-from comparison.report.reproduce import package_versions
 from comparison.runner import MACRO, Method, Record, Runner, code_version, prefetch
 from comparison.runner.executor import LocalExecutor
+from comparison.runner.fingerprint import versions_used
+from comparison.utilities.outputs import write_text
+from comparison.utilities.progress import NORMAL, Progress
 from macro.records import MacroRecord
 
 #: Relative tolerance of the macro model's cells: its global search is within 6e-10 of a
@@ -44,7 +44,7 @@ ITERATED = "iterated_load_factor"
 #: against HiPO, reference wall) and 0.35 % under machine load (Set 14).
 NONASSOC_RTOL = 5e-3
 
-#: The reference methods' names for the published models of :data:`comparison.cases.MODELS`.
+#: The reference methods' names for the published models of :data:`comparison.domain.cases.MODELS`.
 PUBLISHED = {
     "proposed": "paper",
     "orduna_micro": "orduna-micro",
@@ -168,7 +168,7 @@ def generate(
         out: the JSON file to write.
         cache_dir: the result cache (``None``: compute in this process, keep nothing).
         quick: the micro model on the report's quick walls only (Table 7).
-        verbosity: what the progress display shows (see :mod:`comparison.progress`).
+        verbosity: what the progress display shows (see :mod:`comparison.utilities.progress`).
 
     Returns:
         The references written.
@@ -195,8 +195,8 @@ def generate(
         cells += micro_cells(c, rec)
     meta = {
         "generated_by": "xcheck references" + (" --quick" if quick else ""),
-        "versions": package_versions(),
-        "code_version": {"macro": code_version("macro"), "micro": code_version("micro")},
+        "versions": versions_used(),
+        "code_version": code_version(),
         "tolerances": {"macro": MACRO_RTOL, "micro-assoc": ASSOC_RTOL, "micro-nonassoc": NONASSOC_RTOL},
         "tolerance_rule": "tolerance = rtol * |value| (rtol by method, above); macro alpha_c_deg: "
         f"{MACRO_ANGLE_TOL:g} degrees; macro hinge storey: exact; published values: half a unit of the last "

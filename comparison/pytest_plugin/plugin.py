@@ -30,7 +30,7 @@ from typing import Any
 
 import pytest
 
-from comparison.cases import PaperCase
+from comparison.domain.cases import PaperCase
 from comparison.pytest_plugin.references import COMPUTABLE, References
 from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
 from comparison.pytest_plugin.walls import UserWall, cases_and_walls

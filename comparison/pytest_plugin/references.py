@@ -28,8 +28,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from comparison.cases import PaperCase, case
-from comparison.numbers import received_number
+from comparison.domain.cases import PaperCase, case
+from comparison.utilities.numbers import received_number
 
 #: The data file inside the package.
 DATA_FILE = "references.json"

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from comparison.cases import PaperCase
+from comparison.domain.cases import PaperCase
 from comparison.pytest_plugin.references import (
     MissingReference,
     References,

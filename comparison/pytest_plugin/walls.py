@@ -1,6 +1,6 @@
 """The walls a downstream test runs on: the paper's cases, a selection of them, or the user's own list.
 
-Each wall is a :class:`comparison.cases.PaperCase` (the paper's Table 4
+Each wall is a :class:`comparison.domain.cases.PaperCase` (the paper's Table 4
 parameters ``t, m, rows, f, p, storeys``, ``label``, and ``spec()`` for the
 dimensional wall); a user's wall is a :class:`UserWall`, the same without
 published values.
@@ -16,10 +16,10 @@ from typing import Any
 
 import pytest
 
-from comparison import names, numbers
-from comparison.cases import CASES, PaperCase, case, cases_in_table
-from comparison.inputs import read_input_file
-from comparison.wall import WallSpec
+from comparison.domain.cases import CASES, PaperCase, case, cases_in_table
+from comparison.domain.wall import WallSpec
+from comparison.utilities import names, numbers
+from comparison.utilities.inputs import read_input_file
 
 #: The paper's tables that hold cases.
 TABLES = ("5", "6", "7", "8", "9")

@@ -5,7 +5,7 @@ wall and method the report needs), computes the missing cache entries of the
 plan on an executor (local worker processes,
 :class:`~comparison.runner.executor.LocalExecutor`, or a Dask cluster, with a progress
 display whose ETA weighs each computation by its expected cost), reads the whole plan into
-:class:`~comparison.report.results.Results`, and renders the tables, figures
+:class:`~comparison.report.computed.Results`, and renders the tables, figures
 and text from them into ``REPORT.md``, one CSV per table, ``report.json`` (every
 number shown) and the figures, section by section (:mod:`comparison.report.sections`);
 the sections of the tables committed with the report read them from its tables
@@ -22,11 +22,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import writable_directory, write_text
-from comparison.progress import NORMAL, Progress
 from comparison.report.committed import BOND, ERRORMAP, LOWEST, check_tables, committed_table
+from comparison.report.computed import Results, compute
 from comparison.report.plan import build_plan
-from comparison.report.results import Results, compute
 from comparison.report.robustness import bond_variants_table, robustness_table
 from comparison.report.sections import Body, Bond, ErrorMap, Lowest, Section, render
 from comparison.report.tables import (
@@ -44,6 +42,8 @@ from comparison.report.tables import (
 from comparison.report.timings import previous_seconds, write_timings
 from comparison.runner import MACRO, Prefetched, Runner, prefetch
 from comparison.runner.executor import Executor, LocalExecutor
+from comparison.utilities.outputs import writable_directory, write_text
+from comparison.utilities.progress import NORMAL, Progress
 
 
 def build_report(
@@ -64,7 +64,7 @@ def build_report(
         cache_dir: the result cache (``None``: no cache; everything is computed
             in this process). The command line's default is
             :func:`comparison.runner.default_cache_dir`.
-        verbosity: what the progress display shows (see :mod:`comparison.progress`).
+        verbosity: what the progress display shows (see :mod:`comparison.utilities.progress`).
         workers: processes for the missing micro computations (default: the number of CPUs).
         executor: where the missing micro computations run instead (e.g. a
             :class:`~comparison.runner.executor.cluster.DaskExecutor`; the caller opens and closes it);

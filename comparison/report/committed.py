@@ -26,8 +26,8 @@ import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
-from comparison.inputs import read_input_file
 from comparison.sweep import grids
+from comparison.utilities.inputs import read_input_file
 
 #: The error map's sweep table, relative to the tables directory.
 ERRORMAP = "sweeps/errormap.csv"

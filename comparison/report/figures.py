@@ -2,7 +2,7 @@
 
 The generic charts (:func:`speed_accuracy`, :func:`sensitivity`,
 :func:`histories`) take plain series; the report's figures read the
-:class:`~comparison.report.results.Results` and return a :class:`Figure`: the
+:class:`~comparison.report.computed.Results` and return a :class:`Figure`: the
 file and a caption that says what is drawn, on which wall, by which method and
 in which load direction (``REPORT.md`` numbers them). The mechanism figures are
 in :mod:`comparison.report.mechanisms`.
@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 from matplotlib.ticker import MaxNLocator
 
-from comparison.cases import cases_in_table
-from comparison.report.results import Results
+from comparison.domain.cases import cases_in_table
+from comparison.report.computed import Results
 from comparison.report.tables import published, speed_reference, speed_rows
 
 #: How each swept parameter is named on its axis.

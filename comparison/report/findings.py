@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 
-from comparison.cases import cases_in_table
-from comparison.report.results import Results
+from comparison.domain.cases import cases_in_table
+from comparison.report.computed import Results
 from comparison.report.robustness import robustness_table
 from comparison.report.tables import delta, published
 

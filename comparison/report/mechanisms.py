@@ -6,10 +6,10 @@ from pathlib import Path
 from typing import Any
 
 import macro
+from comparison.domain.wall import WallSpec
+from comparison.report.computed import Results
 from comparison.report.figures import Figure, pyplot, save_figure
-from comparison.report.results import Results
 from comparison.report.tables import mechanism_record
-from comparison.wall import WallSpec
 
 
 def mechanism_figures(res: Results, out: Path) -> list[Figure]:

@@ -13,9 +13,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
-from comparison.cases import CASES, PaperCase, cases_in_table
+from comparison.domain.cases import CASES, PaperCase, cases_in_table
+from comparison.domain.wall import WallSpec
 from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, Method, ResultCache, approximate_blocks
-from comparison.wall import WallSpec
 from micro.backends.registry import missing_extra
 
 #: The report runs the iterated non-associative LP on the walls of its sweeps

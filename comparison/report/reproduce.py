@@ -1,4 +1,4 @@
-"""The report's "How to reproduce" section: the commands and the package and solver versions.
+"""The report's "How to reproduce" section: the commands and the versions the numbers were computed under.
 
 The machine is named in ``timings.md`` (:mod:`comparison.report.timings`), apart from the results.
 """
@@ -8,22 +8,9 @@ from __future__ import annotations
 import os
 import platform
 from collections.abc import Mapping
-from importlib import metadata
 from typing import Any
 
-#: The distributions whose versions decide the numbers (the solvers among them).
-PACKAGES = ("xcheck-masonry", "numpy", "scipy", "highspy", "clarabel", "cvxpy", "cvxopt", "matplotlib")
-
-
-def package_versions() -> dict[str, str]:
-    """Python's and :data:`PACKAGES`' versions as installed."""
-    out = {"python": platform.python_version()}
-    for name in PACKAGES:
-        try:
-            out[name] = metadata.version(name)
-        except metadata.PackageNotFoundError:
-            out[name] = "not installed"
-    return out
+from comparison.runner.fingerprint import code_version, versions_used
 
 
 def machine() -> str:
@@ -34,7 +21,7 @@ def machine() -> str:
 def how_to_reproduce(meta: Mapping[str, Any]) -> str:
     """The section's markdown for a report run with ``meta`` (``quick``)."""
     quick = " --quick" if meta.get("quick") else ""
-    versions = ", ".join(f"{k} {v}" for k, v in package_versions().items())
+    versions = ", ".join(f"{k} {v}" for k, v in versions_used().items())
     return f"""\
 From a clone of the repository:
 
@@ -47,7 +34,8 @@ python3 -m venv .venv && .venv/bin/pip install -e .
 ```
 
 `--no-cache` recomputes everything (the cache: [docs/cli.md](../docs/cli.md#the-report-command-and-its-cache)).
-Versions of this run: {versions}.
+Versions of this run (part of every result's cache key, so a result read from the cache was computed
+under them too): {versions}; code fingerprint {code_version()}.
 The machine and the run times are in [timings.md](timings.md). Every number in the tables is
 independent of the machine but for the timings: the iterated LP decides on iteration and LP counts,
 never on seconds.

@@ -6,9 +6,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from comparison.cases import cases_in_table
+from comparison.domain.cases import cases_in_table
+from comparison.report.computed import Results
 from comparison.report.plan import bond_variants
-from comparison.report.results import Results
 from comparison.report.tables import Table, delta, lam_cell, pct, published
 
 #: Column names of the bonds of :data:`~comparison.report.plan.BONDS`.

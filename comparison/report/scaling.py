@@ -20,8 +20,8 @@ from typing import Any
 
 import numpy as np
 
+from comparison.report.computed import Results
 from comparison.report.figures import MARKERS, Figure, pyplot, save_figure
-from comparison.report.results import Results
 from comparison.report.tables import Table
 
 #: Statuses whose records enter the fit.

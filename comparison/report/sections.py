@@ -16,10 +16,10 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from comparison.report import bond, errormap, figures, lowest
+from comparison.report.computed import Results
 from comparison.report.figures import Figure
 from comparison.report.findings import findings
 from comparison.report.mechanisms import mechanism_figures
-from comparison.report.results import Results
 from comparison.report.scaling import scaling_figure
 from comparison.report.tables import Table
 from comparison.report.text import document

@@ -8,12 +8,12 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from comparison.cases import SET4_HINGE_LOAD_FACTORS, PaperCase, cases_in_table
-from comparison.local import LocalRecord
-from comparison.outputs import csv_text, write_text
+from comparison.domain.cases import SET4_HINGE_LOAD_FACTORS, PaperCase, cases_in_table
+from comparison.domain.wall_mechanism import LocalRecord
+from comparison.report.computed import Results
 from comparison.report.plan import table9_alternative
-from comparison.report.results import Results
 from comparison.runner import MICRO_ASSOC, NONASSOC_RETRY_LPS, Record
+from comparison.utilities.outputs import csv_text, write_text
 from micro.records import NonAssociativeRecord
 
 

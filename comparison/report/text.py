@@ -6,11 +6,11 @@ from collections.abc import Mapping, Sequence
 from math import isfinite
 from typing import Any
 
-from comparison.cases import CASES, MODELS, SET4_HINGE_LOAD_FACTORS, case, cases_in_table
+from comparison.domain.cases import CASES, MODELS, SET4_HINGE_LOAD_FACTORS, case, cases_in_table
+from comparison.report.computed import Results
 from comparison.report.figures import Figure
 from comparison.report.plan import NONASSOC_MAX_BLOCKS, NONASSOC_MAX_BLOCKS_CASES, table9_alternative
 from comparison.report.reproduce import how_to_reproduce
-from comparison.report.results import Results
 from comparison.report.tables import Table, published
 from comparison.runner import NONASSOC_MAX_LPS, NONASSOC_RETRY_LPS
 

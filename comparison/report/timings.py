@@ -16,13 +16,13 @@ from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import write_text
+from comparison.domain.wall import WallSpec
+from comparison.report.computed import MACRO_TIMING_REPEATS, Results
 from comparison.report.reproduce import machine
-from comparison.report.results import MACRO_TIMING_REPEATS, Results
 from comparison.report.scaling import scaling_table
 from comparison.report.tables import Table
 from comparison.runner import Method
-from comparison.wall import WallSpec
+from comparison.utilities.outputs import write_text
 
 #: The files of a report that hold run times (everything else reproduces exactly).
 TIMING_FILES = (

@@ -6,6 +6,9 @@
   on one wall;
 * :mod:`~comparison.runner.cache`: :class:`ResultCache`, the on-disk cache, and
   where it lives by default (:func:`default_cache_dir`);
+* :mod:`~comparison.runner.fingerprint`: :func:`code_version`, what a
+  computation runs (the modules it imports, the packages' versions), the code
+  part of the cache key;
 * :mod:`~comparison.runner.executor`: local processes or a Dask cluster behind
   one interface (largest first, memory-bounded, interrupt-safe);
 * :mod:`~comparison.runner.pool`: :func:`prefetch`, missing entries computed on
@@ -13,7 +16,8 @@
 * :mod:`~comparison.runner.runner`: :func:`compute` and the caching :class:`Runner`.
 """
 
-from comparison.runner.cache import ResultCache, code_version, default_cache_dir
+from comparison.runner.cache import ResultCache, default_cache_dir
+from comparison.runner.fingerprint import code_version
 from comparison.runner.methods import (
     MACRO,
     MICRO_ASSOC,

@@ -1,15 +1,15 @@
 """The on-disk result cache: crash-safe and safe for concurrent runs.
 
 A record is stored as JSON (:meth:`Record.to_dict`) under a key made of the
-wall, the method and its options, the cache format, and the *code version* of
-every package the method runs (:func:`code_version`: a hash of what their
-modules and the runner's *do*), so that a re-run computes only what changed:
-changing ``micro``'s behaviour recomputes the micro results and keeps the macro
-ones. The hash is taken over each module's syntax tree with its docstrings
-removed, so a docstring, comment or formatting edit keeps every cached result;
-any other edit (a constant, a statement, a renamed or moved module) is a new
-version. A micro mechanism (block velocities) is stored beside its record, for
-the figures.
+wall, the method and its options, the cache format, and the fingerprint of what
+the computation runs (:func:`~comparison.runner.fingerprint.code_version`: what
+every repository module it imports *does*, the versions of the packages they
+import, Python's minor version), so that an entry is served only where the code
+would compute it again. A docstring, comment or formatting edit keeps every
+cached result; any other edit of a module the computation imports (a constant,
+a statement, a renamed or moved module), another solver version or another
+Python recomputes them. A micro mechanism (block velocities) is stored beside
+its record, for the figures.
 
 How an entry is written, so that a crash or a second run never leaves a
 misleading one:
@@ -33,7 +33,7 @@ How an entry is read, so that no file in the cache folder can hang a run or
 exhaust its memory (a cache folder is shared, synced, restored from backups):
 
 * a file is opened without following a symbolic link and without blocking
-  (:func:`comparison.inputs.read_input_file`), and only a regular file is read:
+  (:func:`comparison.utilities.inputs.read_input_file`), and only a regular file is read:
   a FIFO, a directory, a device, a symbolic link (to ``/dev/zero``, or a loop),
   an unreadable file or a kind folder that is a file is a :class:`CacheWarning`
   and a recompute, like a truncated entry;
@@ -57,7 +57,6 @@ environment variable ``XCHECK_CACHE``, else ``$XDG_CACHE_HOME/xcheck``
 
 from __future__ import annotations
 
-import ast
 import errno
 import hashlib
 import io
@@ -66,17 +65,17 @@ import os
 import warnings
 import zipfile
 from dataclasses import asdict
-from functools import cache
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from comparison.inputs import read_input_file
-from comparison.outputs import write_atomic
-from comparison.runner.methods import PACKAGES, Method
+from comparison.domain.wall import WallSpec
+from comparison.runner.fingerprint import code_version
+from comparison.runner.methods import Method
 from comparison.runner.records import MechanismRecord, Record
-from comparison.wall import WallSpec
+from comparison.utilities.inputs import read_input_file
+from comparison.utilities.outputs import write_atomic
 
 #: Part of every key: bump it when the stored form of a record changes, so that
 #: entries of an older form are never misread (2: typed records; 3: the record
@@ -96,9 +95,6 @@ MAX_MECHANISM_BYTES = 64 << 20
 #: Statuses and stop reasons of a result cut short by a wall-clock limit: not stored.
 WALL_CLOCK_STOPS = frozenset({"time_limit", "time_budget"})
 
-_ROOT = Path(__file__).resolve().parents[2]
-
-
 class CacheWarning(UserWarning):
     """A cache entry that cannot be read; it is recomputed and replaced."""
 
@@ -109,45 +105,6 @@ def default_cache_dir() -> Path:
         return Path(os.environ["XCHECK_CACHE"])
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base) / "xcheck"
-
-
-@cache
-def code_version(*packages: str) -> str:
-    """Hash of what the modules of ``packages``, of the runner and of the failure-mode code do.
-
-    Each module counts by its path and its syntax tree without docstrings (:func:`behaviour`), so that
-    an edit of a docstring, a comment or the layout keeps every cached result, and any other edit is a
-    new version.
-    """
-    h = hashlib.sha256()
-    files = [p for pkg in packages for p in sorted((_ROOT / pkg).rglob("*.py"))]
-    files += sorted((_ROOT / "comparison" / "runner").glob("*.py")) + [_ROOT / "comparison" / "failure.py"]
-    for path in files:
-        h.update(path.relative_to(_ROOT).as_posix().encode())
-        h.update(behaviour(source(path)))
-    return h.hexdigest()[:16]
-
-
-def source(path: Path) -> bytes:
-    """The source of a module :func:`code_version` hashes (a seam for its tests)."""
-    return path.read_bytes()
-
-
-def behaviour(text: bytes) -> bytes:
-    """What a module's source does: the dump of its syntax tree with every docstring (a string standing
-    alone as a statement) removed; comments and layout are not in the tree. A source that does not parse
-    counts by its bytes (it cannot run either)."""
-    try:
-        tree = ast.parse(text)
-    except (SyntaxError, ValueError):
-        return b"unparsed:" + text
-    for node in ast.walk(tree):
-        body = getattr(node, "body", None)
-        if isinstance(body, list):
-            node.body = [s for s in body  # type: ignore[attr-defined]
-                         if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant)
-                                 and isinstance(s.value.value, str))]
-    return ast.dump(tree, annotate_fields=False).encode()
 
 
 def _wall_key(spec: WallSpec) -> dict[str, Any]:
@@ -197,7 +154,7 @@ class ResultCache:
         key = {
             "wall": _wall_key(spec),
             "method": method.key(),
-            "code": code_version(*PACKAGES[method.kind]),
+            "code": code_version(self.directory),
             "format": CACHE_FORMAT,
         }
         digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:24]

@@ -10,9 +10,6 @@ from micro.nonassociative.config import RETRY_LPS, NonAssociativeOptions
 
 Kind = Literal["macro", "micro-assoc", "micro-nonassoc"]
 
-#: The packages whose source decides each kind's results (part of the cache key).
-PACKAGES: dict[str, tuple[str, ...]] = {"macro": ("macro",), "micro-assoc": ("micro",), "micro-nonassoc": ("micro",)}
-
 #: The library's caps on the iterated LP's LPs per direction (the first
 #: sequence, and the proximal one after it), quoted by the report's text.
 NONASSOC_MAX_LPS = NonAssociativeOptions().max_iterations

@@ -11,13 +11,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
-from comparison.progress import Progress
+from comparison.domain.wall import WallSpec
 from comparison.runner.cache import ResultCache
 from comparison.runner.executor import Executor, Task, TaskOutcome
 from comparison.runner.methods import Method
 from comparison.runner.records import MechanismRecord, Record
 from comparison.runner.runner import compute, summary_line
-from comparison.wall import WallSpec
+from comparison.utilities.progress import Progress
 
 Item = tuple[WallSpec, Method]
 #: A computed record and its micro mechanism.

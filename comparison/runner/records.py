@@ -9,8 +9,8 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from comparison.failure import FailureMode
-from comparison.local import LocalRecord
+from comparison.domain.failure import FailureMode
+from comparison.domain.wall_mechanism import LocalRecord
 from comparison.runner.methods import Method
 from macro.records import MacroRecord
 from micro.records import AssociativeRecord, NonAssociativeRecord
@@ -56,7 +56,7 @@ class Record:
         message: why it was skipped, or why the mechanism could not be read.
         cached: True when read from the cache.
         local: the local mechanism that governs the micro result and the wall's own value
-            (:func:`comparison.local.solve_wall_mechanism`; ``None`` when nothing local governs).
+            (:func:`comparison.domain.wall_mechanism.solve_wall_mechanism`; ``None`` when nothing local governs).
     """
 
     wall: str

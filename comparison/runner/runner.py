@@ -16,12 +16,12 @@ from pathlib import Path
 
 import numpy as np
 
-from comparison.failure import FailureMode, failure_mode
-from comparison.local import solve_wall_mechanism
+from comparison.domain.failure import FailureMode, failure_mode
+from comparison.domain.wall import WallSpec
+from comparison.domain.wall_mechanism import solve_wall_mechanism
 from comparison.runner.cache import ResultCache
 from comparison.runner.methods import Method
 from comparison.runner.records import MechanismRecord, Record
-from comparison.wall import WallSpec
 from micro.records import AssociativeRecord, NonAssociativeRecord
 
 
@@ -29,7 +29,8 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, MechanismRecord | N
     """Run ``method`` on ``spec``: its record and, for a micro solve with a mechanism, the mechanism.
 
     A micro record says whether a local mechanism governs and gives the wall's own value
-    (``Record.local``, :func:`comparison.local.solve_wall_mechanism`: the held wall is solved only then);
+    (``Record.local``, :func:`comparison.domain.wall_mechanism.solve_wall_mechanism`: the held wall is solved
+    only then);
     the mechanism kept for the figures is the block model's.
 
     A micro wall that cannot be built (e.g. a length that is not a whole number

@@ -19,7 +19,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
-from comparison.cases import cases_in_table
+from comparison.domain.cases import cases_in_table
 from comparison.runner.executor import LocalExecutor, Task
 from comparison.stability.study import GRID, WallCase, grid_walls
 

@@ -8,7 +8,6 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import write_text
 from comparison.stability.lowest import (
     GLOBAL_BOUNDS,
     GLOBAL_MATCH,
@@ -18,6 +17,7 @@ from comparison.stability.lowest import (
     LowestRun,
 )
 from comparison.stability.render import write_rows
+from comparison.utilities.outputs import write_text
 from micro.plot import save_figure
 
 #: Edges (per cent) of the histogram of the iterated LP's excess.

@@ -14,11 +14,11 @@ import time
 from collections.abc import Iterable
 from pathlib import Path
 
-from comparison.progress import NORMAL, Progress
 from comparison.stability.lowest import run_cases, study_cases
 from comparison.stability.lowest_render import write_lowest
 from comparison.stability.render import write_reports
 from comparison.stability.study import SETTINGS, Setting, grid_walls, run_study
+from comparison.utilities.progress import NORMAL, Progress
 
 
 def main_study(
@@ -31,7 +31,7 @@ def main_study(
 ) -> dict[str, Path]:
     """Run the study and write the reports (``quick``: 12 walls only, for a smoke test).
 
-    ``verbosity`` sets what the progress display shows (see :mod:`comparison.progress`).
+    ``verbosity`` sets what the progress display shows (see :mod:`comparison.utilities.progress`).
     """
     walls = grid_walls()
     if quick:

@@ -8,8 +8,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import csv_text, write_text
 from comparison.stability.study import GRID, MAX_SIMPLEX_ITERATIONS, StudyRun
+from comparison.utilities.outputs import csv_text, write_text
 from micro.plot import save_figure
 
 #: The statuses a run of the study can end with (counted per setting), and their colours in the chart.

@@ -16,10 +16,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
-from comparison.progress import Progress
+from comparison.domain.wall import WallSpec
 from comparison.runner.executor import LocalExecutor, Task
 from comparison.runner.pool import approximate_blocks
-from comparison.wall import WallSpec
+from comparison.utilities.progress import Progress
 from micro.records import NonAssociativeRecord
 
 #: Grid of the study: every combination that builds (all of them: the 16 whose

@@ -6,9 +6,9 @@ import os
 from pathlib import Path
 from typing import Literal
 
-from comparison.cases import PaperCase, cases_in_table
-from comparison.outputs import write_text
+from comparison.domain.cases import PaperCase, cases_in_table
 from comparison.stability.study import WallCase
+from comparison.utilities.outputs import write_text
 
 #: One setting of the Table 7 study: (scheme, relaxation, start, certify).
 Setting7 = tuple[Literal["a", "b"], float, Literal["interior", "vertex"], bool]

@@ -14,7 +14,7 @@ unsafe for certain). The difference of a column is
 ``(λ_column − λ_micro) / λ_micro``; a column lies *above* the reference on a wall where it
 exceeds :data:`AGREEMENT`.
 
-The *verdict* on a column (:meth:`Wall.verdict`) is :func:`comparison.proof.judge`'s, as ``xcheck
+The *verdict* on a column (:meth:`Wall.verdict`) is :func:`comparison.domain.proof.judge`'s, as ``xcheck
 compare`` gives it: unsafe by the associative bound, unsafe by a certified state (the value to quote
 where it is the lowest certified state: the table's ``quoted`` column), not refuted (below every state
 found), or no verdict (no converged non-associative value, or one not certified below the macro value, and
@@ -34,14 +34,14 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from comparison.proof import ACCURACY, ASSOCIATIVE_BOUND, judge
+from comparison.domain.proof import ACCURACY, ASSOCIATIVE_BOUND, judge
 from comparison.sweep.grid import BOND
 from comparison.sweep.table import number
-from micro.nonassociative.results import QUOTED_LOWEST
+from micro.nonassociative.nonassociative_result import QUOTED_LOWEST
 from micro.records import SUCCESS_STATUSES
 
 #: Relative difference within which a macro column and the micro reference agree: the solvers' accuracy of
-#: the verdict (:data:`comparison.proof.ACCURACY`). Walls where both slide at lambda = f differ by 1e-9 and
+#: the verdict (:data:`comparison.domain.proof.ACCURACY`). Walls where both slide at lambda = f differ by 1e-9 and
 #: count as agreeing.
 AGREEMENT = ACCURACY
 #: The verdicts a page counts, as it words them (:func:`verdict_label`), in this order.
@@ -116,7 +116,7 @@ class Wall:
         return (lam - ref) / ref if math.isfinite(ref) and math.isfinite(lam) else math.nan
 
     def verdict(self, column: str) -> tuple[str | None, str | None]:
-        """The verdict on ``column`` and its proof (:func:`comparison.proof.judge`)."""
+        """The verdict on ``column`` and its proof (:func:`comparison.domain.proof.judge`)."""
         return judge(self.macro.get(column, math.nan), self.assoc, self.nonassoc if self.certified else math.nan,
                      found_load_factor=self.nonassoc)
 

@@ -63,11 +63,11 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from comparison import numbers
-from comparison.inputs import read_input_file
+from comparison.domain.scene import _key_line, _table_line
 from comparison.runner.methods import MACRO, Method
-from comparison.scene import _key_line, _table_line
 from comparison.sweep.usermodel import UserModel, check_target, resolve
+from comparison.utilities import numbers
+from comparison.utilities.inputs import read_input_file
 from macro import checks
 
 #: The axes, each with its check (the wall vocabulary) and its default (``None``: required).

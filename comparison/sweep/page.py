@@ -10,7 +10,7 @@ report's error-map section is this page drawn from its committed sweep
   (:mod:`~comparison.sweep.compare`) how many walls it lies above the micro
   reference on, by more than 5 % and 10 %, the median and worst
   difference and the worst wall; then the walls by verdict and proof, as
-  ``xcheck compare`` gives them (:func:`comparison.proof.judge`): unsafe by
+  ``xcheck compare`` gives them (:func:`comparison.domain.proof.judge`): unsafe by
   the associative bound, unsafe by a certified state, not refuted, no verdict;
 * the cells that gave no value, counted by method and status and listed
   (the first :data:`LISTED` of each status; the table's ``status`` column
@@ -31,7 +31,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import write_text
 from comparison.sweep import figures
 from comparison.sweep.compare import (
     AGREEMENT,
@@ -52,6 +51,7 @@ from comparison.sweep.compare import (
 )
 from comparison.sweep.figures import layout
 from comparison.sweep.table import read_table
+from comparison.utilities.outputs import write_text
 
 #: Walls listed in the worst-walls table of each macro column.
 WORST = 12

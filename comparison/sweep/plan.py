@@ -14,10 +14,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from comparison.domain.wall import WallSpec
 from comparison.runner import Method, approximate_blocks
 from comparison.sweep.grid import PER_WALL, Grid, GridMethod
 from comparison.sweep.usermodel import UserModel
-from comparison.wall import WallSpec
 from macro.checks import UNEQUAL_STOREYS
 
 #: Why a cell is not computed: its parameters make no wall (rows that do not split over its storeys, a wall
@@ -162,7 +162,7 @@ def unbuildable(points: Sequence[WallPoint]) -> dict[int, str]:
 def _limit(grid: Grid, gm: GridMethod) -> int | None:
     """A micro method's block limit: its own ``max_blocks``, and the grid's except for the associative LP, which
     runs on every wall up to its own limit: one LP (seconds for thousands of blocks) whose bound settles the
-    verdict wherever the macro value lies above it (:func:`comparison.proof.judge`), so that a wall above the
+    verdict wherever the macro value lies above it (:func:`comparison.domain.proof.judge`), so that a wall above the
     non-associative limit still gets a verdict."""
     grid_limit = None if gm.method.kind == "micro-assoc" else grid.max_blocks
     limits = [x for x in (grid_limit, gm.max_blocks) if x is not None]

@@ -26,14 +26,14 @@ from typing import Any
 
 import numpy as np
 
-from comparison.progress import Progress
 from comparison.runner import Method, Prefetched, Record, ResultCache, code_version, prefetch
 from comparison.runner.executor import Executor
-from comparison.runner.methods import PACKAGES
+from comparison.runner.fingerprint import versions_used
 from comparison.sweep.grid import Grid
 from comparison.sweep.plan import Cell, cells
-from comparison.sweep.table import machine, number, read_table, versions, write_meta, write_table
+from comparison.sweep.table import machine, number, read_table, write_meta, write_table
 from comparison.sweep.usermodel import UserModel
+from comparison.utilities.progress import Progress
 
 #: The status of a cell whose computation gave no record, by the executor's outcome.
 FAILURE_STATUS = {"failed": "error", "lost": "worker_died", "refused": "refused_memory"}
@@ -106,8 +106,8 @@ def run_sweep(
         "grid": grid.to_dict(),
         "counts": counts,
         "executor": {"where": executor.where, "workers": executor.workers, "memory": executor.memory_per_worker},
-        "code": {pkg: code_version(pkg) for pkg in sorted({p for pkgs in PACKAGES.values() for p in pkgs})},
-        "versions": versions(),
+        "code": code_version(cache.directory),
+        "versions": versions_used(),
         "machine": machine(),
         "macro_walls_per_second": macro_rate,
         "micro_seconds": micro_seconds,

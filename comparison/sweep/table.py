@@ -16,12 +16,11 @@ import json
 import math
 import os
 import platform
-from collections.abc import Iterable, Mapping, Sequence
-from importlib import metadata
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from comparison.outputs import csv_text, write_text
+from comparison.utilities.outputs import csv_text, write_text
 
 #: The table's columns, in order. ``load_factor`` is the value to quote: for the non-associative
 #: method the lowest certified collapse state (``quoted`` says which), its iterated LP's own value in
@@ -70,8 +69,6 @@ COLUMNS = (
 )
 #: Columns that depend on the run, not on the cell: when and where it was computed.
 RUN_COLUMNS = ("seconds", "cached")
-#: Packages whose versions the metadata records.
-PACKAGES = ("xcheck-masonry", "numpy", "scipy", "highspy", "clarabel", "cvxpy", "cvxopt", "dask", "distributed", "tqdm")
 
 
 def _text(value: Any) -> str:
@@ -99,17 +96,6 @@ def read_table(path: Path) -> list[dict[str, str]]:
 def number(text: str) -> float:
     """A table field as a float (NaN when empty)."""
     return float(text) if text else math.nan
-
-
-def versions(packages: Sequence[str] = PACKAGES) -> dict[str, str | None]:
-    """Installed versions of ``packages`` (``None`` when not installed)."""
-    out: dict[str, str | None] = {}
-    for name in packages:
-        try:
-            out[name] = metadata.version(name)
-        except metadata.PackageNotFoundError:
-            out[name] = None
-    return out
 
 
 def machine() -> dict[str, Any]:

@@ -3,7 +3,7 @@
 The model takes the paper's Table 4 parameters of a wall, as the pytest
 plugin's walls carry them (``t = H/L``, ``m = b/l``, ``rows``, ``f``, ``p``,
 ``storeys``; a float, a float, an int, a float, a float, an int), and returns
-its load factor, a real number (what :func:`~comparison.numbers.received_number`
+its load factor, a real number (what :func:`~comparison.utilities.numbers.received_number`
 accepts, as ``xcheck_table.add`` does). A grid file names it
 ``module:function`` (``function`` may be a dotted path inside the module); the
 module is imported with the grid file's folder first on the import path, so a
@@ -41,9 +41,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
-from comparison.names import own_method
-from comparison.numbers import received_number
 from comparison.runner.executor.base import describe
+from comparison.utilities.names import own_method
+from comparison.utilities.numbers import received_number
 
 #: The largest load factor a user model may return. A load factor is the horizontal load over the wall's
 #: weight, and friction caps it near ``f`` (the whole wall sliding on its base); a value a million times
@@ -56,7 +56,7 @@ class UserModel:
     """A user's macro model: a callable ``(t, m, rows, f, p, storeys) -> λ`` under a name.
 
     Attributes:
-        name: the column's name in the table, the page and its figures (:func:`comparison.names.own_method`:
+        name: the column's name in the table, the page and its figures (:func:`comparison.utilities.names.own_method`:
             ``"macro"`` and the micro methods' kinds and labels are taken).
         function: the callable.
         target: where it comes from, ``module:function`` (default: the callable's module and name).
@@ -68,7 +68,7 @@ class UserModel:
     kind: ClassVar[str] = "user"
 
     def __post_init__(self) -> None:
-        own_method("name", self.name)  # the suite's rule for names (comparison.names)
+        own_method("name", self.name)  # the suite's rule for names (comparison.utilities.names)
         if not callable(self.function):
             raise TypeError(f"{self.name}: function must be callable, got {self.function!r}")
         if not self.target:

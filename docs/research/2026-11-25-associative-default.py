@@ -45,7 +45,7 @@ CAP = {("highs-ipx", "7575"): 1}
 def one(wall_key: str, candidate: str) -> dict[str, object]:
     """Assemble, set up and solve one wall with one candidate; the record."""
     import micro
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
     from micro.backends.highs import HighsBackend
 
     entry = json.loads(REFERENCE.read_text())["walls"][WALLS[wall_key]]

@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.backends.normal_ipm import NormalIpmBackend
 from micro.backends.normal_matrix import NormalMatrix, NotPositiveDefinite, one_blas_thread
 from micro.nonassociative.proximal import PROX_MARGIN

@@ -30,8 +30,8 @@ import numpy as np
 from threadpoolctl import threadpool_info
 
 import micro
-from comparison.cases import case
-from comparison.wall import WallSpec
+from comparison.domain.cases import case
+from comparison.domain.wall import WallSpec
 from micro.backends import clarabel as clarabel_backend
 from micro.backends import highs, normal_matrix
 from micro.nonassociative import proximal

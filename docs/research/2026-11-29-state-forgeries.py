@@ -44,7 +44,10 @@ def _state(wall, folder: Path, name: str, source: dict, solve=None) -> dict:  # 
 def genuine(folder: Path) -> dict[str, dict]:
     """The genuine states the forgeries start from, written by the code on the path."""
     import micro
-    from comparison.wall import WallSpec
+    try:
+        from comparison.domain.wall import WallSpec
+    except ImportError:  # main before issue 56 moved it
+        from comparison.wall import WallSpec  # type: ignore[no-redef]
 
     def paper(t: float, m: float, f: float) -> tuple:  # type: ignore[type-arg]
         spec = WallSpec.from_paper(t=t, m=m, rows=12, f=f)

@@ -30,7 +30,7 @@ from collections.abc import Sequence
 from typing import Literal
 
 from micro.geometry import BlockWall
-from micro.global_search.results import (
+from micro.global_search.global_types import (
     INFEASIBLE,
     NODE_LIMIT,
     OPTIMAL,
@@ -47,9 +47,9 @@ from micro.global_search.results import (
     relative_gap,
 )
 from micro.global_search.search import Incumbent, search_direction
+from micro.limit_result import direction_sign
 from micro.lp import LimitLP, assemble
-from micro.nonassociative.results import NonAssociativeResult
-from micro.results import direction_sign
+from micro.nonassociative.nonassociative_result import NonAssociativeResult
 
 __all__ = [
     "INFEASIBLE",

@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.global_search import highs as gh
-from micro.global_search.results import BigM
+from micro.global_search.global_types import BigM
 from micro.lp import LimitLP
 
 FloatArray = NDArray[np.float64]

@@ -34,7 +34,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from micro.global_search import highs as gh
-from micro.global_search.results import BigM, Pattern
+from micro.global_search.global_types import BigM, Pattern
 from micro.lp import LimitLP
 
 FloatArray = NDArray[np.float64]

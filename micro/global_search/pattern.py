@@ -32,7 +32,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from micro.global_search import highs as gh
-from micro.global_search.results import Pattern
+from micro.global_search.global_types import Pattern
 from micro.lp import LimitLP
 from micro.nonassociative.checks import state_residuals
 

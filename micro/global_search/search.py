@@ -20,9 +20,9 @@ from numpy.typing import NDArray
 
 from micro.global_search import highs as gh
 from micro.global_search.bounds import BoundError, big_m
+from micro.global_search.global_types import BigM, GlobalOptions, Pattern
 from micro.global_search.model import Layout, build_mip, pattern_of, solution_vector
 from micro.global_search.pattern import collapse_residuals, force_state, is_collapse_state, mechanism
-from micro.global_search.results import BigM, GlobalOptions, Pattern
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
 

@@ -71,6 +71,7 @@ import time
 from typing import Any
 
 from micro.geometry import BlockWall, check_block_wall
+from micro.limit_result import load_directions
 from micro.lp import assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.config import (
@@ -89,9 +90,8 @@ from micro.nonassociative.config import (
     recipe_for,
 )
 from micro.nonassociative.descent.lowest import lowest_state
-from micro.nonassociative.descent.results import LowestDirection
-from micro.nonassociative.pipeline import solve_chain
-from micro.nonassociative.results import (
+from micro.nonassociative.descent.lowest_direction import LowestDirection
+from micro.nonassociative.nonassociative_result import (
     CONVERGED,
     CYCLING,
     MAX_ITERATIONS,
@@ -103,8 +103,8 @@ from micro.nonassociative.results import (
     NonAssociativeResult,
     SequenceDiagnostics,
 )
+from micro.nonassociative.pipeline import solve_chain
 from micro.nonassociative.selections import detect_cycle
-from micro.results import load_directions
 
 __all__ = [
     "CONVERGED", "CYCLING", "DEFAULT_RELAXATION", "FUSE_BLOCKS", "MAX_ITERATIONS", "SCHEMES", "SELECTIONS",

@@ -9,11 +9,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.exact import exact_dot
+from micro.limit_result import DirectionResult, direction_sign
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL, Mechanism, mechanism_from_duals
 from micro.nonassociative.config import TINY
 from micro.nonassociative.model import IterationModel, restart
-from micro.results import DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
 

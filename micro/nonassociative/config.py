@@ -34,7 +34,7 @@ import numpy as np
 
 from micro.backends.base import check_integer, finite_real
 from micro.backends.roles import ROLE_NAMES
-from micro.results import Directions, check_directions
+from micro.limit_result import Directions, check_directions
 
 # ------------------------------------------------------------------ the tuning
 #: Published rebuilt yield conditions implemented here.

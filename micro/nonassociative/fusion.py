@@ -39,13 +39,13 @@ from scipy.sparse.csgraph import connected_components
 
 from micro.backends.base import Outcome
 from micro.backends.roles import InteriorLP
+from micro.limit_result import DirectionResult
 from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, Recipe
-from micro.nonassociative.results import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
-from micro.results import DirectionResult
+from micro.nonassociative.nonassociative_result import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]

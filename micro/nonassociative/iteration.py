@@ -36,12 +36,13 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
 from micro.backends.roles import InteriorLP, PersistentLP
+from micro.limit_result import DIR_NAME, DirectionResult
 from micro.lp import LimitLP
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, TINY, LPProgress, Recipe
 from micro.nonassociative.model import IterationModel, restart
-from micro.nonassociative.results import (
+from micro.nonassociative.nonassociative_result import (
     CONVERGED,
     CONVERGED_STOPS,
     CYCLING,
@@ -54,7 +55,6 @@ from micro.nonassociative.results import (
 )
 from micro.nonassociative.selections import exact_stop, selection_for, window_band
 from micro.nonassociative.warm_cold import COLD, WARM, WarmColdPolicy
-from micro.results import DIR_NAME, DirectionResult
 
 FloatArray = NDArray[np.float64]
 NAN = math.nan

@@ -24,12 +24,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.limit_result import DirectionResult
 from micro.lp import LimitLP
 from micro.nonassociative.config import Recipe
 from micro.nonassociative.fusion import fused_wall, on_the_wall
 from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.model import IterationModel
-from micro.results import DirectionResult
 
 FloatArray = NDArray[np.float64]
 

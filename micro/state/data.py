@@ -19,10 +19,10 @@ from numpy.typing import NDArray
 
 from micro.geometry import BlockWall
 from micro.hold import HeldWall
+from micro.limit_result import DirectionResult, LimitResult, direction_sign
 from micro.lp import point_columns, point_geometry
 from micro.mechanism import CONTACT_STATE_NAMES, CONTACT_STATE_TOL, classify_rates
 from micro.nonassociative import NonAssociativeResult
-from micro.results import DirectionResult, LimitResult, direction_sign
 from micro.state.structure import WallParameters, analysed_wall, structure_of
 
 FloatArray = NDArray[np.float64]

@@ -42,7 +42,7 @@ from typing import Any
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 
 REFERENCE = json.loads((Path(__file__).parents[1] / "micro" / "associative_reference.json").read_text())["walls"]
 

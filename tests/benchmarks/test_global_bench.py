@@ -15,9 +15,9 @@ from __future__ import annotations
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.global_search import GlobalOptions, StartState, solve_global
-from micro.global_search.results import scip_available
+from micro.global_search.global_types import scip_available
 
 #: Nodes per search: enough to show that the bound does not move.
 NODES = 20

@@ -15,7 +15,7 @@ from __future__ import annotations
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.nonassociative.descent.lowest import EXACT_TOL, lowest_state
 
 #: Table 7 set, (t, m), blocks, the iterated LP's load factor and the lowest certified one (+x, defaults).

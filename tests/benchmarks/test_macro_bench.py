@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from pytest_benchmark.fixture import BenchmarkFixture
 
 import macro
-from comparison.cases import case
+from comparison.domain.cases import case
 
 pytestmark = pytest.mark.benchmark
 

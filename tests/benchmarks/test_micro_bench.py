@@ -22,7 +22,7 @@ from __future__ import annotations
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 
 WALLS = {
     "set11": lambda: WallSpec.from_paper(t=0.5, m=1 / 3, rows=12, f=0.75),

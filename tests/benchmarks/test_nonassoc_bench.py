@@ -41,8 +41,8 @@ import os
 import pytest
 
 import micro
-from comparison.cases import case
-from comparison.wall import WallSpec
+from comparison.domain.cases import case
+from comparison.domain.wall import WallSpec
 from micro.nonassociative import Tuning
 
 #: Associative load factors of the library's default back end (``normal-ipm``;

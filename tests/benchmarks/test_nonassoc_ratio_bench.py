@@ -37,7 +37,7 @@ from typing import Any
 import pytest
 
 import micro
-from comparison.cases import case
+from comparison.domain.cases import case
 from comparison.report.plan import micro_methods
 from comparison.runner.runner import compute
 

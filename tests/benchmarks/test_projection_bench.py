@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.cases import case
+from comparison.domain.cases import case
 from micro.nonassociative.model import IterationModel, restart
 from micro.nonassociative.proximal import PROX_MARGIN, Projection
 

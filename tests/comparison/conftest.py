@@ -60,7 +60,7 @@ def failing_nonassociative(monkeypatch: pytest.MonkeyPatch) -> None:
     ``max_iterations``); the associative LP runs as it is."""
     import micro
 
-    verdict = importlib.import_module("comparison.verdict")
+    verdict = importlib.import_module("comparison.domain.verdict")
     real = verdict.solve_micro
 
     def failing(wall: micro.BlockWall, friction: str, options: Any) -> Any:

@@ -16,7 +16,7 @@ import pytest
 
 import macro
 import micro
-from comparison.wall import StoreySpec, WallSpec
+from comparison.domain.wall import StoreySpec, WallSpec
 from macro.checks import TooLarge
 from micro.nonassociative import NonAssociativeOptions, Tuning
 

@@ -18,16 +18,16 @@ import pytest
 
 import comparison
 import micro
-from comparison.proof import ACCURACY, judge
-from comparison.verdict import CompareOptions, Comparison
-from comparison.wall import WallSpec
+from comparison.domain.proof import ACCURACY, judge
+from comparison.domain.verdict import CompareOptions, Comparison
+from comparison.domain.wall import WallSpec
 
 SET12 = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75)
 SET13 = WallSpec.from_paper(t=1, m=1 / 2, rows=12, f=0.75)
 #: Two storeys of 10 rows, t = 1, m = 1/3, f = 0.75 (150 blocks): the macro λ (0.633) lies above the
 #: associative λ (0.621), so the associative bound settles the verdict.
 ABOVE_BOUND = WallSpec.from_paper(t=1, m=1 / 3, rows=20, f=0.75, storeys=2)
-COMPARE = importlib.import_module("comparison.verdict")
+COMPARE = importlib.import_module("comparison.domain.verdict")
 
 
 @pytest.fixture(scope="module")

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from comparison.failure import FailureMode, failure_mode
-from comparison.wall import WallSpec
+from comparison.domain.failure import FailureMode, failure_mode
+from comparison.domain.wall import WallSpec
 
 
 def _rotating_region(wall, slope: float, offset: float, mirror: bool) -> np.ndarray:  # type: ignore[no-untyped-def]

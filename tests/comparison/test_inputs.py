@@ -1,4 +1,4 @@
-"""Input files are regular files, refused at once otherwise (comparison/inputs.py)."""
+"""Input files are regular files, refused at once otherwise (comparison/utilities/inputs.py)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from comparison.inputs import read_input_file
+from comparison.utilities.inputs import read_input_file
 
 
 def test_a_regular_file_is_read_whole_or_up_to_one_byte_past_the_limit(tmp_path: Path) -> None:

@@ -1,4 +1,4 @@
-"""Names a user gives: one rule (comparison/names.py) for a sweep's user model and a walls file's walls."""
+"""Names a user gives: one rule (comparison/utilities/names.py) for a sweep's user model and a walls file's walls."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ from pathlib import Path
 
 import pytest
 
-from comparison.names import BUILT_IN, label, own_method
 from comparison.pytest_plugin.walls import walls_from_file
 from comparison.runner.methods import MACRO, MICRO_ASSOC, MICRO_NONASSOC
 from comparison.sweep.usermodel import UserModel
+from comparison.utilities.names import BUILT_IN, label, own_method
 
 
 def test_the_built_in_names_are_the_runners_kinds() -> None:

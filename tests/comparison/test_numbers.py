@@ -1,5 +1,5 @@
 """Numbers written as text: one rule (ASCII digits, a leading '-' at most), exact, and read in bounded time
-(comparison/numbers.py)."""
+(comparison/utilities/numbers.py)."""
 
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from comparison.numbers import MAX_EXPONENT, OutOfRange, exact, shortest
 from comparison.pytest_plugin.walls import walls_from_file
 from comparison.sweep import GridError, parse_grid
+from comparison.utilities.numbers import MAX_EXPONENT, OutOfRange, exact, shortest
 
 
 @pytest.mark.parametrize(

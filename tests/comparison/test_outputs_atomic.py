@@ -21,9 +21,9 @@ from pathlib import Path
 import pytest
 
 from comparison.cli import main
-from comparison.outputs import write_text
 from comparison.report.tables import Table
 from comparison.sweep.table import write_meta, write_table
+from comparison.utilities.outputs import write_text
 
 ROOT = Path(__file__).resolve().parents[2]
 #: Twelve walls, the macro model only: a table of about 2.5 kB, its metadata and page about 1 kB each.

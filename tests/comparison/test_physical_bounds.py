@@ -15,7 +15,7 @@ import pytest
 
 import macro
 import micro
-from comparison.wall import StoreySpec, WallSpec
+from comparison.domain.wall import StoreySpec, WallSpec
 from macro import checks
 from micro import wall_checks
 

@@ -6,7 +6,7 @@ import io
 
 import pytest
 
-from comparison.progress import NORMAL, QUIET, VERBOSE, Progress
+from comparison.utilities.progress import NORMAL, QUIET, VERBOSE, Progress
 
 
 class Terminal(io.StringIO):
@@ -53,7 +53,7 @@ def test_a_log_gets_a_status_line_every_tenth_or_30_seconds() -> None:
     """Off a terminal, without ``-q``, a long run prints the plan, a status line each time another 10 % is
     done or 30 s have passed since the last (done, cached, to go, elapsed, ETA), and its summary, on stderr:
     a log shows the run is alive."""
-    from comparison.progress import LOG_SECONDS
+    from comparison.utilities.progress import LOG_SECONDS
 
     stream, clock = io.StringIO(), Clock()
     with Progress(NORMAL, stream, clock=clock, heartbeat=None) as p:
@@ -89,7 +89,7 @@ def test_a_log_gets_a_status_line_every_tenth_or_30_seconds() -> None:
 
 
 def test_durations() -> None:
-    from comparison.progress import duration
+    from comparison.utilities.progress import duration
 
     assert [duration(s) for s in (0.4, 59.6, 65, 3599, 7380)] == ["0 s", "1 min 00 s", "1 min 05 s", "59 min 59 s",
                                                                      "2 h 03 min"]
@@ -101,7 +101,7 @@ def test_a_log_gets_a_status_line_while_one_computation_runs_for_minutes() -> No
     while Sets 9 and 10 ran); nothing before that, and the thread ends with the display."""
     import time
 
-    from comparison.progress import LOG_SECONDS
+    from comparison.utilities.progress import LOG_SECONDS
 
     stream, clock = io.StringIO(), Clock()
     with Progress(NORMAL, stream, clock=clock, heartbeat=0.01) as p:
@@ -124,7 +124,7 @@ def test_the_heartbeat_says_nothing_finished_only_when_the_count_did_not_move() 
     """The heartbeat's line says ``nothing finished for <time since the last finish>`` only when no
     computation finished since the previous line; after the count moved it is the plain status line (so
     the words mean what the docs say)."""
-    from comparison.progress import LOG_SECONDS
+    from comparison.utilities.progress import LOG_SECONDS
 
     stream, clock = io.StringIO(), Clock()
     with Progress(NORMAL, stream, clock=clock, heartbeat=None) as p:
@@ -186,10 +186,10 @@ def test_prefetch_weighs_the_eta_by_blocks_or_by_the_time_a_computation_took_bef
     the largest start first and the display is started on their sum."""
     from collections.abc import Iterator, Sequence
 
+    from comparison.domain.wall import WallSpec
     from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, ResultCache, prefetch
     from comparison.runner.executor import Task, TaskOutcome
     from comparison.runner.pool import expected_seconds
-    from comparison.wall import WallSpec
 
     big = WallSpec.from_paper(t=1, m=1 / 3, rows=60, f=0.6, p=0, storeys=3, name="big")
     small = [WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75 + k / 100, p=0, storeys=1, name=f"s{k}")

@@ -1,4 +1,4 @@
-"""The wall's own mechanism where a local one governs (``comparison.local.solve_wall_mechanism``).
+"""The wall's own mechanism where a local one governs (``comparison.domain.wall_mechanism.solve_wall_mechanism``).
 
 The grid walls whose top course ends with a thin cut piece (t = 3/2, m = 1/2, 8 rows: a 1/3-wide piece;
 t = 1, m = 1/3, 8 rows: 1/2) govern the block model by that piece alone; the paper's walls of Table 7
@@ -13,9 +13,9 @@ import math
 import pytest
 
 import micro
-from comparison.cases import case
-from comparison.local import FAILED, LOCAL_LEFT, WALL, solve_wall_mechanism
-from comparison.wall import WallSpec
+from comparison.domain.cases import case
+from comparison.domain.wall import WallSpec
+from comparison.domain.wall_mechanism import FAILED, LOCAL_LEFT, WALL, solve_wall_mechanism
 
 SOLVES = {"associative": micro.solve_associative,
           "nonassociative": functools.partial(micro.solve_nonassociative, lowest=True)}
@@ -95,7 +95,7 @@ def test_held_analysis_that_fails_says_so() -> None:
 def test_rounds_are_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
     """When every held wall's mechanism is local again, the loop stops after ``max_rounds`` held analyses
     with status ``local after the last round`` and no wall value (the detection is forced local here)."""
-    import comparison.local as local
+    import comparison.domain.wall_mechanism as local
 
     wall = WallSpec.from_paper(t=1.5, m=0.5, rows=8, f=0.65).to_micro()
 

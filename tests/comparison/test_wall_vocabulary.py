@@ -18,7 +18,7 @@ import pytest
 
 import macro
 import micro
-from comparison.wall import StoreySpec, WallSpec
+from comparison.domain.wall import StoreySpec, WallSpec
 from macro import checks
 
 PAPER = {"t": 1.0, "m": 1 / 3, "rows": 12, "f": 0.6, "p": 0.0, "storeys": 1}

@@ -8,8 +8,8 @@ from typing import Any
 import pytest
 
 import micro
-from comparison.proof import judge
-from comparison.verdict import compare
+from comparison.domain.proof import judge
+from comparison.domain.verdict import compare
 from micro.global_search import solve_global
 
 #: The documented entry points whose docstrings carry an Examples section.

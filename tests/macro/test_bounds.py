@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import macro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from macro.bounds import overturning_load_factor
 
 

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import macro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 
 walls = st.builds(  # t at most o m: a wall at least one block long (macro.checks.wall_bounds)
     lambda t, m, per, n, f, p: WallSpec.from_paper(t=min(t, per * n * m), m=m, rows=per * n, f=f, p=p, storeys=n)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import pytest
 
 import macro
-from comparison.cases import CASES, case
+from comparison.domain.cases import CASES, case
 
 # case: (Eq. 10 minimum lambda_r, alpha_c [deg], hinge storey)
 FAITHFUL = {

@@ -7,7 +7,7 @@ import pytest
 from brute_force import Walls, brute_force, random_walls
 
 import macro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from macro.equations import evaluate
 from macro.search import DEFAULT_SEARCH, SearchSettings, WallMinima, minimise_walls
 from macro.solve import _problems

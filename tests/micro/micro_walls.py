@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 
 #: Table 7 of the paper: single storey, 12 rows, f = 0.75; (t, m) and
 #: Orduna's non-associative micro-model load factors.

@@ -13,8 +13,8 @@ from hand_walls import column_wall, small_wall
 
 import micro
 from micro.global_search import solve_global
+from micro.global_search.global_types import Pattern
 from micro.global_search.pattern import force_state, mechanism
-from micro.global_search.results import Pattern
 
 
 @pytest.mark.parametrize("b, h, mu", [(1.0, 2.0, 0.75), (2.0, 1.0, 0.75), (1.0, 1.0, 0.6), (1.5, 1.0, 0.7)])

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.cases import case
+from comparison.domain.cases import case
 from comparison.report.tables import DIGITS, plain
 from micro.backends.clarabel import CLARABEL_TIGHT
 from micro.backends.normal_ipm import NORMAL_IPM

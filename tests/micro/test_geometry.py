@@ -81,7 +81,7 @@ def test_frictionless_head_joints() -> None:
 
 
 def test_paper_block_counts() -> None:
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
 
     counts = {(0.5, 1 / 3): 102, (1.0, 1 / 3): 54, (1.0, 1.0): 150}
     for (t, m), n in counts.items():
@@ -91,7 +91,7 @@ def test_paper_block_counts() -> None:
 
 def test_table9_wall_assembles() -> None:
     """Sizes of the 7,575-block wall (its build time is a benchmark: tests/benchmarks)."""
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
 
     w = WallSpec.from_paper(t=1, m=1 / 3, rows=150, f=0.6, storeys=5).to_micro()
     lp = micro.assemble(w)

@@ -51,7 +51,7 @@ def test_set8_layout_by_hand() -> None:
 
 
 def test_paper_set8_builds() -> None:
-    from comparison.cases import case
+    from comparison.domain.cases import case
 
     w = case("8").spec().to_micro()
     assert w.n_blocks == 30 * 7 + 30 * 8

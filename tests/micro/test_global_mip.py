@@ -18,12 +18,12 @@ from enumeration import STATES, Enumerator
 from hand_walls import column_wall, small_wall
 
 import micro
-from micro.global_search import GlobalOptions, StartState, global_summary, results, solve_global
+from micro.global_search import GlobalOptions, StartState, global_summary, global_types, solve_global
 from micro.global_search.bounds import big_m
 from micro.nonassociative import verify_collapse_state
 
 #: The solvers of the branch and bound; SCIP only with the optional extra ``global`` (pyscipopt).
-SOLVERS = ["highs", pytest.param("scip", marks=pytest.mark.skipif(not results.scip_available(),
+SOLVERS = ["highs", pytest.param("scip", marks=pytest.mark.skipif(not global_types.scip_available(),
                                                                    reason="pyscipopt not installed"))]
 
 #: (name, wall, direction, non-associative minimum strictly below the associative load factor)
@@ -173,13 +173,13 @@ def test_bad_direction() -> None:
 
 def test_scip_without_pyscipopt_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
     """Without the optional extra the option names what to install."""
-    monkeypatch.setattr(results, "scip_available", lambda: False)
+    monkeypatch.setattr(global_types, "scip_available", lambda: False)
     with pytest.raises(ValueError, match=r"pyscipopt.*\[global\]"):
         GlobalOptions(solver="scip")
 
 
 @pytest.mark.processes
-@pytest.mark.skipif(not results.scip_available(), reason="pyscipopt not installed")
+@pytest.mark.skipif(not global_types.scip_available(), reason="pyscipopt not installed")
 def test_ctrl_c_stops_scip_within_seconds() -> None:
     """SCIP's own Ctrl-C handler stops the search and the interrupt reaches Python (the HiGHS path: test_signals.py)."""
     import os
@@ -188,7 +188,7 @@ def test_ctrl_c_stops_scip_within_seconds() -> None:
     import sys
     import time
 
-    code = ("import micro\nfrom comparison.wall import WallSpec\n"
+    code = ("import micro\nfrom comparison.domain.wall import WallSpec\n"
             "from micro.global_search import GlobalOptions, solve_global\n"
             "lp = micro.assemble(WallSpec.from_paper(t=2, m=1/3, rows=6, f=0.6).to_micro())\n"
             "print('searching', flush=True)\n"

@@ -1,6 +1,6 @@
 """Local mechanisms (a cut end piece of the top course that tips over alone) and held walls.
 
-Closed forms (``micro.local``): the piece, ``w`` wide and ``b`` high, loaded by
+Closed forms (``micro.local_mechanisms``): the piece, ``w`` wide and ``b`` high, loaded by
 ``lambda W`` at its centroid, tips over about its outer bottom corner. With
 non-associative friction its head joint opens and nothing holds it:
 ``lambda = w/b``. With associative friction the head joint must dilate as it
@@ -20,7 +20,7 @@ import pytest
 
 import micro
 from micro.hold import GROUND, hold_blocks, host_block
-from micro.local import LOCAL_WEIGHT_SHARE, find_local, local_mechanism, moving_blocks, weight_share
+from micro.local_mechanisms import LOCAL_WEIGHT_SHARE, find_local, local_mechanism, moving_blocks, weight_share
 
 MU = 0.65
 

@@ -116,7 +116,7 @@ def test_summaries_hold_no_nan_at_any_depth() -> None:
     """The summary of a run with the descent and the global search (a 5-block wall, a node-limited
     search) is strict JSON at every depth: NaN and infinities become ``null`` in the record, the
     descent's and the search's nested parts (:func:`micro.records.json_number`)."""
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
     from micro.global_search import global_summary
     from micro.records import json_number
 

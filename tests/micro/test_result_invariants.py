@@ -7,9 +7,9 @@ import math
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
+from micro.limit_result import DirectionResult, LimitResult
 from micro.records import AssociativeRecord
-from micro.results import DirectionResult, LimitResult
 
 WALL = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75).to_micro()
 

@@ -23,7 +23,7 @@ from micro_walls import table7_wall, three_storey_wall
 
 import micro
 import micro.files
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.state import CollapseStateData, collapse_state, parse_state, read_state, verify_state, write_state
 from micro.state import check as state_check
 from micro.state import file as state_file

@@ -22,7 +22,7 @@ import state_forgeries as forge
 
 import micro
 from comparison.cli import main
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 
 FIXTURE = Path(__file__).parent / "states" / "set12-v1.json"
 

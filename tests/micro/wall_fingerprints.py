@@ -38,7 +38,7 @@ def fingerprint(wall: micro.BlockWall) -> str:
 def whole_wall_cases() -> Iterator[tuple[str, dict[str, Any]]]:
     """Walls whose length is a whole number of half blocks: small synthetic
     walls of 1-15 half blocks and the paper's walls (but Set 8), both bonds."""
-    from comparison.cases import CASES
+    from comparison.domain.cases import CASES
 
     for n_half, rows, first, heads, bl in itertools.product(
         range(1, 16), [(1,), (3,), (2, 3), (1, 2, 2)], ["full", "half"], ["frictional", "frictionless"], [1.0, 3.0]

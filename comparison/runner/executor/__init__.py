@@ -2,7 +2,7 @@
 
 * :mod:`~comparison.runner.executor.base`: :class:`Task`, :class:`TaskOutcome`
   and the :class:`Executor` protocol;
-* :mod:`~comparison.runner.executor.local`: :class:`LocalExecutor`, local
+* :mod:`~comparison.runner.executor.processes`: :class:`LocalExecutor`, local
   processes that ignore Ctrl-C (the parent ends them) and die with their parent;
 * :mod:`~comparison.runner.executor.cluster`: :class:`DaskExecutor`, every task
   a ``dask.distributed`` task on an existing cluster (optional dependency).
@@ -16,7 +16,7 @@ from __future__ import annotations
 import os
 
 from comparison.runner.executor.base import Executor, OutcomeKind, Task, TaskOutcome
-from comparison.runner.executor.local import LocalExecutor
+from comparison.runner.executor.processes import LocalExecutor
 
 
 def make_executor(

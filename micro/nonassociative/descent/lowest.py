@@ -89,11 +89,12 @@ from numpy.typing import NDArray
 
 from micro.backends.base import Outcome
 from micro.geometry import HEAD
+from micro.limit_result import DIR_NAME, DirectionResult, direction_sign
 from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.config import INTERPENETRATION, LPProgress, Recipe
-from micro.nonassociative.descent.results import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
+from micro.nonassociative.descent.lowest_direction import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
 from micro.nonassociative.descent.states import (
     Basis,
     ForceField,
@@ -103,7 +104,6 @@ from micro.nonassociative.descent.states import (
     restricted_columns,
 )
 from micro.nonassociative.model import IterationModel
-from micro.results import DIR_NAME, DirectionResult, direction_sign
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -213,7 +213,7 @@ class Descent:
 
     # ------------------------------------------------------------ checks
     def as_result(self, state: CollapseState) -> DirectionResult:
-        """``state`` as a :class:`~micro.results.DirectionResult` (dimensional forces)."""
+        """``state`` as a :class:`~micro.limit_result.DirectionResult` (dimensional forces)."""
         fs = self.lp.force_scale
         return DirectionResult(direction=DIR_NAME[self.d], status=FOUND, load_factor=state.load_factor,
                                iterations=0, seconds=0.0, normal=state.n * fs, shear=state.s * fs,

@@ -12,7 +12,7 @@ import pytest
 from quick_report import QuickReport
 
 from comparison.cli import main
-from comparison.scene import SceneError, parse_scene
+from comparison.domain.scene import SceneError, parse_scene
 
 ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = ROOT / "examples" / "three-storey.toml"
@@ -309,7 +309,7 @@ def test_an_error_inside_a_model_is_not_a_usage_error(monkeypatch: pytest.Monkey
 def test_a_scene_without_storey_tables_is_told_how_to_write_them(text: str, where: str) -> None:
     """A scene without ``[[storey]]`` tables (e.g. ``storey = 5``) is told how to write one, not only that
     none is given."""
-    from comparison.scene import STOREY_HOWTO
+    from comparison.domain.scene import STOREY_HOWTO
 
     with pytest.raises(SceneError) as exc:
         parse_scene(text, source="w.toml")

@@ -167,7 +167,7 @@ def test_the_plot_marks_the_floors_and_the_macro_hinge(friction: str, tmp_path, 
     import matplotlib.figure
 
     import macro
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
 
     kept = []
     save = matplotlib.figure.Figure.savefig

@@ -1,4 +1,4 @@
-"""Numbers on the command line: the suite's one rule (comparison/numbers.py) on every option that takes a
+"""Numbers on the command line: the suite's one rule (comparison/utilities/numbers.py) on every option that takes a
 number, and every count that reaches a solver held to a stated bound (HiGHS' 32-bit integers).
 
 Each refusal is one line naming the option and exit 2, before any solve (no traceback from the library's

@@ -10,7 +10,7 @@ import pytest
 import micro
 from comparison.cli import main
 from comparison.cli.micro import parse_tuning
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.nonassociative import TUNING_KNOBS
 
 WALL = ["--rows", "4", "--t", "1", "--m", "1/3", "--f", "0.6"]

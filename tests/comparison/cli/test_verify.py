@@ -16,8 +16,8 @@ from typing import Any
 
 import pytest
 
-from comparison.cases import case
 from comparison.cli import main
+from comparison.domain.cases import case
 
 #: Table 7's Set 12 and the paper's parameters of the round-trip walls.
 SET12 = ["--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75"]

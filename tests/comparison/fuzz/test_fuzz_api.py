@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 import macro
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from macro.checks import TooLarge
 
 pytestmark = mark

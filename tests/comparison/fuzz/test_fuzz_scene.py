@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 
 import macro
 from comparison.cli import main
-from comparison.scene import SceneError, load_scene
+from comparison.domain.scene import SceneError, load_scene
 from macro.checks import TooLarge
 
 pytestmark = mark

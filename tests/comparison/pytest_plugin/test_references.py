@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 import macro
-from comparison.cases import CASES, case
 from comparison.cli import main
+from comparison.domain.cases import CASES, case
 from comparison.pytest_plugin import MissingReference, ReferenceMismatch, References
 from comparison.pytest_plugin.generate import PUBLISHED, QUANTITIES
 

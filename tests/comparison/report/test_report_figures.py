@@ -71,7 +71,7 @@ def test_speed_labels_once_per_resolution_and_apart(tmp_path: Path, monkeypatch:
 
 def test_mechanism_drawn_in_block_heights_with_arrow() -> None:
     """A dimensional wall (blocks 0.1 high, 60 rows) is drawn 60 block heights tall, with the arrow left of it."""
-    from comparison.scene import load_scene
+    from comparison.domain.scene import load_scene
     from micro.plot import draw_mechanism
 
     wall = load_scene(Path(__file__).parents[3] / "examples" / "three-storey.toml").to_micro()
@@ -206,7 +206,7 @@ def test_mechanism_caption_says_not_run_where_the_reference_was_not_run() -> Non
 
 def test_full_sensitivity_sweep_reaches_the_papers_widest_wall() -> None:
     """The t sweep reaches t = 3 (Table 5's Set 8), so its curves reach the paper's point."""
-    from comparison.cases import cases_in_table
+    from comparison.domain.cases import cases_in_table
     from comparison.report.plan import SWEEPS_FULL
 
     assert max(SWEEPS_FULL["t"]) >= max(c.t for c in cases_in_table("5"))
@@ -235,7 +235,7 @@ def test_the_mechanism_plot_marks_floors_and_a_hinge_given_as_plain_numbers() ->
     numbers (micro imports neither macro nor comparison): dashed lines across the wall at the floors, the
     storeys named on a second axis, the hinge as a labelled circle at the toe the wall rotates about (the
     side the load pushes towards)."""
-    from comparison.scene import load_scene
+    from comparison.domain.scene import load_scene
     from micro.plot import draw_mechanism
 
     wall = load_scene(Path(__file__).parents[3] / "examples" / "three-storey.toml").to_micro()  # 3 x 20 rows, b = 0.1
@@ -267,7 +267,7 @@ def test_the_report_marks_the_floors_and_the_macro_hinge_on_each_mechanism(tmp_p
 
     import macro
     import micro
-    from comparison.cases import case
+    from comparison.domain.cases import case
     from comparison.report import mechanisms
     from comparison.runner import MICRO_ASSOC, MechanismRecord
 

@@ -6,7 +6,7 @@ from dataclasses import replace
 
 import pytest
 
-from comparison.cases import case, cases_in_table
+from comparison.domain.cases import case, cases_in_table
 from comparison.report.plan import NONASSOC_MAX_BLOCKS, approximate_blocks, build_plan
 from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, Runner
 
@@ -54,7 +54,7 @@ def test_speed_walls_reach_7575_blocks_against_the_finest_iterated_lp() -> None:
 
 
 def test_results_refuse_a_pair_outside_the_plan() -> None:
-    from comparison.report.results import Results
+    from comparison.report.computed import Results
 
     plan = build_plan(quick=True)
     res = Results(plan, {}, {}, {}, 0.0)
@@ -77,7 +77,7 @@ def test_all_cases_explains_n_a_only_where_a_cell_shows_it(skip: str) -> None:
     """REPORT.md's "All cases" table carries the note explaining n/a only when a cell shows n/a (a note
     with nothing to explain misleads)."""
     import macro
-    from comparison.report.results import Results
+    from comparison.report.computed import Results
     from comparison.report.tables import all_cases
     from comparison.runner import Record
 

@@ -27,9 +27,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from comparison.domain.wall import WallSpec
 from comparison.runner import MICRO_ASSOC, ResultCache, Runner, prefetch
 from comparison.runner.executor import Task, TaskOutcome
-from comparison.wall import WallSpec
 
 SPEC = WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75, name="six rows")
 

@@ -19,11 +19,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from comparison.domain.wall import WallSpec
 from comparison.runner import MICRO_ASSOC, ResultCache, Runner
 from comparison.runner import cache as cache_module
 from comparison.runner.cache import MAX_MECHANISM_BYTES, MAX_RECORD_BYTES, CacheWarning
 from comparison.runner.records import MechanismRecord
-from comparison.wall import WallSpec
 
 SPEC = WallSpec.from_paper(t=1, m=1 / 3, rows=6, f=0.75, name="six rows")
 #: A sparse file of this size stands for an entry the reader must not read whole.

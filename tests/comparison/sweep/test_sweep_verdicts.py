@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 from comparison.cli import main
+from comparison.domain.verdict import compare
+from comparison.domain.wall import WallSpec
 from comparison.sweep import read_table
-from comparison.verdict import compare
-from comparison.wall import WallSpec
 
 #: Set 12 (12 rows, 54 blocks: not refuted) and the same t, m, f with 20 rows (150 blocks, above the grid's
 #: limit: no non-associative solve; its macro λ 0.631 lies above the associative 0.621).

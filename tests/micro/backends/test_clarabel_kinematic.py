@@ -10,7 +10,7 @@ from typing import Any
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.backends import CLARABEL_KINEMATIC, CLARABEL_TIGHT, MAX_RESIDUAL, ClarabelKinematicBackend
 
 REFERENCE = json.loads((Path(__file__).parents[1] / "associative_reference.json").read_text())["walls"]

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.backends.clarabel import CLARABEL_TIGHT
 from micro.geometry import BED
 

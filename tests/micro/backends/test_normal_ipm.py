@@ -19,7 +19,7 @@ import pytest
 from micro_walls import three_storey_wall
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.backends import Status, make_backend
 from micro.backends import normal_ipm as nipm
 from micro.backends.normal_matrix import NormalMatrix, NotPositiveDefinite, cholmod_options

@@ -10,7 +10,7 @@ import pytest
 from micro_walls import table7_wall
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.backends import MAX_RESIDUAL, ClarabelKinematicBackend, Status, polish
 from micro.backends.polish import Polished, polish_equilibrium
 

@@ -30,7 +30,7 @@ INHERITED = (signal.getsignal(signal.SIGINT), signal.SIGINT in signal.pthread_si
 signal.signal(signal.SIGINT, signal.default_int_handler)
 signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 import numpy as np
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 import micro
 from micro.backends import highs as H
 
@@ -161,7 +161,7 @@ def test_the_cvxpy_back_end_solves_clarabel_through_its_interrupt(monkeypatch: p
     hands the solver cvxpy builds to ``solve_interruptibly``, and gives cvxpy's own answer."""
     import micro
     import micro.backends.cvxpy_ as cv
-    from comparison.wall import WallSpec
+    from comparison.domain.wall import WallSpec
     from micro.backends.cvxpy_ import CvxpyBackend
 
     calls: list[str] = []

@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.nonassociative import solve_nonassociative
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey, 12 rows, f = 0.75: (t, m, lambda).

@@ -31,7 +31,7 @@ import hashlib, json, sys
 import numpy as np
 from threadpoolctl import threadpool_info
 import micro
-from comparison.cases import case
+from comparison.domain.cases import case
 from micro.nonassociative import Tuning
 
 name, selection = sys.argv[1], sys.argv[2]

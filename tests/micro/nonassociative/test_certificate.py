@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.nonassociative import Tuning, solve_nonassociative
 from micro.nonassociative.certificate import Certificate
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.nonassociative import CYCLING, Tuning, solve_nonassociative
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
@@ -59,8 +59,8 @@ def test_pattern_check_and_state_check_agree() -> None:
     import numpy as np
 
     from micro.global_search.pattern import collapse_residuals
+    from micro.limit_result import direction_sign
     from micro.nonassociative import verify_collapse_state
-    from micro.results import direction_sign
 
     w = wall(1.0, 1 / 3)
     r = solve_nonassociative(w)

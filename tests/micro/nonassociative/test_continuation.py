@@ -7,7 +7,7 @@ import math
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.nonassociative import Tuning, solve_nonassociative, verify_collapse_state
 from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL
 from micro.nonassociative.selections import CONT_FACTOR, CONT_GAMMA0, CONT_GAMMA_MIN

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.backends.clarabel import ClarabelStaticBackend
 from micro.nonassociative import (
     Tuning,

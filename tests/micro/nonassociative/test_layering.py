@@ -19,7 +19,7 @@ import highspy
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 
 
 def test_the_non_associative_method_calls_highs_only_through_micro_backends(monkeypatch: pytest.MonkeyPatch) -> None:

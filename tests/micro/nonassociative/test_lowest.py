@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.nonassociative import Tuning, solve_nonassociative, verify_collapse_state
 from micro.nonassociative.descent.lowest import EXACT_TOL, LOWEST_TOL, Descent, lowest_state
 from micro.nonassociative.descent.states import ForceLP, refine, restricted_columns

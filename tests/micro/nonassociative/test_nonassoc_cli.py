@@ -31,8 +31,8 @@ def test_cli_json_load_factor_is_the_value_to_quote(capsys: pytest.CaptureFixtur
     plugin's references (Set 12, 54 blocks: the lowest certified state 0.6911, below the iterated LP's
     0.7086, which is ``iterated_load_factor`` beside it); each direction's entry is of the same kind."""
     import micro
+    from comparison.domain.wall import WallSpec
     from comparison.pytest_plugin import References
-    from comparison.wall import WallSpec
 
     assert main(["micro", "--t", "1", "--m", "1/3", "--rows", "12", "--f", "0.75", "--friction",
                  "nonassociative", "--json"]) == 0

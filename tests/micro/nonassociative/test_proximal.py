@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.nonassociative import (
     NonAssociativeOptions,
     Tuning,

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import micro
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, TIME_LIMIT, Tuning, solve_nonassociative
 from micro.nonassociative.checks import COLD_CHECKED_STOPS
 

@@ -3,8 +3,8 @@
 :class:`DirectionResult` is the ONE per-direction type: the associative LP
 fills its common fields and ``native_status``/``info``; a method with
 diagnostics of its own adds them as ``sequence`` (the iterated
-non-associative LP: :class:`micro.nonassociative.results.SequenceDiagnostics`,
-read through :func:`micro.nonassociative.results.diagnostics`). This module
+non-associative LP: :class:`micro.nonassociative.nonassociative_result.SequenceDiagnostics`,
+read through :func:`micro.nonassociative.nonassociative_result.diagnostics`). This module
 knows no method: the field's type is the method's business.
 :class:`LimitResult` is the associative analysis (governing direction first).
 """

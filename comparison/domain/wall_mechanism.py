@@ -1,7 +1,7 @@
 """The wall's own mechanism where a local one governs the block model: :func:`solve_wall_mechanism`.
 
 A cut end piece of the top course tips over alone at ``lambda = width/height``
-(:mod:`micro.local`): a mechanism of the block model, not of the wall. The
+(:mod:`micro.local_mechanisms`): a mechanism of the block model, not of the wall. The
 value compared with the macro model is the wall's own: the same analysis with
 the local blocks held to the block that carries them (:func:`micro.hold_blocks`),
 repeated while the held wall's governing mechanism is itself local, at most
@@ -152,7 +152,7 @@ def solve_wall_mechanism(wall: micro.BlockWall, solve: Solve, *, first: MicroRes
         wm.result_local       # the block model's analysis (its load_factor is the local lambda if local)
 
     Args:
-        wall: the wall as built (:meth:`comparison.wall.WallSpec.to_micro`).
+        wall: the wall as built (:meth:`comparison.domain.wall.WallSpec.to_micro`).
         solve: the micro method, a function of a wall (``micro.solve_associative``,
             ``micro.solve_nonassociative``, or a ``functools.partial`` of either with its options).
         first: the method's result on ``wall`` when already computed (it is not computed again).

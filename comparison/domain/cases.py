@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 
 MODELS = {
     "proposed": "Proposed macro-block model (Argiento et al. 2018)",

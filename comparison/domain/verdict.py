@@ -1,13 +1,13 @@
 """One wall, both models, and what may be concluded: the macro λ against the micro one, the verdict and its proof.
 
 :func:`compare` solves the macro-block model and the rigid-block (micro) model of one wall and says whether
-the macro model is on the safe side for it, and how that is known: the rule is :func:`comparison.proof.judge`
+the macro model is on the safe side for it, and how that is known: the rule is :func:`comparison.domain.proof.judge`
 (its module says why each proof holds). The associative LP runs first; when the macro λ is above it, the
 verdict is settled and the non-associative solve is skipped (unless ``full``).
 
 Every micro solve goes through :func:`solve_micro` (one place to change how the micro model is asked),
-and each method through :func:`comparison.local.solve_wall_mechanism`: where the block model's governing
-mechanism is local (a cut end piece of the top course that tips over alone, :mod:`micro.local`), the value
+and each method through :func:`comparison.domain.wall_mechanism.solve_wall_mechanism`: where the block model's governing
+mechanism is local (a cut end piece of the top course that tips over alone, :mod:`micro.local_mechanisms`), the value
 compared with the macro model is the wall's own, the same analysis with the local pieces held to the blocks
 that carry them, and ``local_mechanism`` says what moved. The associative LP runs first; the
 non-associative solve runs on the wall it held (so the associative bound and the certified state are of the
@@ -21,7 +21,7 @@ import time
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal, cast, overload
 
-from comparison.proof import (
+from comparison.domain.proof import (
     ASSOCIATIVE_BOUND,
     GLOBAL_CLOSED,
     NOT_REFUTED,
@@ -30,12 +30,12 @@ from comparison.proof import (
     above,
     judge,
 )
-from comparison.wall import WallSpec
+from comparison.domain.wall import WallSpec
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     import macro
     import micro
-    from comparison.local import WallMechanism
+    from comparison.domain.wall_mechanism import WallMechanism
 
 #: Values of :attr:`Comparison.status`: every method that ran gave its value, or one failed.
 OK, FAILED = "ok", "failed"
@@ -49,7 +49,7 @@ class CompareOptions:
     """What :func:`compare` computes.
 
     Attributes:
-        first_course, head_joints: the micro wall's bond (:meth:`comparison.wall.WallSpec.to_micro`).
+        first_course, head_joints: the micro wall's bond (:meth:`comparison.domain.wall.WallSpec.to_micro`).
         full: every number, also the non-associative solve when the associative bound settles the verdict.
         global_: after the non-associative solve, the global search by branch and bound (a lower bound: the
             only way to a "safe" verdict; a reference tool for walls of a few blocks).
@@ -248,8 +248,9 @@ def solve_global_search(wall: micro.BlockWall, result: micro.NonAssociativeResul
 
 def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions) -> WallMechanism:
     """The micro method ``friction`` on ``wall`` with a local mechanism told apart and the wall's own
-    computed (:func:`comparison.local.solve_wall_mechanism`); every solve through :func:`solve_micro`."""
-    from comparison.local import solve_wall_mechanism
+    computed (:func:`comparison.domain.wall_mechanism.solve_wall_mechanism`); every solve through
+    :func:`solve_micro`."""
+    from comparison.domain.wall_mechanism import solve_wall_mechanism
 
     return solve_wall_mechanism(wall, lambda w: solve_micro(w, friction, options))  # type: ignore[call-overload]
 
@@ -276,7 +277,7 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
     solve only when the associative bound does not settle the verdict (or ``full``).
 
     Args:
-        wall: the wall (:meth:`WallSpec.from_paper`, :func:`comparison.scene.load_scene`).
+        wall: the wall (:meth:`WallSpec.from_paper`, :func:`comparison.domain.scene.load_scene`).
         options: what to compute (``None``: the defaults).
         **overrides: fields of :class:`CompareOptions` to change (``full=True``).
 
@@ -286,16 +287,16 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
 
     Examples:
         >>> import comparison
-        >>> from comparison.wall import WallSpec
+        >>> from comparison.domain.wall import WallSpec
         >>> c = comparison.compare(WallSpec.from_paper(t=1, m=1/2, rows=12, f=0.75))
         >>> c.verdict, c.proof, round(c.macro_load_factor, 4), round(c.micro_load_factor, 4)
         ('unsafe', 'certified state', 0.4914, 0.4895)
     """
     import macro
-    from comparison.local import LOCAL_LEFT
+    from comparison.domain.wall_mechanism import LOCAL_LEFT
 
     if not isinstance(wall, WallSpec):
-        raise TypeError(f"wall must be a comparison.wall.WallSpec, got {type(wall).__name__}")
+        raise TypeError(f"wall must be a comparison.domain.wall.WallSpec, got {type(wall).__name__}")
     o = replace(options or CompareOptions(), **overrides)
     notes: list[str] = []
     start = time.perf_counter()
@@ -383,7 +384,7 @@ def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResu
         notes.append(f"the non-associative solve failed (status {result.status}: {result.message}); "
                      "no collapse state to compare")
         return out
-    from micro.nonassociative.results import QUOTED_LOWEST
+    from micro.nonassociative.nonassociative_result import QUOTED_LOWEST
 
     quoted, iterated = _nonassociative_values(result)
     certified = result.quoted == QUOTED_LOWEST or result.sequence.stop_reason == "certified"

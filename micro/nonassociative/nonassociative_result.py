@@ -1,6 +1,6 @@
 """Result types of the iterated LP: one LP's record, a direction's diagnostics, the analysis (types
 only: this module imports no module that computes them). The descent's own type, the lowest state of
-a direction, is :mod:`micro.nonassociative.descent.results`'s."""
+a direction, is :mod:`micro.nonassociative.descent.lowest_direction`'s."""
 
 from __future__ import annotations
 
@@ -8,10 +8,10 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from micro.limit_result import DirectionResult, given_fields
 from micro.nonassociative.config import Recipe
-from micro.nonassociative.descent.results import LowestDirection, lowest_fields, lowest_summary
+from micro.nonassociative.descent.lowest_direction import LowestDirection, lowest_fields, lowest_summary
 from micro.records import NonAssociativeRecord, check_success, json_number, record_of
-from micro.results import DirectionResult, given_fields
 
 #: Values of ``status``. ``max_iterations``: the cap on LPs or the work budget
 #: (simplex iterations) spent; ``time_limit``: stopped by a user's wall-clock
@@ -106,7 +106,7 @@ class FusionDiagnostics:
 
 @dataclass(frozen=True)
 class SequenceDiagnostics:
-    """What the iterated LP adds to a :class:`~micro.results.DirectionResult`.
+    """What the iterated LP adds to a :class:`~micro.limit_result.DirectionResult`.
 
     Attributes:
         stop_reason: what stopped the sequence (``"lambda_and_forces"``,

@@ -38,7 +38,7 @@ wall.
 
 The wall's own mechanism is the same analysis with the local blocks held to
 the block that carries them (:func:`micro.hold_blocks`); the comparison with
-the macro model uses it (``comparison.local.solve_wall_mechanism``).
+the macro model uses it (``comparison.domain.wall_mechanism.solve_wall_mechanism``).
 """
 
 from __future__ import annotations

@@ -33,8 +33,8 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from comparison.inputs import read_input_file
-from comparison.wall import StoreySpec, WallSpec
+from comparison.domain.wall import StoreySpec, WallSpec
+from comparison.utilities.inputs import read_input_file
 from macro.checks import friction, magnitude
 
 #: Largest scene file read (a scene is a few hundred bytes; this refuses a wrong file before reading it whole).

@@ -4,7 +4,7 @@ A :class:`WallSpec` is a dimensional wall (lengths, unit weight, floor loads) in
 the terms both models understand. It is made either from the paper's
 nondimensional parameters (Table 4 of Argiento, Maione & Casapulla 2018) with
 :meth:`WallSpec.from_paper`, or from a TOML scene with
-:func:`comparison.scene.load_scene`. :meth:`WallSpec.to_macro` and
+:func:`comparison.domain.scene.load_scene`. :meth:`WallSpec.to_macro` and
 :meth:`WallSpec.to_micro` build each model's own input, so that ``macro`` and
 ``micro`` never import each other.
 
@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
-from comparison.numbers import shortest
+from comparison.utilities.numbers import shortest
 from macro.checks import NO_STOREY, WALL_FIELDS, friction, magnitude, non_negative, positive, positive_int, wall_bounds
 from macro.paper import BLOCK_HEIGHT, paper_walls
 
@@ -166,7 +166,7 @@ class WallSpec:
         ``p = q/(gamma H b)`` (``p_height="wall"`` reading) storey by storey in ``p_storeys`` (storey 1, the
         top, first); ``p`` is the paper's one value for every floor, ``None`` when the storeys' differ (a
         scene's floor loads: no one ``p`` describes them). Each ratio is printed as the scene wrote it
-        (:func:`comparison.numbers.shortest`: ``m = 0.10/0.30`` is 1/3, not ``0.33333333333333337``).
+        (:func:`comparison.utilities.numbers.shortest`: ``m = 0.10/0.30`` is 1/3, not ``0.33333333333333337``).
         """
         height = self.height
         p = [shortest(s.overload / (self.unit_weight * height * s.thickness)) for s in self.storeys]

@@ -30,10 +30,10 @@ import math
 #: to 1e-9 and are not told apart). The same margin as the sweeps' (:data:`comparison.sweep.compare.AGREEMENT`).
 ACCURACY = 1e-4
 
-#: Values of :attr:`comparison.verdict.Comparison.verdict` (``None``: no verdict, nothing proves either way).
+#: Values of :attr:`comparison.domain.verdict.Comparison.verdict` (``None``: no verdict, nothing proves either way).
 UNSAFE, NOT_REFUTED, SAFE = "unsafe", "not refuted", "safe"
 VERDICTS = (UNSAFE, NOT_REFUTED, SAFE)
-#: Values of :attr:`comparison.verdict.Comparison.proof` (``None`` with "not refuted" or no verdict).
+#: Values of :attr:`comparison.domain.verdict.Comparison.proof` (``None`` with "not refuted" or no verdict).
 ASSOCIATIVE_BOUND, CERTIFIED_STATE, GLOBAL_BOUND = "associative bound", "certified state", "global bound"
 PROOFS = (ASSOCIATIVE_BOUND, CERTIFIED_STATE, GLOBAL_BOUND)
 #: The global search's status when it closed (its lower bound is proven to its gap).
@@ -65,7 +65,7 @@ def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
         ``(verdict, proof)``: one of :data:`VERDICTS` or ``None``, one of :data:`PROOFS` or ``None``.
 
     Examples:
-        >>> from comparison.proof import judge
+        >>> from comparison.domain.proof import judge
         >>> judge(0.61, 0.505)
         ('unsafe', 'associative bound')
         >>> judge(0.4914, 0.5564, 0.4895, found_load_factor=0.4895)

@@ -12,8 +12,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from micro.limit_result import DirectionResult
 from micro.records import json_number
-from micro.results import DirectionResult
 
 #: Values of :attr:`LowestDirection.status`.
 FOUND, FAILED = "found", "failed"

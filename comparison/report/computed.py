@@ -7,9 +7,9 @@ import time
 from dataclasses import dataclass
 
 import macro
+from comparison.domain.wall import WallSpec
 from comparison.report.plan import Plan
 from comparison.runner import MechanismRecord, Method, Record, Runner
-from comparison.wall import WallSpec
 
 #: Macro solves timed for the speed-accuracy table (their mean is shown).
 MACRO_TIMING_REPEATS = 20
