@@ -38,11 +38,11 @@ value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, glo
 
 from micro.associative import solve_associative
 from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backend
-from micro.geometry import BlockWall, build_wall
+from micro.geometry import ENDS, BlockWall, build_wall, closer_width
 from micro.global_search import GlobalOptions, GlobalResult, solve_global
 from micro.hold import HeldWall, hold_blocks
 from micro.limit_result import DirectionResult, LimitResult
-from micro.local_mechanisms import LOCAL_WEIGHT_SHARE, LocalMechanism, find_local, local_mechanism
+from micro.local_mechanisms import LocalMechanism, find_local, local_mechanism
 from micro.lp import LimitLP, assemble
 from micro.mechanism import Mechanism, mechanism_from_duals
 from micro.memory import estimate_bytes
@@ -69,7 +69,7 @@ from micro.state import (
 
 __all__ = [
     "DEFAULT_SOLVER",
-    "LOCAL_WEIGHT_SHARE",
+    "ENDS",
     "SCHEMES",
     "SOLVERS",
     "AssociativeRecord",
@@ -96,6 +96,7 @@ __all__ = [
     "Tuning",
     "assemble",
     "build_wall",
+    "closer_width",
     "collapse_state",
     "estimate_bytes",
     "find_local",

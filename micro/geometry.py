@@ -58,6 +58,12 @@ CONTACT_KIND_NAMES = ("base", "bed", "head")
 #: that such walls come out exactly as before).
 WHOLE_TOLERANCE = 1e-9
 
+#: How a course ends when the wall's length is not a whole number of half blocks (:func:`build_wall`'s
+#: ``ends``): ``"closers"`` (the default) as a mason closes a course, with no piece narrower than half a
+#: block and head joints at least a quarter block apart from course to course; ``"cut"`` with whatever
+#: remains after the last regular joint, down to slivers of any width.
+ENDS = ("closers", "cut")
+
 
 def _frozen(a: np.ndarray) -> np.ndarray:
     a = np.ascontiguousarray(a)
@@ -86,6 +92,8 @@ class BlockWall:
             frictionless) head joints.
         first_course: ``"full"`` or ``"half"``: how the bottom course starts.
         head_joints: ``"frictional"`` or ``"frictionless"``.
+        ends: how the courses end when ``L`` is not a whole number of half
+            blocks (:data:`ENDS`): ``"closers"`` or ``"cut"``.
         x0, x1, y0, y1: block extents.
         course: course index of each block (0 = bottom).
         storey: storey of each block (1 = top).
@@ -108,6 +116,7 @@ class BlockWall:
     friction: float
     first_course: str
     head_joints: str
+    ends: str
     x0: FloatArray = field(repr=False)
     x1: FloatArray = field(repr=False)
     y0: FloatArray = field(repr=False)
@@ -262,6 +271,36 @@ def _course_edges(last: int, end: float, half: float, starts_full: bool) -> Floa
     return np.concatenate([[0.0], inner * half, [end]])
 
 
+def closer_width(block_length: float, block_height: float, friction: float) -> float:
+    """The narrowest closer :func:`build_wall` lays with ``ends="closers"``: ``min(mu b, l/4)``.
+
+    A piece ``w`` wide and ``b`` high that carries nothing tips over alone at ``lambda = w/b`` with
+    non-associative friction, and at ``(w/b)(1 + mu^2)/(1 - mu^2 + 2 mu w/b)`` with associative friction;
+    at ``w = mu b`` both are ``mu``, the load at which the whole wall slides on its base, which bounds the
+    wall's own load factor from above. A closer at least ``mu b`` wide therefore never collapses alone
+    below the wall. The cap ``l/4`` keeps the longest end unit (``l`` plus a remainder narrower than the
+    closer) within a quarter block of a block, for walls of tall blocks (``mu b > l/4``).
+    """
+    return min(friction * block_height, 0.25 * block_length)
+
+
+def _closer_edges(edges: tuple[FloatArray, FloatArray], length: float,
+                  closer: float) -> tuple[FloatArray, FloatArray]:
+    """The two course types' edges with their ends closed as :func:`build_wall` does with ``ends="closers"``.
+
+    The regular joints stay where they are (every lap half a block); a course whose last piece would be
+    narrower than ``closer`` (:func:`closer_width`) does not lay it: its last unit runs to the end,
+    ``l`` plus the remainder long. Every other course keeps its last piece, a closer at least ``closer``
+    wide (``docs/micro/walls.md``: why, and what the load factor does).
+    """
+    out = []
+    for e in edges:
+        if e.size > 2 and float(e[-1] - e[-2]) < closer:
+            e = np.concatenate([e[:-2], [length]])
+        out.append(e)
+    return out[0], out[1]
+
+
 def build_wall(
     *,
     length: float,
@@ -274,6 +313,7 @@ def build_wall(
     friction: float,
     first_course: Literal["full", "half"] = "full",
     head_joints: Literal["frictional", "frictionless"] = "frictional",
+    ends: Literal["closers", "cut"] = "closers",
     max_bytes: int | None = None,
 ) -> BlockWall:
     """Build a running-bond wall of rigid blocks.
@@ -337,6 +377,8 @@ def build_wall(
         raise ValueError(f"first_course must be 'full' or 'half', got {first_course!r}")
     if head_joints not in ("frictional", "frictionless"):
         raise ValueError(f"head_joints must be 'frictional' or 'frictionless', got {head_joints!r}")
+    if ends not in ENDS:
+        raise ValueError(f"ends must be 'closers' or 'cut', got {ends!r}")
     if max_bytes is not None and (isinstance(max_bytes, bool) or not isinstance(max_bytes, (int, np.integer))
                                   or max_bytes <= 0):
         raise ValueError(f"max_bytes must be a positive integer (bytes) or None, got {max_bytes!r}")
@@ -355,6 +397,8 @@ def build_wall(
 
     end = r * half if whole else L
     edges = (_course_edges(last, end, half, bottom_full), _course_edges(last, end, half, not bottom_full))
+    if not whole and ends == "closers":
+        edges = _closer_edges(edges, L, closer_width(lb, hb, mu))
     blocks = _lay_blocks(edges, n_courses, hb)
     dead, live, storey = _block_loads(blocks, rows_t, thick, over, gamma, hb)
     contacts = _contacts(edges, blocks, hb)
@@ -365,7 +409,7 @@ def build_wall(
     y0 = blocks.course.astype(np.float64) * hb
     return BlockWall(
         length=L, block_length=lb, block_height=hb, rows=rows_t, thickness=thick, overload=over,
-        unit_weight=gamma, friction=mu, first_course=first_course, head_joints=head_joints,
+        unit_weight=gamma, friction=mu, first_course=first_course, head_joints=head_joints, ends=ends,
         x0=blocks.x0, x1=blocks.x1, y0=y0, y1=y0 + hb, course=blocks.course,
         storey=storey, dead=dead, live=live, mu=mu_c, **contacts,
     )

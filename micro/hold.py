@@ -142,6 +142,7 @@ def _held_wall(wall: BlockWall, final: dict[int, int], keep: NDArray[np.bool_], 
     return BlockWall(
         length=wall.length, block_length=wall.block_length, block_height=wall.block_height, rows=wall.rows,
         thickness=wall.thickness, overload=wall.overload, unit_weight=wall.unit_weight, friction=wall.friction,
-        first_course=wall.first_course, head_joints=wall.head_joints, dead=dead[keep], live=live[keep],
+        first_course=wall.first_course, head_joints=wall.head_joints, ends=wall.ends,
+        dead=dead[keep], live=live[keep],
         contact_a=a[live_c], contact_b=b_[live_c], normal=normal[live_c], **arrays, **contacts,
     )

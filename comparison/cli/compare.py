@@ -72,7 +72,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its governing micro mechanism")
     g.add_argument("--state", default=None, metavar="FILE.json",
                    help="write the collapse state compared (the non-associative one; the associative LP's when "
-                   "the bound settled the verdict), of the wall as analysed; `xcheck verify FILE.json` checks it")
+                   "the bound settled the verdict), of the wall as built; `xcheck verify FILE.json` checks it")
     p.set_defaults(handler=run)
 
 
@@ -126,7 +126,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _state(args: argparse.Namespace, c: Comparison, spec: WallSpec) -> tuple[str | None, str | None]:
     """Write ``--state``: the state compared (the non-associative result when it ran, else the associative
-    LP's), of the wall it was computed on (held where a local mechanism was told apart)."""
+    LP's), of the wall as built."""
     if c.nonassociative_result is not None and c.nonassociative_wall is not None:
         return write_state_file(args, c.nonassociative_result, c.nonassociative_wall, spec)
     if c.associative_result is not None and c.associative_wall is not None:
@@ -151,8 +151,12 @@ def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
         lines.append(f"  difference:          (macro - micro) / micro = {c.difference_percent:+.2f} %")
     loc = c.local_mechanism
     if loc is not None:
+        held = loc["held_load_factor"]
         lines.append(f"  local mechanism:     {loc['description']} at lambda = {loc['load_factor']:.6f} "
-                     f"({loc['method']} micro, the block model's); the values above are the wall's own, with it held")
+                     f"({loc['method']} micro): the wall as built's, the value compared")
+        lines.append(f"  held wall:           lambda = {held:.6f} with the slivers held to the blocks that carry "
+                     "them (another wall, not compared)" if held is not None else
+                     f"  held wall:           no value ({loc['message'] or loc['status']})")
     if c.global_status:
         lines.append(f"  global search:       {c.global_status}, proven lower bound {c.global_lower_bound:.6f}")
     lines.extend(f"  note: {d}" for d in c.diagnostics)

@@ -217,7 +217,7 @@ def _print_associative(result: LimitResult, verbosity: int) -> None:
 
 
 def _wall_mechanism(wall: BlockWall, result: Any, solve: Callable[[BlockWall], Any]) -> WallMechanism:
-    """The block model's result told apart from a local mechanism, and the wall's own
+    """The wall as built's result with a sliver's local mechanism told apart, and the held wall's beside it
     (:func:`comparison.domain.wall_mechanism.solve_wall_mechanism`; the held wall is solved only where a local
     one governs)."""
     from comparison.domain.wall_mechanism import solve_wall_mechanism
@@ -226,19 +226,20 @@ def _wall_mechanism(wall: BlockWall, result: Any, solve: Callable[[BlockWall], A
 
 
 def _print_local(own: WallMechanism, verbosity: int) -> None:
-    """Where a local mechanism governs, what moves and the wall's own load factor (the one compared with the
-    macro model): two lines after the result, none when quiet."""
+    """Where a sliver's local mechanism governs the wall as built, what moves and the held wall's load factor
+    beside it: two lines after the result, none when quiet."""
     if own.local is None or verbosity == QUIET:
         return
     loc = own.local
     print(f"  local mechanism: {loc.description} (lambda = {loc.load_factor:.6f}, {loc.direction}, "
-          f"{100 * loc.weight_share:.2g} % of the weight): the block model's, not the wall's")
-    if math.isfinite(own.load_factor):
-        print(f"  the wall's own mechanism ({len(own.held)} block{'s' if len(own.held) != 1 else ''} held to "
-              f"the block below): wall lambda = {own.load_factor:.6f} ({own.result.direction}); compare this "
-              "with the macro model")
+          f"{100 * loc.weight_share:.2g} % of the weight): the wall as built collapses there, at a sliver")
+    n = len(own.held)
+    if math.isfinite(own.held_load_factor) and own.held_result is not None:
+        print(f"  held wall ({n} sliver{'s' if n != 1 else ''} held to the block{'s' if n != 1 else ''} that carry "
+              f"{'them' if n != 1 else 'it'}, another wall): lambda = {own.held_load_factor:.6f} "
+              f"({own.held_result.direction})")
     else:
-        print(f"  the wall's own mechanism: not found ({own.message})")
+        print(f"  held wall: no value ({own.message})")
 
 
 def _write_plot(draw: Callable[[], object], path: str) -> str | None:
@@ -253,10 +254,18 @@ def _write_plot(draw: Callable[[], object], path: str) -> str | None:
 
 
 def _print_cut(wall: BlockWall, verbosity: int) -> None:
-    """One line when the wall's end blocks are cut (``L`` not a whole number of half blocks), but when quiet."""
-    if wall.end_blocks_cut and verbosity != QUIET:
-        print(f"  L = {wall.half_blocks:.4g} half blocks, not a whole number: the last block of every course is "
-              "cut (docs/micro/walls.md)")
+    """One line when ``L`` is not a whole number of half blocks (how the courses end), but when quiet."""
+    if not wall.end_blocks_cut or verbosity == QUIET:
+        return
+    from micro import closer_width
+
+    if wall.ends == "cut":
+        how = "the last block of every course is cut, down to slivers (--ends cut)"
+    else:
+        width = closer_width(wall.block_length, wall.block_height, wall.friction)
+        how = (f"the courses end in closers at least {width:.4g} wide, a remainder narrower than that taken up by "
+               "a long last unit (--ends closers)")
+    print(f"  L = {wall.half_blocks:.4g} half blocks, not a whole number: {how} (docs/micro/walls.md)")
 
 
 def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, wall: BlockWall, *, plotted: bool,
@@ -268,6 +277,7 @@ def _json(summary: dict[str, Any], args: argparse.Namespace, spec: WallSpec, wal
         wall=spec.name or None,
         paper_parameters=spec.paper_parameters(),
         end_blocks_cut=wall.end_blocks_cut,
+        ends=wall.ends,
         friction=args.friction,
         first_course=args.first_course,
         head_joints=args.head_joints,

@@ -70,8 +70,13 @@ _COMMAND_KEYS: dict[str, Any] = {
     },
     "end_blocks_cut": {
         "type": "boolean",
-        "description": "L is not a whole number of half blocks: the last block of every course is "
-        "cut (docs/micro/walls.md).",
+        "description": "L is not a whole number of half blocks: the courses end in cut pieces, closers or "
+        "slivers as ends says (docs/micro/walls.md).",
+    },
+    "ends": {
+        "enum": ["closers", "cut"],
+        "description": "How the courses end where L is not a whole number of half blocks: closers (no piece "
+        "narrower than min(f b, l/4), a long last unit instead) or cut (whatever remains) (docs/micro/walls.md).",
     },
     "paper_parameters": {
         "type": "object",
@@ -109,28 +114,27 @@ _COMMAND_KEYS: dict[str, Any] = {
         "type": ["string", "null"],
         "description": "The collapse state file written by --state (docs/schemas/state.schema.json), or null.",
     },
-    "wall_load_factor": {
+    "held_load_factor": {
         "$ref": "#/$defs/lambda",
-        "description": "The wall's own load factor, the value compared with the macro model: "
-        "load_factor (the value to quote) when no local mechanism governs; where "
-        "one does (local_mechanism), the same analysis with the local blocks held "
-        "to the block below (docs/micro/walls.md). null when the analysis "
-        "failed.",
+        "description": "Where a sliver's local mechanism governs the wall as built (local_mechanism), the "
+        "same analysis with the slivers held to the blocks that carry them: another wall, reported beside "
+        "load_factor (the wall as built's, the value to quote and compare), never in its place "
+        "(docs/micro/walls.md). null when none governs, or the held analysis failed.",
     },
     "local_mechanism": {
         "type": ["object", "null"],
-        "description": "The local mechanism that governs the block model (blocks of the top "
-        "course, at most 2 % of the wall's weight, that collapse alone, e.g. a cut "
-        "end piece that tips over at lambda = width/height), or null.",
+        "description": "The local mechanism that governs the wall as built: blocks at one of its top "
+        "corners that a sliver (a piece narrower than a closer, ends = cut) lets collapse on their own, e.g. "
+        "a cut end piece that tips over at lambda = width/height (micro.local_mechanisms); null when none.",
         "additionalProperties": False,
         "required": [
             "blocks",
+            "slivers",
             "weight_share",
             "load_factor",
             "direction",
             "description",
             "held",
-            "rounds",
             "status",
             "message",
         ],
@@ -140,31 +144,29 @@ _COMMAND_KEYS: dict[str, Any] = {
                 "items": {"type": "integer", "minimum": 0},
                 "description": "The moving blocks (numbered course by course from the base, left to right).",
             },
+            "slivers": {
+                "type": "array",
+                "items": {"type": "integer", "minimum": 0},
+                "description": "The slivers it moves or rests on: the pieces held for the held wall.",
+            },
             "weight_share": {
                 "type": "number",
                 "minimum": 0,
                 "maximum": 1,
                 "description": "Their share of the wall's dead load.",
             },
-            "load_factor": {"$ref": "#/$defs/lambda", "description": "Its lambda: the block model's value to quote."},
+            "load_factor": {"$ref": "#/$defs/lambda", "description": "Its lambda: the wall as built's value to quote."},
             "direction": {"$ref": "#/$defs/direction"},
             "description": {"type": "string", "description": "What moves, in words."},
             "held": {
                 "type": "array",
                 "items": {"type": "integer", "minimum": 0},
-                "description": "The blocks held to the block below for the wall's own mechanism.",
-            },
-            "rounds": {
-                "type": "integer",
-                "minimum": 0,
-                "description": "Held analyses run (another is run while the "
-                "held wall's mechanism is local, at most 3).",
+                "description": "The slivers held to the blocks that carry them: every sliver of the wall.",
             },
             "status": {
-                "enum": ["wall", "local after the last round", "failed"],
-                "description": "wall: wall_load_factor is the wall's own "
-                "mechanism; otherwise wall_load_factor is null "
-                "and message says why.",
+                "enum": ["wall", "failed"],
+                "description": "wall: held_load_factor is the held wall's (its mechanism is not local); "
+                "otherwise held_load_factor is null and message says why.",
             },
             "message": {"type": "string"},
         },

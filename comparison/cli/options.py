@@ -12,11 +12,12 @@ import errno
 import math
 import os
 import warnings
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 from urllib.parse import urlsplit
 
-from comparison.domain.wall import WallSpec
+from comparison.domain.wall import ENDS, WallSpec
 from comparison.utilities import numbers
 from comparison.utilities.progress import NORMAL, QUIET, VERBOSE
 
@@ -228,6 +229,10 @@ def add_wall_options(parser: argparse.ArgumentParser) -> None:
         "--p", type=str, default=None, metavar="P", help="overloading ratio q/(gamma H b) on every floor (default 0)"
     )
     g.add_argument("--scene", type=str, metavar="FILE.toml", help="a dimensional wall given storey by storey")
+    g.add_argument("--ends", type=str, default=None, metavar="closers|cut",
+                   help="how the block wall's courses end when its length is not a whole number of half blocks: "
+                        "closers (default, or the scene's: no piece narrower than a closer, every lap half a block) "
+                        "or cut (whatever remains, down to slivers)")
 
 
 def wall_from_args(args: argparse.Namespace) -> WallSpec:
@@ -236,6 +241,9 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
     Raises:
         UsageError: a missing or malformed option, or an invalid wall.
     """
+    ends = getattr(args, "ends", None)
+    if ends is not None:
+        choice("--ends", ends, ENDS)
     if args.scene:
         from comparison.domain.scene import load_scene
 
@@ -243,9 +251,10 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
         if clash:
             raise UsageError(f"--scene describes the whole wall; drop {', '.join(clash)}")
         try:
-            return load_scene(args.scene)
+            spec = load_scene(args.scene)
         except ValueError as exc:
             raise UsageError(str(exc)) from None
+        return spec if ends is None else replace(spec, ends=ends)
     missing = [f"--{k}" for k in ("rows", "t", "m", "f") if getattr(args, k) is None]
     if missing:
         raise UsageError(f"missing {', '.join(missing)} (or give --scene FILE.toml)")
@@ -255,7 +264,7 @@ def wall_from_args(args: argparse.Namespace) -> WallSpec:
     rows, storeys = (int_option(k, texts[k]) for k in ("rows", "storeys"))
     values: dict[str, float | int] = {"t": t, "m": m, "f": f, "p": p, "rows": rows, "storeys": storeys}
     try:
-        return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=p, storeys=storeys)
+        return WallSpec.from_paper(t=t, m=m, rows=rows, f=f, p=p, storeys=storeys, ends=ends or ENDS[0])
     except ValueError as exc:
         raise UsageError(echo_input(str(exc), texts, values)) from None
 

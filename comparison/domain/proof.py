@@ -5,7 +5,8 @@
   **unsafe**, proof ``"associative bound"``: one LP settles it (:func:`comparison.compare` then skips the
   non-associative solve).
 * Every certified collapse state is a load at which the wall can collapse. So a macro λ above a certified
-  state's λ is **unsafe**, proof ``"certified state"``.
+  state's λ is **unsafe**, proof ``"certified state"``. Where both prove it, the verdict cites the one the
+  macro λ exceeds by more (the certified state's, which lies at or below the bound).
 * No lower bound on the non-associative collapse load of dry joints is known short of a closed global search
   (Drucker's frictionless bound is 0 under horizontal load; the reduced friction ``tan φ* = sin φ`` is no
   bound for joints of fixed orientation). So a macro λ below every state found is **not refuted**, never
@@ -70,6 +71,8 @@ def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
         ('unsafe', 'associative bound')
         >>> judge(0.4914, 0.5564, 0.4895, found_load_factor=0.4895)
         ('unsafe', 'certified state')
+        >>> judge(0.5010, 0.5005, 0.4752, found_load_factor=0.4752)  # both prove it: the larger margin is cited
+        ('unsafe', 'certified state')
         >>> judge(0.6481, 0.7303, 0.6911, found_load_factor=0.6911)
         ('not refuted', None)
         >>> judge(0.6481, 0.7303)  # the non-associative solve failed: nothing proves either way
@@ -77,10 +80,13 @@ def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
     """
     if not math.isfinite(macro_load_factor):
         return None, None
-    if above(macro_load_factor, associative_load_factor):
-        return UNSAFE, ASSOCIATIVE_BOUND
-    if above(macro_load_factor, certified_load_factor):
-        return UNSAFE, CERTIFIED_STATE
+    # the strongest proof: the one the macro value exceeds by the largest margin (a certified state lies at or
+    # below the associative bound, so it wins wherever both prove it)
+    margins = [(macro_load_factor / ref, proof) for ref, proof in ((associative_load_factor, ASSOCIATIVE_BOUND),
+                                                                  (certified_load_factor, CERTIFIED_STATE))
+               if above(macro_load_factor, ref)]
+    if margins:
+        return UNSAFE, max(margins)[1]
     if above(global_lower_bound, macro_load_factor):
         return SAFE, GLOBAL_BOUND
     if math.isfinite(found_load_factor) and not above(macro_load_factor, found_load_factor):

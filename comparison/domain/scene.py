@@ -8,6 +8,7 @@ Format (see ``examples/three-storey.toml``)::
     length = 6.0          # L
     unit_weight = 18.0    # gamma, force per volume (optional, default 1)
     friction = 0.6        # f
+    ends = "closers"      # how the block wall's courses end (optional: "closers", the default, or "cut")
 
     [block]
     length = 0.30         # l (the overlap is l/2)
@@ -33,7 +34,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from comparison.domain.wall import StoreySpec, WallSpec
+from comparison.domain.wall import ENDS, StoreySpec, WallSpec
 from comparison.utilities.inputs import read_input_file
 from macro.checks import friction, magnitude
 
@@ -58,7 +59,7 @@ STOREY_HOWTO = (
 
 _ALLOWED: dict[str, set[str]] = {
     "": {"name", "wall", "block", "storey"},
-    "wall": {"length", "unit_weight", "friction"},
+    "wall": {"length", "unit_weight", "friction", "ends"},
     "block": {"length", "height"},
     "storey": {"rows", "thickness", "overload"},
 }
@@ -216,6 +217,9 @@ def _wall(tables: dict[str, list[dict[str, Any]]], name: str, src: _Source) -> W
             scalars[param] = check(f"{table}.{key}", tables[table][0].get(key, 1.0 if key == "unit_weight" else None))
         except ValueError as exc:
             raise src.error(str(exc), table, key) from None
+    ends = tables["wall"][0].get("ends", ENDS[0])
+    if ends not in ENDS:
+        raise src.error(f"wall.ends must be one of {', '.join(ENDS)}, got {ends!r}", "wall", "ends")
     height = scalars["block_height"]
     built: list[StoreySpec] = []
     for i, entry in enumerate(tables["storey"]):
@@ -225,7 +229,7 @@ def _wall(tables: dict[str, list[dict[str, Any]]], name: str, src: _Source) -> W
             key = str(exc).split(" must", 1)[0]
             raise src.error(f"storey {i + 1}: {exc}", "storey", key, i) from None
     try:
-        return WallSpec(storeys=tuple(built), name=name, **scalars)
+        return WallSpec(storeys=tuple(built), name=name, ends=ends, **scalars)
     except ValueError as exc:
         raise _bound_error(str(exc), src) from None
 

@@ -6,12 +6,10 @@ the macro model is on the safe side for it, and how that is known: the rule is :
 verdict is settled and the non-associative solve is skipped (unless ``full``).
 
 Every micro solve goes through :func:`solve_micro` (one place to change how the micro model is asked),
-and each method through :func:`comparison.domain.wall_mechanism.solve_wall_mechanism`: where the block model's governing
-mechanism is local (a cut end piece of the top course that tips over alone, :mod:`micro.local_mechanisms`), the value
-compared with the macro model is the wall's own, the same analysis with the local pieces held to the blocks
-that carry them, and ``local_mechanism`` says what moved. The associative LP runs first; the
-non-associative solve runs on the wall it held (so the associative bound and the certified state are of the
-same wall) and holds more if its own mechanism is local there.
+and each method through :func:`comparison.domain.wall_mechanism.solve_wall_mechanism`. Every number compared, and every
+proof, is of the **wall as built** (:meth:`comparison.domain.wall.WallSpec.to_micro`): where a sliver's local
+mechanism governs it (a wall of cut ends, :mod:`micro.local_mechanisms`), the held wall's λ is reported beside it
+(``local_mechanism``), never in its place, and the verdict sentence says so.
 """
 
 from __future__ import annotations
@@ -116,17 +114,16 @@ class Comparison:
         difference_percent: ``(macro − micro) / micro · 100`` (NaN without both).
         global_status, global_lower_bound: the global search's status and proven lower bound (``""``, NaN
             when it did not run).
-        local_mechanism: what moved alone where the block model's governing mechanism is local rather than
-            the wall's (``None``: none): the method that found it, its description, its λ (``load_factor``),
-            the moving blocks' weight share, the blocks held and the wall's own λ. The λs compared
-            (``associative_load_factor``, ``micro_load_factor``) are then the wall's own.
+        local_mechanism: where a sliver's local mechanism governs the wall as built by the method the verdict
+            rests on (``None``: none): that method, the mechanism's description, its λ (``load_factor``, the
+            wall as built's), the moving blocks and their weight share, the slivers held and the held wall's λ
+            (``held_load_factor``: another structure, reported beside the wall as built, never compared).
         seconds: each stage's wall time.
         blocks: blocks of the micro wall.
         wall, options: what was compared, and how.
         macro_result, associative_result, nonassociative_result: the models' own results (``None`` where a
             stage did not run), for plots and states.
-        associative_wall, nonassociative_wall: the micro walls those results are of (the wall as built, or
-            with a local mechanism's pieces held).
+        associative_wall, nonassociative_wall: the micro wall those results are of, the wall as built.
     """
 
     status: str
@@ -192,6 +189,7 @@ class Comparison:
             "blocks": self.blocks,
             "first_course": self.options.first_course,
             "head_joints": self.options.head_joints,
+            "ends": self.wall.ends,
             "full": self.options.full,
             "seconds": {k: num(v) for k, v in self.seconds.__dict__.items()},
         }
@@ -247,27 +245,24 @@ def solve_global_search(wall: micro.BlockWall, result: micro.NonAssociativeResul
 
 
 def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions) -> WallMechanism:
-    """The micro method ``friction`` on ``wall`` with a local mechanism told apart and the wall's own
-    computed (:func:`comparison.domain.wall_mechanism.solve_wall_mechanism`); every solve through
+    """The micro method ``friction`` on the wall as built, with a local mechanism told apart and the held wall
+    analysed beside it (:func:`comparison.domain.wall_mechanism.solve_wall_mechanism`); every solve through
     :func:`solve_micro`."""
     from comparison.domain.wall_mechanism import solve_wall_mechanism
 
     return solve_wall_mechanism(wall, lambda w: solve_micro(w, friction, options))  # type: ignore[call-overload]
 
 
-def _analysed(wm: WallMechanism, wall: micro.BlockWall) -> micro.BlockWall:
-    """The wall ``wm.result`` is of: ``wall`` as given, or the held one."""
-    return wm.held_wall.wall if wm.held_wall is not None else wall
-
-
-def _local(assoc: WallMechanism, nonassoc: WallMechanism | None) -> dict[str, Any] | None:
-    """What moved alone in the block model, for :attr:`Comparison.local_mechanism`: the non-associative
-    method's local mechanism when it found one, else the associative LP's (``None`` when neither did)."""
-    for method, wm in (("nonassociative", nonassoc), ("associative", assoc)):
-        if wm is not None and wm.local is not None:
-            d = wm.to_dict()
-            return {"method": method, **d["local_mechanism"], "wall_load_factor": d["wall_load_factor"]}
-    return None
+def _local(assoc: WallMechanism, nonassoc: WallMechanism | None, proof: str | None) -> dict[str, Any] | None:
+    """What a sliver lets collapse in the wall as built, for :attr:`Comparison.local_mechanism`: of the method the
+    verdict rests on (the associative LP's where its bound proves it, else the non-associative method's when it
+    ran); ``None`` when that method's mechanism is not local."""
+    use_assoc = nonassoc is None or proof == ASSOCIATIVE_BOUND
+    wm, method = (assoc, "associative") if use_assoc else (nonassoc, "nonassociative")
+    if wm is None or wm.local is None:
+        return None
+    d = wm.to_dict()
+    return {"method": method, **d["local_mechanism"], "held_load_factor": d["held_load_factor"]}
 
 
 def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: Any) -> Comparison:
@@ -293,7 +288,6 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         ('unsafe', 'certified state', 0.4914, 0.4895)
     """
     import macro
-    from comparison.domain.wall_mechanism import LOCAL_LEFT
 
     if not isinstance(wall, WallSpec):
         raise TypeError(f"wall must be a comparison.domain.wall.WallSpec, got {type(wall).__name__}")
@@ -311,31 +305,28 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
     assoc_wall = solve_wall(block_wall, "associative", o)
     assoc = cast("micro.LimitResult", assoc_wall.result)
     t_assoc = time.perf_counter() - t0
-    lam_assoc = assoc_wall.load_factor if assoc.ok else math.nan
+    lam_assoc = assoc.load_factor if assoc.ok else math.nan
     if not assoc.ok:
         notes.append(f"the associative LP failed (status {assoc.status}: {assoc.message}); no bound checked")
     elif assoc_wall.message:
-        notes.append(f"associative LP: {assoc_wall.message}")
+        notes.append(f"associative LP, held wall: {assoc_wall.message}")
     settled = above(lam_macro, lam_assoc)
     nonassoc = None
     nonassoc_wall = None
     search = None
-    held = block_wall
     t_nonassoc = math.nan
     if macro_ok and settled and not o.full:
         notes.append("the non-associative solve was skipped: the associative bound settles the verdict "
                      "(--full, full=True, computes it)")
     elif macro_ok or o.full:
         t0 = time.perf_counter()
-        held = _analysed(assoc_wall, block_wall)
-        nonassoc_wall = solve_wall(held, "nonassociative", o)
+        nonassoc_wall = solve_wall(block_wall, "nonassociative", o)
         nonassoc = cast("micro.NonAssociativeResult", nonassoc_wall.result)
-        search = solve_global_search(_analysed(nonassoc_wall, held), nonassoc, o)
+        search = solve_global_search(block_wall, nonassoc, o)
         if nonassoc.ok and nonassoc_wall.message:
-            notes.append(f"non-associative solve: {nonassoc_wall.message}")
+            notes.append(f"non-associative solve, held wall: {nonassoc_wall.message}")
         t_nonassoc = time.perf_counter() - t0
-    values = _micro_values(None if nonassoc_wall is not None and nonassoc_wall.status == LOCAL_LEFT else nonassoc,
-                           search, notes)
+    values = _micro_values(nonassoc, search, notes)
     certified = values["certified_load_factor"]
     micro_lam = values["micro_load_factor"]
     verdict, proof = judge(lam_macro, lam_assoc, certified, found_load_factor=micro_lam,
@@ -361,12 +352,12 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         blocks=block_wall.n_blocks,
         wall=wall,
         options=o,
-        local_mechanism=_local(assoc_wall, nonassoc_wall),
+        local_mechanism=_local(assoc_wall, nonassoc_wall, proof),
         macro_result=macro_result,
         associative_result=assoc,
         nonassociative_result=nonassoc,
-        associative_wall=_analysed(assoc_wall, block_wall),
-        nonassociative_wall=None if nonassoc_wall is None else _analysed(nonassoc_wall, held),
+        associative_wall=block_wall,
+        nonassociative_wall=None if nonassoc_wall is None else block_wall,
     )
 
 
@@ -408,7 +399,23 @@ def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResu
 
 
 def verdict_sentence(c: Comparison) -> str:
-    """The verdict and its proof in one sentence, with the numbers it rests on."""
+    """The verdict and its proof in one sentence, with the numbers it rests on (and, where a sliver's local
+    mechanism governs the wall as built, a second sentence that says so)."""
+    return _verdict_only(c) + _local_sentence(c)
+
+
+def _local_sentence(c: Comparison) -> str:
+    loc = c.local_mechanism
+    if loc is None:
+        return ""
+    held = loc.get("held_load_factor")
+    beside = (f"; with the slivers held to the blocks that carry them (another wall), λ would be {held:.4f}"
+              if held is not None else "")
+    return (f" The wall as built collapses there by a local mechanism: {loc['description']} at λ "
+            f"{loc['load_factor']:.4f}, which the verdict rests on{beside}.")
+
+
+def _verdict_only(c: Comparison) -> str:
     macro_lam = c.macro_load_factor
     lam = f"{macro_lam:.4f}"
     if c.verdict == UNSAFE and c.proof == ASSOCIATIVE_BOUND:
@@ -426,9 +433,13 @@ def verdict_sentence(c: Comparison) -> str:
         what = "lowest certified" if c.micro_quoted == "lowest certified" else "the iterated LP's"
         where = ("lies below every collapse state found" if above(c.micro_load_factor, macro_lam)
                  else "agrees with the lowest collapse state found within the solvers' accuracy")
+        closed = c.global_status == GLOBAL_CLOSED
         bound = ("no lower bound was computed" if not c.global_status else
+                 f"the global search's proven lower bound {c.global_lower_bound:.4f} agrees with it within the "
+                 "solvers' accuracy: the macro λ is the wall's collapse load to that accuracy"
+                 if closed and not above(macro_lam, c.global_lower_bound) else
                  f"the global search's lower bound {c.global_lower_bound:.4f} does not lie above it"
-                 if c.global_status == GLOBAL_CLOSED else
+                 if closed else
                  f"the global search did not close ({c.global_status}; lower bound {c.global_lower_bound:.4f})")
         return (f"The macro model is not refuted for this wall: its λ {lam} {where} ({what} "
                 f"{c.micro_load_factor:.4f}, {_percent(macro_lam, c.micro_load_factor)}); {bound}.")

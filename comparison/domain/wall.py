@@ -37,6 +37,11 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
     import micro
 
 
+#: The block wall's end treatments, the default first: :data:`micro.ENDS`, named here so that a macro-only
+#: run does not import ``micro`` (a test holds the two together).
+ENDS = ("closers", "cut")
+
+
 def _one_number(name: str, value: object) -> None:
     """Refuse a sequence, a set, a mapping or an array where one wall takes one number (the number itself is
     checked by :func:`macro.paper.paper_walls`).
@@ -84,6 +89,10 @@ class WallSpec:
         storeys: the storeys from the top (storey 1) down.
         unit_weight: specific weight ``gamma`` (force / volume).
         friction: friction coefficient ``f`` of every joint.
+        ends: how the block wall's courses end where ``L`` is not a whole number of half blocks
+            (:data:`micro.ENDS`): ``"closers"`` (the default: no piece narrower than a closer, every lap half
+            a block) or ``"cut"`` (whatever remains, down to slivers); see ``docs/micro/walls.md``. The macro
+            model has no blocks and ignores it.
         name: a label used in reports.
     """
 
@@ -93,6 +102,7 @@ class WallSpec:
     storeys: tuple[StoreySpec, ...]
     unit_weight: float = 1.0
     friction: float = 0.6
+    ends: str = "closers"
     name: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -103,6 +113,8 @@ class WallSpec:
             raise ValueError(f"storeys must be a tuple of StoreySpec, storey 1 (top) first, got {self.storeys!r}")
         if not isinstance(self.name, str):
             raise ValueError(f"name must be a string, got {self.name!r}")
+        if self.ends not in ENDS:
+            raise ValueError(f"ends must be one of {', '.join(ENDS)}, got {self.ends!r}")
         storeys = tuple(self.storeys)
         if not storeys:
             raise ValueError(NO_STOREY.format(name="storeys"))
@@ -124,6 +136,7 @@ class WallSpec:
         p: float = 0.0,
         storeys: int = 1,
         p_height: Literal["wall", "storey"] = "wall",
+        ends: str = "closers",
         name: str = "",
     ) -> WallSpec:
         """Build a wall from the paper's Table 4 parameters.
@@ -137,6 +150,7 @@ class WallSpec:
             storeys: number of storeys ``N``.
             p_height: ``"wall"`` reads ``p = q/(gamma H b)`` with ``H`` the wall
                 height; ``"storey"`` uses the storey height.
+            ends: how the block wall's courses end (:attr:`ends`).
             name: label for reports.
 
         Raises:
@@ -157,6 +171,7 @@ class WallSpec:
             storeys=tuple(StoreySpec(per, BLOCK_HEIGHT, q) for _ in range(w.storeys)),
             unit_weight=1.0,
             friction=float(w.friction[0]),
+            ends=ends,
             name=name,
         )
 
@@ -226,8 +241,8 @@ class WallSpec:
 
         Args:
             **options: builder options of :func:`micro.build_wall`
-                (``first_course``, ``head_joints``, ...).
+                (``first_course``, ``head_joints``, ...); ``ends`` is the spec's (:attr:`ends`) unless given.
         """
         import micro
 
-        return micro.build_wall(**self.dimensions(), **options)
+        return micro.build_wall(**self.dimensions(), **{"ends": self.ends, **options})

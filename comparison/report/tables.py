@@ -311,25 +311,26 @@ def all_cases(res: Results) -> Table:
             blocks = blocks if micro is None else micro.blocks
         ref = res.nonassoc_record(c.spec())
         row += [None if ref is None else ref.iterated_load_factor,
-                pct(r.load_factor, res.best_micro(c.spec()).wall_load_factor), blocks]
+                pct(r.load_factor, res.best_micro(c.spec()).load_factor), blocks]
         t.add(*row)
-    cut = ("A length that is not a whole number of half blocks (Set 8: L = 20, l = 3) ends every course with a cut "
-           "block.")
+    cut = ("A length that is not a whole number of half blocks (Set 8: L = 20, l = 3) is closed as a mason closes "
+           "it: a closer at the end of a course, or a long last unit where the remainder would be narrower than a "
+           "closer (docs/micro/walls.md).")
     # the n/a note only where an n/a cell is shown
     na = any(lam_cell(res.record(c.spec(), m)) == "n/a" for c in res.plan.cases for m in res.plan.methods)
     t.note = f"n/a: the micro wall cannot be built (shorter than half a block). {cut}" if na else cut
     local = [_local_note(c.label, m.column, rec.local) for c in res.plan.cases for m in res.plan.methods
              if (rec := res.record(c.spec(), m)).local is not None]
     if local:  # none of the paper's walls (docs/micro/walls.md); said wherever one is
-        t.note += (" A local mechanism governs the block model of " + "; ".join(local)
-                   + ": Δ % is taken against the wall's own λ.")
+        t.note += (" A sliver's local mechanism governs the wall as built of " + "; ".join(local)
+                   + ": Δ % is taken against the wall as built.")
     return t
 
 
 def _local_note(case: str, column: str, local: LocalRecord) -> str:
-    """``Set 8, micro-assoc: the cut end piece ... tips over alone at λ = 0.5 (the wall's own λ 0.52)``."""
-    return (f"{case}, {column}: {local.description} at λ = {local.load_factor:.4f} (the wall's own λ "
-            f"{local.wall_load_factor:.4f})")
+    """``Set 8, micro-assoc: the cut end piece ... tips over alone at λ = 0.5 (held, λ 0.52)``."""
+    return (f"{case}, {column}: {local.description} at λ = {local.load_factor:.4f} (with the slivers held, λ "
+            f"{local.held_load_factor:.4f})")
 
 
 def mechanism_record(res: Results, case: PaperCase) -> Record:

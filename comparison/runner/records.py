@@ -55,7 +55,7 @@ class Record:
             ``"not_run"`` (left out of the report), else ``""``.
         message: why it was skipped, or why the mechanism could not be read.
         cached: True when read from the cache.
-        local: the local mechanism that governs the micro result and the wall's own value
+        local: the sliver's local mechanism that governs the micro result, and the held wall's value beside it
             (:func:`comparison.domain.wall_mechanism.solve_wall_mechanism`; ``None`` when nothing local governs).
     """
 
@@ -75,12 +75,6 @@ class Record:
         non-associative method the lowest certified collapse state where the descent found one,
         else the iterated LP's (:attr:`iterated_load_factor`)."""
         return math.nan if self.result is None else self.result.load_factor
-
-    @property
-    def wall_load_factor(self) -> float:
-        """The wall's own load factor, the micro value compared with the macro model: :attr:`load_factor`
-        unless a local mechanism governs (:attr:`local`), then the held wall's."""
-        return self.local.wall_load_factor if self.local is not None else self.load_factor
 
     @property
     def iterated_load_factor(self) -> float:

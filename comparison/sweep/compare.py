@@ -3,12 +3,11 @@
 The *macro columns* are the paper's macro model (``macro``) and the user's models
 (:mod:`~comparison.sweep.usermodel`), each with its value on every wall. The
 *micro reference* of a wall in a bond is the non-associative method's value where
-it converged (the table's ``wall_load_factor``: the value to quote, its lowest
-certified collapse state where the descent found one, of the wall's own
-mechanism: where a local mechanism governs the block model, a cut end piece of
-the top course that tips over alone, the analysis with it held, and the table's
-``load_factor`` in a table without that column; the iterated LP's own
-value is the ``iterated_load_factor`` column), else the associative LP's (an
+it converged (the table's ``load_factor``: the value to quote, its lowest
+certified collapse state where the descent found one, of the wall as built; the
+iterated LP's own value is the ``iterated_load_factor`` column; where a sliver's
+local mechanism governs, the held wall's value beside it is ``held_load_factor``,
+never compared), else the associative LP's (an
 upper bound of the non-associative load factor, so that a macro value above it is
 unsafe for certain). The difference of a column is
 ``(λ_column − λ_micro) / λ_micro``; a column lies *above* the reference on a wall where it
@@ -54,10 +53,10 @@ MACRO_KINDS = ("macro", "user")
 MACRO_OK = "optimal"
 #: The axes a wall of the table varies over, in the order the figures prefer them (the heat map's columns
 #: and rows first): the paper's parameters, then the bond.
-AXES = ("t", "m", "f", "p", "rows", "storeys", "first_course", "head_joints")
+AXES = ("t", "m", "f", "p", "rows", "storeys", "first_course", "head_joints", "ends")
 #: How the axes are written in labels.
 SYMBOLS = {"t": "t", "m": "m", "f": "f", "p": "p", "rows": "o", "storeys": "N", "first_course": "first course",
-           "head_joints": "head joints"}
+           "head_joints": "head joints", "ends": "ends"}
 _PARAMS = ("t", "m", "rows", "f", "p", "storeys")
 
 
@@ -67,17 +66,20 @@ class Wall:
 
     Attributes:
         t, m, rows, f, p, storeys: the wall.
-        first_course, head_joints: the bond of its micro values (``""`` when the sweep ran no micro method).
+        first_course, head_joints, ends: the bond of its micro values (``""`` when the sweep ran no micro method;
+            ``ends`` also in a table before it had that column).
         blocks: blocks of its micro wall (0 when none was built).
         macro: each macro column's value on it, by name (NaN where it gave none).
-        assoc: the associative LP's load factor (NaN when not run or failed): the wall's own.
-        nonassoc: the non-associative method's value to quote where it converged (NaN otherwise): the wall's
-            own.
+        assoc: the associative LP's load factor (NaN when not run or failed), of the wall as built.
+        nonassoc: the non-associative method's value to quote where it converged (NaN otherwise), of the wall
+            as built.
         certified: that value is a certified collapse state (the lowest certified; ``False`` for the iterated
             LP's value and for a table without the ``quoted`` column, which cannot tell).
-        local: by micro kind, the local mechanism that governs the block model there and its load factor
-            (``(description, lambda)``; empty when none). ``assoc`` and ``nonassoc`` are then the wall's own
-            values (the table's ``wall_load_factor``), not the local ones.
+        local: by micro kind, the local mechanism that governs the wall as built there and the held wall's
+            load factor (``(description, lambda held)``; empty when none). ``assoc`` and ``nonassoc`` stay the
+            wall as built's.
+        half_blocks: the wall's length in half blocks (NaN in a table without that column): not a whole
+            number where its courses end in closers or cut pieces.
         mechanism: each macro column's mechanism on it, by name, as the table gives it (the paper's model:
             ``sliding``/``rocking-sliding`` and the hinge storey; empty for a model that gives none).
     """
@@ -97,6 +99,14 @@ class Wall:
     certified: bool = False
     local: Mapping[str, tuple[str, float]] = field(default_factory=dict)
     mechanism: Mapping[str, str] = field(default_factory=dict)
+    ends: str = ""
+    half_blocks: float = math.nan
+
+    @property
+    def cut(self) -> bool:
+        """The wall's length is not a whole number of half blocks (its courses end as :attr:`ends` says)."""
+        return math.isfinite(self.half_blocks) and abs(self.half_blocks - round(self.half_blocks)) > 1e-9 * max(
+            1.0, self.half_blocks)
 
     @property
     def reference(self) -> float:
@@ -181,9 +191,7 @@ def walls(rows: Sequence[Mapping[str, str]]) -> list[Wall]:
         key = tuple(row[k] for k in _PARAMS)
         w = points.setdefault(key, {"macro": dict.fromkeys(macro_cols, math.nan), "bonds": {}})
         kind, ok = row["kind"], success(row["kind"], row["status"])
-        # the micro value compared is the wall's own (a table before local mechanisms has load_factor only)
-        value = row["load_factor"] if kind in MACRO_KINDS else row.get("wall_load_factor") or row["load_factor"]
-        lam = number(value) if ok else math.nan
+        lam = number(row["load_factor"]) if ok else math.nan  # the wall as built's, the value to quote
         if kind in MACRO_KINDS:
             w["macro"][row["method"]] = lam
             if ok and row.get("mechanism"):
@@ -191,7 +199,10 @@ def walls(rows: Sequence[Mapping[str, str]]) -> list[Wall]:
                 w.setdefault("mechanism", {})[row["method"]] = row["mechanism"] + (
                     f", hinge at storey {storey}" if storey and row["mechanism"] != "sliding" else "")
             continue
-        bond = w["bonds"].setdefault((row.get("first_course") or "full", row.get("head_joints") or "frictional"),
+        if row.get("half_blocks"):
+            w["half_blocks"] = number(row["half_blocks"])
+        bond = w["bonds"].setdefault((row.get("first_course") or "full", row.get("head_joints") or "frictional",
+                                      row.get("ends") or ""),
                                      {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0,
                                       "certified": False, "local": {}})
         if row.get("blocks"):
@@ -199,25 +210,24 @@ def walls(rows: Sequence[Mapping[str, str]]) -> list[Wall]:
         if kind in ("micro-assoc", "micro-nonassoc") and math.isfinite(lam) and not math.isfinite(bond[kind]):
             bond[kind] = lam  # the first method of its kind in the grid's order
             if row.get("local_mechanism"):
-                bond["local"][kind] = (row["local_mechanism"], number(row.get("local_load_factor", "")))
+                bond["local"][kind] = (row["local_mechanism"], number(row.get("held_load_factor", "")))
             if kind == "micro-nonassoc":
                 bond["certified"] = row.get("quoted") == QUOTED_LOWEST
     out = []
     for key, w in points.items():
         t, m, o, f, p, n = (number(x) for x in key)
         params = (t, m, int(o), f, p, int(n))
-        bonds = w["bonds"] or {("", ""): {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0,
-                                          "local": {}}}
-        for (fc, hj), b in sorted(bonds.items(), key=lambda kv: _bond_order(kv[0])):
+        bonds = w["bonds"] or {("", "", ""): {"micro-assoc": math.nan, "micro-nonassoc": math.nan, "blocks": 0,
+                                              "local": {}}}
+        for (fc, hj, ends), b in sorted(bonds.items(), key=lambda kv: _bond_order(kv[0])):
             out.append(Wall(*params, fc, hj, b["blocks"], dict(w["macro"]), b["micro-assoc"], b["micro-nonassoc"],
-                            b.get("certified", False), b["local"], dict(w.get("mechanism", {}))))
+                            b.get("certified", False), b["local"], dict(w.get("mechanism", {})), ends,
+                            w.get("half_blocks", math.nan)))
     return out
 
 
-def _bond_order(bond: tuple[str, str]) -> tuple[int, int]:
-    fc, hj = bond
-    return (BOND["first_course"].index(fc) if fc in BOND["first_course"] else -1,
-            BOND["head_joints"].index(hj) if hj in BOND["head_joints"] else -1)
+def _bond_order(bond: tuple[str, str, str]) -> tuple[int, ...]:
+    return tuple(BOND[k].index(v) if v in BOND[k] else -1 for k, v in zip(BOND, bond, strict=True))
 
 
 def axis_values(ws: Sequence[Wall], axis: str) -> list[float | str]:

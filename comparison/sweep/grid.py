@@ -15,6 +15,9 @@ Format (see ``examples/sweeps/``)::
     [bond]                             # micro walls only; optional
     first_course = ["full", "half"]    # default "full"
     head_joints = "frictional"         # default "frictional"
+    ends = "closers"                   # default "closers"; "cut": the courses end in whatever remains
+                                       # (docs/micro/walls.md; only walls of L not a whole number of
+                                       # half blocks differ)
 
     [limits]                           # optional
     max_blocks = 1500                  # non-associative micro walls of more blocks are not run
@@ -64,6 +67,7 @@ from pathlib import Path
 from typing import Any
 
 from comparison.domain.scene import _key_line, _table_line
+from comparison.domain.wall import ENDS
 from comparison.runner.methods import MACRO, Method
 from comparison.sweep.usermodel import UserModel, check_target, resolve
 from comparison.utilities import numbers
@@ -80,7 +84,8 @@ AXES: dict[str, tuple[Callable[[str, object], float], float | None]] = {
     "storeys": (checks.positive_int, 1),
 }
 #: The bond options of the micro walls, with their choices (the first is the default).
-BOND: dict[str, tuple[str, ...]] = {"first_course": ("full", "half"), "head_joints": ("frictional", "frictionless")}
+BOND: dict[str, tuple[str, ...]] = {"first_course": ("full", "half"), "head_joints": ("frictional", "frictionless"),
+                                    "ends": ENDS}
 #: Method kinds and the keys each takes.
 METHOD_KEYS: dict[str, set[str]] = {
     "macro": {"kind"},
@@ -133,7 +138,7 @@ class Grid:
     Attributes:
         name: the sweep's name.
         axes: the values of ``t``, ``m``, ``rows``, ``f``, ``p``, ``storeys``, in that order.
-        bond: the values of ``first_course`` and ``head_joints``.
+        bond: the values of ``first_course``, ``head_joints`` and ``ends``.
         methods: the methods.
         max_blocks: non-associative micro walls of more blocks are not run (``None``: no limit); the
             associative LP runs on every wall up to its own method's ``max_blocks``.

@@ -215,9 +215,9 @@ def _how(macro_columns: Sequence[str], functions: Mapping[str, str]) -> str:
 
 def _overview(rows: Sequence[Mapping[str, str]], ws: Sequence[Wall], moving: Sequence[str]) -> list[str]:
     points = {tuple(r[k] for k in ("t", "m", "rows", "f", "p", "storeys")) for r in rows}
-    params = [a for a in moving if a not in ("first_course", "head_joints")]
+    params = [a for a in moving if a not in ("first_course", "head_joints", "ends")]
     sizes = " × ".join(f"{len(axis_values(ws, a))} {SYMBOLS[a]}" for a in params)
-    bonds = {(w.first_course, w.head_joints) for w in ws if w.first_course}
+    bonds = {(w.first_course, w.head_joints, w.ends) for w in ws if w.first_course}
     micro = [r for r in rows if r["kind"] not in MACRO_KINDS]
     ran = [r for r in micro if r["status"] not in ("not_applicable", "not_run")]
     valued = sum(success(r["kind"], r["status"]) for r in micro)
@@ -228,6 +228,12 @@ def _overview(rows: Sequence[Mapping[str, str]], ws: Sequence[Wall], moving: Seq
     if micro:
         out.append(f"* **{len(micro)} micro computations** ({by_method}): {len(ran)} run, {valued} with a value, "
                    f"{len(micro) - valued} without (below, by status).")
+    cut = {(w.t, w.m, w.rows, w.f, w.p, w.storeys) for w in ws if w.cut}
+    if cut:
+        ends = sorted({w.ends or "closers" for w in ws if w.cut})
+        out.append(f"* **{len(cut)} walls of a length that is not a whole number of half blocks**: their courses "
+                   f"end in {' or '.join('closers' if e == 'closers' else 'cut pieces' for e in ends)} "
+                   "(docs/micro/walls.md); the worst-walls tables give their length in half blocks.")
     else:
         out.append("* No micro method: the sweep has no micro reference.")
     return out
@@ -249,7 +255,7 @@ def _share(n: int, of: int) -> str:
 
 
 def _wall_axes(moving: Sequence[str]) -> list[str]:
-    return ["t", "m", "rows", "f", "p", "storeys", *[a for a in ("first_course", "head_joints") if a in moving]]
+    return ["t", "m", "rows", "f", "p", "storeys", *[a for a in ("first_course", "head_joints", "ends") if a in moving]]
 
 
 def _summary_table(ws: Sequence[Wall], sums: Mapping[str, Any], moving: Sequence[str]) -> list[str]:
@@ -359,7 +365,9 @@ def _worst_table(bad: Sequence[Wall], column: str, moving: Sequence[str]) -> lis
              "| its plot |", "|---" * (len(axes) + 8) + "|"]
     for k, w in enumerate(bad, 1):
         values = " | ".join(shown(a, w.value(a)) for a in axes)
-        lines.append(f"| {values} | {w.blocks or '–'} | {w.macro[column]:.4f} | {w.reference:.4f} "
+        blocks = f"{w.blocks or '–'}" + (f" (L = {w.half_blocks:.4g} half blocks, {w.ends or 'closers'})"
+                                          if w.cut else "")
+        lines.append(f"| {values} | {blocks} | {w.macro[column]:.4f} | {w.reference:.4f} "
                      f"| {w.reference_kind} | {_pct(w.error(column))} | {w.verdict_label(column)} "
                      f"| {w.mechanism.get(column, '–')} | `{plot_command(w, f'worst-{k}.png')}` |")
     return lines
@@ -378,28 +386,32 @@ def plot_command(w: Wall, path: str) -> str:
         parts.append(f"--first-course {w.first_course}")
     if w.head_joints and w.head_joints != "frictional":
         parts.append(f"--head-joints {w.head_joints}")
-    return " ".join([*parts, f"--plot {path}"])
+    if w.ends and w.ends != "closers":
+        parts.append(f"--ends {w.ends}")
+    # --full: the non-associative state is drawn, the one whose value the table compares, also where the
+    # associative bound settles the verdict
+    return " ".join([*parts, "--full", f"--plot {path}"])
 
 
 def _local_section(ws: Sequence[Wall], moving: Sequence[str], h2: str) -> list[str]:
-    """The walls whose block model a local mechanism governs (a cut end piece of the top course that tips
-    over alone): what moves, its λ, and the wall's own λ that the comparisons above use instead (no section
-    when there are none)."""
+    """The walls as built that a sliver's local mechanism governs (walls of cut ends): what moves, its λ (the
+    value compared), and the held wall's λ beside it (no section when there are none)."""
     local = [w for w in ws if w.local]
     if not local:
         return []
     axes = _wall_axes(moving)
     head = " | ".join(SYMBOLS[a] for a in axes)
     lines = ["", f"{h2} Local mechanisms", "",
-             "The block model of these walls collapses first by a local mechanism, a mechanism of loose "
-             "pieces, not of the wall (docs/micro/walls.md). Every comparison on this page uses the wall's own "
-             "λ, the same analysis with the pieces held to the block below (the table's `wall_load_factor`).",
-             "", f"| {head} | method | what moves | λ local | λ wall's own |", "|---" * (len(axes) + 4) + "|"]
+             "A sliver governs these walls as built (`ends = \"cut\"`: a piece narrower than a closer tips over "
+             "alone, or the block above rocks out over it; docs/micro/walls.md). The comparisons above use the "
+             "wall as built; the held wall (the slivers held to the blocks that carry them, another structure: "
+             "the table's `held_load_factor`) is shown beside it, never compared.",
+             "", f"| {head} | method | what moves | λ as built | λ held wall |", "|---" * (len(axes) + 4) + "|"]
     for w in local:
         values = " | ".join(shown(a, w.value(a)) for a in axes)
-        for kind, (what, lam) in sorted(w.local.items()):
-            own = w.nonassoc if kind == "micro-nonassoc" else w.assoc
-            lines.append(f"| {values} | {kind} | {what} | {lam:.4f} | {own:.4f} |")
+        for kind, (what, held) in sorted(w.local.items()):
+            built = w.nonassoc if kind == "micro-nonassoc" else w.assoc
+            lines.append(f"| {values} | {kind} | {what} | {built:.4f} | {held:.4f} |")
     return lines
 
 

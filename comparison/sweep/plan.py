@@ -2,8 +2,9 @@
 
 A :class:`Cell` is one row of the sweep's table. The cells are numbered in the
 grid's order (axes in the order ``t, m, rows, f, p, storeys``, then the
-methods, then the bonds), which is the order of the table whatever order they
-were computed in.
+methods, then the bonds: ``first_course``, ``head_joints``, ``ends``), which is the
+order of the table whatever order they were computed in. A bond's ``ends`` is the
+micro wall's (:attr:`comparison.domain.wall.WallSpec.ends`), its other options the method's.
 """
 
 from __future__ import annotations
@@ -117,7 +118,7 @@ def wall_points(grid: Grid) -> list[WallPoint]:
 def cells(grid: Grid) -> list[Cell]:
     """The cells of ``grid``, numbered in its order (a micro wall is built once per wall, none for the macro model)."""
     out: list[Cell] = []
-    bonds = list(itertools.product(grid.bond["first_course"], grid.bond["head_joints"]))
+    bonds = list(itertools.product(grid.bond["first_course"], grid.bond["head_joints"], grid.bond["ends"]))
     micro = any(gm.method.kind not in PER_WALL for gm in grid.methods)
     points = wall_points(grid)
     no_wall = unbuildable(points)
@@ -129,9 +130,10 @@ def cells(grid: Grid) -> list[Cell]:
             if isinstance(gm.method, UserModel) or gm.method.kind == "macro":
                 out.append(Cell(len(out), point, gm.method, None, skip=NOT_APPLICABLE if why else "", message=why))
                 continue
-            for fc, hj in bonds:
+            for fc, hj, ends in bonds:
                 method = replace(gm.method, first_course=fc, head_joints=hj)
-                out.append(_micro_cell(len(out), point, method, spec, why, _limit(grid, gm)))
+                built = None if spec is None else replace(spec, ends=ends)
+                out.append(_micro_cell(len(out), point, method, built, why, _limit(grid, gm)))
     return out
 
 

@@ -30,7 +30,7 @@ from comparison.runner import Method, Prefetched, Record, ResultCache, code_vers
 from comparison.runner.executor import Executor
 from comparison.runner.fingerprint import versions_used
 from comparison.sweep.grid import Grid
-from comparison.sweep.plan import Cell, cells
+from comparison.sweep.plan import Cell, WallPoint, cells
 from comparison.sweep.table import machine, number, read_table, write_meta, write_table
 from comparison.sweep.usermodel import UserModel
 from comparison.utilities.progress import Progress
@@ -163,8 +163,16 @@ def _inputs(cell: Cell) -> dict[str, Any]:
         "scheme": micro.scheme if micro is not None and micro.kind == "micro-nonassoc" else None,
         "first_course": micro.first_course if micro is not None else None,
         "head_joints": micro.head_joints if micro is not None else None,
+        "ends": cell.spec.ends if micro is not None and cell.spec is not None else None,
+        "half_blocks": _half_blocks(p),
         "blocks": cell.blocks or None,
     }
+
+
+def _half_blocks(p: WallPoint) -> float:
+    """The wall's length in half blocks, ``L/(l/2) = 2 rows m / t``: a whole number but for walls whose courses
+    end in closers or cut pieces (``docs/micro/walls.md``)."""
+    return 2.0 * p.rows * p.m / p.t
 
 
 def _skipped(cell: Cell) -> dict[str, Any]:
@@ -254,7 +262,7 @@ def _record_fields(record: Record) -> dict[str, Any]:
         return {**fields, "message": record.message}
     fields.update(blocks=r.blocks, iterations=r.iterations, direction=r.direction, message=r.message or record.message)
     local = record.local
-    fields.update(wall_load_factor=record.wall_load_factor, local_load_factor=local.load_factor if local else None,
+    fields.update(held_load_factor=local.held_load_factor if local else None,
                   local_mechanism=local.description if local else None)
     na = record.nonassoc
     if na is not None:

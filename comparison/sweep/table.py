@@ -22,12 +22,13 @@ from typing import Any
 
 from comparison.utilities.outputs import csv_text, write_text
 
-#: The table's columns, in order. ``load_factor`` is the value to quote: for the non-associative
-#: method the lowest certified collapse state (``quoted`` says which), its iterated LP's own value in
-#: ``iterated_load_factor``, and ``lowest_stop`` whether the descent finished. ``wall_load_factor`` is the
-#: wall's own value, the one compared with the macro model: ``load_factor`` unless a local mechanism
-#: governs the block model (``local_mechanism`` says what moves, ``local_load_factor`` is its value, equal
-#: to ``load_factor``), then the analysis with the local blocks held (``docs/micro/walls.md``).
+#: The table's columns, in order. ``load_factor`` is the value to quote and the one compared with the macro
+#: model, of the wall as built: for the non-associative method the lowest certified collapse state
+#: (``quoted`` says which), its iterated LP's own value in ``iterated_load_factor``, and ``lowest_stop``
+#: whether the descent finished. ``half_blocks`` is the wall's length in half blocks (not a whole number:
+#: its courses end as ``ends`` says). Where a local mechanism governs (a sliver's, ``local_mechanism`` says
+#: what moves), ``held_load_factor`` is the same analysis with the slivers held, a different wall reported
+#: beside it (``docs/micro/walls.md``).
 COLUMNS = (
     "cell",
     "wall",
@@ -43,13 +44,14 @@ COLUMNS = (
     "scheme",
     "first_course",
     "head_joints",
+    "ends",
+    "half_blocks",
     "blocks",
     "load_factor",
     "quoted",
     "iterated_load_factor",
     "lowest_stop",
-    "wall_load_factor",
-    "local_load_factor",
+    "held_load_factor",
     "local_mechanism",
     "status",
     "iterations",

@@ -24,9 +24,9 @@ from comparison.domain.wall import WallSpec
 
 SET12 = WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75)
 SET13 = WallSpec.from_paper(t=1, m=1 / 2, rows=12, f=0.75)
-#: Two storeys of 10 rows, t = 1, m = 1/3, f = 0.75 (150 blocks): the macro λ (0.633) lies above the
-#: associative λ (0.621), so the associative bound settles the verdict.
-ABOVE_BOUND = WallSpec.from_paper(t=1, m=1 / 3, rows=20, f=0.75, storeys=2)
+#: Two storeys of 12 rows, t = 1, m = 1/3, f = 0.75 (204 blocks): the macro λ (0.6285) lies above the
+#: associative λ (0.6143), so the associative bound settles the verdict.
+ABOVE_BOUND = WallSpec.from_paper(t=1, m=1 / 3, rows=24, f=0.75, storeys=2)
 COMPARE = importlib.import_module("comparison.domain.verdict")
 
 
@@ -90,13 +90,12 @@ def test_associative_bound_settles_without_the_nonassociative_solve(monkeypatch:
     assert "skipped" in c.diagnostics[0]
     calls.clear()
     full = comparison.compare(ABOVE_BOUND, full=True)
-    # the non-associative state of the wall as built is local (its top course's cut end piece, half a block
-    # high, tips over alone at lambda = w/b = 0.5): a second solve gives the wall's own, with the piece held
-    assert calls == ["associative", "nonassociative", "nonassociative"]
-    loc = full.local_mechanism
-    assert loc is not None and loc["method"] == "nonassociative" and loc["load_factor"] == pytest.approx(0.5)
-    assert (full.verdict, full.proof) == ("unsafe", "associative bound") and full.nonassociative_run
+    assert calls == ["associative", "nonassociative"] and full.local_mechanism is None
+    # both prove it; the certified state (0.5838, +7.7 %) by a larger margin than the bound (+2.3 %): cited
+    assert (full.verdict, full.proof) == ("unsafe", "certified state") and full.nonassociative_run
     assert full.micro_load_factor <= full.associative_load_factor and full.diagnostics == ()
+    assert full.sentence().startswith("The macro model is unsafe for this wall: its λ 0.6285 is above the certified "
+                                      "collapse state's 0.5838 (+7.7 %)")
 
 
 @pytest.mark.usefixtures("failing_nonassociative")
@@ -125,6 +124,8 @@ def test_a_failed_solve_leaves_only_what_was_proven() -> None:
         ((0.55, 0.6), {"found_load_factor": 0.5}, (None, None)),  # above a state not certified: no proof
         ((math.nan, 0.6, 0.5), {"found_load_factor": 0.5}, (None, None)),  # the macro model failed
         ((0.7, math.nan, 0.5), {"found_load_factor": 0.5}, ("unsafe", "certified state")),  # no associative LP
+        ((0.61, 0.6, 0.5), {"found_load_factor": 0.5}, ("unsafe", "certified state")),  # the larger margin
+        ((0.61, 0.6, math.nan), {"found_load_factor": 0.5}, ("unsafe", "associative bound")),
     ],
 )
 def test_judge(args: tuple[float, ...], kwargs: dict[str, Any], expected: tuple[str | None, str | None]) -> None:
@@ -147,33 +148,45 @@ def test_not_a_wall_spec() -> None:
         comparison.compare({"t": 1})  # type: ignore[arg-type]
 
 
-#: t = 3/2, m = 1/3, 16 rows, f = 0.65 (72 blocks): the top course's cut end piece (1/6 of a block wide)
-#: tips over alone, at ``lambda = (w/b)(1 + mu^2)/(1 - mu^2 + 2 mu w/b)`` in the associative LP; the
-#: comparison is with the wall's own mechanism, the piece held to the block that carries it.
-CUT_TOP = WallSpec.from_paper(t=1.5, m=1 / 3, rows=16, f=0.65)
+#: t = 3/2, m = 1/3, 16 rows, f = 0.65, cut ends (72 blocks): the top course's cut end piece (1/6 of a block
+#: wide) tips over alone, at ``lambda = (w/b)(1 + mu^2)/(1 - mu^2 + 2 mu w/b)`` in the associative LP; the
+#: verdict rests on the wall as built, the held wall (every sliver held) is reported beside it.
+CUT_TOP = WallSpec.from_paper(t=1.5, m=1 / 3, rows=16, f=0.65, ends="cut")
 
 
-def test_a_local_mechanism_is_named_and_the_wall_s_own_is_compared() -> None:
+def test_a_local_mechanism_is_named_and_the_wall_as_built_is_compared() -> None:
     c = comparison.compare(CUT_TOP)
     loc = c.local_mechanism
-    assert loc is not None and loc["method"] == "associative"
+    assert loc is not None and loc["method"] == "associative"  # the bound settles it: no non-associative solve
     assert "cut end piece of course 16" in loc["description"]
     w_b, mu = 1 / 6, 0.65  # the piece's width over its height (block heights), the friction coefficient
     assert loc["load_factor"] == pytest.approx(w_b * (1 + mu**2) / (1 - mu**2 + 2 * mu * w_b), rel=1e-6)
-    assert 0 < loc["weight_share"] <= micro.LOCAL_WEIGHT_SHARE
-    # the values compared are the held wall's: above the local lambda, and the held wall has a block fewer
-    assert c.associative_load_factor > loc["load_factor"] * 1.5
-    assert c.associative_wall is not None and c.associative_wall.n_blocks == c.blocks - 1
-    assert c.nonassociative_wall is not None and c.nonassociative_wall.n_blocks == c.blocks - 1
-    assert c.micro_load_factor <= c.associative_load_factor * (1 + ACCURACY)
-    assert loc["wall_load_factor"] == pytest.approx(c.associative_load_factor, rel=1e-12)
-    assert c.verdict is not None and c.to_dict()["local_mechanism"]["description"] == loc["description"]
+    # the value compared is the wall as built's; the held wall's is higher, beside it, and no proof uses it
+    assert c.associative_load_factor == loc["load_factor"]
+    assert loc["held_load_factor"] > loc["load_factor"] * 1.5
+    assert c.associative_wall is not None and c.associative_wall.n_blocks == c.blocks
+    assert (c.verdict, c.proof) == ("unsafe", "associative bound")
+    assert "The wall as built collapses there by a local mechanism: the cut end piece of course 16" in c.sentence()
+    assert c.to_dict()["local_mechanism"]["description"] == loc["description"]
     jsonschema = pytest.importorskip("jsonschema")
     schema = json.loads((Path(__file__).parents[2] / "docs" / "schemas" / "compare.schema.json").read_text())
     doc = json.loads(json.dumps({**c.to_dict(), "wall": {}, "paper_parameters": {}, "plot": None}))
     errors = [e.message for e in jsonschema.Draft202012Validator(schema).iter_errors(doc)
               if e.path and e.path[0] == "local_mechanism"]
     assert errors == []
+
+
+def test_global_runs_on_the_wall_as_built() -> None:
+    """Two rows, t = 40/31, m = 1, f = 0.6 with cut ends: the 0.05-wide top piece tips over alone (0.05); the
+    global search of the wall as built cannot prove it safe (the held wall's bound, 0.3797, was printed as
+    "safe" before); with closers (the default) the wall has no sliver and the search's bound is its own."""
+    spec = WallSpec.from_paper(t=40 / 31, m=1, rows=2, f=0.6, ends="cut")
+    c = comparison.compare(spec, full=True, global_=True)
+    assert c.verdict == "unsafe" and c.micro_load_factor == pytest.approx(0.05, rel=1e-6)
+    assert c.global_lower_bound <= 0.05 * (1 + ACCURACY)
+    closers = comparison.compare(WallSpec.from_paper(t=40 / 31, m=1, rows=2, f=0.6), global_=True)
+    assert closers.local_mechanism is None and closers.blocks == 4
+    assert closers.global_status == "optimal" and closers.global_lower_bound == pytest.approx(0.3797, abs=1e-4)
 
 
 def test_no_local_mechanism_on_the_paper_s_walls(set12: Comparison, set13: Comparison) -> None:

@@ -28,7 +28,7 @@ def column_wall(k: int, width: float, height: float, friction: float) -> micro.B
     live[:, 0] = weight
     return micro.BlockWall(
         length=width, block_length=width, block_height=height, rows=(k,), thickness=(1.0,), overload=(0.0,),
-        unit_weight=1.0, friction=friction, first_course="full", head_joints="frictional",
+        unit_weight=1.0, friction=friction, first_course="full", head_joints="frictional", ends="closers",
         x0=np.zeros(k), x1=np.full(k, width), y0=i * height, y1=(i + 1) * height, course=i.astype(np.int64),
         storey=np.ones(k, dtype=np.int64), dead=dead, live=live, contact_a=(i - 1).astype(np.int64),
         contact_b=i.astype(np.int64), contact_kind=np.where(i == 0, BASE, BED).astype(np.int64),

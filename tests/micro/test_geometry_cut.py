@@ -1,4 +1,4 @@
-"""Builder: walls of any length (cut end blocks), and bit-identity of the whole-half-block walls."""
+"""Builder: walls of any length with cut ends (``ends="cut"``), and bit-identity of the whole-half-block walls."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ from micro.memory import estimate_bytes
 def cut_wall(length: float, rows: tuple[int, ...] = (2,), **kw: object) -> micro.BlockWall:
     args: dict[str, object] = dict(length=length, block_length=3.0, block_height=1.0, rows=rows,
                                    thickness=(1.0,) * len(rows), overload=(0.0,) * len(rows), unit_weight=1.0,
-                                   friction=0.6)
+                                   friction=0.6, ends="cut")
     args.update(kw)
     return micro.build_wall(**args)  # type: ignore[arg-type]
 
@@ -53,7 +53,7 @@ def test_set8_layout_by_hand() -> None:
 def test_paper_set8_builds() -> None:
     from comparison.domain.cases import case
 
-    w = case("8").spec().to_micro()
+    w = case("8").spec().to_micro(ends="cut")
     assert w.n_blocks == 30 * 7 + 30 * 8
     assert w.total_weight == pytest.approx(20.0 * 60.0, rel=1e-14)
 
@@ -69,7 +69,7 @@ def test_cut_layout_invariants(half_blocks: float, rows: list[int], first: str, 
     thick = tuple(0.5 + 0.25 * i for i in range(len(rows)))
     w = micro.build_wall(length=1.5 * half_blocks, block_length=3.0, block_height=0.5, rows=tuple(rows),
                          thickness=thick, overload=(0.0,) * len(rows), unit_weight=2.0, friction=0.5,
-                         first_course=first, head_joints=heads)  # type: ignore[arg-type]
+                         first_course=first, head_joints=heads, ends="cut")  # type: ignore[arg-type]
     L, lengths = w.length, w.block_lengths
     assert np.all(lengths > 0.0)
     for c in range(w.n_courses):
@@ -103,16 +103,17 @@ def test_cut_layout_invariants(half_blocks: float, rows: list[int], first: str, 
     # the memory guard counts exactly the blocks that are built
     micro.build_wall(length=1.5 * half_blocks, block_length=3.0, block_height=0.5, rows=tuple(rows),
                      thickness=thick, overload=(0.0,) * len(rows), unit_weight=2.0, friction=0.5,
-                     first_course=first, max_bytes=estimate_bytes(w.n_blocks))  # type: ignore[arg-type]
+                     first_course=first, ends="cut", max_bytes=estimate_bytes(w.n_blocks))  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="too large"):
         micro.build_wall(length=1.5 * half_blocks, block_length=3.0, block_height=0.5, rows=tuple(rows),
                          thickness=thick, overload=(0.0,) * len(rows), unit_weight=2.0, friction=0.5,
-                         first_course=first, max_bytes=estimate_bytes(w.n_blocks) - 1)  # type: ignore[arg-type]
+                         first_course=first, ends="cut",
+                         max_bytes=estimate_bytes(w.n_blocks) - 1)  # type: ignore[arg-type]
 
 
 def test_loads_of_a_cut_wall() -> None:
     w = micro.build_wall(length=10.0, block_length=3.0, block_height=0.5, rows=(2, 3), thickness=(0.25, 0.5),
-                         overload=(4.0, 6.0), unit_weight=18.0, friction=0.6)
+                         overload=(4.0, 6.0), unit_weight=18.0, friction=0.6, ends="cut")
     weight = 18.0 * 10.0 * 0.5 * (3 * 0.5 + 2 * 0.25)
     assert w.total_weight == pytest.approx(weight, rel=1e-14)
     assert w.total_dead_load == pytest.approx(weight + 6.0 * 10.0 + 4.0 * 10.0, rel=1e-14)
@@ -177,7 +178,7 @@ def test_messages(kw: dict[str, object], message: str) -> None:
 
 def test_a_wall_says_whether_its_end_blocks_are_cut() -> None:
     kw = {"block_length": 3.0, "block_height": 1.0, "rows": (4,), "thickness": (1.0,), "overload": (0.0,),
-          "unit_weight": 1.0, "friction": 0.6}
+          "unit_weight": 1.0, "friction": 0.6, "ends": "cut"}
     cut = micro.build_wall(length=20.0, **kw)  # Set 8's 13.33 half blocks
     assert cut.end_blocks_cut and cut.half_blocks == pytest.approx(40 / 3)
     whole = micro.build_wall(length=21.0, **kw)

@@ -29,15 +29,15 @@ from micro.state import check as state_check
 from micro.state import file as state_file
 
 SCHEMA = Path(__file__).parents[2] / "docs" / "schemas" / "state.schema.json"
-#: The small walls: Table 7's Sets 12-14 and a wall whose courses end with cut blocks (L = 8 blocks
-#: heights, l = 3: 5.33 half blocks).
-WALLS = ("set12", "set13", "set14", "cut")
+#: The small walls: Table 7's Sets 12-14 and a wall 5.33 half blocks long (L = 8 block heights, l = 3)
+#: whose courses end with cut blocks (``ends="cut"``) or with closers (the default).
+WALLS = ("set12", "set13", "set14", "cut", "closers")
 FRICTIONS = ("associative", "nonassociative")
 
 
 def _wall(name: str) -> micro.BlockWall:
-    if name == "cut":
-        return WallSpec.from_paper(t=1, m=1 / 3, rows=8, f=0.65).to_micro()
+    if name in ("cut", "closers"):
+        return WallSpec.from_paper(t=1, m=1 / 3, rows=8, f=0.65, ends=name).to_micro()
     return table7_wall(name)
 
 
@@ -496,7 +496,7 @@ def test_the_residuals_are_named_with_their_tolerances() -> None:
 # --------------------------------------------------------------------------- held walls, version 2's checks
 def _sliver() -> micro.BlockWall:
     """Two courses 1.55 blocks long: the top course ends in a 0.05-wide piece (block 4) that tips alone."""
-    return WallSpec.from_paper(t=40 / 31, m=1, rows=2, f=0.6).to_micro()
+    return WallSpec.from_paper(t=40 / 31, m=1, rows=2, f=0.6, ends="cut").to_micro()
 
 
 @pytest.mark.parametrize("friction", FRICTIONS)

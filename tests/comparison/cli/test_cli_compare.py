@@ -103,7 +103,7 @@ def test_state_of_the_value_compared_is_written_and_verifies(tmp_path: Path,
 def test_state_is_the_associative_one_when_the_bound_settles(tmp_path: Path,
                                                              capsys: pytest.CaptureFixture[str]) -> None:
     path = tmp_path / "bound.json"
-    assert main(["compare", "--storeys", "2", "--rows", "20", "--t", "1", "--m", "1/3", "--f", "0.75",
+    assert main(["compare", "--storeys", "2", "--rows", "24", "--t", "1", "--m", "1/3", "--f", "0.75",
                  "--state", str(path), "-q"]) == 0
     assert capsys.readouterr().out.strip() == "unsafe (associative bound)"
     state = micro.read_state(path)

@@ -190,19 +190,25 @@ def test_the_plot_marks_the_floors_and_the_macro_hinge(friction: str, tmp_path, 
 
 @pytest.mark.parametrize("friction", ["associative", "nonassociative"])
 def test_cut_end_blocks_are_said(capsys: pytest.CaptureFixture[str], friction: str) -> None:
-    """t = 0.7 on 12 rows of m = 1/3 gives L = 11.43 half blocks: the last block of every course is cut, which the
-    words say in one line and the JSON in ``end_blocks_cut``; a wall of whole half blocks says nothing."""
+    """t = 0.7 on 6 rows of m = 1/3 gives L = 5.714 half blocks: how the courses end is said in one line (closers
+    by default, cut with ``--ends cut``) and in the JSON (``end_blocks_cut``, ``ends``); a wall of whole half
+    blocks says nothing."""
     cut = ["--t", "0.7", "--m", "1/3", "--rows", "6", "--f", "0.6", "--friction", friction]
     assert cli.main(["micro", *cut]) == 0
-    lines = [line for line in capsys.readouterr().out.splitlines() if "cut" in line]
-    assert lines == ["  L = 5.714 half blocks, not a whole number: the last block of every course is cut "
-                     "(docs/micro/walls.md)"]
+    lines = [line for line in capsys.readouterr().out.splitlines() if "half blocks" in line]
+    assert lines == ["  L = 5.714 half blocks, not a whole number: the courses end in closers at least 0.6 wide, a "
+                     "remainder narrower than that taken up by a long last unit (--ends closers) (docs/micro/walls.md)"]
+    assert cli.main(["micro", *cut, "--ends", "cut"]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if "half blocks" in line]
+    assert lines == ["  L = 5.714 half blocks, not a whole number: the last block of every course is cut, down to "
+                     "slivers (--ends cut) (docs/micro/walls.md)"]
     assert cli.main(["micro", *cut, "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["end_blocks_cut"] is True
+    out = json.loads(capsys.readouterr().out)
+    assert out["end_blocks_cut"] is True and out["ends"] == "closers"
     assert cli.main(["micro", *cut, "-q"]) == 0
-    assert "cut" not in capsys.readouterr().out  # quiet: the value alone
+    assert "half blocks" not in capsys.readouterr().out  # quiet: the value alone
     whole = ["--t", "1", "--m", "1/3", "--rows", "6", "--f", "0.6", "--friction", friction]
     assert cli.main(["micro", *whole]) == 0
-    assert "cut" not in capsys.readouterr().out
+    assert "half blocks" not in capsys.readouterr().out
     assert cli.main(["micro", *whole, "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["end_blocks_cut"] is False

@@ -25,7 +25,8 @@ SMALL = {
     "set12": SET12,
     "set13": ["--rows", "12", "--t", "1", "--m", "1/2", "--f", "0.75"],
     "set14": ["--rows", "12", "--t", "1", "--m", "1", "--f", "0.75"],
-    "cut": ["--rows", "8", "--t", "1", "--m", "1/3", "--f", "0.65"],  # 5.33 half blocks long: cut end blocks
+    "cut": ["--rows", "8", "--t", "1", "--m", "1/3", "--f", "0.65", "--ends", "cut"],  # 5.33 half blocks long
+    "closers": ["--rows", "8", "--t", "1", "--m", "1/3", "--f", "0.65"],  # the same, its courses closed
 }
 #: The report's paper cases of under 500 blocks besides Table 7's Sets 12-14.
 REPORT_CASES = ("5", "8", "11")  # 12-14 are SMALL's set12-set14

@@ -112,9 +112,9 @@ def test_an_edit_of_the_walls_conversion_to_the_block_model_recomputes_the_tiny_
     doc = text.index('"""', start)
     _edit(wall, text[:doc + 3] + "Reworded. " + text[doc + 3:])
     assert _computed(tmp_path, cache) == 0
-    call = "micro.build_wall(**self.dimensions(), **options)"
+    call = 'micro.build_wall(**self.dimensions(), **{"ends": self.ends, **options})'
     assert text.index(call) > start
-    half = 'micro.build_wall(**{**self.dimensions(), "friction": self.friction / 2}, **options)'
+    half = 'micro.build_wall(**{**self.dimensions(), "friction": self.friction / 2}, **{"ends": self.ends, **options})'
     _edit(wall, text.replace(call, half))
     assert _computed(tmp_path, cache) == 8
 

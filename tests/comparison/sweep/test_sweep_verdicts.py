@@ -13,14 +13,14 @@ from comparison.domain.verdict import compare
 from comparison.domain.wall import WallSpec
 from comparison.sweep import read_table
 
-#: Set 12 (12 rows, 54 blocks: not refuted) and the same t, m, f with 20 rows (150 blocks, above the grid's
-#: limit: no non-associative solve; its macro λ 0.631 lies above the associative 0.621).
+#: Set 12 (12 rows, 54 blocks: not refuted) and the same t, m, f with 24 rows (204 blocks, above the grid's
+#: limit: no non-associative solve; its macro λ 0.6270 lies above the associative 0.6143).
 GRID = """
 name = "verdicts"
 [axes]
 t = 1
 m = "1/3"
-rows = [12, 20]
+rows = [12, 24]
 f = 0.75
 [limits]
 max_blocks = 100
@@ -40,7 +40,7 @@ def test_the_page_counts_walls_by_verdict_as_compare_gives_them(tmp_path: Path) 
     assert main(["sweep", str(grid), "--out", str(out), "--cache", str(tmp_path / "cache"), "--quiet",
                  "--workers", "1"]) == 0
     status = {(r["kind"], r["rows"]): r["status"] for r in read_table(out / "verdicts.csv")}
-    assert status[("micro-assoc", "20")] == "optimal" and status[("micro-nonassoc", "20")] == "not_run"
+    assert status[("micro-assoc", "24")] == "optimal" and status[("micro-nonassoc", "24")] == "not_run"
     text = (out / "verdicts.md").read_text()
     assert ("| macro column | unsafe, by the associative bound | unsafe, by a certified state | not refuted "
             "| no verdict |") in text
@@ -89,7 +89,7 @@ def test_a_worst_wall_s_plot_command_draws_that_wall(tmp_path: Path, monkeypatch
              blocks=0, macro={"macro": 0.5}, assoc=float("nan"), nonassoc=float("nan"))
     command = plot_command(w, "worst-1.png")
     assert command == ("xcheck compare --t 1 --m 1/3 --rows 12 --f 0.75 --p 0.2 --storeys 2 --first-course half "
-                       "--plot worst-1.png")
+                       "--full --plot worst-1.png")  # --full: the non-associative state, whose value is compared
     monkeypatch.chdir(tmp_path)
     assert main([*command.split()[1:], "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)

@@ -20,7 +20,8 @@ REL = 1e-6
 
 def _wall(entry: dict[str, Any]) -> micro.BlockWall:
     return WallSpec.from_paper(**entry["paper"]).to_micro(first_course=entry["first_course"],
-                                                          head_joints=entry["head_joints"])
+                                                          head_joints=entry["head_joints"],
+                                                          ends=entry.get("ends", "closers"))
 
 
 def test_settings_are_explicit() -> None:

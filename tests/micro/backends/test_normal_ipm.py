@@ -33,7 +33,8 @@ REL = 1e-7
 
 def _wall(entry: dict) -> micro.BlockWall:
     return WallSpec.from_paper(**entry["paper"]).to_micro(first_course=entry["first_course"],
-                                                          head_joints=entry["head_joints"])
+                                                          head_joints=entry["head_joints"],
+                                                          ends=entry.get("ends", "closers"))
 
 
 @pytest.mark.parametrize("key", VERTEX)

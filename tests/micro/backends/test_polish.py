@@ -31,7 +31,7 @@ WALLS = {
     "set14 half frictionless": table7_wall("set14", first_course="half", head_joints="frictionless"),
     "set13 half": table7_wall("set13", first_course="half"),
     "cut": micro.build_wall(length=13.7, block_length=3.0, block_height=1.0, rows=(8,), thickness=(1.0,),
-                            overload=(0.0,), unit_weight=1.0, friction=0.6),
+                            overload=(0.0,), unit_weight=1.0, friction=0.6, ends="cut"),
     "loaded": loaded_wall(),
 }
 
