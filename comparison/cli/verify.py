@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import inspect
 import json
 import math
 from collections.abc import Mapping
@@ -107,8 +106,7 @@ def paper_wall(state: CollapseStateData) -> tuple[BlockWall | HeldWall | None, s
         named = dict(state.wall.builder) if state.wall is not None else {}
         bond: dict[str, Any] = {k: named.get(k, src.get(k, default))
                                 for k, default in (("first_course", "full"), ("head_joints", "frictional"))}
-        if "ends" in inspect.signature(micro.build_wall).parameters:
-            bond["ends"] = named.get("ends", "cut")  # a file that names no end treatment: cut ends
+        bond["ends"] = named.get("ends", "cut")  # version 1 (before the choice of ends): cut ends
         wall = spec.to_micro(**bond)
         held = state.wall.held if state.wall is not None else ()
         built = micro.hold_blocks(wall, held) if held else wall

@@ -22,7 +22,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from micro import geometry
 from micro.geometry import BlockWall, build_wall, check_block_wall
 from micro.hold import GROUND, HeldWall, hold_blocks
 
@@ -30,16 +29,8 @@ FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 #: The builder's arguments a state file names its wall by (:func:`micro.build_wall`'s but its memory
-#: budget and its end treatment, which a file names only where the builder has one), in its order.
+#: budget and its end treatment, which a file may leave out: see :class:`WallParameters`), in its order.
 WALL_KEYS = tuple(k for k in inspect.signature(build_wall).parameters if k not in ("max_bytes", "ends"))
-
-
-def builder_ends() -> tuple[str, ...] | None:
-    """The end treatments :func:`micro.build_wall` knows (``None``: a builder without ``ends``, which cuts
-    every course's last block)."""
-    if "ends" not in inspect.signature(build_wall).parameters:
-        return None
-    return tuple(getattr(geometry, "ENDS", ("closers", "cut")))
 
 
 @dataclass(frozen=True)
@@ -47,8 +38,8 @@ class WallParameters:
     """The wall a state is of, as :func:`micro.build_wall` builds it, and the blocks held to their hosts.
 
     Attributes:
-        builder: the builder's keyword arguments (:data:`WALL_KEYS`, and ``ends`` where named: a file that
-            names none was written by a builder that cut every course's last block).
+        builder: the builder's keyword arguments (:data:`WALL_KEYS`, and ``ends``; a wall that does not name
+            its ends has its courses cut, as every builder before the choice of ends laid them).
         held: the blocks held to their hosts (numbers in the wall as built; :func:`micro.hold_blocks`).
     """
 
@@ -63,8 +54,7 @@ class WallParameters:
             held, wall = wall.held, wall.original
         check_block_wall(wall)
         builder = {k: getattr(wall, k) for k in WALL_KEYS}
-        if getattr(wall, "ends", None) is not None:
-            builder["ends"] = wall.ends  # type: ignore[attr-defined]
+        builder["ends"] = wall.ends
         return cls(builder, tuple(int(b) for b in held))
 
     def to_dict(self) -> dict[str, Any]:
@@ -77,17 +67,10 @@ class WallParameters:
         """The wall these parameters describe (a :class:`~micro.hold.HeldWall` when blocks are held).
 
         Raises:
-            ValueError: a parameter the builder refuses (its message), an end treatment this builder does
-                not know, or a held block that is not one of the wall's.
+            ValueError: a parameter the builder refuses (its message), or a held block that is not one of the
+                wall's.
         """
-        kwargs = dict(self.builder)
-        ends = kwargs.get("ends")
-        if builder_ends() is None:
-            if ends not in (None, "cut"):
-                raise ValueError(f"ends {ends!r}: this builder knows only cut course ends")
-            kwargs.pop("ends", None)
-        elif ends is None:
-            kwargs["ends"] = "cut"  # a file that names no end treatment was written by a builder that cut
+        kwargs = {"ends": "cut", **self.builder}
         try:
             wall = build_wall(**kwargs)
         except TypeError as exc:  # a value of the wrong kind the builder does not name
