@@ -177,7 +177,7 @@ _COMMAND_KEYS: dict[str, Any] = {
 _NONASSOCIATIVE_KEYS: dict[str, Any] = {
     "options": {
         "type": "object",
-        "description": "What ran (micro.nonassociative.Recipe): the options and the tuning resolved for "
+        "description": "What ran (micro.nonassociative.Resolved): the options and the tuning resolved for "
         "the wall: scheme, selection, relaxation, caps, tolerances, fusing.",
         "required": ["scheme", "relaxation", "max_iterations", "certify"],
     },

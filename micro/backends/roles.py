@@ -47,7 +47,7 @@ LeastDistance = LeastDistanceQP
 LeastDistanceFallback = ClarabelLeastDistance
 
 #: The names each role goes by in the method's solver description
-#: (:meth:`micro.nonassociative.config.Recipe.solver_description`).
+#: (:meth:`micro.nonassociative.config.Resolved.solver_description`).
 ROLE_NAMES = {"interior": "clarabel", "persistent": "highs"}
 
 __all__ = ["BASIC", "INTERIOR_RETRY", "LOWER", "ROLE_NAMES", "InteriorLP", "LeastDistance",

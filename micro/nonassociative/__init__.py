@@ -26,13 +26,13 @@ Relaxation (both schemes): the capacities of iterate ``k + 1`` are built from
 
 Modules, one concept each:
 
-``config``       :class:`NonAssociativeOptions` (what a user sets), :class:`Tuning` (the research
-                 knobs, the policy constants) and :class:`Recipe` (both resolved for one wall:
-                 every value a stage reads is one of its fields);
+``config``       :class:`NonAssociativeOptions` (what a user sets, with its :class:`Tuning`: the
+                 research knobs), the policy constants, and :func:`resolve`: the options resolved for
+                 one wall into what the stages read (:class:`Resolved`, nothing copied);
 ``model``        the persistent HiGHS model of one direction and its updates;
 ``iteration``    the sequence of one direction: start, loop, finish;
 ``warm_cold``    when the sequence solves an iterate warm and when cold (counted in simplex iterations);
-``pipeline``     one direction: the fallback chain as a list of stages (the vertex sequence, the
+``pipeline``     one direction: the fallback chain, in plain code (the vertex sequence, the
                  proximal retry, the fused wall with the continuation);
 ``fusion``       the fused wall: the blocks that move as one rigid body joined, their LP, and
                  its state made the wall's;
@@ -84,10 +84,10 @@ from micro.nonassociative.config import (
     LPProgress,
     NonAssociativeOptions,
     Progress,
-    Recipe,
+    Resolved,
     Tuning,
     continuation_allowed,
-    recipe_for,
+    resolve,
 )
 from micro.nonassociative.descent.lowest import lowest_state
 from micro.nonassociative.descent.lowest_direction import LowestDirection
@@ -110,14 +110,14 @@ __all__ = [
     "CONVERGED", "CYCLING", "DEFAULT_RELAXATION", "FUSE_BLOCKS", "MAX_ITERATIONS", "SCHEMES", "SELECTIONS",
     "SOLVER_FAILURE", "STATUSES", "TIME_LIMIT", "FusionDiagnostics",
     "IterationRecord", "LOWEST_BUDGET", "LPProgress", "LowestDirection", "NonAssociativeOptions",
-    "NonAssociativeResult", "Progress", "Recipe", "SequenceDiagnostics", "TUNING_KNOBS", "Tuning",
-    "continuation_allowed", "detect_cycle", "lowest_state", "recipe_for", "solve_nonassociative",
+    "NonAssociativeResult", "Progress", "Resolved", "SequenceDiagnostics", "TUNING_KNOBS", "Tuning",
+    "continuation_allowed", "detect_cycle", "lowest_state", "resolve", "solve_nonassociative",
     "verify_collapse_state"
 ]
 
 
 def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None = None,
-                         tuning: Tuning | None = None, *, progress: Progress | None = None,
+                         *, progress: Progress | None = None,
                          **overrides: Any) -> NonAssociativeResult:
     """Collapse load factor of ``wall`` with non-associative (zero-dilatancy) friction.
 
@@ -130,11 +130,11 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
 
     Args:
         wall: the block assemblage (:func:`micro.build_wall`).
-        options: what a user sets (``None``: the defaults).
-        tuning: the research knobs (``None``: the report's method;
-            ``docs/micro/tuning.md``).
+        options: what a user sets, the research knobs in its ``tuning`` (``None``: the defaults, the
+            report's method; ``docs/micro/tuning.md``).
         progress: called with one :class:`LPProgress` per LP as it finishes.
-        **overrides: option fields to change, e.g. ``lowest=False, time_limit=20``.
+        **overrides: option fields to change, e.g. ``lowest=False, time_limit=20``,
+            ``tuning=micro.Tuning(scheme="b")``.
 
     Returns:
         The :class:`NonAssociativeResult`; a sequence that did not converge
@@ -169,14 +169,13 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         True
     """
     check_block_wall(wall)
-    for name, value, kind in (("options", options, NonAssociativeOptions), ("tuning", tuning, Tuning)):
-        if value is not None and not isinstance(value, kind):
-            raise TypeError(f"{name} must be a micro.{kind.__name__} or None, got {value!r} ({type(value).__name__})")
+    if options is not None and not isinstance(options, NonAssociativeOptions):
+        raise TypeError(f"options must be a micro.NonAssociativeOptions or None, got {options!r} "
+                        f"({type(options).__name__})")
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be a function of one LPProgress or None, got {progress!r}")
     o = (options or NonAssociativeOptions()).with_overrides(**overrides)
-    t = tuning or Tuning()
-    r = recipe_for(wall.n_blocks, o, t, progress)
+    r = resolve(wall.n_blocks, o, progress)
     t0 = time.perf_counter()
     lp = assemble(wall)
     build = time.perf_counter() - t0
@@ -184,7 +183,7 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     results = tuple(res for res, _ in solved)
     # without the iterated LP's model (a fused wall) the descent makes no proposal (its module docstring)
     lowest = tuple(lowest_state(lp, res, r, model, proposals=model is not None)
-                   for res, model in solved if res.converged) if r.lowest else ()
+                   for res, model in solved if res.converged) if o.lowest else ()
     del solved  # the models: the descent has taken over what it needs
     solve_secs = time.perf_counter() - t0 - build
     failing = [res for res in results if not res.converged]
@@ -195,9 +194,10 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         g = min(results, key=lambda res: res.load_factor)
         lam, direction, status, msg = g.load_factor, g.direction, CONVERGED, ""
     return NonAssociativeResult(
-        iterated_load_factor=lam, direction=direction, status=status, scheme=t.scheme, relaxation=r.beta,
+        iterated_load_factor=lam, direction=direction, status=status, scheme=o.tuning.scheme,
+        relaxation=o.tuning.beta,
         blocks=wall.n_blocks, contacts=wall.n_contacts, points=lp.n_points, variables=lp.n_cols, rows=lp.n_rows,
         nnz=lp.nnz, build_seconds=build, solve_seconds=solve_secs, mirror_symmetric=wall.mirror_symmetric,
-        directions=results, recipe=r, message=msg, lowest=lowest,
+        directions=results, resolved=r, message=msg, lowest=lowest,
     )
 

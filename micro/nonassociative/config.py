@@ -1,18 +1,18 @@
-"""What a run of the iterated LP is configured by, in one place: the options, the tuning, the recipe.
-
-Three layers, one hop from what a user sets to what a stage reads:
+"""What a run of the iterated LP is configured by, in one place: one options object and its resolution.
 
 * :class:`NonAssociativeOptions`, what a user of :func:`micro.solve_nonassociative`
-  sets (directions, caps, time limits, the descent and its budget);
+  sets (directions, caps, time limits, the descent and its budget), with its
+  ``tuning``:
 * :class:`Tuning`, the research knobs (the rebuilt yield condition, the
   relaxation, the selections, fusing, the continuation, the certificate): their
   defaults are the report's method, and a user needs none of them
   (``docs/micro/tuning.md``);
-* :class:`Recipe`, both resolved for one wall by :func:`recipe_for`: every value
-  a stage of the method reads is a field of the recipe (``recipe.time_limit``,
-  ``recipe.scheme``, ``recipe.lowest_budget``), the choices that depend on the
-  wall's size (fusing, the continuation) decided, and the options and the
-  tuning kept as given for the record.
+* :func:`resolve`, the one function from the options to what the stages read
+  (:class:`Resolved`): the options as given, and the choices they leave to the
+  wall's size (fusing, the continuation) and to each sequence (its selection,
+  its cap) decided. Nothing is copied: a stage reads ``resolved.options.time_limit``
+  or ``resolved.tuning.scheme``, so a new setting is one field of the options or
+  of the tuning, with its test.
 
 Neither the method itself (scheme, selections, fusing, tolerances) nor the
 search for the global minimum is an option: the first lives in the tuning, the
@@ -86,7 +86,9 @@ class Tuning:
 
     The defaults are the report's method; ``docs/micro/tuning.md`` describes
     each knob and what it was measured to do. A new knob is one field here
-    with its line below: the recipe carries the whole object.
+    (with its check in ``__post_init__`` where it needs one): a stage reads it
+    as ``resolved.tuning.<knob>``; the record, the CLI's ``--tuning`` and the
+    cache key take it from the fields.
 
     Attributes:
         scheme: rebuilt yield condition, ``"a"`` or ``"b"`` (package docstring).
@@ -246,6 +248,7 @@ class NonAssociativeOptions:
             that spends it returns the lowest certified state found so far
             (``lowest_stop="budget"``). It counts LPs, not seconds: the same
             wall stops at the same state on every machine.
+        tuning: the research knobs (:class:`Tuning`; ``None``: the report's method).
 
     Raises:
         ValueError: a bad option (the message names it).
@@ -257,8 +260,14 @@ class NonAssociativeOptions:
     max_seconds: float | None = None
     lowest: bool = True
     lowest_budget: int = LOWEST_BUDGET
+    tuning: Tuning = field(default_factory=Tuning)
 
     def __post_init__(self) -> None:
+        if self.tuning is None:
+            object.__setattr__(self, "tuning", Tuning())
+        if not isinstance(self.tuning, Tuning):
+            raise TypeError(f"tuning must be a micro.Tuning or None, got {self.tuning!r} "
+                            f"({type(self.tuning).__name__})")
         check_directions(self.directions)
         check_integer("max_iterations", self.max_iterations, 2)
         for name in ("time_limit", "max_seconds"):
@@ -286,7 +295,7 @@ class NonAssociativeOptions:
         unknown = sorted(set(overrides) - set(OPTION_NAMES))
         if unknown:
             raise TypeError(f"unknown option(s) {', '.join(unknown)}; the options are {', '.join(OPTION_NAMES)} "
-                            "(research knobs: tuning=micro.nonassociative.Tuning(...))")
+                            "(research knobs: tuning=micro.Tuning(...))")
         return dataclasses.replace(self, **overrides)
 
     def as_dict(self) -> dict[str, Any]:
@@ -298,7 +307,7 @@ class NonAssociativeOptions:
 OPTION_NAMES: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(NonAssociativeOptions))
 
 
-# ------------------------------------------------------------------ the recipe
+# ------------------------------------------------------------- what the stages read
 @dataclass(frozen=True)
 class LPProgress:
     """One LP as it finishes, for a progress display (``progress=`` of
@@ -329,50 +338,34 @@ Progress = Callable[[LPProgress], None]
 
 
 @dataclass(frozen=True)
-class Recipe:
-    """What the iterated LP runs on one wall: every value a stage reads, as a field (one hop from
-    what a user sets), with the options and the tuning kept as given for the record.
+class Resolved:
+    """What the stages of one sequence read: the options as given, their tuning inside, and the choices
+    they leave to the wall and to the sequence, resolved by :func:`resolve`. Nothing is copied: a stage
+    reads an option as ``resolved.options.time_limit`` and a knob as ``resolved.tuning.scheme``, so a new
+    option or knob is one field of :class:`NonAssociativeOptions` or :class:`Tuning`.
 
     Attributes:
-        options: the user's :class:`NonAssociativeOptions`, as given.
-        tuning: the research knobs (:class:`Tuning`), as given.
-        selection: this sequence's selection (``tuning.selection`` resolved for the scheme; the
-            pipeline sets ``"vertex"`` or ``"proximal"`` for each sequence of ``"vertex+proximal"``).
-        beta: the relaxation (``tuning.relaxation`` or the scheme's default).
-        fuse, continuation: ``tuning.fuse`` and ``tuning.continuation`` resolved for the wall's size.
-        max_iterations: this sequence's cap on LPs (``options.max_iterations``; the proximal
-            retry's ``tuning.retry_iterations``).
-        lowest: whether the descent runs (``options.lowest``).
-        time_limit, max_seconds, lowest_budget: the options of those names.
-        scheme, start, certify, mechanism_band, max_simplex_iterations, retry_iterations,
-            fused_retry: the knobs of those names.
+        options: the user's :class:`NonAssociativeOptions`, as given (with their :class:`Tuning`).
+        selection: this sequence's selection: ``tuning.selection`` resolved for the scheme, then
+            ``"vertex"`` or ``"proximal"`` for each sequence of ``"vertex+proximal"`` (the stages set it).
+        max_lps: this sequence's cap on LPs: ``options.max_iterations``, the proximal retry's
+            ``tuning.retry_iterations``.
+        fuse, continuation: ``tuning.fuse`` and ``tuning.continuation`` resolved for the wall's size
+            (:meth:`Tuning.large_wall`); the stages turn them on or off for a sequence.
         progress: the caller's callback (not part of the method).
     """
 
     options: NonAssociativeOptions
-    tuning: Tuning
     selection: SelectionName
-    beta: float
+    max_lps: int
     fuse: bool
     continuation: bool
-    max_iterations: int
-    lowest: bool
-    time_limit: float | None = None
-    max_seconds: float | None = None
-    lowest_budget: int = LOWEST_BUDGET
-    scheme: Literal["a", "b"] = "a"
-    start: Literal["interior", "vertex"] = "interior"
-    certify: bool = True
-    mechanism_band: bool = True
-    max_simplex_iterations: int | None = None
-    retry_iterations: int = RETRY_LPS
-    fused_retry: bool = True
     progress: Progress | None = field(default=None, repr=False, compare=False)
 
     @property
-    def user_limit(self) -> float:
-        """:attr:`time_limit` per LP in seconds, ``inf`` for none."""
-        return float(self.time_limit) if self.time_limit is not None else math.inf
+    def tuning(self) -> Tuning:
+        """The research knobs (``options.tuning``)."""
+        return self.options.tuning
 
     def tell(self, event: LPProgress) -> None:
         """Pass ``event`` to the progress callback, if any."""
@@ -383,8 +376,9 @@ class Recipe:
         """Which solver does what in the iterated LP, e.g. ``"clarabel (start,
         certificate) + highs-simplex (iterated) + highs-ipm (cold check)"``."""
         interior, persistent = ROLE_NAMES["interior"], ROLE_NAMES["persistent"]
-        roles = [(interior if self.start == "interior" else f"{persistent}-ipm+crossover", "start")]
-        if self.certify or self.mechanism_band:
+        t = self.tuning
+        roles = [(interior if t.start == "interior" else f"{persistent}-ipm+crossover", "start")]
+        if t.certify or t.mechanism_band:
             roles.append((interior, "certificate"))
         roles.append((f"{persistent}-simplex", "iterated" + (", fused" if self.fuse else "")))
         roles.append((f"{persistent}-ipm", "cold check"))
@@ -394,28 +388,20 @@ class Recipe:
         return " + ".join(f"{solver} ({', '.join(r)})" for solver, r in by_solver.items())
 
     def as_dict(self) -> dict[str, Any]:
-        """JSON-ready: the options and the knobs, with the resolved values in place of theirs."""
-        resolved = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)
-                    if f.name not in ("options", "tuning", "progress")}
-        return {**self.options.as_dict(), **self.tuning.as_dict(), **resolved, "relaxation": self.beta}
+        """JSON-ready, flat: the options and the knobs, with the resolved values in place of theirs
+        (``selection``, ``fuse``, ``continuation``; ``relaxation`` and ``beta``: the relaxation used)."""
+        given = {k: v for k, v in self.options.as_dict().items() if k != "tuning"}
+        return {**given, **self.tuning.as_dict(), "selection": self.selection, "fuse": self.fuse,
+                "continuation": self.continuation, "relaxation": self.tuning.beta, "beta": self.tuning.beta}
 
 
-def recipe_for(blocks: int, options: NonAssociativeOptions | None = None, tuning: Tuning | None = None,
-               progress: Progress | None = None) -> Recipe:
-    """The :class:`Recipe` of a wall of ``blocks`` blocks: the options and the knobs a stage reads
-    copied into its fields of the same names (:data:`READ`), the choices that depend on the wall's
-    size resolved."""
+def resolve(blocks: int, options: NonAssociativeOptions | None = None,
+            progress: Progress | None = None) -> Resolved:
+    """What the stages read on a wall of ``blocks`` blocks (:class:`Resolved`): the options as given and
+    the choices that depend on the wall's size resolved."""
     o = options or NonAssociativeOptions()
-    t = tuning or Tuning()
+    t = o.tuning
     large = t.large_wall(blocks)
-    read = {name: getattr(o, name) if name in OPTION_NAMES else getattr(t, name) for name in READ}
-    return Recipe(o, t, selection=t.resolved_selection, beta=t.beta, fuse=large if t.fuse is None else t.fuse,
-                  continuation=large if t.continuation is None else t.continuation,
-                  max_iterations=o.max_iterations, lowest=o.lowest, progress=progress, **read)
-
-
-#: The fields of :class:`Recipe` copied from the option or the knob of the same name (a new option or
-#: knob that a stage reads is one field of the recipe: :func:`recipe_for` fills it).
-READ: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(Recipe)
-                              if f.name in (*OPTION_NAMES, *TUNING_KNOBS)
-                              and f.name not in ("selection", "fuse", "continuation", "max_iterations", "lowest"))
+    return Resolved(o, selection=t.resolved_selection, max_lps=o.max_iterations,
+                    fuse=large if t.fuse is None else t.fuse,
+                    continuation=large if t.continuation is None else t.continuation, progress=progress)

@@ -44,7 +44,7 @@ from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
-from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, Recipe
+from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, Resolved
 from micro.nonassociative.nonassociative_result import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
 
 FloatArray = NDArray[np.float64]
@@ -170,7 +170,7 @@ def fuse(lp: LimitLP, body: IntArray, n_bodies: int) -> FusedLP:
     return FusedLP(fused, R, points, body, n_bodies)
 
 
-def fused_wall(lp: LimitLP, direction: int, recipe: Recipe) -> tuple[FusedLP, Outcome] | None:
+def fused_wall(lp: LimitLP, direction: int, resolved: Resolved) -> tuple[FusedLP, Outcome] | None:
     """The fused wall of one direction: the associative LP of the whole wall
     (Clarabel) gives the mechanism whose rigid bodies are fused.
 
@@ -178,7 +178,7 @@ def fused_wall(lp: LimitLP, direction: int, recipe: Recipe) -> tuple[FusedLP, Ou
         ``(the fused LP, the associative outcome)``, or ``None`` where the
         associative LP fails or nothing moves (the wall itself must run).
     """
-    assoc = InteriorLP(lp, time_limit=recipe.time_limit).solve(direction)
+    assoc = InteriorLP(lp, time_limit=resolved.options.time_limit).solve(direction)
     if not assoc.ok or assoc.duals is None:
         return None
     body, n_bodies = rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]))
@@ -188,7 +188,7 @@ def fused_wall(lp: LimitLP, direction: int, recipe: Recipe) -> tuple[FusedLP, Ou
 
 
 def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: DirectionResult,
-                recipe: Recipe, t0: float, t_fuse: float) -> DirectionResult:
+                resolved: Resolved, t0: float, t_fuse: float) -> DirectionResult:
     """The fused wall's result ``r`` as the wall's (module docstring): a
     converged state is accepted only when the certificate of the whole wall
     finds a field for the bodies' mechanism at its ``lambda``; the result has
@@ -200,7 +200,7 @@ def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: 
         fused: the fused wall (:func:`fused_wall`).
         assoc: the wall's associative outcome whose mechanism was fused.
         r: the sequences' result on ``fused.lp``.
-        recipe: the recipe.
+        resolved: what the stages read (the scheme, the time limit).
         t0: when the fusing started (``time.perf_counter()``).
         t_fuse: the seconds of the associative LP and the fusion.
     """
@@ -224,7 +224,7 @@ def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: 
             message=f"on the fused wall ({n_bodies} bodies): {r.message}",
             sequence=dataclasses.replace(seq, fusion=fusion))
     v = mechanism.velocities.ravel()
-    cert = Certificate(lp, direction, recipe.scheme).certify(v, lam, time_limit=recipe.user_limit)
+    cert = Certificate(lp, direction, resolved.tuning.scheme).certify(v, lam, time_limit=resolved.options.user_limit)
     t_cert = cert.seconds
     if cert.forces is None:
         if cert.band is None:

@@ -40,7 +40,7 @@ from micro.limit_result import DIR_NAME, DirectionResult
 from micro.lp import LimitLP
 from micro.nonassociative import checks
 from micro.nonassociative.certificate import Certificate
-from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, TINY, LPProgress, Recipe
+from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, TINY, LPProgress, Resolved
 from micro.nonassociative.model import IterationModel, restart
 from micro.nonassociative.nonassociative_result import (
     CONVERGED,
@@ -72,7 +72,7 @@ class LPSequence:
     Args:
         lp: the wall's LP.
         direction: ``+1`` or ``-1``.
-        recipe: the recipe.
+        resolved: what the stages read (the options, their tuning, this sequence's selection and cap).
         start: scaled normal forces ``(P,)`` to start ``nbar`` from instead of
             the associative LP's (which still gives iterate 0 and the
             associative load factor); ``None``: the associative LP's.
@@ -82,12 +82,12 @@ class LPSequence:
             solved again; ``None``: solve it.
     """
 
-    def __init__(self, lp: LimitLP, direction: int, recipe: Recipe,
+    def __init__(self, lp: LimitLP, direction: int, resolved: Resolved,
                  start: FloatArray | None = None,
                  iterate0: tuple[Outcome, str, FloatArray | None] | None = None) -> None:
-        self.lp, self.d, self.recipe, self.start = lp, direction, recipe, start
+        self.lp, self.d, self.resolved, self.start = lp, direction, resolved, start
         self.iterate0 = iterate0
-        self.certificate = Certificate(lp, direction, recipe.scheme)
+        self.certificate = Certificate(lp, direction, resolved.tuning.scheme)
         self.history: list[IterationRecord] = []
         self.fallbacks = 0
         self.c0 = 0.0
@@ -100,7 +100,7 @@ class LPSequence:
         self.last_try = -(10**9)
         self.model: IterationModel | None = None
         # how an iterate goes on (vertex, proximal, continuation), and whether it is solved warm or cold
-        self.rule = selection_for(recipe, lp, direction)
+        self.rule = selection_for(resolved, lp, direction)
         self.policy = WarmColdPolicy(lp.n_eq, self.rule)
         fused = lp.n_eq != 3 * lp.wall.n_blocks  # the LP of a fused wall (fewer bodies than blocks)
         self.stage = ("fused " if fused else "") + self.rule.name
@@ -118,8 +118,8 @@ class LPSequence:
             layout ``[n, s, d * lambda]`` (``None`` unless optimal).
         """
         lp, P = self.lp, self.lp.n_points
-        if self.recipe.start == "interior":
-            out = InteriorLP(lp, time_limit=self.recipe.time_limit).solve(self.d)
+        if self.resolved.tuning.start == "interior":
+            out = InteriorLP(lp, time_limit=self.resolved.options.time_limit).solve(self.d)
             if out.ok and out.n is not None and out.s is not None:
                 return out, "clarabel", np.concatenate([out.n, out.s, [out.load_factor * self.d]])
             out, algo = self._associative_model().run(), "ipm"
@@ -165,7 +165,7 @@ class LPSequence:
         stop, band, failed = self._loop(model, n0, lam_assoc, alpha, time.perf_counter() - t_b, t_start)
         if failed is not None and failed.status is Status.TIME_LIMIT:
             return self._fail("time_limit", f"LP {len(self.history) - 1} hit the time limit of "
-                              f"{self.recipe.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
+                              f"{self.resolved.options.time_limit:g} s", t_start, lam_assoc, band, TIME_LIMIT)
         if failed is not None or self.final is None:
             status = failed.native_status if failed is not None else ""
             return self._fail("lp_failed", f"LP {len(self.history) - 1} failed warm and cold ({status})",
@@ -179,9 +179,9 @@ class LPSequence:
         Returns:
             ``(stop reason, band, the failed outcome or None)``.
         """
-        r = self.recipe
+        r = self.resolved
         n_prev, n_prev2, lam_prev = n0, n0, lam_assoc
-        for k in range(1, r.max_iterations + 1):
+        for k in range(1, r.max_lps + 1):
             t_it = time.perf_counter()
             new_alpha = alpha
             if k > 1:
@@ -202,9 +202,9 @@ class LPSequence:
             n_prev2, n_prev, lam_prev = n_prev, n, lam
             if stop is not None:
                 return stop
-            if r.max_simplex_iterations is not None and self.pivots >= r.max_simplex_iterations:
+            if r.tuning.max_simplex_iterations is not None and self.pivots >= r.tuning.max_simplex_iterations:
                 return "work_budget", window_band(self.lams), None
-            if r.max_seconds is not None and time.perf_counter() - t_start > r.max_seconds:
+            if r.options.max_seconds is not None and time.perf_counter() - t_start > r.options.max_seconds:
                 return "time_budget", window_band(self.lams), None
         return "max_iterations", window_band(self.lams), None
 
@@ -216,7 +216,7 @@ class LPSequence:
         simplex from the last basis, limited to the policy's ``warm_limit``
         simplex iterations. A run stopped by the user's ``time_limit`` is
         returned as it is (the sequence ends); another failure is recovered."""
-        user = self.recipe.time_limit
+        user = self.resolved.options.time_limit
         if self.policy.cold(k):
             model.model.limit_next_run(user)
             out, algo = restart(model.model), COLD
@@ -240,12 +240,13 @@ class LPSequence:
         last forces alone (no relaxation). What still fails is restarted cold
         (HiGHS "Unknown" on near-degenerate rows)."""
         out, algo = failed, ""
-        if k > 1 and self.recipe.scheme == "b":
-            out, algo = model.fallback_a_step(n_prev, self.recipe.time_limit, self.policy.warm_limit), "fallback-a"
+        user, tuning = self.resolved.options.time_limit, self.resolved.tuning
+        if k > 1 and tuning.scheme == "b":
+            out, algo = model.fallback_a_step(n_prev, user, self.policy.warm_limit), "fallback-a"
             self.fallbacks += 1
-        elif k > 1 and failed.status is Status.INFEASIBLE and self.recipe.beta < 1.0:
+        elif k > 1 and failed.status is Status.INFEASIBLE and tuning.beta < 1.0:
             model.set_capacity(n_prev, alpha, alpha, self.c0)
-            out, algo = model.warm(self.recipe.time_limit, self.policy.warm_limit), "simplex-warm-unrelaxed"
+            out, algo = model.warm(user, self.policy.warm_limit), "simplex-warm-unrelaxed"
         if not out.ok:
             out, algo = restart(model.model), "ipm-restart"
         # the failed run's work counts (the work budget, the history)
@@ -285,7 +286,7 @@ class LPSequence:
         if exact is not None:
             return exact, None, None
         due = self.rule.certificate_due(self.lams, k, self.last_try)
-        certify = self.recipe.certify and alpha_done and algo != "fallback-a" and due
+        certify = self.resolved.tuning.certify and alpha_done and algo != "fallback-a" and due
         if certify and self._try_certificate(k, v, lam):
             return "certified", None, None
         stop = self.rule.no_progress(self.lams, self.dns, alpha_done)
@@ -294,7 +295,7 @@ class LPSequence:
     def _try_certificate(self, k: int, v: FloatArray, lam: float) -> bool:
         """Try the certificate on iterate ``k``: is its mechanism an exact
         collapse state with other forces than the LP's vertex?"""
-        cert = self.certificate.certify(v, lam, time_limit=self.recipe.user_limit)
+        cert = self.certificate.certify(v, lam, time_limit=self.resolved.options.user_limit)
         self.last_try = k
         rec = self.history[-1]
         coul = checks.coulomb_residual(self.lp, *cert.forces) if cert.forces is not None else NAN
@@ -316,7 +317,7 @@ class LPSequence:
             simplex_iterations=int(out.simplex_iterations), ipm_iterations=int(out.ipm_iterations),
             seconds=float(out.seconds), algorithm=algo, status=out.status.value, proximal_step=self.rule.take_step(),
         ))
-        self.recipe.tell(LPProgress(DIR_NAME[self.d], self.stage, k, lam, dn, algo, float(out.seconds)))
+        self.resolved.tell(LPProgress(DIR_NAME[self.d], self.stage, k, lam, dn, algo, float(out.seconds)))
 
     # ------------------------------------------------------------ finish
     def _fail(self, reason: str, msg: str, t_start: float, lam_assoc: float,
@@ -325,7 +326,7 @@ class LPSequence:
         seq = SequenceDiagnostics(
             stop_reason=reason, last_load_factor=last[-1] if last else NAN, lambda_band=band, mechanism_band=None,
             associative_load_factor=lam_assoc, history=tuple(self.history), fallback_steps=self.fallbacks,
-            selection=self.recipe.selection,
+            selection=self.resolved.selection,
         )
         return DirectionResult(direction=DIR_NAME[self.d], status=status, load_factor=NAN,
                                iterations=max(len(self.history) - 1, 0), seconds=time.perf_counter() - t_start,
@@ -335,7 +336,7 @@ class LPSequence:
                 t_start: float) -> DirectionResult:
         """The final-state checks, the cold re-solve, the mechanism band and the message."""
         assert self.final is not None
-        r, lp = self.recipe, self.lp
+        r, lp = self.resolved, self.lp
         v, n, s, lam = self.final
         status = (CONVERGED if stop in CONVERGED_STOPS else TIME_LIMIT if stop == "time_budget"
                   else MAX_ITERATIONS if stop in ("max_iterations", "work_budget") else CYCLING)
@@ -351,8 +352,8 @@ class LPSequence:
         if status == CONVERGED and state.equilibrium > EQUILIBRIUM_RESIDUAL:
             status, stop = SOLVER_FAILURE, "equilibrium_residual"
             msg = f"equilibrium residual {state.equilibrium:.2e} block weights at the final iterate"
-        if status == CONVERGED and r.mechanism_band and self.mechanism_band is None and r.scheme == "a":
-            self.mechanism_band = self.certificate.certify(v, lam, time_limit=r.user_limit).band
+        if status == CONVERGED and r.tuning.mechanism_band and self.mechanism_band is None and r.tuning.scheme == "a":
+            self.mechanism_band = self.certificate.certify(v, lam, time_limit=r.options.user_limit).band
         msg = msg or self._message(status, stop, band)
         if cold_note:
             msg += f"; also, {cold_note}"
@@ -377,10 +378,10 @@ class LPSequence:
         if status == CYCLING:
             return f"the sequence is {stop} (lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else stop
         if status in (MAX_ITERATIONS, TIME_LIMIT):
-            r, lps = self.recipe, len(self.history) - 1
-            msg = {"max_iterations": f"no convergence in {r.max_iterations} iterations",
-                   "work_budget": f"work budget of {r.max_simplex_iterations} simplex iterations spent after "
+            r, lps = self.resolved, len(self.history) - 1
+            msg = {"max_iterations": f"no convergence in {r.max_lps} iterations",
+                   "work_budget": f"work budget of {r.tuning.max_simplex_iterations} simplex iterations spent after "
                                   f"{lps} LPs",
-                   }.get(stop, f"time budget of {r.max_seconds} s spent after {lps} LPs")
+                   }.get(stop, f"time budget of {r.options.max_seconds} s spent after {lps} LPs")
             return msg + (f" (last window lambda in [{band[0]:.6g}, {band[1]:.6g}])" if band else "")
         return stop if status != CONVERGED else ""

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from micro.limit_result import DirectionResult, given_fields
-from micro.nonassociative.config import Recipe
+from micro.nonassociative.config import Resolved
 from micro.nonassociative.descent.lowest_direction import LowestDirection, lowest_fields, lowest_summary
 from micro.records import NonAssociativeRecord, check_success, json_number, record_of
 
@@ -147,7 +147,7 @@ class SequenceDiagnostics:
             sequence that ended cycling (or at its cap) before this proximal
             one ran (``None`` otherwise); its LPs count in the direction's
             ``iterations`` and ``seconds``.
-        fusion: how the sequence ran on the fused wall (``recipe.fuse``;
+        fusion: how the sequence ran on the fused wall (``resolved.fuse``;
             ``None``: on the wall itself). Its history is then the fused
             LP's; forces, residuals, the mechanism band and
             ``associative_load_factor`` (whose mechanism gave the bodies)
@@ -218,8 +218,8 @@ class NonAssociativeResult:
         solve_seconds: all sequences, incl. cold checks.
         mirror_symmetric: one direction solved.
         directions: per-direction results (each with its ``sequence``).
-        recipe: what ran: the options and the tuning, resolved for the wall
-            (:class:`~micro.nonassociative.config.Recipe`).
+        resolved: what ran: the options and their tuning, resolved for the wall
+            (:class:`~micro.nonassociative.config.Resolved`).
         message: explanation when not converged.
         lowest: the lowest certified state of every converged direction
             (``lowest``; :mod:`micro.nonassociative.descent.lowest`).
@@ -240,7 +240,7 @@ class NonAssociativeResult:
     solve_seconds: float
     mirror_symmetric: bool
     directions: tuple[DirectionResult, ...] = field(repr=False)
-    recipe: Recipe = field(repr=False)
+    resolved: Resolved = field(repr=False)
     message: str = ""
     lowest: tuple[LowestDirection, ...] = field(default=(), repr=False)
 
@@ -338,7 +338,7 @@ class NonAssociativeResult:
         values computed over the directions."""
         return record_of(
             NonAssociativeRecord, self,
-            solver=self.recipe.solver_description(),
+            solver=self.resolved.solver_description(),
             **given_fields(self.directions, self.governing.mechanism, self.direction_load_factors()),
             history_load_factor=tuple(r.load_factor for r in self.sequence.history),
             fallback_steps=sum(diagnostics(d).fallback_steps for d in self.directions),
@@ -361,7 +361,7 @@ class NonAssociativeResult:
         return {
             **{k: record[k] for k in first}, **record,
             "lowest": [lowest_summary(low) for low in self.lowest],
-            "options": self.recipe.as_dict(),
+            "options": self.resolved.as_dict(),
             "history": [r.as_dict() for r in self.sequence.history],
             "directions": {
                 d.direction: {

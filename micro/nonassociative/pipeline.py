@@ -1,12 +1,11 @@
 """One load direction: which sequences run, on the wall or on its fused bodies, and their joint result.
 
 :func:`solve_chain` is what :func:`micro.solve_nonassociative` runs on a
-direction: the fused wall (``fuse``), or the fallback chain :data:`STAGES`, a
-list of :class:`Stage` run in order, each where the ones before it failed:
-the vertex sequence, the proximal one (``"vertex+proximal"``), the fused wall
-with the continuation (``fused_retry``). A new stage is one entry of that
-list. One sequence is :class:`~micro.nonassociative.iteration.LPSequence`
-with its :mod:`~micro.nonassociative.selections` object.
+direction: the fused wall (``fuse``), or the fallback chain :func:`run_stages`,
+plain code run in order, each stage where the ones before it failed: the vertex
+sequence, the proximal one (``"vertex+proximal"``), the fused wall with the
+continuation (``fused_retry``). A new stage is one more step there. One sequence
+is :class:`~micro.nonassociative.iteration.LPSequence` with its :mod:`~micro.nonassociative.selections` object.
 
 The fused wall itself (its bodies, its LP, its state made the wall's) is
 :mod:`micro.nonassociative.fusion`'s; :func:`solve_fused` composes it with the
@@ -17,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,7 +24,7 @@ from numpy.typing import NDArray
 
 from micro.limit_result import DirectionResult
 from micro.lp import LimitLP
-from micro.nonassociative.config import Recipe
+from micro.nonassociative.config import Resolved
 from micro.nonassociative.fusion import fused_wall, on_the_wall
 from micro.nonassociative.iteration import LPSequence
 from micro.nonassociative.model import IterationModel
@@ -59,41 +57,22 @@ class Attempt:
     sequence: LPSequence | None = None
 
 
-@dataclass(frozen=True)
-class Stage:
-    """One stage of the fallback chain of a direction (:data:`STAGES`).
-
-    Attributes:
-        name: what it is.
-        applies: whether the recipe has this stage at all.
-        run: ``(lp, direction, recipe, the attempt so far or None, start) -> the new attempt``; a
-            stage after the first runs only where the attempt so far ended with one of
-            :data:`RETRY_STATUSES`, and joins its result to it.
-    """
-
-    name: str
-    applies: Callable[[Recipe], bool]
-    run: Callable[[LimitLP, int, Recipe, Attempt | None, FloatArray | None], Attempt]
-
-
-def _first_sequence(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt | None,
-                    start: FloatArray | None) -> Attempt:
-    """The first sequence: the recipe's selection (the vertex one of ``"vertex+proximal"``), its
-    ``nbar`` started from ``start`` (:class:`LPSequence`)."""
-    selection = "vertex" if recipe.selection.startswith("vertex+") else recipe.selection
-    seq = LPSequence(lp, direction, dataclasses.replace(recipe, selection=selection), start=start)
+def _first_sequence(lp: LimitLP, direction: int, resolved: Resolved, start: FloatArray | None) -> Attempt:
+    """The first sequence: the selection resolved (the vertex one of ``"vertex+proximal"``), its ``nbar``
+    started from ``start`` (:class:`LPSequence`)."""
+    selection = "vertex" if resolved.selection.startswith("vertex+") else resolved.selection
+    seq = LPSequence(lp, direction, dataclasses.replace(resolved, selection=selection), start=start)
     return Attempt(seq.run(), seq.model, seq)
 
 
-def _proximal_retry(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt | None,
-                    start: FloatArray | None) -> Attempt:
+def _proximal_retry(lp: LimitLP, direction: int, resolved: Resolved, before: Attempt) -> Attempt:
     """The proximal sequence (at most ``retry_iterations`` LPs), its ``nbar`` started from the vertex
     sequence's last normal forces rather than the associative LP's; its result is the direction's,
     with the vertex sequence in ``sequence.vertex_attempt`` and the LPs and seconds of both."""
-    assert before is not None and before.sequence is not None
+    assert before.sequence is not None
     first = before.result
     start = None if first.normal is None else np.asarray(first.normal) / lp.force_scale
-    retry = dataclasses.replace(recipe, selection="proximal", max_iterations=recipe.retry_iterations,
+    retry = dataclasses.replace(resolved, selection="proximal", max_lps=resolved.tuning.retry_iterations,
                                 continuation=False)
     again = LPSequence(lp, direction, retry, start=start, iterate0=before.sequence.iterate0)
     second = again.run()
@@ -104,16 +83,14 @@ def _proximal_retry(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt
                    again.model, again)
 
 
-def _fused_continuation(lp: LimitLP, direction: int, recipe: Recipe, before: Attempt | None,
-                        start: FloatArray | None) -> Attempt:
+def _fused_continuation(lp: LimitLP, direction: int, resolved: Resolved, before: Attempt) -> Attempt:
     """The fused wall with the continuation, where the wall's own sequences failed. A certified run is
     the direction's result, with the wall's sequences in ``sequence.unfused_attempt``; a failed one
     leaves the wall's result, its message extended. Either way the LPs and seconds of all runs count.
     Why it is in the chain (walls on which the vertex and the proximal sequences both end at their caps,
     certified by it): the research page on the fused retry (``docs/research/``)."""
-    assert before is not None
     first = before.result
-    third, _ = solve_fused(lp, direction, dataclasses.replace(recipe, fuse=True, continuation=True))
+    third, _ = solve_fused(lp, direction, dataclasses.replace(resolved, fuse=True, continuation=True))
     assert first.sequence is not None and third.sequence is not None
     if not third.converged:
         return Attempt(joined(first, third, first,
@@ -123,35 +100,30 @@ def _fused_continuation(lp: LimitLP, direction: int, recipe: Recipe, before: Att
                           sequence=dataclasses.replace(third.sequence, unfused_attempt=first.sequence)), None)
 
 
-def _retries(recipe: Recipe) -> bool:
-    """``"vertex+proximal"``: the vertex sequence is followed where it fails."""
-    return recipe.selection.startswith("vertex+")
+def _failed(attempt: Attempt) -> bool:
+    """Whether the stages so far ended where the next one runs (one of :data:`RETRY_STATUSES`)."""
+    return attempt.result.status in RETRY_STATUSES
 
 
-#: The fallback chain of a direction, in order: each stage runs where the ones before it ended with
-#: one of :data:`RETRY_STATUSES` (and where the recipe has it). A new stage is one entry here.
-STAGES: tuple[Stage, ...] = (
-    Stage("vertex sequence (or the recipe's one selection)", lambda r: True, _first_sequence),
-    Stage("proximal retry", _retries, _proximal_retry),
-    Stage("fused wall with the continuation",
-          lambda r: _retries(r) and r.fused_retry and not r.continuation and r.scheme == "a", _fused_continuation),
-)
-
-
-def run_stages(lp: LimitLP, direction: int, recipe: Recipe, stages: tuple[Stage, ...] = STAGES,
-               start: FloatArray | None = None) -> Solved:
-    """The stages of ``stages`` that ``recipe`` has, each where the attempt so far ended with one of
-    :data:`RETRY_STATUSES`.
+def run_stages(lp: LimitLP, direction: int, resolved: Resolved, start: FloatArray | None = None, *,
+               fused_retry: bool = True) -> Solved:
+    """The fallback chain of a direction, in order, each stage where the ones before it ended with one
+    of :data:`RETRY_STATUSES`: the first sequence (the vertex one, or the one selection asked for); with
+    ``"vertex+proximal"`` the proximal retry; then, with the ``fused_retry`` knob on scheme (a) and no
+    continuation, the fused wall with the continuation (``fused_retry=False``: not that one, as on the
+    fused wall itself). A new stage is one more step here.
 
     Returns:
         The direction's result and the model of the sequence that gave it (:data:`Solved`).
     """
-    done: Attempt | None = None
-    for stage in stages:
-        if not stage.applies(recipe) or (done is not None and done.result.status not in RETRY_STATUSES):
-            continue
-        done = stage.run(lp, direction, recipe, done, start)
-    assert done is not None, "the first stage applies to every recipe"
+    done = _first_sequence(lp, direction, resolved, start)
+    if not resolved.selection.startswith("vertex+"):
+        return done.result, done.model
+    if _failed(done):
+        done = _proximal_retry(lp, direction, resolved, done)
+    t = resolved.tuning
+    if fused_retry and t.fused_retry and not resolved.continuation and t.scheme == "a" and _failed(done):
+        done = _fused_continuation(lp, direction, resolved, done)
     return done.result, done.model
 
 
@@ -163,33 +135,30 @@ def joined(first: DirectionResult, second: DirectionResult, result: DirectionRes
                                seconds=first.seconds + second.seconds, **changes)
 
 
-def solve_fused(lp: LimitLP, direction: int, recipe: Recipe) -> Solved:
+def solve_fused(lp: LimitLP, direction: int, resolved: Resolved) -> Solved:
     """The iterated LP of one direction on the fused wall
     (:func:`~micro.nonassociative.fusion.fused_wall`): the wall's sequences (the stages but the fused one)
     run on the bodies' LP, and :func:`~micro.nonassociative.fusion.on_the_wall` makes
     their state the wall's, or rejects it. Where the associative LP fails, or
     nothing moves, the wall itself runs instead."""
     t0 = time.perf_counter()
-    unfused = dataclasses.replace(recipe, fuse=False)
-    made = fused_wall(lp, direction, recipe)
+    unfused = dataclasses.replace(resolved, fuse=False)
+    made = fused_wall(lp, direction, resolved)
     if made is None:
-        return run_stages(lp, direction, unfused, SEQUENCES)
+        return run_stages(lp, direction, unfused, fused_retry=False)
     fused, assoc = made
     t_fuse = time.perf_counter() - t0
     # the continuation starts from the wall's associative forces at the points kept
-    start = np.maximum(np.asarray(assoc.n)[fused.points], 0.0) if recipe.continuation and assoc.n is not None else None
-    r, _ = run_stages(fused.lp, direction, unfused, SEQUENCES, start)
-    return on_the_wall(lp, direction, fused, assoc, r, recipe, t0, t_fuse), None  # its model is the bodies' LP
+    start = (np.maximum(np.asarray(assoc.n)[fused.points], 0.0) if resolved.continuation and assoc.n is not None
+             else None)
+    r, _ = run_stages(fused.lp, direction, unfused, start, fused_retry=False)
+    return on_the_wall(lp, direction, fused, assoc, r, resolved, t0, t_fuse), None  # its model is the bodies' LP
 
 
-#: The stages that run on the fused wall (the sequences: no second fusing).
-SEQUENCES = STAGES[:2]
-
-
-def solve_chain(lp: LimitLP, direction: int, recipe: Recipe) -> Solved:
-    """One load direction as ``recipe`` asks: the fused wall (``fuse``: walls of more than
+def solve_chain(lp: LimitLP, direction: int, resolved: Resolved) -> Solved:
+    """One load direction as ``resolved`` asks: the fused wall (``fuse``: walls of more than
     :data:`~micro.nonassociative.config.FUSE_BLOCKS` blocks), or the fallback chain
-    (:data:`STAGES`) on the wall."""
-    if recipe.fuse:
-        return solve_fused(lp, direction, recipe)
-    return run_stages(lp, direction, recipe)
+    (:func:`run_stages`) on the wall."""
+    if resolved.fuse:
+        return solve_fused(lp, direction, resolved)
+    return run_stages(lp, direction, resolved)

@@ -38,7 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.lp import LimitLP
-from micro.nonassociative.config import TINY, Recipe
+from micro.nonassociative.config import TINY, Resolved
 from micro.nonassociative.proximal import Projection
 
 FloatArray = NDArray[np.float64]
@@ -179,7 +179,7 @@ class Selection:
     """The interface of a selection, its answers those of the vertex iteration (module docstring).
 
     Args:
-        recipe: the recipe (scheme, relaxation).
+        resolved: what the stages read (the scheme, the relaxation).
         lp: the LP the sequence runs on.
         direction: ``+1`` or ``-1``.
     """
@@ -187,9 +187,9 @@ class Selection:
     #: Its name in the records (``SequenceDiagnostics.selection``) and the progress lines.
     name = "vertex"
 
-    def __init__(self, recipe: Recipe, lp: LimitLP, direction: int) -> None:
-        self.scheme = recipe.scheme
-        self.beta = recipe.beta
+    def __init__(self, resolved: Resolved, lp: LimitLP, direction: int) -> None:
+        self.scheme = resolved.tuning.scheme
+        self.beta = resolved.tuning.beta
 
     # ------------------------------------------------------------- the model
     @property
@@ -255,9 +255,9 @@ class Proximal(Selection):
 
     name = "proximal"
 
-    def __init__(self, recipe: Recipe, lp: LimitLP, direction: int) -> None:
-        super().__init__(recipe, lp, direction)
-        self.projection = Projection(lp, direction, recipe.user_limit)
+    def __init__(self, resolved: Resolved, lp: LimitLP, direction: int) -> None:
+        super().__init__(resolved, lp, direction)
+        self.projection = Projection(lp, direction, resolved.options.user_limit)
         self.steps: list[float] = []
         self.step = NAN
 
@@ -332,11 +332,11 @@ class Continuation(Selection):
         return None
 
 
-def selection_for(recipe: Recipe, lp: LimitLP, direction: int) -> Selection:
-    """The selection object of one sequence (``recipe.selection``: ``"vertex"``
-    or ``"proximal"``; ``"vertex"`` with ``recipe.continuation``: the continuation)."""
-    if recipe.selection == "proximal":
-        return Proximal(recipe, lp, direction)
-    if recipe.continuation and recipe.selection == "vertex":
-        return Continuation(recipe, lp, direction)
-    return Vertex(recipe, lp, direction)
+def selection_for(resolved: Resolved, lp: LimitLP, direction: int) -> Selection:
+    """The selection object of one sequence (``resolved.selection``: ``"vertex"``
+    or ``"proximal"``; ``"vertex"`` with ``resolved.continuation``: the continuation)."""
+    if resolved.selection == "proximal":
+        return Proximal(resolved, lp, direction)
+    if resolved.continuation and resolved.selection == "vertex":
+        return Continuation(resolved, lp, direction)
+    return Vertex(resolved, lp, direction)

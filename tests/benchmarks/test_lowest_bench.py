@@ -52,7 +52,7 @@ def test_bench_descent(benchmark, name: str, tm: tuple[float, float], blocks: in
     w = _wall(tm)
     lp = micro.assemble(w)
     it = micro.solve_nonassociative(w, lowest=False)
-    d = benchmark.pedantic(lowest_state, args=(lp, it.directions[0], it.recipe), rounds=5, iterations=1)
+    d = benchmark.pedantic(lowest_state, args=(lp, it.directions[0], it.resolved), rounds=5, iterations=1)
     benchmark.extra_info.update(blocks=blocks, load_factor=d.load_factor, lps=d.lps, moves=len(d.moves),
                                 path=list(d.path))
     assert d.found and d.load_factor == pytest.approx(low, rel=1e-6)

@@ -93,7 +93,7 @@ from micro.limit_result import DIR_NAME, DirectionResult, direction_sign
 from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
-from micro.nonassociative.config import INTERPENETRATION, LPProgress, Recipe
+from micro.nonassociative.config import INTERPENETRATION, LPProgress, Resolved
 from micro.nonassociative.descent.lowest_direction import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
 from micro.nonassociative.descent.states import (
     Basis,
@@ -155,7 +155,7 @@ class Descent:
     Args:
         lp: the wall's LP.
         direction: ``+1`` or ``-1``.
-        options: the recipe (``relaxation`` of the proposals' steps,
+        resolved: what the iterated LP ran with (the relaxation of the proposals' steps,
             ``time_limit`` per LP, the progress callback).
         budget: the most LPs the descent may solve (``None``: no limit).
         model: the iterated LP's own model of this direction after its last
@@ -168,11 +168,11 @@ class Descent:
             only).
     """
 
-    def __init__(self, lp: LimitLP, direction: int, options: Recipe, budget: int | None = None,
+    def __init__(self, lp: LimitLP, direction: int, resolved: Resolved, budget: int | None = None,
                  model: IterationModel | None = None, *, proposals: bool = True) -> None:
-        self.lp, self.d, self.o, self.budget, self.proposals = lp, direction, options, budget, proposals
-        self.forces = ForceLP(lp, direction, options.user_limit)
-        self.mechanisms = MechanismLP(lp, direction, options.user_limit)
+        self.lp, self.d, self.resolved, self.budget, self.proposals = lp, direction, resolved, budget, proposals
+        self.forces = ForceLP(lp, direction, resolved.options.user_limit)
+        self.mechanisms = MechanismLP(lp, direction, resolved.options.user_limit)
         self.forces.report = self.mechanisms.report = self._progress
         self.forces.gate = self.mechanisms.gate = self.may_run
         self.gilbert: tuple[IterationModel, PersistentRuns] | None = None
@@ -183,7 +183,7 @@ class Descent:
 
     def _runs(self, model: IterationModel, *, warm: bool) -> tuple[IterationModel, PersistentRuns]:
         """``model`` with the runner of the proposals' steps (warm: from its basis)."""
-        runs = PersistentRuns(model.model, self.o.user_limit)
+        runs = PersistentRuns(model.model, self.resolved.options.user_limit)
         runs.cold = not warm
         runs.report, runs.gate = self._progress, self.may_run
         return model, runs
@@ -202,8 +202,8 @@ class Descent:
         return not self.may_run()
 
     def _progress(self, out: Outcome, algorithm: str) -> None:
-        """Tell the recipe's progress callback about one LP of the descent."""
-        self.o.tell(LPProgress(DIR_NAME[self.d], "lowest", self.lps + 1, math.nan, math.nan, algorithm,
+        """Tell the caller's progress callback about one LP of the descent."""
+        self.resolved.tell(LPProgress(DIR_NAME[self.d], "lowest", self.lps + 1, math.nan, math.nan, algorithm,
                                float(out.seconds)))
 
     @property
@@ -305,7 +305,7 @@ class Descent:
         distinct mechanisms, each lower end started from its step's basis
         (``None`` if none)."""
         model, runs = self.gilbert_model(state.n)
-        beta = self.o.beta
+        beta = self.resolved.tuning.beta
         n_prev = n_prev2 = state.n
         best: CollapseState | None = None
         for k in range(PROPOSAL_STEPS):
@@ -378,14 +378,14 @@ class Descent:
                                origin=best.origin)
 
 
-def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe,
+def lowest_state(lp: LimitLP, start: DirectionResult, resolved: Resolved,
                  model: IterationModel | None = None, *, proposals: bool = True) -> LowestDirection:
     """The lowest certified state reached from a converged direction of the iterated LP.
 
     Args:
         lp: the wall's LP.
         start: a converged direction (its final forces and mechanism).
-        options: the recipe of the iterated LP (its options' ``lowest_budget``).
+        resolved: what the iterated LP ran with (its options' ``lowest_budget``).
         model: the iterated LP's model of the direction after its last LP,
             taken over (:class:`Descent`); ``None``: the descent builds one.
         proposals: whether the descent moves to other mechanisms (:class:`Descent`).
@@ -398,5 +398,5 @@ def lowest_state(lp: LimitLP, start: DirectionResult, options: Recipe,
     """
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
-    return Descent(lp, direction_sign(start.direction), options, options.lowest_budget, model,
+    return Descent(lp, direction_sign(start.direction), resolved, resolved.options.lowest_budget, model,
                    proposals=proposals).run(start)

@@ -20,7 +20,7 @@ from micro.nonassociative import (
     verify_collapse_state,
 )
 from micro.nonassociative.certificate import Certificate, CertificateResult
-from micro.nonassociative.config import Recipe
+from micro.nonassociative.config import Resolved
 from micro.nonassociative.fusion import fuse, rigid_bodies
 
 EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
@@ -129,9 +129,9 @@ def test_fuse_option_is_a_flag() -> None:
         Tuning(fuse=1)  # type: ignore[arg-type]
 
 
-def _capped(r: Recipe, cap: int) -> Recipe:
-    """``r`` with its sequence and the proximal retry capped at ``cap`` LPs each."""
-    return dataclasses.replace(r, max_iterations=cap, retry_iterations=cap)
+def _capped(r: Resolved, cap: int) -> Resolved:
+    """``r`` with its sequence capped at ``cap`` LPs."""
+    return dataclasses.replace(r, max_lps=cap)
 
 
 def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int,
@@ -143,7 +143,7 @@ def _capped_wall_sequences(monkeypatch: pytest.MonkeyPatch, cap: int,
     calls: list[tuple[int, bool, str]] = []
 
     class Capped(real):  # type: ignore[misc, valid-type]
-        def __init__(self, lp: micro.LimitLP, d: int, r: Recipe, start: np.ndarray | None = None,
+        def __init__(self, lp: micro.LimitLP, d: int, r: Resolved, start: np.ndarray | None = None,
                      iterate0: Any = None) -> None:
             calls.append((lp.n_points, r.continuation, r.selection))
             if fused_too or lp.n_eq == 3 * lp.wall.n_blocks:  # the wall's own LP (not the bodies')
@@ -205,23 +205,39 @@ def test_a_failed_fused_retry_leaves_the_walls_result(monkeypatch: pytest.Monkey
     assert d.iterations > len(d.sequence.history) - 1 + len(d.sequence.vertex_attempt.history) - 1
 
 
-def test_the_fallback_chain_is_a_list_of_stages_each_run_where_the_ones_before_failed() -> None:
-    """The chain of a direction is :data:`pipeline.STAGES` in order (vertex, proximal retry, fused wall
-    with the continuation); a stage runs where the attempt so far ended cycling or at its cap, and a new
-    stage is one more entry (here three fakes, no LP solved)."""
-    from micro.nonassociative.config import recipe_for
+@pytest.mark.parametrize("tuning, fused_retry, statuses, expected", [
+    (Tuning(), True, ("converged",), ["vertex"]),
+    (Tuning(), True, ("cycling", "converged"), ["vertex", "proximal"]),
+    (Tuning(), True, ("cycling", "max_iterations", "converged"), ["vertex", "proximal", "fused"]),
+    (Tuning(), True, ("max_iterations", "solver_failure"), ["vertex", "proximal"]),
+    (Tuning(), False, ("cycling", "max_iterations"), ["vertex", "proximal"]),  # on the fused wall itself
+    (Tuning(fused_retry=False), True, ("cycling", "max_iterations"), ["vertex", "proximal"]),
+    (Tuning(selection="vertex"), True, ("cycling",), ["vertex"]),
+    (Tuning(scheme="b"), True, ("cycling",), ["vertex"]),
+])
+def test_the_fallback_chain_runs_each_stage_where_the_ones_before_failed(
+    monkeypatch: pytest.MonkeyPatch, tuning: Tuning, fused_retry: bool, statuses: tuple[str, ...],
+    expected: list[str],
+) -> None:
+    """The chain of a direction (:func:`pipeline.run_stages`, plain code): the vertex sequence; with
+    ``"vertex+proximal"`` the proximal retry where it cycled or hit its cap; then the fused wall with the
+    continuation where both did (``fused_retry`` on scheme (a)). Fakes stand in for the stages: no LP."""
+    from micro.nonassociative.config import resolve
 
-    assert [s.name.split()[0] for s in pipeline.STAGES] == ["vertex", "proximal", "fused"]
     ran: list[str] = []
+    left = list(statuses)
 
-    def stage(name: str, status: str) -> pipeline.Stage:
-        def run(lp: Any, d: int, r: Recipe, before: pipeline.Attempt | None, start: Any) -> pipeline.Attempt:
+    def fake(name: str) -> Any:
+        def run(*args: Any) -> pipeline.Attempt:
             ran.append(name)
+            status = left.pop(0)
             lam = 0.5 if status == "converged" else math.nan
             return pipeline.Attempt(micro.DirectionResult("+x", status, lam, 1, 0.0), None)
-        return pipeline.Stage(name, lambda r: name != "skipped", run)
+        return run
 
-    chain = (stage("first", "cycling"), stage("skipped", "converged"), stage("second", "max_iterations"),
-             stage("third", "converged"), stage("never", "converged"))
-    result, model = pipeline.run_stages(micro.assemble(wall(0.5)), 1, recipe_for(10), chain)
-    assert ran == ["first", "second", "third"] and result.status == "converged" and model is None
+    for name, stage in (("vertex", "_first_sequence"), ("proximal", "_proximal_retry"),
+                        ("fused", "_fused_continuation")):
+        monkeypatch.setattr(pipeline, stage, fake(name))
+    resolved = resolve(10, micro.NonAssociativeOptions(tuning=tuning))
+    result, _ = pipeline.run_stages(micro.assemble(wall(0.5)), 1, resolved, fused_retry=fused_retry)
+    assert ran == expected and result.status == statuses[len(expected) - 1] and not left

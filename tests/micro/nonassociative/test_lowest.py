@@ -112,7 +112,7 @@ def test_polish_never_goes_up_and_keeps_exact_states() -> None:
     w = wall(1.0, 1 / 3, first_course="half")
     lp = micro.assemble(w)
     r = solve_nonassociative(w, lowest=False)
-    desc = Descent(lp, 1, r.recipe)
+    desc = Descent(lp, 1, r.resolved)
     state = desc.polish(r.governing.mechanism.velocities.ravel(), "lower end")
     assert state is not None and desc.exact(state)
     assert state.load_factor <= r.mechanism_band[0] * (1 + LOWEST_TOL)
@@ -175,12 +175,12 @@ def test_lowest_off_and_records() -> None:
 
 def test_lowest_state_needs_a_final_state() -> None:
     w = wall(1.0, 1.0)
-    # a run that ends without a final state (three LPs of the vertex sequence; the descent reads its recipe)
+    # a run that ends without a final state (three LPs of the vertex sequence; the descent reads its options)
     r = solve_nonassociative(w, tuning=Tuning(relaxation=1.0, certify=False, selection="vertex"), lowest=False,
                              max_iterations=3)  # fmt: skip
     assert not r.converged
     with pytest.raises(ValueError, match="has no final state"):
-        lowest_state(micro.assemble(w), micro.DirectionResult("+x", "cycling", math.nan, 0, 0.0), r.recipe)
+        lowest_state(micro.assemble(w), micro.DirectionResult("+x", "cycling", math.nan, 0, 0.0), r.resolved)
 
 
 @pytest.mark.parametrize("bad", [0, -1.0, math.inf, "10", True])

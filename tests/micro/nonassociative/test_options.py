@@ -73,30 +73,30 @@ def test_options_and_tuning_are_frozen_defaults_and_overrides() -> None:
         t.with_overrides(shceme="b")
     # the options object and keyword overrides give the same run
     w = wall(1.0, 1 / 3, rows=6)
-    r1 = solve_nonassociative(w, micro.NonAssociativeOptions(max_iterations=10), Tuning(scheme="b"))
+    r1 = solve_nonassociative(w, micro.NonAssociativeOptions(max_iterations=10, tuning=Tuning(scheme="b")))
     r2 = solve_nonassociative(w, tuning=Tuning(scheme="b"), max_iterations=10)
     assert [h.load_factor for h in r1.sequence.history] == [h.load_factor for h in r2.sequence.history]
-    assert r1.recipe == r2.recipe and r1.summary()["options"]["relaxation"] == 0.6
+    assert r1.resolved == r2.resolved and r1.summary()["options"]["relaxation"] == 0.6
 
 
-def test_the_recipe_is_resolved_for_the_walls_size() -> None:
+def test_the_options_are_resolved_for_the_walls_size() -> None:
     """With no tuning, walls of more than FUSE_BLOCKS blocks run fused with the
     continuation; smaller ones do not; an explicit knob wins."""
-    from micro.nonassociative import FUSE_BLOCKS, recipe_for
+    from micro.nonassociative import FUSE_BLOCKS, NonAssociativeOptions, resolve
 
-    small, large = recipe_for(FUSE_BLOCKS), recipe_for(FUSE_BLOCKS + 1)
+    small, large = resolve(FUSE_BLOCKS), resolve(FUSE_BLOCKS + 1)
     assert small.selection == large.selection == "vertex+proximal" and small.tuning.retry_iterations == 40
     assert not small.fuse and not small.continuation and large.fuse and large.continuation
-    assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(fuse=False, continuation=False)).fuse
-    assert not recipe_for(FUSE_BLOCKS + 1, tuning=Tuning(selection="proximal")).fuse  # no vertex sequence
+    assert not resolve(FUSE_BLOCKS + 1, NonAssociativeOptions(tuning=Tuning(fuse=False, continuation=False))).fuse
+    assert not resolve(FUSE_BLOCKS + 1, NonAssociativeOptions(tuning=Tuning(selection="proximal"))).fuse
 
 
 def test_the_descent_runs_by_default_on_every_size() -> None:
     """The descent is on by default on walls of any size; False turns it off; its budget is a count of LPs."""
-    from micro.nonassociative import recipe_for
+    from micro.nonassociative import resolve
 
-    assert recipe_for(10).lowest and recipe_for(100_000).lowest
-    assert not recipe_for(100_000, micro.NonAssociativeOptions(lowest=False)).lowest
+    assert resolve(10).options.lowest and resolve(100_000).options.lowest
+    assert not resolve(100_000, micro.NonAssociativeOptions(lowest=False)).options.lowest
     for bad in (None, "auto", 1):
         with pytest.raises(ValueError, match="lowest must be True or False"):
             micro.NonAssociativeOptions(lowest=bad)  # type: ignore[arg-type]
@@ -105,26 +105,27 @@ def test_the_descent_runs_by_default_on_every_size() -> None:
             micro.NonAssociativeOptions(lowest_budget=bad)  # type: ignore[arg-type]
 
 
-def test_the_recipe_composes_the_options_and_the_tuning() -> None:
-    """The recipe holds the user's options and the tuning as given, the few choices resolved for the
-    wall, and every option and knob a stage reads as a field of the same name and value (one hop from
-    what a user sets to what a stage reads); its JSON form names every option and knob once, the
-    resolved values in place of the unresolved ones."""
+def test_one_options_object_resolved_without_copies() -> None:
+    """The options hold the tuning; :func:`resolve` keeps them as given and adds only what they leave to
+    the wall and to each sequence (no field copied from an option or a knob: a stage reads
+    ``resolved.options.time_limit``, ``resolved.tuning.scheme``); the JSON form names every option and
+    knob once, the resolved values in place of the unresolved ones."""
     import dataclasses
 
-    from micro.nonassociative import recipe_for
-    from micro.nonassociative.config import READ
+    from micro.nonassociative import Resolved, resolve
 
-    options, tuning = micro.NonAssociativeOptions(max_iterations=7, time_limit=30), Tuning(scheme="b", fuse=None)
-    r = recipe_for(100, options, tuning)
+    tuning = Tuning(scheme="b", fuse=None)
+    options = micro.NonAssociativeOptions(max_iterations=7, time_limit=30, tuning=tuning)
+    r = resolve(100, options)
     assert r.options is options and r.tuning is tuning
-    assert (r.selection, r.beta, r.fuse, r.continuation, r.max_iterations) == ("vertex", 0.6, False, False, 7)
-    assert (r.time_limit, r.scheme, r.lowest_budget) == (30.0, "b", options.lowest_budget)
-    assert READ and all(getattr(r, n) == getattr(options if hasattr(options, n) else tuning, n) for n in READ)
+    assert (r.selection, r.fuse, r.continuation, r.max_lps) == ("vertex", False, False, 7)
+    assert [f.name for f in dataclasses.fields(Resolved)] == [
+        "options", "selection", "max_lps", "fuse", "continuation", "progress"]
     assert len(dataclasses.fields(Tuning)) <= 12
     d = r.as_dict()
-    names = {f.name for cls in (micro.NonAssociativeOptions, Tuning) for f in dataclasses.fields(cls)}
+    names = {f.name for cls in (micro.NonAssociativeOptions, Tuning) for f in dataclasses.fields(cls)} - {"tuning"}
     assert names <= set(d) and d["relaxation"] == 0.6 and d["fuse"] is False and d["time_limit"] == 30.0
+    assert micro.NonAssociativeOptions(tuning=None).tuning == Tuning()
 
 
 def test_the_global_search_is_composed_after_the_run_not_an_option() -> None:
@@ -141,15 +142,3 @@ def test_the_global_search_is_composed_after_the_run_not_an_option() -> None:
     g = solve_global(w, start=r, options=given)
     assert g.options is given and [d.direction for d in g.directions] == [d.direction for d in r.directions]
     assert all(d.bounds is not None and d.bounds.policy == "uniform" for d in g.directions)
-
-
-def test_no_stage_reads_the_options_or_the_tuning_through_the_recipe() -> None:
-    """A stage reads ``recipe.time_limit``, never ``recipe.options.time_limit`` or ``recipe.tuning.scheme``:
-    one hop, so that what a stage reads is listed in one place (the recipe's fields)."""
-    import re
-    from pathlib import Path
-
-    root = Path(micro.__file__).parent / "nonassociative"
-    hops = [f"{p.name}: {m}" for p in root.rglob("*.py") if p.name != "config.py"
-            for m in re.findall(r"\w+\.(?:options|tuning)\.\w+", p.read_text(encoding="utf-8"))]
-    assert not hops, hops

@@ -12,7 +12,7 @@ from comparison.domain.wall import WallSpec
 from micro.nonassociative import (
     NonAssociativeOptions,
     Tuning,
-    recipe_for,
+    resolve,
     solve_nonassociative,
     verify_collapse_state,
 )
@@ -160,8 +160,8 @@ def test_vertex_then_proximal_retries_a_failed_direction() -> None:
     r = solve_nonassociative(w, tuning=Tuning(retry_iterations=20), max_iterations=4, lowest=False)
     vertex = solve_nonassociative(w, tuning=Tuning(selection="vertex"), max_iterations=4, lowest=False)
     assert vertex.status == "max_iterations" and vertex.governing.normal is not None
-    options = recipe_for(w.n_blocks, NonAssociativeOptions(max_iterations=20, lowest=False),
-                         Tuning(selection="proximal"))
+    options = resolve(w.n_blocks, NonAssociativeOptions(max_iterations=20, lowest=False,
+                                                        tuning=Tuning(selection="proximal")))
     prox = LPSequence(lp, 1, options, start=vertex.governing.normal / lp.force_scale).run()
     assert prox.converged
     assert r.converged and r.iterated_load_factor == pytest.approx(prox.load_factor, rel=1e-9)
