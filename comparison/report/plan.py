@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 from comparison.domain.cases import CASES, PaperCase, cases_in_table
 from comparison.domain.wall import WallSpec
 from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, Method, ResultCache, approximate_blocks
-from micro.backends.registry import missing_extra
+from micro.backends.registry import timed_solvers
 
 #: The report runs the iterated non-associative LP on the walls of its sweeps
 #: and of the speed-accuracy study of at most this many blocks: the Table 5
@@ -183,7 +183,5 @@ def build_plan(quick: bool = False) -> Plan:
         base=BASE_QUICK if quick else BASE_FULL,
         sweeps=SWEEPS_QUICK if quick else SWEEPS_FULL,
         resolutions=(3, 6, 9, 12) if quick else (12, 24, 36, 60, 102, 150),
-        # the cvxpy back end is an optional extra: where it is not installed its row is left out
-        solvers=tuple(s for s in (("highs-ipm", "clarabel", "normal-ipm", "cvxpy", "highs-simplex") if quick
-                                  else ("highs-ipm", "clarabel", "normal-ipm", "cvxpy")) if not missing_extra(s)),
+        solvers=timed_solvers(quick),  # the registry's (micro/backends/registry.py), installed
     )
