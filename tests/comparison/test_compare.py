@@ -192,3 +192,12 @@ def test_global_runs_on_the_wall_as_built() -> None:
 def test_no_local_mechanism_on_the_paper_s_walls(set12: Comparison, set13: Comparison) -> None:
     assert set12.local_mechanism is None and set13.local_mechanism is None
     assert set13.associative_wall is not None and set13.associative_wall.n_blocks == set13.blocks
+
+
+def test_a_value_that_is_absent_is_none_in_python_as_in_json(set12: Comparison) -> None:
+    """``global_status`` was ``''`` in Python and ``null`` in the JSON (likewise ``micro_quoted`` and
+    ``macro_mechanism`` without a value): one absence, ``None``, both ways."""
+    d = set12.to_dict()
+    assert set12.global_status is None and d["global_status"] is None
+    for name in ("global_status", "micro_quoted", "macro_mechanism", "verdict", "proof"):
+        assert getattr(set12, name) == d[name], name

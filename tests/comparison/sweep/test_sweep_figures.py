@@ -50,3 +50,26 @@ def test_tick_labels_of_the_time_figure_do_not_overlap(
         assert all(float(t) > 0 for t in texts[name]), texts[name]  # plain numbers, not 2×10^1
         for a, b in itertools.combinations(found, 2):
             assert not a.overlaps(b), (name, a, b)
+
+
+def test_a_wall_beyond_the_histograms_scale_is_not_counted_in_its_end_bin() -> None:
+    """The histogram put a +20 % wall in the "+6 %" end bin: walls beyond the scale are drawn apart, as
+    open-ended bars of their own."""
+    inside, below, beyond = figures.binned([-3.0, 0.0, 2.0, 6.0, 20.0], -2.0, 6.0)
+    assert inside == [0.0, 2.0, 6.0] and below == [-3.0] and beyond == [20.0]
+
+
+def test_a_cell_without_a_micro_value_is_hatched_not_pale(tmp_path: Path) -> None:
+    """The error map drew a 0 % cell near-white, hard to tell from the pale grey of "no micro value": such a
+    cell is now hatched."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import TwoSlopeNorm
+
+    fig, ax = plt.subplots()
+    figures._panel(ax, [[None, None]], "macro", TwoSlopeNorm(0.0, -0.1, 0.1))
+    hatched = [p for p in ax.patches if p.get_hatch()]
+    plt.close(fig)
+    assert len(hatched) == 2
