@@ -136,8 +136,8 @@ def test_an_output_that_is_not_a_regular_file_is_refused_before_the_solves(
 def test_a_time_that_includes_compiling_the_macro_kernel_says_so(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, command: str
 ) -> None:
-    """The first ``compare`` in a fresh environment printed "macro 15.17 s" (numba compiling the kernel) with
-    no word why; a run that reads the compiled kernel from numba's cache says nothing more."""
+    """A time that includes compiling the macro model's kernel (its first use after an install) says so; a
+    run that reads it from numba's cache says nothing more."""
     from macro import kernel
 
     argv = [command, "--rows", "12", "--t", "1", "--m", "1/2", "--f", "0.75", *(["-v"] if command == "macro" else [])]

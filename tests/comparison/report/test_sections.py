@@ -51,9 +51,8 @@ def test_the_report_is_the_body_and_the_three_committed_sections_in_order(quick_
 
 
 def test_a_missing_table_is_named_in_the_report_as_the_warning_names_it(tmp_path: Path) -> None:
-    """REPORT.md said "`reports/sweeps/errormap.csv` is missing" while the warning named the user's own
-    ``--tables`` folder: the section names the path looked for, and the command that makes it, as the
-    warning does."""
+    """A missing committed table: its section of REPORT.md names the path looked for (the ``--tables``
+    folder) and the command that makes it, as the warning does."""
     import warnings
 
     from comparison.report.committed import BOND, ERRORMAP, LOWEST, committed_table, made_by, missing

@@ -53,15 +53,13 @@ def test_tick_labels_of_the_time_figure_do_not_overlap(
 
 
 def test_a_wall_beyond_the_histograms_scale_is_not_counted_in_its_end_bin() -> None:
-    """The histogram put a +20 % wall in the "+6 %" end bin: walls beyond the scale are drawn apart, as
-    open-ended bars of their own."""
+    """Walls beyond the histogram's scale are drawn apart, as open-ended bars of their own, never in an end bin."""
     inside, below, beyond = figures.binned([-3.0, 0.0, 2.0, 6.0, 20.0], -2.0, 6.0)
     assert inside == [0.0, 2.0, 6.0] and below == [-3.0] and beyond == [20.0]
 
 
 def test_a_cell_without_a_micro_value_is_hatched_not_pale(tmp_path: Path) -> None:
-    """The error map drew a 0 % cell near-white, hard to tell from the pale grey of "no micro value": such a
-    cell is now hatched."""
+    """A cell of the error map without a micro value is hatched, never as pale as a difference near 0."""
     import matplotlib
 
     matplotlib.use("Agg")
