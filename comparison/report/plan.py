@@ -20,13 +20,13 @@ from micro.backends.registry import timed_solvers
 
 #: The report runs the iterated non-associative LP on the walls of its sweeps
 #: and of the speed-accuracy study of at most this many blocks: the Table 5
-#: walls of up to 1,830 blocks take 1-335 s each (the runner caps a sequence at
-#: :data:`comparison.runner.NONASSOC_MAX_LPS`) ...
+#: walls of up to 1,830 blocks (the runner caps a sequence at
+#: :data:`comparison.runner.NONASSOC_MAX_LPS`; their times: docs/speed.md) ...
 NONASSOC_MAX_BLOCKS = 2000
 #: ... and on the paper's walls of at most this many: Set 10 (3,630 blocks)
-#: runs fused with the continuation (:data:`micro.nonassociative.config.FUSE_BLOCKS`,
-#: 475 s); the 7,575-block Table 9 walls stay out (their first LPs take minutes
-#: and no method here has settled on them, see ``docs/micro/nonassociative.md``).
+#: runs fused with the continuation (:data:`micro.nonassociative.config.FUSE_BLOCKS`);
+#: the 7,575-block Table 9 walls stay out (no method here has settled on them, see
+#: ``docs/micro/nonassociative.md``; what their first LPs cost: docs/speed.md).
 NONASSOC_MAX_BLOCKS_CASES = 4000
 
 #: Base walls of the sensitivity sweeps and of the speed-accuracy study.

@@ -52,7 +52,7 @@ _ITERATIONS_MAX = 2**31 - 1
 #: A guarded run (:meth:`PersistentHighsModel.guard_stalls`) is interrupted
 #: when HiGHS calls its simplex interrupt callback this often without the
 #: iteration count advancing. On scheme (b)'s infeasible third LP of the
-#: 1,230-block wall single iterations took 800-1,333 calls and seconds each
+#: 1,230-block wall single iterations took 800-1,333 calls each, seconds of work
 #: from iteration ~23,970 ("possibly singular basis"), against at most 7 calls
 #: per iteration in every normal run; HiGHS' ``objective_bound`` did not stop it.
 STALL_CALLS = 100
@@ -370,8 +370,8 @@ class PersistentHighsModel:
         interior-point iteration counts (``None`` or ``inf``: no limit).
 
         HiGHS compares ``time_limit`` with the run time accumulated over
-        all runs of the object (measured: a warm run stopped after 0.27 s
-        with ``time_limit`` 24 s after 20 s of earlier runs), so the limit is
+        all runs of the object (a warm run after earlier runs stops at once,
+        long before its own ``time_limit``: docs/speed.md), so the limit is
         set from the run time so far; the iteration limits count per run. A
         run stopped by an iteration limit reports ``iteration_limit``.
         """

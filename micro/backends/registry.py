@@ -4,10 +4,10 @@ Names of :data:`SOLVERS` (the CLI's ``--solver``, the report's back ends):
 
 ``normal-ipm``     the suite's own interior point on the normal equations
                    (:mod:`micro.backends.normal_ipm`, CHOLMOD through cvxopt),
-                   the default (:data:`DEFAULT_SOLVER`): 1.8-4.3 times faster
-                   than the best configuration of the maintained solvers
-                   (``clarabel``) on walls of 1,230-7,575 blocks, as accurate
-                   (``docs/micro/associative.md``);
+                   the default (:data:`DEFAULT_SOLVER`): faster than the best
+                   configuration of the maintained solvers (``clarabel``) on
+                   walls of 1,230-7,575 blocks, as accurate
+                   (``docs/micro/associative.md``, docs/speed.md);
 ``clarabel``       Clarabel (interior point) on the kinematic (dual) form of
                    the LP (:mod:`micro.backends.clarabel_kinematic`), the
                    fastest and most accurate maintained solver measured;
