@@ -27,13 +27,13 @@ from comparison.report.computed import Results, compute
 from comparison.report.plan import build_plan
 from comparison.report.robustness import bond_variants_table, robustness_table
 from comparison.report.sections import Body, Bond, ErrorMap, Lowest, Section, render
+from comparison.report.speed_accuracy import speed_accuracy
 from comparison.report.tables import (
     Table,
     all_cases,
     failure_modes,
     histories,
     sensitivity,
-    speed_accuracy,
     table5,
     table7,
     table8,
