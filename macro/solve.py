@@ -30,6 +30,9 @@ def search_bytes(storeys: int, walls: int = 0) -> int:
     return SWEEP_BYTES_PER_WALL_STOREY * walls * storeys if walls else SEARCH_BYTES_PER_STOREY_SQUARED * storeys**2
 
 
+#: The statuses of a macro result: ``"optimal"`` (a finite positive load factor) or ``"numerical_error"``.
+STATUSES = ("optimal", "numerical_error")
+
 @dataclass(frozen=True)
 class MacroWall:
     """A dimensional wall for the macro-block model.
@@ -316,7 +319,7 @@ def solve(wall: MacroWall, settings: SearchSettings = DEFAULT_SEARCH) -> MacroRe
         alpha_ratio=ratio,
         hinge_storey=k + 1,
         mechanism=MECHANISMS[int(mech)],
-        status="optimal" if ok else "numerical_error",
+        status=STATUSES[0] if ok else STATUSES[1],
         friction_reduction=float(at["reduction"][0, 0]),
         stabilising_moment=float(at["stabilising"][0, 0]),
         overturning_moment=float(at["overturning"][0, 0]),

@@ -1,13 +1,18 @@
 """The collapse state file: JSON, written whole or not at all, read from any file without trusting it.
 
-FORMAT (version 1; JSON Schema ``docs/schemas/state.schema.json``; dimensional, any consistent units)::
+FORMAT (version 2; JSON Schema ``docs/schemas/state.schema.json``; dimensional, any consistent units)::
 
-    {"format": "xcheck-masonry collapse state", "version": 1,
+    {"format": "xcheck-masonry collapse state", "version": 2,
      "friction": "nonassociative",            # or "associative": the flow rule checked
      "load_factor": 0.6911, "direction": "+x",
+     "unit_weight": 1.0,                      # the blocks' specific weight
      "source": {...},                         # optional, free: who wrote it and how
-     "blocks": [{"vertices": [[x, y], ...], "centroid": [x, y], "weight": w,
-                 "dead": [Fx, Fy, M], "live": [Fx, Fy, M]}, ...],
+     "wall": {"length": ..., "block_length": ..., "block_height": ..., "rows": [...], "thickness": [...],
+              "overload": [...], "unit_weight": ..., "friction": ..., "first_course": "full",
+              "head_joints": "frictional", "ends": "closers", "held": [...]},   # optional: the wall solved
+     "fixed": [{"members": [k], "vertices": [[x, y], ...]}, ...],               # optional: held to the ground
+     "blocks": [{"members": [k, ...], "vertices": [[x, y], ...], "centroid": [x, y], "thickness": t,
+                 "weight": w, "floor": [[x, y, Q], ...], "dead": [Fx, Fy, M], "live": [Fx, Fy, M]}, ...],
      "points": [{"blocks": [a, b], "position": [x, y], "normal": [nx, ny], "tangent": [tx, ty],
                  "mu": 0.75}, ...],
      "normal_forces": [...], "shear_forces": [...],          # one per point
@@ -15,75 +20,101 @@ FORMAT (version 1; JSON Schema ``docs/schemas/state.schema.json``; dimensional, 
      "opening_rates": [...], "slip_rates": [...],             # one per point
      "contact_states": ["closed" | "opening" | "sliding", ...]}
 
-What each entry means: :class:`~micro.state.data.CollapseStateData` (block ``-1`` is the ground; the
-normal points from the first block into the second; ``live`` is the load per unit load factor as
-applied, in ``direction``). The writer puts one block or point per line, so that a reader's error
+Each entry of ``blocks`` is a rigid body: a block of the wall, or a block with the blocks held to it
+(``members``: their numbers in the wall as built, the host first; ``vertices``: the outline of their
+union; ``parts``, ``[{"vertices", "thickness"}, ...]``, instead of ``thickness`` where they differ in
+thickness). ``floor`` lists the floor loads on it (vertical forces ``Q`` at ``(x, y)``; optional). What
+each entry means: :class:`~micro.state.data.CollapseStateData` (block ``-1`` is the ground; the normal
+points from the first block into the second; ``live`` is the load per unit load factor as applied, in
+``direction``). ``wall`` is :func:`micro.build_wall`'s arguments and the held blocks
+(:class:`~micro.state.structure.WallParameters`): ``xcheck verify`` builds that wall again and compares
+it with the file block by block. The writer puts one block or point per line, so that a reader's error
 names a line that means something.
+
+VERSION 1 (read, no longer written) has no ``unit_weight``, ``wall``, ``fixed``, nor a block's
+``members``, ``thickness``, ``parts`` or ``floor``: a held block was not named, and the weights could not
+be checked against the blocks' areas.
 
 READING ANY FILE. :func:`read_state` reads only a regular file (a named pipe, a directory or a device is
 refused at once: :func:`micro.files.read_input_file`) of at most :data:`MAX_STATE_BYTES`, as UTF-8 (a
-byte-order mark allowed), as strict JSON (no ``NaN`` or ``Infinity``), and checks every entry's type,
-length, range and the geometry's consistency (unit normals, tangents orthogonal to them, blocks that
-exist). Whatever is wrong raises :class:`StateFileError`: one line naming the file and the JSON line or
-the field (``points[12].normal``).
+byte-order mark allowed), as strict JSON (no ``NaN`` or ``Infinity``, no key twice in one object:
+:mod:`micro.state.jsontext`), and checks every entry (:mod:`micro.state.document`). Whatever is wrong
+raises :class:`StateFileError`: one line naming the file, the field (``points[12].normal``) and its line.
 """
 
 from __future__ import annotations
 
 import codecs
 import json
-import math
 import os
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any
 
 import numpy as np
 
 from micro.files import read_input_file, write_whole
 from micro.geometry import BlockWall
-from micro.mechanism import CONTACT_STATE_NAMES
-from micro.state.data import DIRECTIONS, FRICTIONS, CollapseStateData, collapse_state
+from micro.hold import HeldWall
+from micro.state.data import VERSION, CollapseStateData, collapse_state
+from micro.state.document import FORMAT, StateFileError, state_from_document
+from micro.state.jsontext import JsonError, loads
 
-#: The ``format`` of a state file.
-FORMAT = "xcheck-masonry collapse state"
-#: The version this module writes and reads.
-VERSION = 1
-#: Largest state file read (a 7,575-block wall's state is about 10 MB).
+#: Largest state file read (a 7,575-block wall's state is about 11 MB).
 MAX_STATE_BYTES = 64 << 20
-#: A normal or tangent is a unit vector, and the two orthogonal, to this tolerance (six digits pass).
-UNIT_TOL = 1e-6
 
-_TOP_KEYS = ("format", "version", "friction", "load_factor", "direction", "source", "blocks", "points",
-             "normal_forces", "shear_forces", "velocities", "opening_rates", "slip_rates", "contact_states")
-_BLOCK_KEYS = ("vertices", "centroid", "weight", "dead", "live")
-_POINT_KEYS = ("blocks", "position", "normal", "tangent", "mu")
-
-
-class StateFileError(ValueError):
-    """A state file that cannot be read or is malformed; the message (one line) names the file and the
-    JSON line or the field."""
+__all__ = ["FORMAT", "MAX_STATE_BYTES", "VERSION", "StateFileError", "dumps_state", "parse_state", "read_state",
+           "state_document", "write_state"]
 
 
 # ------------------------------------------------------------------------------------------ writing
 def state_document(state: CollapseStateData) -> dict[str, Any]:
-    """``state`` as the JSON document of the format (plain lists and numbers; ``-0.0`` written as ``0.0``)."""
+    """``state`` as the JSON document of the format, version 2 (plain lists and numbers; ``-0.0`` written as
+    ``0.0``).
+
+    Raises:
+        ValueError: a state read from a version-1 file (it lacks what version 2 holds).
+    """
     def num(a: Any) -> Any:
         return (np.asarray(a, dtype=np.float64) + 0.0).tolist()
 
-    blocks = [{"vertices": num(v), "centroid": num(c), "weight": num(w), "dead": num(d), "live": num(li)}
-              for v, c, w, d, li in zip(state.vertices, state.centroid, state.weight, state.dead, state.live,
-                                        strict=True)]
+    if state.version != VERSION or len(state.members) != state.n_blocks:
+        raise ValueError(f"a state of version {state.version} cannot be written as version {VERSION} (it does "
+                         "not name its blocks' members, thickness and unit weight)")
+    floor: list[list[Any]] = [[] for _ in range(state.n_blocks)]
+    for i, p, q in zip(state.floor_block, state.floor_position, state.floor_load, strict=True):
+        floor[int(i)].append(num([p[0], p[1], q]))
+    blocks = []
+    for i, (v, c, w, d, li) in enumerate(zip(state.vertices, state.centroid, state.weight, state.dead, state.live,
+                                             strict=True)):
+        b: dict[str, Any] = {"members": list(state.members[i]), "vertices": num(v), "centroid": num(c)}
+        if i in state.parts:
+            b["parts"] = [{"vertices": num(pv), "thickness": num(pt)} for pv, pt in state.parts[i]]
+        else:
+            b["thickness"] = num(state.thickness[i])
+        b["weight"] = num(w)
+        if floor[i]:
+            b["floor"] = floor[i]
+        b.update(dead=num(d), live=num(li))
+        blocks.append(b)
     points = [{"blocks": [int(a), int(b)], "position": num(p), "normal": num(n), "tangent": num(t), "mu": num(m)}
               for a, b, p, n, t, m in zip(state.point_a, state.point_b, state.position, state.normal,
                                           state.tangent, state.mu, strict=True)]
-    return {
+    doc: dict[str, Any] = {
         "format": FORMAT, "version": VERSION, "friction": state.friction, "load_factor": float(state.load_factor),
-        "direction": state.direction, "source": dict(state.source), "blocks": blocks, "points": points,
+        "direction": state.direction, "unit_weight": float(state.unit_weight), "source": dict(state.source)}
+    if state.wall is not None:
+        doc["wall"] = state.wall.to_dict()
+    if state.fixed_members:
+        doc["fixed"] = [{"members": list(m), "vertices": num(v)}
+                        for m, v in zip(state.fixed_members, state.fixed_vertices, strict=True)]
+    doc.update({
+        "blocks": blocks, "points": points,
         "normal_forces": num(state.normal_force), "shear_forces": num(state.shear_force),
         "velocities": num(state.velocities), "opening_rates": num(state.opening_rate),
         "slip_rates": num(state.slip_rate), "contact_states": list(state.contact_state),
-    }
+    })
+    return doc
 
 
 def dumps_state(state: CollapseStateData) -> str:
@@ -100,7 +131,7 @@ def dumps_state(state: CollapseStateData) -> str:
 
     lines = []
     for key, value in doc.items():
-        if key in ("blocks", "points"):
+        if key in ("blocks", "points", "fixed"):
             body = ",\n".join(one(x) for x in value)
             lines.append(f"{one(key)}: [\n{body}\n]")
         else:
@@ -108,7 +139,7 @@ def dumps_state(state: CollapseStateData) -> str:
     return "{\n" + ",\n".join(lines) + "\n}\n"
 
 
-def write_state(state: Any, path: str | os.PathLike[str], *, wall: BlockWall | None = None,
+def write_state(state: Any, path: str | os.PathLike[str], *, wall: BlockWall | HeldWall | None = None,
                 source: Mapping[str, Any] | None = None) -> Path:
     """Write a collapse state file, whole or not at all (:func:`micro.files.write_whole`).
 
@@ -117,7 +148,8 @@ def write_state(state: Any, path: str | os.PathLike[str], *, wall: BlockWall | N
             (:class:`micro.LimitResult`, :class:`micro.NonAssociativeResult`) with its ``wall``: its
             governing state (:func:`~micro.state.data.collapse_state`).
         path: the file.
-        wall: the wall of a result (not with a state).
+        wall: the wall of a result (not with a state): a :class:`micro.BlockWall`, or the
+            :class:`micro.HeldWall` whose analysed wall the result is of.
         source: with a result, more to record under ``source``.
 
     Returns:
@@ -167,179 +199,11 @@ def parse_state(text: str, source: str = "<text>") -> CollapseStateData:
     """A state from the text of a state file (``source`` names it in errors).
 
     Raises:
-        StateFileError: not JSON, or not a state of this format.
+        StateFileError: not strict JSON, a key twice in one object, or not a state of this format.
     """
-    def constant(name: str) -> Any:
-        raise _NotJson(f"{name} is not a JSON number")
-
     try:
-        doc = json.loads(text, parse_constant=constant)
-    except json.JSONDecodeError as exc:
-        raise StateFileError(f"state {source} (line {exc.lineno}, column {exc.colno}): not JSON ({exc.msg})") from None
-    except RecursionError:
-        raise StateFileError(f"state {source}: not a state file (JSON nested too deeply)") from None
-    except (_NotJson, ValueError) as exc:  # NaN/Infinity; an integer of more digits than Python reads
-        raise StateFileError(f"state {source}: not strict JSON ({exc})") from None
-    return state_from_document(doc, source)
-
-
-class _NotJson(Exception):
-    """``NaN``, ``Infinity`` or ``-Infinity`` in the text."""
-
-
-def state_from_document(doc: Any, source: str = "<document>") -> CollapseStateData:
-    """A state from a parsed JSON document, every entry checked (module docstring).
-
-    Raises:
-        StateFileError: naming ``source`` and the field.
-    """
-    r = _Reader(source)
-    top = r.obj(doc, "", required=tuple(k for k in _TOP_KEYS if k != "source"), optional=("source",))
-    if top["format"] != FORMAT:
-        r.fail("format", f"must be {FORMAT!r}, got {_short(top['format'])}")
-    version = top["version"]
-    if type(version) is not int:
-        r.fail("version", f"must be an integer, got {_short(version)}")
-    if version != VERSION:
-        r.fail("version", f"this reader reads version {VERSION}, the file is version {version}")
-    friction = r.choice(top["friction"], "friction", FRICTIONS)
-    direction = r.choice(top["direction"], "direction", DIRECTIONS)
-    lam = r.number(top["load_factor"], "load_factor")
-    src = top.get("source", {})
-    if not isinstance(src, dict):
-        r.fail("source", f"must be an object, got {_short(src)}")
-    blocks = r.array(top["blocks"], "blocks", minimum=1)
-    points = r.array(top["points"], "points")
-    nb, npt = len(blocks), len(points)
-    vertices, centroid, weight, dead, live = _blocks(r, blocks)
-    pa, pb, position, normal, tangent, mu = _points(r, points, nb)
-    forces = [r.vector(top[k], k, npt) for k in ("normal_forces", "shear_forces", "opening_rates", "slip_rates")]
-    vel = r.array(top["velocities"], "velocities")
-    if len(vel) != nb:
-        r.fail("velocities", f"must hold one [u, v, omega] per block ({nb}), holds {len(vel)}")
-    velocities = [r.vector(v, f"velocities[{i}]", 3) for i, v in enumerate(vel)]
-    states = r.array(top["contact_states"], "contact_states")
-    if len(states) != npt:
-        r.fail("contact_states", f"must hold one state per point ({npt}), holds {len(states)}")
-    for i, x in enumerate(states):
-        r.choice(x, f"contact_states[{i}]", CONTACT_STATE_NAMES)
-    live_x = sum(v[0] for v in live)
-    if live_x != 0.0 and (live_x > 0) != (direction == "+x"):
-        r.fail("direction", f"is {direction!r} but the live loads push towards {'+x' if live_x > 0 else '-x'} "
-               "(live holds the load as applied)")
-    return CollapseStateData(
-        friction=friction, load_factor=lam, direction=direction, vertices=tuple(vertices),
-        centroid=np.array(centroid), weight=np.array(weight), dead=np.array(dead), live=np.array(live),
-        point_a=np.array(pa, dtype=np.int64).reshape(-1), point_b=np.array(pb, dtype=np.int64).reshape(-1),
-        position=np.array(position).reshape(-1, 2), normal=np.array(normal).reshape(-1, 2),
-        tangent=np.array(tangent).reshape(-1, 2), mu=np.array(mu), normal_force=forces[0], shear_force=forces[1],
-        velocities=np.array(velocities).reshape(-1, 3), opening_rate=forces[2], slip_rate=forces[3],
-        contact_state=tuple(states), source=src,
-    )
-
-
-def _blocks(r: _Reader, blocks: list) -> tuple[list, list, list, list, list]:
-    """``(vertices, centroid, weight, dead, live)`` of the ``blocks`` entries, each checked."""
-    vertices, centroid, weight, dead, live = [], [], [], [], []
-    for i, rec in enumerate(blocks):
-        where = f"blocks[{i}]"
-        b = r.obj(rec, where, required=_BLOCK_KEYS)
-        verts = r.array(b["vertices"], f"{where}.vertices", minimum=3)
-        vertices.append(np.array([r.vector(v, f"{where}.vertices[{k}]", 2) for k, v in enumerate(verts)]))
-        centroid.append(r.vector(b["centroid"], f"{where}.centroid", 2))
-        weight.append(r.number(b["weight"], f"{where}.weight", minimum=0.0))
-        dead.append(r.vector(b["dead"], f"{where}.dead", 3))
-        live.append(r.vector(b["live"], f"{where}.live", 3))
-    return vertices, centroid, weight, dead, live
-
-
-def _points(r: _Reader, points: list, n_blocks: int) -> tuple[list, list, list, list, list, list]:
-    """``(a, b, position, normal, tangent, mu)`` of the ``points`` entries, each checked (unit normals,
-    tangents orthogonal to them, blocks that exist)."""
-    pa, pb, position, normal, tangent, mu = [], [], [], [], [], []
-    for i, rec in enumerate(points):
-        where = f"points[{i}]"
-        p = r.obj(rec, where, required=_POINT_KEYS)
-        a, b = r.pair(p["blocks"], f"{where}.blocks", n_blocks)
-        pa.append(a)
-        pb.append(b)
-        position.append(r.vector(p["position"], f"{where}.position", 2))
-        nv, tv = r.vector(p["normal"], f"{where}.normal", 2), r.vector(p["tangent"], f"{where}.tangent", 2)
-        if abs(math.hypot(*nv) - 1.0) > UNIT_TOL:
-            r.fail(f"{where}.normal", f"must be a unit vector, its length is {math.hypot(*nv):.9g}")
-        if abs(math.hypot(*tv) - 1.0) > UNIT_TOL or abs(nv[0] * tv[0] + nv[1] * tv[1]) > UNIT_TOL:
-            r.fail(f"{where}.tangent", "must be a unit vector orthogonal to the normal")
-        normal.append(nv)
-        tangent.append(tv)
-        mu.append(r.number(p["mu"], f"{where}.mu", minimum=0.0))
-    return pa, pb, position, normal, tangent, mu
-
-
-def _short(value: Any) -> str:
-    """A value for a message, cut to 40 characters."""
-    text = repr(value) if not isinstance(value, (dict, list)) else type(value).__name__.replace("dict", "an object") \
-        .replace("list", "an array")
-    return text if len(text) <= 40 else text[:37] + "..."
-
-
-class _Reader:
-    """Typed access to a parsed document; every failure is a :class:`StateFileError` naming the field."""
-
-    def __init__(self, source: str) -> None:
-        self.source = source
-
-    def fail(self, where: str, problem: str) -> NoReturn:
-        raise StateFileError(f"state {self.source}: {where or 'the document'} {problem}")
-
-    def obj(self, value: Any, where: str, *, required: tuple[str, ...], optional: tuple[str, ...] = ()) -> dict:
-        if not isinstance(value, dict):
-            self.fail(where, f"must be an object, got {_short(value)}")
-        for key in value:
-            if key not in required and key not in optional:
-                name = key if key.isidentifier() else json.dumps(key)  # a newline in a key stays on one line
-                self.fail(f"{where}.{name}" if where else name, f"is not a key of the format (keys: "
-                          f"{', '.join(required + optional)})")
-        for key in required:
-            if key not in value:
-                self.fail(f"{where}.{key}" if where else key, "is missing")
-        return value
-
-    def array(self, value: Any, where: str, *, minimum: int = 0) -> list:
-        if not isinstance(value, list):
-            self.fail(where, f"must be an array, got {_short(value)}")
-        if len(value) < minimum:
-            self.fail(where, f"must hold at least {minimum} entr{'y' if minimum == 1 else 'ies'}, holds {len(value)}")
-        return value
-
-    def number(self, value: Any, where: str, *, minimum: float | None = None) -> float:
-        if type(value) not in (int, float):
-            self.fail(where, f"must be a number, got {_short(value)}")
-        try:
-            x = float(value)
-        except OverflowError:
-            x = math.inf
-        if not math.isfinite(x):
-            self.fail(where, f"must be a finite number, got {_short(value)}")
-        if minimum is not None and x < minimum:
-            self.fail(where, f"must be at least {minimum:g}, got {x:g}")
-        return x
-
-    def vector(self, value: Any, where: str, size: int) -> np.ndarray:
-        items = self.array(value, where)
-        if len(items) != size:
-            self.fail(where, f"must hold {size} numbers, holds {len(items)}")
-        return np.array([self.number(x, f"{where}[{k}]") for k, x in enumerate(items)], dtype=np.float64)
-
-    def pair(self, value: Any, where: str, n_blocks: int) -> tuple[int, int]:
-        items = self.array(value, where)
-        if len(items) != 2 or any(type(x) is not int or not -1 <= x < n_blocks for x in items):
-            self.fail(where, f"must be two block numbers in [-1, {n_blocks - 1}] (-1: the ground), got "
-                      f"{_short(value)}")
-        if items[0] == items[1]:
-            self.fail(where, f"joins block {items[0]} to itself")
-        return int(items[0]), int(items[1])
-
-    def choice(self, value: Any, where: str, allowed: tuple[str, ...]) -> str:
-        if not isinstance(value, str) or value not in allowed:
-            self.fail(where, f"must be one of {', '.join(allowed)}, got {_short(value)}")
-        return value
+        doc = loads(text)
+    except JsonError as exc:
+        raise StateFileError(f"state {source} {exc}" if str(exc).startswith("(") else f"state {source}: {exc}") \
+            from None
+    return state_from_document(doc, source, text)

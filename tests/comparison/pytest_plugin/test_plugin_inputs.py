@@ -4,14 +4,24 @@ no silently empty selection, no INTERNALERROR, no traceback when the table canno
 from __future__ import annotations
 
 import errno
+import json
 import math
 import os
+import re
 from pathlib import Path
 
 import pytest
 from downstream import Run, in_a_process, in_this_process
 
-from comparison.pytest_plugin import ComparisonTable, References, paper_cases, select_cases, walls_from_file
+from comparison.pytest_plugin import (
+    BadReferences,
+    ComparisonTable,
+    References,
+    paper_cases,
+    select_cases,
+    walls_from_file,
+)
+from comparison.pytest_plugin import references as references_module
 
 REFS = References.load()
 
@@ -215,3 +225,62 @@ def test_a_known_gap_without_a_reason_is_a_collection_error_not_an_internal_erro
     run = _pytest(pytester, monkeypatch, "test_gap.py")
     assert run.returncode == 2 and "INTERNALERROR" not in run.stdout + run.stderr, run.stdout
     assert "known_gaps['Set 11'] must be the reason, a string, got None" in run.stdout
+
+
+def _damaged(how: str) -> str:
+    """The shipped references.json damaged as ``how`` says."""
+    text = (Path(references_module.__file__).parent / "references.json").read_text()
+    data = json.loads(text)
+    cell = next(c for c in data["cells"] if c["case"] == "Set 12" and c["method"] == "orduna-micro")
+    if how in ("NaN", "Infinity", "1e308"):
+        cell["tolerance"] = float(how) if how != "1e308" else 1e308
+        return json.dumps(data)
+    if how == "truncated":
+        return text[: len(text) // 2]
+    if how == "empty":
+        return ""
+    if how == "no value":
+        del cell["value"]
+        return json.dumps(data)
+    assert how == "no cells"
+    return json.dumps({"meta": data["meta"]})
+
+
+@pytest.mark.parametrize("how", ["NaN", "Infinity", "1e308", "truncated", "empty", "no value", "no cells"])
+def test_damaged_references_are_refused_in_one_line(
+    pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, how: str
+) -> None:
+    """A references file with a tolerance that passes anything (NaN, infinite, 1e308 for a value of 0.68), or
+    one that is truncated, empty, has a cell without ``value`` or no cells, is refused: by
+    ``References.load`` naming the file and the cell, and by the plugin as a usage error of one line (exit
+    4) before any test runs, never an INTERNALERROR; ``check("Set 12", "orduna-micro", 6.8, rel=0.05)``
+    never passes."""
+    path = pytester.path / "references.json"
+    path.write_text(_damaged(how))
+    with pytest.raises(BadReferences, match=rf"^{re.escape(str(path))}: "):
+        References.load(path)
+    monkeypatch.setattr(references_module, "shipped", lambda: path)
+    run = _pytest(pytester, monkeypatch)
+    assert run.returncode == 4, run.stdout + run.stderr
+    assert run.stderr.startswith(f"ERROR: the plugin's references: {path}: "), run.stderr
+    assert "INTERNALERROR" not in run.stdout + run.stderr and "Traceback" not in run.stdout + run.stderr
+
+
+def test_a_walls_file_nested_too_deep_is_a_usage_error(
+    pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``a = [[[...]]]`` 1,500 deep in a ``--xcheck-walls`` file: one usage error line, not an INTERNALERROR."""
+    (pytester.path / "w.toml").write_text("a = " + "[" * 1500 + "1" + "]" * 1500 + "\n")
+    run = _pytest(pytester, monkeypatch, "--xcheck-walls", "w.toml")
+    assert run.returncode == 4 and "INTERNALERROR" not in run.stdout + run.stderr, run.stdout + run.stderr
+    assert run.stderr.startswith("ERROR: ") and "w.toml: malformed TOML: arrays or tables nested too deep" in run.stderr
+
+
+@pytest.mark.parametrize("selection", [",", " , ,"])
+def test_a_selection_of_no_wall_is_a_usage_error(
+    pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, selection: str
+) -> None:
+    """``--xcheck-cases ","`` selected nothing: "1 skipped", exit 0."""
+    run = _pytest(pytester, monkeypatch, "--xcheck-cases", selection)
+    assert run.returncode == 4, run.stdout + run.stderr
+    assert run.stderr.startswith(f"ERROR: --xcheck-cases: no wall selected by {selection!r}"), run.stderr

@@ -7,6 +7,7 @@ Each model here lives in a module of its own name (Python imports a module once 
 from __future__ import annotations
 
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -191,3 +192,53 @@ def test_a_scheduler_that_is_not_one_creates_no_folder(
     code = main([command, *first, "--out", str(out), "--cache", str(cache), "--scheduler", "http://x:1"])
     assert code == 2 and "--scheduler must be an address" in capsys.readouterr().err
     assert not (tmp_path / "o").exists() and not cache.exists()
+
+
+@pytest.mark.parametrize(("call", "status", "words"), [
+    ("os._exit(0)", "error", "the model ended its process (exit code 0)"),
+    ("os.kill(os.getpid(), 9)", "error", "the model ended its process (killed by signal 9)"),
+    ("os.fork()", "optimal", ""),
+    ("sys.stdout.close()", "optimal", ""),
+    ("os.close(1)", "optimal", ""),
+])
+def test_a_user_model_cannot_end_fork_or_silence_the_sweep(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], call: str, status: str, words: str
+) -> None:
+    """A model that called ``os._exit(0)`` ended the sweep with exit 0 and nothing written; ``os.fork()`` ran
+    the rest of the sweep twice; ``sys.stdout.close()`` and ``os.close(1)`` took the paths the sweep prints
+    (a traceback). The models run in a process of their own: the cell says what happened, every cell and
+    the page are written once, the paths printed once."""
+    module = f"ends_{abs(hash(call))}"
+    body = f"import os, sys\ndef lam(t, m, rows, f, p, storeys):\n    if t > 1:\n        {call}\n    return 0.3\n"
+    grid = _grid(tmp_path, module, body)
+    code = _sweep(grid, tmp_path / "out", tmp_path / "cache")
+    out = capsys.readouterr().out
+    assert code == (1 if status == "error" else 0)
+    written = [f"{what}: {tmp_path / 'out' / f'u.{kind}'}" for what, kind in (("table", "csv"), ("meta", "json"),
+                                                                              ("page", "md"))]
+    assert out.splitlines() == written, out
+    mine = {r["t"]: r for r in read_table(tmp_path / "out" / "u.csv") if r["method"] == "mine"}
+    assert mine["1.0"]["status"] == "optimal" and mine["1.0"]["load_factor"] == "0.3"
+    assert mine["2.0"]["status"] == status and words in mine["2.0"]["message"], mine["2.0"]
+    assert (tmp_path / "out" / "u.md").is_file()
+
+
+@pytest.mark.processes  # the console script in a process of its own: its descriptor 1 is a real pipe
+@pytest.mark.parametrize("call", ["os.close(1)", "os.fork()", "os._exit(0)"])
+def test_the_console_sweep_survives_a_model_that_closes_forks_or_exits(tmp_path: Path, call: str) -> None:
+    """In a process of its own: a model's ``os.close(1)`` closed the sweep's standard output (a traceback),
+    ``os.fork()`` ran the rest of the sweep twice (every path printed twice), ``os._exit(0)`` ended it with
+    exit 0 and nothing written."""
+    import subprocess
+
+    module = f"console_{abs(hash(call))}"
+    body = f"import os, sys\ndef lam(t, m, rows, f, p, storeys):\n    if t > 1:\n        {call}\n    return 0.3\n"
+    grid = _grid(tmp_path, module, body)
+    root = Path(__file__).resolve().parents[3]  # this checkout's packages, whatever is installed
+    run = subprocess.run([sys.executable, "-m", "comparison.cli", "sweep", str(grid), "--out", str(tmp_path / "out"),
+                          "--cache", str(tmp_path / "cache"), "-q"], capture_output=True, text=True, timeout=300,
+                         env={**os.environ, "PYTHONPATH": str(root)})
+    written = [f"{what}: {tmp_path / 'out' / f'u.{kind}'}" for what, kind in (("table", "csv"), ("meta", "json"),
+                                                                              ("page", "md"))]
+    assert run.stdout.splitlines() == written, run.stdout + run.stderr
+    assert run.returncode == (1 if call == "os._exit(0)" else 0) and "Traceback" not in run.stderr, run.stderr
