@@ -59,7 +59,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="friction on the head joints (default frictional)")
     g.add_argument("--full", action="store_true",
                    help="compute every number: the non-associative solve also when the associative bound "
-                   "settles the verdict")
+                   "settles the verdict, and its whole search for the lowest certified state when a certified "
+                   "state below the macro lambda already settles it")
     g.add_argument("--lowest", default="on", metavar="on|off",
                    help="the descent to the lowest certified collapse state, the value compared (default on)")
     g.add_argument("--global", dest="global_", action="store_true",
@@ -106,8 +107,14 @@ def run(args: argparse.Namespace) -> int:
     check_state_path(args)
     spec = wall_from_args(args)
     compiled = kernel.compilations()
+    progress = None
+    if args.verbosity != QUIET:
+        from comparison.cli.solve_progress import SolveProgress
+        from comparison.runner.pool import approximate_blocks
+
+        progress = SolveProgress(approximate_blocks(spec))
     try:
-        result = compare(spec, options)
+        result = compare(spec, options, progress=progress)
     except ValueError as exc:  # a wall a model refuses (too large for the memory, a bond it cannot build)
         raise UsageError(str(exc)) from None
     plot_error, drawn = _plot(result, args.plot) if args.plot is not None else (None, False)
@@ -149,7 +156,9 @@ def format_comparison(c: Comparison, *, verbose: bool = False, compiled: bool = 
         lines.append(f"  associative micro:   lambda = {c.associative_load_factor:.6f} (an upper bound of every "
                      "non-associative collapse load)")
     if math.isfinite(c.micro_load_factor):
-        what = "the lowest certified collapse state" if c.micro_quoted == "lowest certified" else "the iterated LP's"
+        what = ("a certified collapse state below the macro λ, where the search stopped" if c.search_stopped
+                else "the lowest certified collapse state" if c.micro_quoted == "lowest certified"
+                else "the iterated LP's")
         lines.append(f"  non-associative:     lambda = {c.micro_load_factor:.6f} ({what}; the value compared)")
         band = c.mechanism_band
         states = "" if band is None else f"; its mechanism's collapse states: lambda in [{band[0]:.6f}, {band[1]:.6f}]"

@@ -27,13 +27,19 @@ from comparison.domain.proof import (
     UNSAFE,
     above,
     judge,
+    refuting_below,
 )
 from comparison.domain.wall import WallSpec
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
+    from collections.abc import Callable
+
     import macro
     import micro
     from comparison.domain.wall_mechanism import WallMechanism
+
+    #: :func:`compare`'s ``progress``: a line when a model has its value, each non-associative LP as it finishes.
+    CompareProgress = Callable[["str | micro.nonassociative.LPProgress"], None]
 
 #: Values of :attr:`Comparison.status`: every method that ran gave its value, or one failed.
 OK, FAILED = "ok", "failed"
@@ -48,7 +54,9 @@ class CompareOptions:
 
     Attributes:
         first_course, head_joints: the micro wall's bond (:meth:`comparison.domain.wall.WallSpec.to_micro`).
-        full: every number, also the non-associative solve when the associative bound settles the verdict.
+        full: every number, also the non-associative solve when the associative bound settles the verdict, and
+            its whole search for the lowest certified state when a certified state below the macro λ already
+            proves the macro model unsafe (without it the search stops at that first state).
         global_: after the non-associative solve, the global search by branch and bound (a lower bound: the
             only way to a "safe" verdict; a reference tool for walls of a few blocks).
         lowest: the descent to the lowest certified collapse state (the value to quote); ``False``: the
@@ -159,6 +167,15 @@ class Comparison:
         verdict and ``full`` was not asked)."""
         return self.nonassociative_result is not None
 
+    @property
+    def search_stopped(self) -> bool:
+        """Whether the non-associative search stopped at the first certified state below the macro λ (which
+        proves it unsafe) rather than searching on for the lowest (``full`` does)."""
+        from micro.nonassociative.descent.lowest_direction import TARGET
+
+        r = self.nonassociative_result
+        return r is not None and any(low.stop == TARGET for low in r.lowest)
+
     def sentence(self) -> str:
         """The verdict and its proof in one sentence (the first line of ``xcheck compare``)."""
         return verdict_sentence(self)
@@ -193,6 +210,7 @@ class Comparison:
             "head_joints": self.options.head_joints,
             "ends": self.wall.ends,
             "full": self.options.full,
+            "search_stopped": self.search_stopped,
             "seconds": {k: num(v) for k, v in self.seconds.__dict__.items()},
         }
 
@@ -204,27 +222,33 @@ def _nonassociative_values(result: micro.NonAssociativeResult) -> tuple[float, f
 
 
 @overload
-def solve_micro(wall: micro.BlockWall, friction: Literal["associative"], options: CompareOptions) -> micro.LimitResult:
+def solve_micro(wall: micro.BlockWall, friction: Literal["associative"], options: CompareOptions, *,
+                stop_below: float | None = None, progress: micro.nonassociative.Progress | None = None
+                ) -> micro.LimitResult:
     ...
 
 
 @overload
-def solve_micro(wall: micro.BlockWall, friction: Literal["nonassociative"],
-                options: CompareOptions) -> micro.NonAssociativeResult:
+def solve_micro(wall: micro.BlockWall, friction: Literal["nonassociative"], options: CompareOptions, *,
+                stop_below: float | None = None, progress: micro.nonassociative.Progress | None = None
+                ) -> micro.NonAssociativeResult:
     ...
 
 
-def solve_micro(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
+def solve_micro(wall: micro.BlockWall, friction: str, options: CompareOptions, *, stop_below: float | None = None,
+                progress: micro.nonassociative.Progress | None = None) -> Any:
     """The micro model of ``wall`` with ``friction`` (``"associative"``: the LP with the library's default
-    back end; ``"nonassociative"``: the report's method, with the descent as ``options`` ask; the global
-    search is composed after it, :func:`solve_global_search`). Every micro solve of :func:`compare` goes
-    through here."""
+    back end; ``"nonassociative"``: the report's method, with the descent as ``options`` ask, stopped at the
+    first certified state below ``stop_below`` (``None``: the whole search), its LPs told to ``progress``; the
+    global search is composed after it, :func:`solve_global_search`). Every micro solve of :func:`compare`
+    goes through here."""
     import micro
 
     if friction == "associative":
         return micro.solve_associative(wall, time_limit=options.time_limit)
     limit: dict[str, Any] = {} if options.time_limit is None else {"time_limit": options.time_limit}
-    return micro.solve_nonassociative(wall, lowest=options.lowest, **limit)
+    return micro.solve_nonassociative(wall, lowest=options.lowest, stop_below=stop_below, progress=progress,
+                                      **limit)
 
 
 def solve_global_search(wall: micro.BlockWall, result: micro.NonAssociativeResult,
@@ -241,13 +265,13 @@ def solve_global_search(wall: micro.BlockWall, result: micro.NonAssociativeResul
     return solve_global(wall, start=result, options=opts)
 
 
-def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions) -> WallMechanism:
+def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions, **kw: Any) -> WallMechanism:
     """The micro method ``friction`` on the wall as built, with a local mechanism told apart and the held wall
     analysed beside it (:func:`comparison.domain.wall_mechanism.solve_wall_mechanism`); every solve through
-    :func:`solve_micro`."""
+    :func:`solve_micro` (``kw``: its ``stop_below`` and ``progress``)."""
     from comparison.domain.wall_mechanism import solve_wall_mechanism
 
-    return solve_wall_mechanism(wall, lambda w: solve_micro(w, friction, options))  # type: ignore[call-overload]
+    return solve_wall_mechanism(wall, lambda w: solve_micro(w, friction, options, **kw))  # type: ignore[call-overload]
 
 
 def _local(assoc: WallMechanism, nonassoc: WallMechanism | None, proof: str | None) -> dict[str, Any] | None:
@@ -262,15 +286,20 @@ def _local(assoc: WallMechanism, nonassoc: WallMechanism | None, proof: str | No
     return {"method": method, **d["local_mechanism"], "held_load_factor": d["held_load_factor"]}
 
 
-def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: Any) -> Comparison:
+def compare(wall: WallSpec, options: CompareOptions | None = None, *, progress: CompareProgress | None = None,
+            **overrides: Any) -> Comparison:
     """The macro model against the micro model on ``wall``, and the verdict (module docstring).
 
     Computes no more than the verdict needs: the macro model, the associative LP, and the non-associative
-    solve only when the associative bound does not settle the verdict (or ``full``).
+    solve only when the associative bound does not settle the verdict (or ``full``), its search stopped at the
+    first certified state below the macro λ (which proves it unsafe; ``full`` or ``global_`` search on for
+    the lowest state).
 
     Args:
         wall: the wall (:meth:`WallSpec.from_paper`, :func:`comparison.domain.scene.load_scene`).
         options: what to compute (``None``: the defaults).
+        progress: told what is done as it is done: a line (``str``) when a model has its value, each LP of
+            the non-associative solve (:class:`micro.nonassociative.LPProgress`) as it finishes (``None``: nobody).
         **overrides: fields of :class:`CompareOptions` to change (``full=True``).
 
     Raises:
@@ -281,8 +310,10 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         >>> import comparison
         >>> from comparison.domain.wall import WallSpec
         >>> c = comparison.compare(WallSpec.from_paper(t=1, m=1/2, rows=12, f=0.75))
-        >>> c.verdict, c.proof, round(c.macro_load_factor, 4), round(c.micro_load_factor, 4)
-        ('unsafe', 'certified state', 0.4914, 0.4895)
+        >>> c.verdict, c.proof, round(c.macro_load_factor, 4), round(c.micro_load_factor, 4), c.search_stopped
+        ('unsafe', 'certified state', 0.4914, 0.4913, True)
+        >>> round(comparison.compare(c.wall, full=True).micro_load_factor, 4)  # searched on: the lowest state
+        0.4895
     """
     import macro
 
@@ -295,14 +326,19 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
     t_macro = time.perf_counter() - start
     macro_ok = macro_result.status == "optimal"
     lam_macro = macro_result.load_factor if macro_ok else math.nan
+    tell = progress or (lambda _: None)
     if not macro_ok:
         notes.append(f"the macro model gave no load factor (status {macro_result.status})")
+    else:
+        tell(f"macro model: lambda = {lam_macro:.6f} ({macro_result.mechanism}), {t_macro:.1f} s")
     block_wall = wall.to_micro(first_course=o.first_course, head_joints=o.head_joints)
     t0 = time.perf_counter()
     assoc_wall = solve_wall(block_wall, "associative", o)
     assoc = cast("micro.LimitResult", assoc_wall.result)
     t_assoc = time.perf_counter() - t0
     lam_assoc = assoc.load_factor if assoc.ok else math.nan
+    tell(f"associative LP ({block_wall.n_blocks:,} blocks): " + (f"lambda = {lam_assoc:.6f}" if assoc.ok else
+                                                                  f"{assoc.status}") + f", {t_assoc:.1f} s")
     if not assoc.ok:
         notes.append(f"the associative LP failed (status {assoc.status}: {assoc.message}); no bound checked")
     elif assoc_wall.message:
@@ -317,11 +353,18 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
                      "(--full, full=True, computes it)")
     elif macro_ok or o.full:
         t0 = time.perf_counter()
-        nonassoc_wall = solve_wall(block_wall, "nonassociative", o)
+        from micro.nonassociative.descent.lowest_direction import TARGET
+
+        search_all = o.full or o.global_ or not macro_ok
+        nonassoc_wall = solve_wall(block_wall, "nonassociative", o, progress=progress,
+                                   stop_below=None if search_all else refuting_below(lam_macro))
         nonassoc = cast("micro.NonAssociativeResult", nonassoc_wall.result)
         search = solve_global_search(block_wall, nonassoc, o)
         if nonassoc.ok and nonassoc_wall.message:
             notes.append(f"non-associative solve, held wall: {nonassoc_wall.message}")
+        if nonassoc.ok and any(low.stop == TARGET for low in nonassoc.lowest):
+            notes.append("the non-associative search stopped at the first certified state below the macro λ, which "
+                         "proves it unsafe (--full, full=True, searches on for the lowest)")
         t_nonassoc = time.perf_counter() - t0
     values = _micro_values(nonassoc, search, notes)
     certified = values["certified_load_factor"]
@@ -454,4 +497,5 @@ def _verdict_only(c: Comparison) -> str:
 def _percent(value: float, reference: float) -> str:
     """``+0.4 %`` / ``−6.2 %``: ``value`` relative to ``reference``."""
     d = 100.0 * (value - reference) / reference
-    return f"{'+' if d >= 0 else '−'}{abs(d):.1f} %"
+    size = f"{abs(d):.1f}" if abs(d) >= 0.1 or d == 0 else f"{abs(d):.2g}"  # +0.03 %, never an unsafe +0.0 %
+    return f"{'+' if d >= 0 else '−'}{size} %"

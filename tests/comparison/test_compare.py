@@ -37,7 +37,7 @@ def set12() -> Comparison:
 
 @pytest.fixture(scope="module")
 def set13() -> Comparison:
-    return comparison.compare(SET13)
+    return comparison.compare(SET13, full=True)
 
 
 def test_set13_unsafe_by_certified_state(set13: Comparison) -> None:
@@ -50,6 +50,20 @@ def test_set13_unsafe_by_certified_state(set13: Comparison) -> None:
     assert c.difference_percent == pytest.approx(100 * (c.macro_load_factor / c.micro_load_factor - 1), rel=1e-12)
     assert c.sentence().startswith("The macro model is unsafe for this wall: its λ 0.4914 is above the certified "
                                    "collapse state's 0.4895 (+0.4 %)")
+    assert not c.search_stopped and c.to_dict()["search_stopped"] is False
+
+
+def test_set13_search_stops_below_the_macro_value() -> None:
+    """Without ``full`` the search stops at the first certified state below the macro λ (here the iterated
+    LP's, 0.021 % below it: more than the solvers' accuracy), which proves the verdict; no descent LP runs."""
+    c = comparison.compare(SET13)
+    assert (c.verdict, c.proof, c.status) == ("unsafe", "certified state", "ok")
+    assert c.search_stopped and c.to_dict()["search_stopped"] is True
+    assert c.micro_load_factor == c.iterated_load_factor == pytest.approx(0.4912758, abs=1e-7)
+    assert c.macro_load_factor > c.micro_load_factor * (1 + ACCURACY)
+    na = c.nonassociative_result
+    assert na is not None and [low.stop for low in na.lowest] == ["target"] and na.lowest[0].lps == 0
+    assert any("stopped at the first certified state below the macro" in d for d in c.diagnostics)
 
 
 def test_set12_not_refuted(set12: Comparison) -> None:
@@ -77,9 +91,9 @@ def test_associative_bound_settles_without_the_nonassociative_solve(monkeypatch:
     calls: list[str] = []
     real = COMPARE.solve_micro
 
-    def spy(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
+    def spy(wall: micro.BlockWall, friction: str, options: CompareOptions, **kw: Any) -> Any:
         calls.append(friction)
-        return real(wall, friction, options)
+        return real(wall, friction, options, **kw)
 
     monkeypatch.setattr(COMPARE, "solve_micro", spy)
     c = comparison.compare(ABOVE_BOUND)
