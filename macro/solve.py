@@ -19,7 +19,7 @@ from macro.search import DEFAULT_SEARCH, SearchSettings, minimise_walls
 #: minimum of every hinge (:func:`solve`), and per wall and storey for a batch that keeps
 #: only each wall's minimum (:func:`macro.sweep`). Measured (resident set above the
 #: imports): one wall of 1,000 / 2,000 / 4,000 one-row storeys 173 MB / 723 MB / 2.8 GB
-#: (173-181 bytes N^2; 7 s / 46 s / 317 s); sweeps of 4,096 walls of 10 and 50 storeys and
+#: (173-181 bytes N^2; their seconds: docs/speed.md); sweeps of 4,096 walls of 10 and 50 storeys and
 #: 300 walls of 200 storeys 123-146 bytes per wall and storey.
 SEARCH_BYTES_PER_STOREY_SQUARED = 200
 SWEEP_BYTES_PER_WALL_STOREY = 200

@@ -109,19 +109,20 @@ class Comparison:
         diagnostics: what was not computed or failed, and why, one sentence each.
         verdict: :data:`UNSAFE`, :data:`NOT_REFUTED`, :data:`SAFE` or ``None`` (:func:`judge`).
         proof: :data:`ASSOCIATIVE_BOUND`, :data:`CERTIFIED_STATE`, :data:`GLOBAL_BOUND` or ``None``.
-        macro_load_factor, macro_mechanism: the macro model's λ and mechanism (NaN, ``""`` when it failed).
+        macro_load_factor, macro_mechanism: the macro model's λ and mechanism (NaN, ``None`` when it failed).
         associative_load_factor: the associative LP's λ, an upper bound of every non-associative collapse
             load (NaN when it failed).
         micro_load_factor: the non-associative λ to quote, the value compared (the lowest certified state,
             else the iterated LP's); NaN when the solve was skipped or failed.
-        micro_quoted: which that is, ``"lowest certified"`` or ``"iterated"`` (``""`` without one).
+        micro_quoted: which that is, ``"lowest certified"`` or ``"iterated"`` (``None`` without one).
         certified_load_factor: the lowest λ of a certified collapse state found (the quoted one when it is
             certified, or the global search's best state when lower); NaN without one.
         iterated_load_factor, mechanism_band: the iterated LP's λ and the band of λ over the collapse states
             of its mechanism (NaN, ``None`` without them).
         difference_percent: ``(macro − micro) / micro · 100`` (NaN without both).
-        global_status, global_lower_bound: the global search's status and proven lower bound (``""``, NaN
-            when it did not run).
+        global_status, global_lower_bound: the global search's status and proven lower bound (``None``, NaN
+            when it did not run). A text field that has no value is ``None`` here and ``null`` in
+            :meth:`to_dict`, the same absence in Python and in JSON.
         local_mechanism: where a sliver's local mechanism governs the wall as built by the method the verdict
             rests on (``None``: none): that method, the mechanism's description, its λ (``load_factor``, the
             wall as built's), the moving blocks and their weight share, the slivers held and the held wall's λ
@@ -139,15 +140,15 @@ class Comparison:
     verdict: str | None
     proof: str | None
     macro_load_factor: float
-    macro_mechanism: str
+    macro_mechanism: str | None
     associative_load_factor: float
     micro_load_factor: float
-    micro_quoted: str
+    micro_quoted: str | None
     certified_load_factor: float
     iterated_load_factor: float
     mechanism_band: tuple[float, float] | None
     difference_percent: float
-    global_status: str
+    global_status: str | None
     global_lower_bound: float
     seconds: Seconds
     blocks: int
@@ -181,7 +182,8 @@ class Comparison:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready (NaN -> ``None``), in the field names of ``docs/schemas/compare.schema.json``."""
-        num = _json_number
+        from micro.records import json_number as num  # the one NaN-to-null conversion
+
         nonassoc = self.nonassociative_result
         return {
             "verdict": self.verdict,
@@ -193,14 +195,14 @@ class Comparison:
             "difference_percent": num(self.difference_percent),
             "associative_load_factor": num(self.associative_load_factor),
             "certified_load_factor": num(self.certified_load_factor),
-            "micro_quoted": self.micro_quoted or None,
+            "micro_quoted": self.micro_quoted,
             "iterated_load_factor": num(self.iterated_load_factor),
             "mechanism_band": None if self.mechanism_band is None else [num(x) for x in self.mechanism_band],
-            "macro_mechanism": self.macro_mechanism or None,
+            "macro_mechanism": self.macro_mechanism,
             "macro_status": None if self.macro_result is None else self.macro_result.status,
             "associative_status": None if self.associative_result is None else self.associative_result.status,
             "nonassociative_status": None if nonassoc is None else nonassoc.status,
-            "global_status": self.global_status or None,
+            "global_status": self.global_status,
             "global_lower_bound": num(self.global_lower_bound),
             "local_mechanism": self.local_mechanism,
             "blocks": self.blocks,
@@ -211,11 +213,6 @@ class Comparison:
             "search_stopped": self.search_stopped,
             "seconds": {k: num(v) for k, v in self.seconds.__dict__.items()},
         }
-
-
-def _json_number(value: float) -> float | None:
-    value = float(value)
-    return value if math.isfinite(value) else None
 
 
 def _nonassociative_values(result: micro.NonAssociativeResult) -> tuple[float, float]:
@@ -381,7 +378,7 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, *, progress: 
         verdict=verdict,
         proof=proof,
         macro_load_factor=lam_macro,
-        macro_mechanism=macro_result.mechanism if macro_ok else "",
+        macro_mechanism=macro_result.mechanism if macro_ok else None,
         associative_load_factor=lam_assoc,
         micro_load_factor=micro_lam,
         micro_quoted=values["micro_quoted"],
@@ -406,11 +403,11 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, *, progress: 
 
 def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResult | None,
                   notes: list[str]) -> dict[str, Any]:
-    """The non-associative numbers a :class:`Comparison` holds (NaN, ``None`` and ``""`` where there are none),
+    """The non-associative numbers a :class:`Comparison` holds (NaN and ``None`` where there are none),
     the global search's (``g``, started from ``result``) bound when it closed (``closed_bound``); what is
     missing goes to ``notes``."""
-    out: dict[str, Any] = {"micro_load_factor": math.nan, "micro_quoted": "", "certified_load_factor": math.nan,
-                           "iterated_load_factor": math.nan, "mechanism_band": None, "global_status": "",
+    out: dict[str, Any] = {"micro_load_factor": math.nan, "micro_quoted": None, "certified_load_factor": math.nan,
+                           "iterated_load_factor": math.nan, "mechanism_band": None, "global_status": None,
                            "global_lower_bound": math.nan, "closed_bound": math.nan}
     if result is None:
         return out
@@ -435,7 +432,7 @@ def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResu
         else:
             notes.append(f"the global search did not close (status {g.status}): its lower bound "
                          f"{g.lower_bound:.6g} is not proven to the gap")
-    out.update(micro_load_factor=quoted, micro_quoted=result.quoted, iterated_load_factor=iterated,
+    out.update(micro_load_factor=quoted, micro_quoted=result.quoted or None, iterated_load_factor=iterated,
                mechanism_band=result.mechanism_band,
                certified_load_factor=min(states) if states else math.nan)
     return out
