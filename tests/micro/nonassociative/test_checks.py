@@ -86,7 +86,7 @@ def test_cold_resolve_only_after_an_exact_stop(monkeypatch: pytest.MonkeyPatch) 
     import math
 
     from micro.nonassociative import checks
-    from micro.nonassociative.checks import COLD_CHECKED_STOPS, cold_check_due
+    from micro.nonassociative.final_checks import COLD_CHECKED_STOPS, cold_check_due
 
     assert cold_check_due("lambda_and_forces") and cold_check_due("lambda_and_coulomb")
     assert not any(cold_check_due(s) for s in ("certified", "oscillating", "repeating", "max_iterations"))
