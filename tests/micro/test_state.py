@@ -25,7 +25,7 @@ import micro
 import micro.files
 from comparison.domain.wall import WallSpec
 from micro.state import CollapseStateData, collapse_state, parse_state, read_state, verify_state, write_state
-from micro.state import check as state_check
+from micro.state import verify as state_check
 from micro.state import file as state_file
 
 SCHEMA = Path(__file__).parents[2] / "docs" / "schemas" / "state.schema.json"
