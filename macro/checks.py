@@ -51,7 +51,7 @@ NON_NEGATIVE = "{name} must be zero or a positive number, got {value!r}"
 #: An integer > 0 (an integer-valued float is accepted; not a bool).
 POSITIVE_INT = "{name} must be a positive integer, got {value!r}"
 #: A number in the half-open interval ``(lo, hi]``.
-IN_RANGE = "{name} must be in ({lo:g}, {hi:g}], got {value!r}"
+IN_RANGE = "{name} must be in ({lo}, {hi}], got {value!r}"
 #: A per-storey tuple of the wrong length.
 PER_STOREY = "{name} must have one value per storey: got {count} values for {storeys} storeys"
 #: A per-storey parameter that is not a sequence.
@@ -63,11 +63,11 @@ UNEQUAL_STOREYS = "rows: {rows!r} rows cannot be split equally over {storeys!r} 
 #: One of a few named choices.
 CHOICE = "{name} must be one of {choices}, got {value!r}"
 #: A number in the closed interval ``[lo, hi]``.
-IN_CLOSED_RANGE = "{name} must be in [{lo:g}, {hi:g}], got {value!r}"
+IN_CLOSED_RANGE = "{name} must be in [{lo}, {hi}], got {value!r}"
 #: A number above a physical bound (:data:`MAX_RATIO`); a reason follows after a colon.
-AT_MOST = "{name} must be at most {hi:g}, got {value!r}"
+AT_MOST = "{name} must be at most {hi}, got {value!r}"
 #: A number below a physical bound (a wall at least one block long); a reason follows after a colon.
-AT_LEAST = "{name} must be at least {lo:g}, got {value!r}"
+AT_LEAST = "{name} must be at least {lo}, got {value!r}"
 #: A wall whose search or model would not fit in the memory available.
 TOO_LARGE = "{name}: {what} needs an estimated {need:.3g} GB of memory, but only {have:.3g} GB are available"
 
@@ -93,6 +93,13 @@ class TooLarge(ValueError):
 
 T = TypeVar("T")
 
+
+def exact(bound: float) -> str:
+    """A bound as a message prints it: shortest (``1e+06``, ``4``) where that is its value, else with every
+    digit it has (166666.66666666666, not 166667, which reads as the very value it refuses)."""
+    x = float(bound)
+    short = f"{x:g}"
+    return short if float(short) == x else repr(x)
 
 def _real(value: object) -> float | None:
     """``value`` as a float, or ``None`` when it is not a number (bools and strings are not numbers here)."""
@@ -157,7 +164,8 @@ def in_range(name: str, value: object, lo: float, hi: float, why: str = "") -> f
     """
     x = positive(name, value) if lo >= 0.0 else _real(value)
     if x is None or not math.isfinite(x) or not lo < x <= hi:
-        raise ValueError(IN_RANGE.format(name=name, lo=lo, hi=hi, value=value) + (f": {why}" if why else ""))
+        raise ValueError(IN_RANGE.format(name=name, lo=exact(lo), hi=exact(hi), value=value)
+                         + (f": {why}" if why else ""))
     return x
 
 
@@ -231,7 +239,8 @@ def rows_per_storey(rows: int, storeys: int) -> int:
 def _within(name: str, x: float, lo: float, hi: float) -> None:
     """A length already checked as a positive number, within ``(lo, hi]`` block heights (:data:`IN_RANGE`)."""
     if not lo < x <= hi:
-        raise ValueError(IN_RANGE.format(name=name, lo=lo, hi=hi, value=x) + f": at most {MAX_RATIO:g} block heights")
+        raise ValueError(IN_RANGE.format(name=name, lo=exact(lo), hi=exact(hi), value=x)
+                         + f": at most {MAX_RATIO:g} block heights")
 
 
 #: The keyword arguments of :func:`wall_bounds` (attributes of every wall type).
@@ -258,21 +267,22 @@ def wall_bounds(
     _within("block_length", block_length, b / MAX_RATIO, b * MAX_RATIO)
     if length < block_length * (1.0 - LENGTH_SLACK):
         raise ValueError(
-            AT_LEAST.format(name="length", lo=block_length, value=length)
+            AT_LEAST.format(name="length", lo=exact(block_length), value=length)
             + ": a running-bond wall is at least one block long"
         )
     if length > b * MAX_RATIO * (1.0 + LENGTH_SLACK):
         raise ValueError(
-            AT_MOST.format(name="length", hi=b * MAX_RATIO, value=length) + f": at most {MAX_RATIO:g} block heights"
+            AT_MOST.format(name="length", hi=exact(b * MAX_RATIO), value=length)
+            + f": at most {MAX_RATIO:g} block heights"
         )
     if sum(rows) > MAX_RATIO:
-        raise ValueError(AT_MOST.format(name="rows", hi=MAX_RATIO, value=sum(rows)) + ": rows in all")
+        raise ValueError(AT_MOST.format(name="rows", hi=exact(MAX_RATIO), value=sum(rows)) + ": rows in all")
     for i, (t, q) in enumerate(zip(thickness, overload, strict=True)):
         _within(f"thickness[{i}]", t, b / MAX_RATIO, b * MAX_RATIO)
         row_weight = unit_weight * b * t
         if q > MAX_RATIO * row_weight:
             raise ValueError(
-                AT_MOST.format(name=f"overload[{i}]", hi=MAX_RATIO * row_weight, value=q)
+                AT_MOST.format(name=f"overload[{i}]", hi=exact(MAX_RATIO * row_weight), value=q)
                 + f": at most {MAX_RATIO:g} times the weight of one row per unit length"
             )
 

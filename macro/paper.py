@@ -79,7 +79,8 @@ def _m(name: str, value: object) -> float:
 def _rows(name: str, value: object) -> int:
     o = checks.positive_int(name, value)
     if o > checks.MAX_RATIO:
-        raise ValueError(checks.AT_MOST.format(name=name, hi=checks.MAX_RATIO, value=value) + ": rows in all")
+        raise ValueError(checks.AT_MOST.format(name=name, hi=checks.exact(checks.MAX_RATIO), value=value)
+                         + ": rows in all")
     return o
 
 
@@ -171,7 +172,8 @@ def _paper_bounds(
     _first_bad(
         bad_t,
         lambda i: (
-            checks.IN_CLOSED_RANGE.format(name="t", lo=lo[i], hi=o[i] * m[i], value=shown("t", i))
+            checks.IN_CLOSED_RANGE.format(name="t", lo=checks.exact(lo[i]), hi=checks.exact(o[i] * m[i]),
+                                          value=shown("t", i))
             + f": a wall at least one block long (o/t >= 1/m) and at most {R:g} block heights (o/t <= {R:g})"
         ),
         entry,
@@ -181,7 +183,7 @@ def _paper_bounds(
     _first_bad(
         too_heavy,
         lambda i: (
-            checks.AT_MOST.format(name="p", hi=R / p_rows[i], value=shown("p", i))
+            checks.AT_MOST.format(name="p", hi=checks.exact(R / p_rows[i]), value=shown("p", i))
             + f": a floor load of at most {R:g} times the weight of one row"
         ),
         entry,

@@ -19,7 +19,7 @@ from macro.search import DEFAULT_SEARCH, SearchSettings, minimise_walls
 #: minimum of every hinge (:func:`solve`), and per wall and storey for a batch that keeps
 #: only each wall's minimum (:func:`macro.sweep`). Measured (resident set above the
 #: imports): one wall of 1,000 / 2,000 / 4,000 one-row storeys 173 MB / 723 MB / 2.8 GB
-#: (173-181 bytes N^2; 7 s / 46 s / 317 s); sweeps of 4,096 walls of 10 and 50 storeys and
+#: (173-181 bytes N^2; their seconds: docs/speed.md); sweeps of 4,096 walls of 10 and 50 storeys and
 #: 300 walls of 200 storeys 123-146 bytes per wall and storey.
 SEARCH_BYTES_PER_STOREY_SQUARED = 200
 SWEEP_BYTES_PER_WALL_STOREY = 200
@@ -29,6 +29,9 @@ def search_bytes(storeys: int, walls: int = 0) -> int:
     """Estimated peak memory of the search: one wall with every hinge (``walls=0``), or a sweep batch."""
     return SWEEP_BYTES_PER_WALL_STOREY * walls * storeys if walls else SEARCH_BYTES_PER_STOREY_SQUARED * storeys**2
 
+
+#: The statuses of a macro result: ``"optimal"`` (a finite positive load factor) or ``"numerical_error"``.
+STATUSES = ("optimal", "numerical_error")
 
 @dataclass(frozen=True)
 class MacroWall:
@@ -316,7 +319,7 @@ def solve(wall: MacroWall, settings: SearchSettings = DEFAULT_SEARCH) -> MacroRe
         alpha_ratio=ratio,
         hinge_storey=k + 1,
         mechanism=MECHANISMS[int(mech)],
-        status="optimal" if ok else "numerical_error",
+        status=STATUSES[0] if ok else STATUSES[1],
         friction_reduction=float(at["reduction"][0, 0]),
         stabilising_moment=float(at["stabilising"][0, 0]),
         overturning_moment=float(at["overturning"][0, 0]),

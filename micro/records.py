@@ -364,8 +364,10 @@ class NonAssociativeRecord(MicroRecord):
                                 "did not run.", source=GIVEN, default="", schema={"enum": ["", "found", "failed"]})
     lowest_stop: str = column(
         "finished: every direction's descent ended by its own rules; budget: one spent its budget of LPs "
-        "(--lowest-budget, LPs per direction) and gave the lowest certified state found so far; empty when the "
-        "descent did not run.", source=GIVEN, default="", schema={"enum": ["", "finished", "budget"]})
+        "(--lowest-budget, LPs per direction) and gave the lowest certified state found so far; target: the "
+        "search stopped at the first certified state below the options' stop_below (a compare whose macro "
+        "lambda it refutes); empty when the descent did not run.", source=GIVEN, default="",
+        schema={"enum": ["", "finished", "budget", "target"]})
     global_load_factor: float = column(
         "--global: the best verified collapse state of the branch and bound (null when not run).", source=GIVEN,
         default=math.nan)

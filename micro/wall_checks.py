@@ -65,7 +65,14 @@ MIN_FRICTION, MAX_FRICTION = 1e-3, 10.0
 
 def _within(name: str, x: float, lo: float, hi: float, why: str) -> None:
     if not lo < x <= hi:
-        raise ValueError(f"{name} must be in ({lo:g}, {hi:g}], got {x!r}: {why}")
+        raise ValueError(f"{name} must be in ({_exact(lo)}, {_exact(hi)}], got {x!r}: {why}")
+
+
+def _exact(bound: float) -> str:
+    """A bound printed shortest where that is its value, else with every digit (as ``macro.checks.exact``:
+    ``micro`` does not import ``macro``)."""
+    short = f"{bound:g}"
+    return short if float(short) == bound else repr(float(bound))
 
 
 def physical_bounds(

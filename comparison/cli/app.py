@@ -8,17 +8,24 @@ output early (``xcheck macro --json | head``) ends the run quietly with
 :data:`~comparison.cli.options.EXIT_BROKEN_PIPE` (141); Ctrl-C with 130; an output that cannot be
 written (a full disk: ``> /dev/full``) with one line ``xcheck: error: cannot write ...`` and exit code 1.
 Warnings (e.g. an unreadable cache entry) are one line each, ``xcheck: warning: ...``.
+
+Standard error carries the plan, the progress, warnings and errors, never a result: a standard error that
+cannot be written (a full device, a descriptor closed under the command) is given up quietly and the
+command goes on to its results and its exit code; one closed at the start (``2>&-``) is a stream that
+drops what is written, so that nothing meant for it reaches standard output (``print(file=None)``).
 """
 
 from __future__ import annotations
 
 import argparse
+import io
 import os
 import sys
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from importlib import metadata
+from typing import Any
 
 from comparison.cli import compare, macro, micro, references, report, stability, sweep, verify
 from comparison.cli.options import (
@@ -68,7 +75,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if sys.stdout is None:  # started with its standard output closed (``>&-``): nothing could be said
         print("xcheck: error: cannot write the output: standard output is closed", file=sys.stderr)
         return EXIT_FAILED
-    with _one_line_warnings():
+    with _forgiving_stderr(), _one_line_warnings():
         try:
             parser = build_parser()
             if not args_given:
@@ -105,6 +112,60 @@ def _drop_stdout() -> None:
         os.dup2(devnull, sys.stdout.fileno())
     except (OSError, ValueError, AttributeError):  # no real file descriptor (e.g. captured in tests)
         pass
+
+
+class ForgivingStream(io.TextIOBase):
+    """A text stream that gives up quietly: the first write or flush that fails (``OSError``, ``ValueError``
+    on a closed file) ends the writing, and every later one is dropped; ``None``: drops everything."""
+
+    def __init__(self, stream: Any) -> None:
+        self.stream = stream
+        self.dead = stream is None
+
+    def write(self, text: str) -> int:
+        if not self.dead:
+            try:
+                self.stream.write(text)
+            except (OSError, ValueError):
+                self.dead = True
+        return len(text)
+
+    def flush(self) -> None:
+        if not self.dead:
+            try:
+                self.stream.flush()
+            except (OSError, ValueError):
+                self.dead = True
+
+    def isatty(self) -> bool:
+        try:
+            return not self.dead and bool(self.stream.isatty())
+        except (OSError, ValueError):
+            return False
+
+    def writable(self) -> bool:
+        return True
+
+    def fileno(self) -> int:
+        if self.dead:
+            raise io.UnsupportedOperation("standard error is given up")
+        return int(self.stream.fileno())
+
+    @property
+    def encoding(self) -> str:  # type: ignore[override]
+        return str(getattr(self.stream, "encoding", None) or "utf-8")
+
+
+@contextmanager
+def _forgiving_stderr() -> Iterator[None]:
+    """``sys.stderr`` as a :class:`ForgivingStream` while the command runs (module docstring)."""
+    given = sys.stderr
+    sys.stderr = ForgivingStream(given)
+    try:
+        yield
+    finally:
+        if isinstance(sys.stderr, ForgivingStream):
+            sys.stderr = given
 
 
 @contextmanager

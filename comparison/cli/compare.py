@@ -18,6 +18,7 @@ import math
 from typing import TYPE_CHECKING
 
 from comparison.cli.options import (
+    COMPILING,
     PLOT_SUFFIXES,
     QUIET,
     SOLVER_COUNT_MAX,
@@ -58,7 +59,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="friction on the head joints (default frictional)")
     g.add_argument("--full", action="store_true",
                    help="compute every number: the non-associative solve also when the associative bound "
-                   "settles the verdict")
+                   "settles the verdict, and its whole search for the lowest certified state when a certified "
+                   "state below the macro lambda already settles it")
     g.add_argument("--lowest", default="on", metavar="on|off",
                    help="the descent to the lowest certified collapse state, the value compared (default on)")
     g.add_argument("--global", dest="global_", action="store_true",
@@ -101,13 +103,21 @@ def options_from_args(args: argparse.Namespace) -> CompareOptions:
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck compare``."""
     from comparison.domain.verdict import compare
+    from macro import kernel
 
     options = options_from_args(args)
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)  # before the solves, not after
     check_state_path(args)
     spec = wall_from_args(args)
+    compiled = kernel.compilations()
+    progress = None
+    if args.verbosity != QUIET:
+        from comparison.cli.solve_progress import SolveProgress
+        from comparison.runner.pool import approximate_blocks
+
+        progress = SolveProgress(approximate_blocks(spec))
     try:
-        result = compare(spec, options)
+        result = compare(spec, options, progress=progress)
     except ValueError as exc:  # a wall a model refuses (too large for the memory, a bond it cannot build)
         raise UsageError(str(exc)) from None
     plot_error, drawn = _plot(result, args.plot) if args.plot is not None else (None, False)
@@ -121,7 +131,8 @@ def run(args: argparse.Namespace) -> int:
     elif args.verbosity == QUIET:
         print(result.verdict + (f" ({result.proof})" if result.proof else "") if result.verdict else "no verdict")
     else:
-        print(format_comparison(result, verbose=args.verbosity >= VERBOSE))
+        print(format_comparison(result, verbose=args.verbosity >= VERBOSE,
+                                compiled=kernel.compilations() > compiled))
         if args.plot is not None and not drawn:
             print(f"  no plot written to {args.plot}: no micro mechanism")
     return exit_after_outputs(result.status == "ok", plot_error, state_error)
@@ -137,8 +148,10 @@ def _state(args: argparse.Namespace, c: Comparison, spec: WallSpec) -> tuple[str
     return (None, None) if args.state is None else (None, "--state: no micro state to write")
 
 
-def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
-    """The verdict's sentence, then the numbers, one per line (NaN ones left out, what is missing said)."""
+def format_comparison(c: Comparison, *, verbose: bool = False, compiled: bool = False) -> str:
+    """The verdict's sentence, then the numbers, one per line (NaN ones left out, what is missing said);
+    ``compiled``: the macro model's compiled kernel was compiled during the run (its first use after an
+    install), which its time says."""
     lines = [c.sentence()]
     lines.append(f"  macro model:         lambda = {c.macro_load_factor:.6f} ({c.macro_mechanism or 'failed'})"
                  if math.isfinite(c.macro_load_factor) else "  macro model:         no load factor")
@@ -146,7 +159,9 @@ def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
         lines.append(f"  associative micro:   lambda = {c.associative_load_factor:.6f} (an upper bound of every "
                      "non-associative collapse load)")
     if math.isfinite(c.micro_load_factor):
-        what = "the lowest certified collapse state" if c.micro_quoted == "lowest certified" else "the iterated LP's"
+        what = ("a certified collapse state below the macro λ, where the search stopped" if c.search_stopped
+                else "the lowest certified collapse state" if c.micro_quoted == "lowest certified"
+                else "the iterated LP's")
         lines.append(f"  non-associative:     lambda = {c.micro_load_factor:.6f} ({what}; the value compared)")
         band = c.mechanism_band
         states = "" if band is None else f"; its mechanism's collapse states: lambda in [{band[0]:.6f}, {band[1]:.6f}]"
@@ -166,6 +181,8 @@ def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
     s = c.seconds
     stages = [f"{name} {v:.2f} s" for name, v in (("macro", s.macro), ("associative", s.associative),
                                                     ("non-associative", s.nonassociative)) if math.isfinite(v)]
+    if compiled and stages and stages[0].startswith("macro"):
+        stages[0] += f" ({COMPILING})"
     lines.append(f"  {c.blocks} blocks; " + ", ".join(stages) + f"; total {s.total:.2f} s")
     if verbose:
         paper = ", ".join(f"{k} = {v:.6g}" for k, v in c.wall.paper_parameters().items()

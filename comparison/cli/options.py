@@ -55,6 +55,9 @@ exit codes:
 """
 
 
+#: Beside a time that includes compiling the macro model's kernel (numba), which its first use after an
+#: install does once (``macro.kernel.compilations``): seconds of a first command, not the model's speed.
+COMPILING = "compiling the macro model's kernel on its first use; later runs read it from the cache"
 #: The figure formats ``--plot`` writes.
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
@@ -65,7 +68,8 @@ def check_output_path(option: str, path: str | None, suffixes: tuple[str, ...] =
     Raises:
         UsageError: an empty name, a suffix not among ``suffixes`` (when given), a directory, an existing
             file that is not a regular file (a device or FIFO, directly or through a link: the writer never
-            replaces one), or a folder that does not exist.
+            replaces one), a symbolic link to nothing, or a folder that does not exist or this process cannot
+            write into (the file is written beside its name and renamed over it).
     """
     if path is None:
         return
@@ -78,8 +82,12 @@ def check_output_path(option: str, path: str | None, suffixes: tuple[str, ...] =
         raise UsageError(f"{option}: {path!r} is a directory; name the file, e.g. {target / 'out'}")
     if target.exists() and not target.is_file():
         raise UsageError(f"{option}: {path!r} is not a regular file (a device, a FIFO or a socket)")
+    if target.is_symlink() and not target.exists():
+        raise UsageError(f"{option}: {path!r} is a symbolic link to nothing ({os.readlink(target)!r})")
     if not target.parent.is_dir():
         raise UsageError(f"{option}: the folder of {path!r} does not exist")
+    if not os.access(target.parent, os.W_OK | os.X_OK):
+        raise UsageError(f"{option}: cannot write into the folder of {path!r} (permission denied)")
 
 
 def exit_after_outputs(ok: bool, *unwritten: str | None) -> int:

@@ -47,6 +47,12 @@ def above(value: float, reference: float) -> bool:
     return math.isfinite(value) and math.isfinite(reference) and value > reference * (1.0 + ACCURACY)
 
 
+def refuting_below(macro_load_factor: float) -> float:
+    """The λ below which a certified collapse state proves ``macro_load_factor`` unsafe (:func:`above` it);
+    :func:`comparison.compare` stops the non-associative search at the first such state."""
+    return macro_load_factor / (1.0 + ACCURACY)
+
+
 def judge(macro_load_factor: float, associative_load_factor: float = math.nan,
           certified_load_factor: float = math.nan, *, found_load_factor: float = math.nan,
           global_lower_bound: float = math.nan) -> tuple[str | None, str | None]:

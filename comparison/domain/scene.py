@@ -30,12 +30,11 @@ from __future__ import annotations
 
 import codecs
 import re
-import tomllib
 from pathlib import Path
 from typing import Any
 
 from comparison.domain.wall import ENDS, StoreySpec, WallSpec
-from comparison.utilities.inputs import read_input_file
+from comparison.utilities.inputs import parse_toml, read_input_file
 from macro.checks import friction, magnitude
 
 #: Largest scene file read (a scene is a few hundred bytes; this refuses a wrong file before reading it whole).
@@ -152,9 +151,9 @@ class _Source:
 def parse_scene(text: str, source: str = "<scene>") -> WallSpec:
     """Parse the text of a TOML scene; see :func:`load_scene`."""
     try:
-        data: dict[str, Any] = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"scene {source}: malformed TOML: {exc}") from None
+        data = parse_toml(text)
+    except ValueError as exc:
+        raise SceneError(f"scene {source}: {exc}") from None
     src = _Source(text, source)
     tables = _tables(data, src)
     name = data.get("name", Path(source).stem)

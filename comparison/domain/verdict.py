@@ -27,13 +27,19 @@ from comparison.domain.proof import (
     UNSAFE,
     above,
     judge,
+    refuting_below,
 )
 from comparison.domain.wall import WallSpec
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
+    from collections.abc import Callable
+
     import macro
     import micro
     from comparison.domain.wall_mechanism import WallMechanism
+
+    #: :func:`compare`'s ``progress``: a line when a model has its value, each non-associative LP as it finishes.
+    CompareProgress = Callable[["str | micro.nonassociative.LPProgress"], None]
 
 #: Values of :attr:`Comparison.status`: every method that ran gave its value, or one failed.
 OK, FAILED = "ok", "failed"
@@ -48,7 +54,9 @@ class CompareOptions:
 
     Attributes:
         first_course, head_joints: the micro wall's bond (:meth:`comparison.domain.wall.WallSpec.to_micro`).
-        full: every number, also the non-associative solve when the associative bound settles the verdict.
+        full: every number, also the non-associative solve when the associative bound settles the verdict, and
+            its whole search for the lowest certified state when a certified state below the macro λ already
+            proves the macro model unsafe (without it the search stops at that first state).
         global_: after the non-associative solve, the global search by branch and bound (a lower bound: the
             only way to a "safe" verdict; a reference tool for walls of a few blocks).
         lowest: the descent to the lowest certified collapse state (the value to quote); ``False``: the
@@ -102,19 +110,20 @@ class Comparison:
         diagnostics: what was not computed or failed, and why, one sentence each.
         verdict: :data:`UNSAFE`, :data:`NOT_REFUTED`, :data:`SAFE` or ``None`` (:func:`judge`).
         proof: :data:`ASSOCIATIVE_BOUND`, :data:`CERTIFIED_STATE`, :data:`GLOBAL_BOUND` or ``None``.
-        macro_load_factor, macro_mechanism: the macro model's λ and mechanism (NaN, ``""`` when it failed).
+        macro_load_factor, macro_mechanism: the macro model's λ and mechanism (NaN, ``None`` when it failed).
         associative_load_factor: the associative LP's λ, an upper bound of every non-associative collapse
             load (NaN when it failed).
         micro_load_factor: the non-associative λ to quote, the value compared (the lowest certified state,
             else the iterated LP's); NaN when the solve was skipped or failed.
-        micro_quoted: which that is, ``"lowest certified"`` or ``"iterated"`` (``""`` without one).
+        micro_quoted: which that is, ``"lowest certified"`` or ``"iterated"`` (``None`` without one).
         certified_load_factor: the lowest λ of a certified collapse state found (the quoted one when it is
             certified, or the global search's best state when lower); NaN without one.
         iterated_load_factor, mechanism_band: the iterated LP's λ and the band of λ over the collapse states
             of its mechanism (NaN, ``None`` without them).
         difference_percent: ``(macro − micro) / micro · 100`` (NaN without both).
-        global_status, global_lower_bound: the global search's status and proven lower bound (``""``, NaN
-            when it did not run).
+        global_status, global_lower_bound: the global search's status and proven lower bound (``None``, NaN
+            when it did not run). A text field that has no value is ``None`` here and ``null`` in
+            :meth:`to_dict`, the same absence in Python and in JSON.
         local_mechanism: where a sliver's local mechanism governs the wall as built by the method the verdict
             rests on (``None``: none): that method, the mechanism's description, its λ (``load_factor``, the
             wall as built's), the moving blocks and their weight share, the slivers held and the held wall's λ
@@ -132,15 +141,15 @@ class Comparison:
     verdict: str | None
     proof: str | None
     macro_load_factor: float
-    macro_mechanism: str
+    macro_mechanism: str | None
     associative_load_factor: float
     micro_load_factor: float
-    micro_quoted: str
+    micro_quoted: str | None
     certified_load_factor: float
     iterated_load_factor: float
     mechanism_band: tuple[float, float] | None
     difference_percent: float
-    global_status: str
+    global_status: str | None
     global_lower_bound: float
     seconds: Seconds
     blocks: int
@@ -159,13 +168,23 @@ class Comparison:
         verdict and ``full`` was not asked)."""
         return self.nonassociative_result is not None
 
+    @property
+    def search_stopped(self) -> bool:
+        """Whether the non-associative search stopped at the first certified state below the macro λ (which
+        proves it unsafe) rather than searching on for the lowest (``full`` does)."""
+        from micro.nonassociative.descent.lowest_direction import TARGET
+
+        r = self.nonassociative_result
+        return r is not None and any(low.stop == TARGET for low in r.lowest)
+
     def sentence(self) -> str:
         """The verdict and its proof in one sentence (the first line of ``xcheck compare``)."""
         return verdict_sentence(self)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready (NaN -> ``None``), in the field names of ``docs/schemas/compare.schema.json``."""
-        num = _json_number
+        from micro.records import json_number as num  # the one NaN-to-null conversion
+
         nonassoc = self.nonassociative_result
         return {
             "verdict": self.verdict,
@@ -177,14 +196,14 @@ class Comparison:
             "difference_percent": num(self.difference_percent),
             "associative_load_factor": num(self.associative_load_factor),
             "certified_load_factor": num(self.certified_load_factor),
-            "micro_quoted": self.micro_quoted or None,
+            "micro_quoted": self.micro_quoted,
             "iterated_load_factor": num(self.iterated_load_factor),
             "mechanism_band": None if self.mechanism_band is None else [num(x) for x in self.mechanism_band],
-            "macro_mechanism": self.macro_mechanism or None,
+            "macro_mechanism": self.macro_mechanism,
             "macro_status": None if self.macro_result is None else self.macro_result.status,
             "associative_status": None if self.associative_result is None else self.associative_result.status,
             "nonassociative_status": None if nonassoc is None else nonassoc.status,
-            "global_status": self.global_status or None,
+            "global_status": self.global_status,
             "global_lower_bound": num(self.global_lower_bound),
             "local_mechanism": self.local_mechanism,
             "blocks": self.blocks,
@@ -192,13 +211,9 @@ class Comparison:
             "head_joints": self.options.head_joints,
             "ends": self.wall.ends,
             "full": self.options.full,
+            "search_stopped": self.search_stopped,
             "seconds": {k: num(v) for k, v in self.seconds.__dict__.items()},
         }
-
-
-def _json_number(value: float) -> float | None:
-    value = float(value)
-    return value if math.isfinite(value) else None
 
 
 def _nonassociative_values(result: micro.NonAssociativeResult) -> tuple[float, float]:
@@ -208,27 +223,33 @@ def _nonassociative_values(result: micro.NonAssociativeResult) -> tuple[float, f
 
 
 @overload
-def solve_micro(wall: micro.BlockWall, friction: Literal["associative"], options: CompareOptions) -> micro.LimitResult:
+def solve_micro(wall: micro.BlockWall, friction: Literal["associative"], options: CompareOptions, *,
+                stop_below: float | None = None, progress: micro.nonassociative.Progress | None = None
+                ) -> micro.LimitResult:
     ...
 
 
 @overload
-def solve_micro(wall: micro.BlockWall, friction: Literal["nonassociative"],
-                options: CompareOptions) -> micro.NonAssociativeResult:
+def solve_micro(wall: micro.BlockWall, friction: Literal["nonassociative"], options: CompareOptions, *,
+                stop_below: float | None = None, progress: micro.nonassociative.Progress | None = None
+                ) -> micro.NonAssociativeResult:
     ...
 
 
-def solve_micro(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
+def solve_micro(wall: micro.BlockWall, friction: str, options: CompareOptions, *, stop_below: float | None = None,
+                progress: micro.nonassociative.Progress | None = None) -> Any:
     """The micro model of ``wall`` with ``friction`` (``"associative"``: the LP with the library's default
-    back end; ``"nonassociative"``: the report's method, with the descent as ``options`` ask; the global
-    search is composed after it, :func:`solve_global_search`). Every micro solve of :func:`compare` goes
-    through here."""
+    back end; ``"nonassociative"``: the report's method, with the descent as ``options`` ask, stopped at the
+    first certified state below ``stop_below`` (``None``: the whole search), its LPs told to ``progress``; the
+    global search is composed after it, :func:`solve_global_search`). Every micro solve of :func:`compare`
+    goes through here."""
     import micro
 
     if friction == "associative":
         return micro.solve_associative(wall, time_limit=options.time_limit)
     limit: dict[str, Any] = {} if options.time_limit is None else {"time_limit": options.time_limit}
-    return micro.solve_nonassociative(wall, lowest=options.lowest, **limit)
+    return micro.solve_nonassociative(wall, lowest=options.lowest, stop_below=stop_below, progress=progress,
+                                      **limit)
 
 
 def solve_global_search(wall: micro.BlockWall, result: micro.NonAssociativeResult,
@@ -245,13 +266,13 @@ def solve_global_search(wall: micro.BlockWall, result: micro.NonAssociativeResul
     return solve_global(wall, start=result, options=opts)
 
 
-def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions) -> WallMechanism:
+def solve_wall(wall: micro.BlockWall, friction: str, options: CompareOptions, **kw: Any) -> WallMechanism:
     """The micro method ``friction`` on the wall as built, with a local mechanism told apart and the held wall
     analysed beside it (:func:`comparison.domain.wall_mechanism.solve_wall_mechanism`); every solve through
-    :func:`solve_micro`."""
+    :func:`solve_micro` (``kw``: its ``stop_below`` and ``progress``)."""
     from comparison.domain.wall_mechanism import solve_wall_mechanism
 
-    return solve_wall_mechanism(wall, lambda w: solve_micro(w, friction, options))  # type: ignore[call-overload]
+    return solve_wall_mechanism(wall, lambda w: solve_micro(w, friction, options, **kw))  # type: ignore[call-overload]
 
 
 def _local(assoc: WallMechanism, nonassoc: WallMechanism | None, proof: str | None) -> dict[str, Any] | None:
@@ -266,15 +287,20 @@ def _local(assoc: WallMechanism, nonassoc: WallMechanism | None, proof: str | No
     return {"method": method, **d["local_mechanism"], "held_load_factor": d["held_load_factor"]}
 
 
-def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: Any) -> Comparison:
+def compare(wall: WallSpec, options: CompareOptions | None = None, *, progress: CompareProgress | None = None,
+            **overrides: Any) -> Comparison:
     """The macro model against the micro model on ``wall``, and the verdict (module docstring).
 
     Computes no more than the verdict needs: the macro model, the associative LP, and the non-associative
-    solve only when the associative bound does not settle the verdict (or ``full``).
+    solve only when the associative bound does not settle the verdict (or ``full``), its search stopped at the
+    first certified state below the macro λ (which proves it unsafe; ``full`` or ``global_`` search on for
+    the lowest state).
 
     Args:
         wall: the wall (:meth:`WallSpec.from_paper`, :func:`comparison.domain.scene.load_scene`).
         options: what to compute (``None``: the defaults).
+        progress: told what is done as it is done: a line (``str``) when a model has its value, each LP of
+            the non-associative solve (:class:`micro.nonassociative.LPProgress`) as it finishes (``None``: nobody).
         **overrides: fields of :class:`CompareOptions` to change (``full=True``).
 
     Raises:
@@ -285,8 +311,10 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         >>> import comparison
         >>> from comparison.domain.wall import WallSpec
         >>> c = comparison.compare(WallSpec.from_paper(t=1, m=1/2, rows=12, f=0.75))
-        >>> c.verdict, c.proof, round(c.macro_load_factor, 4), round(c.micro_load_factor, 4)
-        ('unsafe', 'certified state', 0.4914, 0.4895)
+        >>> c.verdict, c.proof, round(c.macro_load_factor, 4), round(c.micro_load_factor, 4), c.search_stopped
+        ('unsafe', 'certified state', 0.4914, 0.4913, True)
+        >>> round(comparison.compare(c.wall, full=True).micro_load_factor, 4)  # searched on: the lowest state
+        0.4895
     """
     import macro
 
@@ -299,14 +327,19 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
     t_macro = time.perf_counter() - start
     macro_ok = macro_result.status == "optimal"
     lam_macro = macro_result.load_factor if macro_ok else math.nan
+    tell = progress or (lambda _: None)
     if not macro_ok:
         notes.append(f"the macro model gave no load factor (status {macro_result.status})")
+    else:
+        tell(f"macro model: lambda = {lam_macro:.6f} ({macro_result.mechanism}), {t_macro:.1f} s")
     block_wall = wall.to_micro(first_course=o.first_course, head_joints=o.head_joints)
     t0 = time.perf_counter()
     assoc_wall = solve_wall(block_wall, "associative", o)
     assoc = cast("micro.LimitResult", assoc_wall.result)
     t_assoc = time.perf_counter() - t0
     lam_assoc = assoc.load_factor if assoc.ok else math.nan
+    tell(f"associative LP ({block_wall.n_blocks:,} blocks): " + (f"lambda = {lam_assoc:.6f}" if assoc.ok else
+                                                                  f"{assoc.status}") + f", {t_assoc:.1f} s")
     if not assoc.ok:
         notes.append(f"the associative LP failed (status {assoc.status}: {assoc.message}); no bound checked")
     elif assoc_wall.message:
@@ -321,11 +354,18 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
                      "(--full, full=True, computes it)")
     elif macro_ok or o.full:
         t0 = time.perf_counter()
-        nonassoc_wall = solve_wall(block_wall, "nonassociative", o)
+        from micro.nonassociative.descent.lowest_direction import TARGET
+
+        search_all = o.full or o.global_ or not macro_ok
+        nonassoc_wall = solve_wall(block_wall, "nonassociative", o, progress=progress,
+                                   stop_below=None if search_all else refuting_below(lam_macro))
         nonassoc = cast("micro.NonAssociativeResult", nonassoc_wall.result)
         search = solve_global_search(block_wall, nonassoc, o)
         if nonassoc.ok and nonassoc_wall.message:
             notes.append(f"non-associative solve, held wall: {nonassoc_wall.message}")
+        if nonassoc.ok and any(low.stop == TARGET for low in nonassoc.lowest):
+            notes.append("the non-associative search stopped at the first certified state below the macro λ, which "
+                         "proves it unsafe (--full, full=True, searches on for the lowest)")
         t_nonassoc = time.perf_counter() - t0
     values = _micro_values(nonassoc, search, notes)
     certified = values["certified_load_factor"]
@@ -339,7 +379,7 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
         verdict=verdict,
         proof=proof,
         macro_load_factor=lam_macro,
-        macro_mechanism=macro_result.mechanism if macro_ok else "",
+        macro_mechanism=macro_result.mechanism if macro_ok else None,
         associative_load_factor=lam_assoc,
         micro_load_factor=micro_lam,
         micro_quoted=values["micro_quoted"],
@@ -364,11 +404,11 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, **overrides: 
 
 def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResult | None,
                   notes: list[str]) -> dict[str, Any]:
-    """The non-associative numbers a :class:`Comparison` holds (NaN, ``None`` and ``""`` where there are none),
+    """The non-associative numbers a :class:`Comparison` holds (NaN and ``None`` where there are none),
     the global search's (``g``, started from ``result``) bound when it closed (``closed_bound``); what is
     missing goes to ``notes``."""
-    out: dict[str, Any] = {"micro_load_factor": math.nan, "micro_quoted": "", "certified_load_factor": math.nan,
-                           "iterated_load_factor": math.nan, "mechanism_band": None, "global_status": "",
+    out: dict[str, Any] = {"micro_load_factor": math.nan, "micro_quoted": None, "certified_load_factor": math.nan,
+                           "iterated_load_factor": math.nan, "mechanism_band": None, "global_status": None,
                            "global_lower_bound": math.nan, "closed_bound": math.nan}
     if result is None:
         return out
@@ -393,7 +433,7 @@ def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResu
         else:
             notes.append(f"the global search did not close (status {g.status}): its lower bound "
                          f"{g.lower_bound:.6g} is not proven to the gap")
-    out.update(micro_load_factor=quoted, micro_quoted=result.quoted, iterated_load_factor=iterated,
+    out.update(micro_load_factor=quoted, micro_quoted=result.quoted or None, iterated_load_factor=iterated,
                mechanism_band=result.mechanism_band,
                certified_load_factor=min(states) if states else math.nan)
     return out
@@ -458,4 +498,5 @@ def _verdict_only(c: Comparison) -> str:
 def _percent(value: float, reference: float) -> str:
     """``+0.4 %`` / ``−6.2 %``: ``value`` relative to ``reference``."""
     d = 100.0 * (value - reference) / reference
-    return f"{'+' if d >= 0 else '−'}{abs(d):.1f} %"
+    size = f"{abs(d):.1f}" if abs(d) >= 0.1 or d == 0 else f"{abs(d):.2g}"  # +0.03 %, never an unsafe +0.0 %
+    return f"{'+' if d >= 0 else '−'}{size} %"

@@ -32,13 +32,20 @@ reference values are regenerated with ``xcheck references`` (see
 :mod:`comparison.pytest_plugin.generate`).
 """
 
-from comparison.pytest_plugin.references import MissingReference, Reference, ReferenceMismatch, References
+from comparison.pytest_plugin.references import (
+    BadReferences,
+    MissingReference,
+    Reference,
+    ReferenceMismatch,
+    References,
+)
 from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
 from comparison.pytest_plugin.walls import UserWall, paper_cases, select_cases, walls_from_file
 
 __all__ = [
     "DEFAULT_AGAINST",
     "ComparisonTable",
+    "BadReferences",
     "MissingReference",
     "Reference",
     "ReferenceMismatch",

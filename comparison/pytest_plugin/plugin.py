@@ -31,7 +31,7 @@ from typing import Any
 import pytest
 
 from comparison.domain.cases import PaperCase
-from comparison.pytest_plugin.references import COMPUTABLE, References
+from comparison.pytest_plugin.references import COMPUTABLE, BadReferences, References
 from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
 from comparison.pytest_plugin.walls import UserWall, cases_and_walls
 
@@ -110,7 +110,10 @@ def pytest_configure(config: pytest.Config) -> None:
     if unknown:
         raise pytest.UsageError(f"--xcheck-compute: {', '.join(unknown)} not among {', '.join(COMPUTABLE)}")
     against = _listed(config, "xcheck_against")
-    methods = References.load().all_methods()
+    try:
+        methods = References.load().all_methods()
+    except BadReferences as exc:
+        raise pytest.UsageError(f"the plugin's references: {exc}") from None
     unknown = [k for k in against if k not in methods]
     if unknown or not against:
         given = f"{', '.join(unknown)} not among" if unknown else "no method given; the methods are"

@@ -41,6 +41,11 @@ LOAD_FACTOR = "load_factor"
 COMPUTABLE = ("macro", "micro-assoc", "micro-nonassoc")
 
 
+def shipped() -> Any:
+    """The references file shipped with the package (a path-like resource)."""
+    return resources.files("comparison.pytest_plugin").joinpath(DATA_FILE)
+
+
 def case_label(wall: PaperCase | str) -> str:
     """The label a case is stored under (``"Ref"``, ``"Set 12"``) from a case or a name (``"12"``, ``"Set 12"``).
 
@@ -100,6 +105,33 @@ class Reference:
         return self.tolerance + rel * math.fabs(self.value) + abs
 
 
+def _cell(where: str, raw: object) -> Reference:
+    """The reference cell ``raw`` of a references file, checked (see :meth:`References.load`)."""
+    if not isinstance(raw, dict):
+        raise BadReferences(f"{where}: a cell must be an object, got {raw!r}"[:300])
+    try:
+        ref = Reference(**raw)
+    except TypeError as exc:
+        raise BadReferences(f"{where}: {exc}".replace("Reference.__init__() ", "")) from None
+    for key in ("case", "method", "cell", "source", "status"):
+        if not isinstance(getattr(ref, key), str):
+            raise BadReferences(f"{where}: {key} must be a string, got {getattr(ref, key)!r}")
+    where = f"{where} ({ref.name})"
+    value, tolerance = ref.value, ref.tolerance
+    if value is None or tolerance is None:
+        if value is not None or tolerance is not None:
+            raise BadReferences(f"{where}: value and tolerance are both numbers or both null, got {value!r} "
+                                f"and {tolerance!r}")
+        return ref
+    for key, x in (("value", value), ("tolerance", tolerance)):
+        if isinstance(x, bool) or not isinstance(x, numbers.Real) or not math.isfinite(x):
+            raise BadReferences(f"{where}: {key} must be a finite number, got {x!r}")
+    if not 0.0 <= tolerance <= math.fabs(value):
+        raise BadReferences(f"{where}: tolerance must be a number from 0 to the value's magnitude "
+                            f"({math.fabs(value)!r}), got {tolerance!r}: a wider one passes any value near it")
+    return ref
+
+
 def widening(name: str, value: object) -> float:
     """``rel`` or ``abs`` of :meth:`References.check` as a float: a finite number >= 0.
 
@@ -130,6 +162,10 @@ def checked_name(what: str, value: object) -> str:
     return value
 
 
+class BadReferences(ValueError):
+    """A references file that cannot be used (the message names the file and the cell)."""
+
+
 class MissingReference(LookupError):
     """A (case, method, cell) without a reference value."""
 
@@ -156,13 +192,28 @@ class References:
 
     @classmethod
     def load(cls, path: str | Path | None = None) -> References:
-        """The references of ``path``, by default the ones shipped with the package."""
-        if path is None:
-            text = resources.files("comparison.pytest_plugin").joinpath(DATA_FILE).read_text(encoding="utf-8")
-        else:
-            text = Path(path).read_text(encoding="utf-8")
-        data = json.loads(text)
-        return cls((Reference(**c) for c in data["cells"]), data.get("meta", {}))
+        """The references of ``path``, by default the ones shipped with the package.
+
+        Raises:
+            BadReferences: the file cannot be read, is not JSON of the form :meth:`to_json` writes, or holds
+                a cell no check could honestly use (a NaN, infinite or negative tolerance, or one wider than
+                its value, which would pass any value near it); the message names the file and the cell.
+        """
+        source = shipped() if path is None else Path(path)
+        try:
+            text = source.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise BadReferences(f"{source}: cannot be read ({getattr(exc, 'strerror', None) or exc})") from None
+        try:
+            data = json.loads(text)
+        except (ValueError, RecursionError) as exc:
+            raise BadReferences(f"{source}: not JSON ({exc})" if text.strip() else f"{source}: empty") from None
+        cells = data.get("cells") if isinstance(data, dict) else None
+        if not isinstance(cells, list) or not cells:
+            raise BadReferences(f"{source}: no list of reference cells under 'cells'")
+        meta = data.get("meta", {})
+        return cls((_cell(f"{source}: cells[{i}]", c) for i, c in enumerate(cells)),
+                   meta if isinstance(meta, dict) else {})
 
     def extended(self, cells: Iterable[Reference]) -> References:
         """These references and ``cells`` (which replace cells of the same case, method and cell)."""

@@ -8,7 +8,6 @@ published values.
 
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,7 +18,7 @@ import pytest
 from comparison.domain.cases import CASES, PaperCase, case, cases_in_table
 from comparison.domain.wall import WallSpec
 from comparison.utilities import names, numbers
-from comparison.utilities.inputs import read_input_file
+from comparison.utilities.inputs import parse_toml, read_input_file
 
 #: The paper's tables that hold cases.
 TABLES = ("5", "6", "7", "8", "9")
@@ -74,6 +73,9 @@ def select_cases(selection: str, own: Sequence[UserWall] = ()) -> tuple[PaperCas
                 raise ValueError(f"--xcheck-cases: {raw!r} is neither a table (5, 6, 7, 8, 9), a paper case (Ref, "
                                  f"Set 1..17){walls}") from None
         out |= {c.label: c for c in found}
+    if not out and not mine:
+        raise ValueError(f"--xcheck-cases: no wall selected by {selection!r}: name a table ('7'), a case "
+                         "('Set 12'), 'all' or a wall of --xcheck-walls")
     return (*(c for c in CASES if c.label in out), *(w for w in own if w.label in mine))
 
 
@@ -145,8 +147,8 @@ def walls_from_file(path: str | Path) -> tuple[UserWall, ...]:
     """
     p = Path(path)
     try:
-        data = tomllib.loads(read_input_file(p).decode("utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        data = parse_toml(read_input_file(p).decode("utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise ValueError(f"{p}: {exc}") from None
     walls = data.get("wall")
     if not isinstance(walls, list) or not walls:

@@ -27,6 +27,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from comparison.sweep import grids
+from comparison.sweep.table import STATUSES
 from comparison.utilities.inputs import read_input_file
 
 #: The error map's sweep table, relative to the tables directory.
@@ -52,13 +53,16 @@ def made_by(name: str, tables_dir: Path | str) -> str:
 
 #: The columns each section reads, and what each must hold: ``"text"``; ``"positive"`` (a positive number),
 #: ``"non-negative"`` (zero or more) or ``"ratio"`` (any finite number), each also ``nan`` or empty (no
-#: value); ``"count"`` (a non-negative integer, or empty). Infinite numbers are refused everywhere.
+#: value); ``"count"`` (a non-negative integer, or empty); ``"status"`` (one a sweep writes,
+#: :data:`comparison.sweep.table.STATUSES`). Infinite numbers are refused everywhere. A sweep's ``cell``
+#: numbers its rows from 0, each once, in order: a row repeated, dropped or moved is refused.
 _SWEEP: Mapping[str, str] = {
     **dict.fromkeys(("t", "m", "f"), "positive"),
     "p": "non-negative",
     "load_factor": "positive",
-    **dict.fromkeys(("rows", "storeys", "blocks", "iterations"), "count"),
-    **dict.fromkeys(("kind", "status", "first_course"), "text"),
+    **dict.fromkeys(("cell", "rows", "storeys", "blocks", "iterations"), "count"),
+    **dict.fromkeys(("kind", "first_course"), "text"),
+    "status": "status",
 }
 COLUMNS: Mapping[str, Mapping[str, str]] = {
     ERRORMAP: _SWEEP,
@@ -74,7 +78,7 @@ COLUMNS: Mapping[str, Mapping[str, str]] = {
 }
 #: What each kind of column must hold, in words.
 RULES = {"positive": "a positive number", "non-negative": "a number >= 0", "ratio": "a finite number",
-         "count": "an integer >= 0"}
+         "count": "an integer >= 0", "status": "a status a sweep writes (" + ", ".join(sorted(STATUSES)) + ")"}
 #: The largest committed table read (bytes): a sweep's table has at most 100,000 rows
 #: (:data:`comparison.sweep.grid.MAX_CELLS`) of about 300 bytes, 30 MB; the committed error map is 0.17 MB.
 MAX_TABLE_BYTES = 64 << 20
@@ -88,6 +92,8 @@ class BadTable(ValueError):
 
 def _bad_cell(kind: str, text: str) -> bool:
     """True when ``text`` is not what a column of ``kind`` holds (:data:`COLUMNS`)."""
+    if kind == "status":
+        return text not in STATUSES
     if kind == "text" or not text:
         return False
     try:
@@ -150,6 +156,9 @@ def read_committed(tables_dir: Path, name: str) -> list[dict[str, str]]:
         if bad:
             raise BadTable(f"{path}:{i}: {bad[0]} must be {RULES[COLUMNS[name][bad[0]]]}, got {record[bad[0]]!r}; "
                            f"{remake}")
+        if "cell" in COLUMNS[name] and record["cell"] != str(i - 2):
+            raise BadTable(f"{path}:{i}: cell {record['cell']!r} where cell {i - 2} comes (the cells are numbered "
+                           f"from 0, each once, in order: a row repeated, dropped or moved); {remake}")
         out.append(record)
     _whole(path, name, out, remake)
     return out
@@ -216,6 +225,12 @@ class MissingTableWarning(UserWarning):
 
 class UncountedTableWarning(UserWarning):
     """A committed sweep table without the metadata that counts its rows."""
+
+
+def missing(tables_dir: Path | str, name: str) -> str:
+    """The sentence a section of ``REPORT.md`` says in place of the committed table ``name`` that is not in
+    ``tables_dir``: the path looked for, as the warning names it, and the command that makes it."""
+    return f"The table `{Path(tables_dir) / name}` is missing: make it with `{made_by(name, tables_dir)}`."
 
 
 def committed_table(tables_dir: Path, name: str) -> Path | None:

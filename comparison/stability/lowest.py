@@ -32,8 +32,8 @@ TINY_GRID: dict[str, tuple[float, ...]] = {
     "f": (0.6, 0.75),
     "storeys": (1,),
 }
-#: Walls of at most this many blocks get the global search (on 12-21 blocks
-#: a 60 s search left the bound at 0; on 9 blocks it closed in 5,000-8,500 nodes).
+#: Walls of at most this many blocks get the global search (on 12-21 blocks a search
+#: of a minute left the bound at 0; on 9 blocks it closed in 5,000-8,500 nodes).
 GLOBAL_MAX_BLOCKS = 10
 #: Branch-and-bound nodes per direction on those walls.
 GLOBAL_NODES = 10_000

@@ -60,7 +60,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -71,7 +70,7 @@ from comparison.domain.wall import ENDS
 from comparison.runner.methods import MACRO, Method
 from comparison.sweep.usermodel import UserModel, check_target, resolve
 from comparison.utilities import numbers
-from comparison.utilities.inputs import read_input_file
+from comparison.utilities.inputs import parse_toml, read_input_file
 from macro import checks
 
 #: The axes, each with its check (the wall vocabulary) and its default (``None``: required).
@@ -100,7 +99,7 @@ SCHEMES = ("a", "b")
 #: The most values one axis may expand to (a range with a tiny step is a typo, not a sweep).
 MAX_AXIS_VALUES = 10_000
 #: The most cells (rows of the table) a grid may have: its cells are planned in memory before anything
-#: runs (about 0.6 kB and 1 ms each for a micro method), and 100,000 rows are a 30 MB table. A larger
+#: runs (about 0.6 kB each for a micro method), and 100,000 rows are a 30 MB table. A larger
 #: grid is refused when read; split it into several sweeps (they share the result cache).
 MAX_CELLS = 100_000
 #: What a sweep's name may be made of (it names the table, metadata, page and figure files): a letter or
@@ -192,9 +191,9 @@ def parse_grid(text: str, source: str = "<grid>", name: str = "sweep", folder: P
     """Parse the text of a grid file; see :func:`load_grid`. ``folder``: where a user model's module is
     looked for first (the grid file's folder)."""
     try:
-        data: dict[str, Any] = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise GridError(f"grid {source}: malformed TOML: {exc}") from None
+        data = parse_toml(text)
+    except ValueError as exc:
+        raise GridError(f"grid {source}: {exc}") from None
     src = _Source(text, source)
     for key in data:
         if key not in _TOP:

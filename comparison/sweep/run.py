@@ -30,13 +30,11 @@ from comparison.runner import Method, Prefetched, Record, ResultCache, code_vers
 from comparison.runner.executor import Executor
 from comparison.runner.fingerprint import versions_used
 from comparison.sweep.grid import Grid
+from comparison.sweep.isolation import ModelProcess
 from comparison.sweep.plan import Cell, WallPoint, cells
-from comparison.sweep.table import machine, number, read_table, write_meta, write_table
+from comparison.sweep.table import FAILURE_STATUS, machine, number, read_table, write_meta, write_table
 from comparison.sweep.usermodel import UserModel
 from comparison.utilities.progress import Progress
-
-#: The status of a cell whose computation gave no record, by the executor's outcome.
-FAILURE_STATUS = {"failed": "error", "lost": "worker_died", "refused": "refused_memory"}
 
 
 @dataclass(frozen=True)
@@ -222,18 +220,21 @@ def _user_side(plan: Sequence[Cell], rows: dict[int, dict[str, Any]]) -> int:
     """The rows of the user models' cells, each model called once per wall in this process; how many
     raised or gave no number."""
     failed = 0
-    for cell in plan:
-        model = cell.method
-        if not isinstance(model, UserModel):
-            continue
-        if cell.skip:
-            rows[cell.index] = _skipped(cell)
-            continue
-        p = cell.point
-        lam, status, message, seconds = model.evaluate(p.t, p.m, p.rows, p.f, p.p, p.storeys, where=p.label)
-        failed += status != "optimal"
-        rows[cell.index] = {**_inputs(cell), "load_factor": lam, "status": status, "seconds": seconds,
-                            "cached": False, "message": message}
+    models = list(dict.fromkeys(c.method for c in plan if isinstance(c.method, UserModel)))
+    with ModelProcess(models) as process:
+        for cell in plan:
+            model = cell.method
+            if not isinstance(model, UserModel):
+                continue
+            if cell.skip:
+                rows[cell.index] = _skipped(cell)
+                continue
+            p = cell.point
+            lam, status, message, seconds = process.evaluate(model, (p.t, p.m, p.rows, p.f, p.p, p.storeys),
+                                                             where=p.label)
+            failed += status != "optimal"
+            rows[cell.index] = {**_inputs(cell), "load_factor": lam, "status": status, "seconds": seconds,
+                                "cached": False, "message": message}
     return failed
 
 

@@ -1,10 +1,10 @@
 """The sweep's table: one CSV row per cell, every input and result, and its JSON metadata.
 
-CSV, not Parquet: measured on a table of 10,000 rows of these columns, the
-CSV is 3.0 MB (0.9 MB gzipped), written and read back by the standard library
-in about a second each on a loaded 2-core machine; Parquet makes it 0.9 MB and
-writes it in 0.24 s, but needs ``pyarrow``, a 55 MB wheel (170 MB installed),
-to save disk space nobody misses at this size, while a CSV opens in every tool.
+CSV, not Parquet: on a table of 10,000 rows of these columns the CSV is 3.0 MB
+(0.9 MB gzipped), written and read back by the standard library; Parquet makes
+it 0.9 MB and writes it faster, but needs ``pyarrow``, a 55 MB wheel (170 MB
+installed), to save disk space nobody misses at this size, while a CSV opens in
+every tool (the times: docs/speed.md, "What the code's choices rest on").
 Floats are written exactly (``repr``), so a table read back gives the same
 numbers; ``nan`` is a NaN, an empty field a value that does not apply.
 """
@@ -20,7 +20,11 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+from comparison.sweep.plan import NOT_APPLICABLE, NOT_RUN
 from comparison.utilities.outputs import csv_text, write_text
+from macro.solve import STATUSES as MACRO_STATUSES
+from micro.backends.base import Status
+from micro.nonassociative.nonassociative_result import STATUSES as ITERATED_STATUSES
 
 #: The table's columns, in order. ``load_factor`` is the value to quote and the one compared with the macro
 #: model, of the wall as built: for the non-associative method the lowest certified collapse state
@@ -72,6 +76,13 @@ COLUMNS = (
 #: Columns that depend on the run, not on the cell: when and where it was computed.
 RUN_COLUMNS = ("seconds", "cached")
 
+#: The status of a cell whose computation gave no record, by the executor's outcome.
+FAILURE_STATUS = {"failed": "error", "lost": "worker_died", "refused": "refused_memory"}
+#: Every status a row can hold: the macro model's, the associative LP's back ends', the iterated LP's, a
+#: cell not computed (:data:`~comparison.sweep.plan.NOT_APPLICABLE`, ``NOT_RUN``), a computation that gave
+#: no record (:data:`FAILURE_STATUS`) and a user model's ``failed`` (no load factor) or ``error``.
+STATUSES = frozenset({*MACRO_STATUSES, *(s.value for s in Status), *ITERATED_STATUSES, NOT_APPLICABLE, NOT_RUN,
+                      *FAILURE_STATUS.values(), "failed"})
 
 def _text(value: Any) -> str:
     if value is None:

@@ -15,8 +15,10 @@ like a ``conftest.py``: its module's top-level code runs when the grid is read
 (after the whole grid has been checked), the function once per wall. Run only
 grids whose models you trust.
 
-The model runs in the sweep's own process, once per wall (a cluster's workers
-need not have it), and its cell records what happened: ``optimal`` with the
+The model runs once per wall in a process of its own, forked from the sweep's
+(:mod:`comparison.sweep.isolation`: a model that ends, forks or closes its
+descriptors cannot end the sweep; a cluster's workers need not have it), and
+its cell records what happened: ``optimal`` with the
 value; ``failed`` for a number that is not a load factor (zero, negative, NaN,
 infinite, or above :data:`MAX_LOAD_FACTOR`, ``10**400`` included); ``error``
 when it raised, called ``sys.exit`` or returned something else than a number

@@ -71,7 +71,7 @@ import time
 from typing import Any
 
 from micro.geometry import BlockWall, check_block_wall
-from micro.limit_result import load_directions
+from micro.limit_result import DirectionResult, load_directions
 from micro.lp import assemble
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.config import (
@@ -179,12 +179,18 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     t0 = time.perf_counter()
     lp = assemble(wall)
     build = time.perf_counter() - t0
-    solved = [solve_chain(lp, d, r) for d in load_directions(o.directions, wall.mirror_symmetric)]
-    results = tuple(res for res, _ in solved)
-    # without the iterated LP's model (a fused wall) the descent makes no proposal (its module docstring)
-    lowest = tuple(lowest_state(lp, res, r, model, proposals=model is not None)
-                   for res, model in solved if res.converged) if o.lowest else ()
-    del solved  # the models: the descent has taken over what it needs
+    results_list: list[DirectionResult] = []
+    lowest_list: list[LowestDirection] = []
+    for d in load_directions(o.directions, wall.mirror_symmetric):
+        res, model = solve_chain(lp, d, r)
+        results_list.append(res)
+        if res.converged and o.lowest:
+            # without the iterated LP's model (a fused wall) the descent makes no proposal (its module docstring)
+            lowest_list.append(lowest_state(lp, res, r, model, proposals=model is not None))
+        del model  # the descent has taken over what it needs
+        if _on_target(o, res, lowest_list):
+            break  # a certified state below ``stop_below``: the other direction is not needed
+    results, lowest = tuple(results_list), tuple(lowest_list)
     solve_secs = time.perf_counter() - t0 - build
     failing = [res for res in results if not res.converged]
     if failing:
@@ -201,3 +207,10 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         directions=results, resolved=r, message=msg, lowest=lowest,
     )
 
+
+def _on_target(o: NonAssociativeOptions, res: DirectionResult, lowest: list[LowestDirection]) -> bool:
+    """Whether a direction just solved holds a certified state below ``o.stop_below``: its descent's
+    state, or without the descent its iterated LP's converged state."""
+    if lowest and lowest[-1].direction == res.direction and lowest[-1].found:
+        return o.below_target(lowest[-1].load_factor)
+    return res.converged and not o.lowest and o.below_target(res.load_factor)

@@ -248,6 +248,12 @@ class NonAssociativeOptions:
             that spends it returns the lowest certified state found so far
             (``lowest_stop="budget"``). It counts LPs, not seconds: the same
             wall stops at the same state on every machine.
+        stop_below: stop the search as soon as a certified collapse state
+            with ``lambda`` below this value is found (``None``: search on):
+            that state is returned (``lowest_stop="target"``), the directions
+            not yet solved are skipped. A load factor above it is refuted by
+            that state, which needs no lower one (``xcheck compare`` passes the
+            macro model's ``lambda``).
         tuning: the research knobs (:class:`Tuning`; ``None``: the report's method).
 
     Raises:
@@ -260,6 +266,7 @@ class NonAssociativeOptions:
     max_seconds: float | None = None
     lowest: bool = True
     lowest_budget: int = LOWEST_BUDGET
+    stop_below: float | None = None
     tuning: Tuning = field(default_factory=Tuning)
 
     def __post_init__(self) -> None:
@@ -277,6 +284,10 @@ class NonAssociativeOptions:
             if tl is not None:
                 object.__setattr__(self, name, float(tl))
         check_integer("lowest_budget", self.lowest_budget, 0)
+        if self.stop_below is not None:
+            if (x := finite_real(self.stop_below)) is None:
+                raise ValueError(f"stop_below must be a finite number or None, got {self.stop_below!r}")
+            object.__setattr__(self, "stop_below", float(x))
         if not isinstance(self.lowest, (bool, np.bool_)):
             raise ValueError(f"lowest must be True or False, got {self.lowest!r}")
         object.__setattr__(self, "lowest", bool(self.lowest))
@@ -285,6 +296,10 @@ class NonAssociativeOptions:
     def user_limit(self) -> float:
         """:attr:`time_limit` in seconds, ``inf`` for none."""
         return float(self.time_limit) if self.time_limit is not None else math.inf
+
+    def below_target(self, load_factor: float) -> bool:
+        """Whether a certified state at ``load_factor`` ends the search (:attr:`stop_below`)."""
+        return self.stop_below is not None and load_factor < self.stop_below
 
     def with_overrides(self, **overrides: Any) -> NonAssociativeOptions:
         """A copy with some options changed (validated again).

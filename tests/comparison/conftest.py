@@ -63,7 +63,7 @@ def failing_nonassociative(monkeypatch: pytest.MonkeyPatch) -> None:
     verdict = importlib.import_module("comparison.domain.verdict")
     real = verdict.solve_micro
 
-    def failing(wall: micro.BlockWall, friction: str, options: Any) -> Any:
+    def failing(wall: micro.BlockWall, friction: str, options: Any, **kw: Any) -> Any:
         if friction == "associative":
             return real(wall, friction, options)
         return micro.solve_nonassociative(wall, max_iterations=2, tuning=micro.Tuning(selection="vertex"))

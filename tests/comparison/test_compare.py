@@ -37,7 +37,7 @@ def set12() -> Comparison:
 
 @pytest.fixture(scope="module")
 def set13() -> Comparison:
-    return comparison.compare(SET13)
+    return comparison.compare(SET13, full=True)
 
 
 def test_set13_unsafe_by_certified_state(set13: Comparison) -> None:
@@ -50,6 +50,20 @@ def test_set13_unsafe_by_certified_state(set13: Comparison) -> None:
     assert c.difference_percent == pytest.approx(100 * (c.macro_load_factor / c.micro_load_factor - 1), rel=1e-12)
     assert c.sentence().startswith("The macro model is unsafe for this wall: its λ 0.4914 is above the certified "
                                    "collapse state's 0.4895 (+0.4 %)")
+    assert not c.search_stopped and c.to_dict()["search_stopped"] is False
+
+
+def test_set13_search_stops_below_the_macro_value() -> None:
+    """Without ``full`` the search stops at the first certified state below the macro λ (here the iterated
+    LP's, 0.021 % below it: more than the solvers' accuracy), which proves the verdict; no descent LP runs."""
+    c = comparison.compare(SET13)
+    assert (c.verdict, c.proof, c.status) == ("unsafe", "certified state", "ok")
+    assert c.search_stopped and c.to_dict()["search_stopped"] is True
+    assert c.micro_load_factor == c.iterated_load_factor == pytest.approx(0.4912758, abs=1e-7)
+    assert c.macro_load_factor > c.micro_load_factor * (1 + ACCURACY)
+    na = c.nonassociative_result
+    assert na is not None and [low.stop for low in na.lowest] == ["target"] and na.lowest[0].lps == 0
+    assert any("stopped at the first certified state below the macro" in d for d in c.diagnostics)
 
 
 def test_set12_not_refuted(set12: Comparison) -> None:
@@ -77,9 +91,9 @@ def test_associative_bound_settles_without_the_nonassociative_solve(monkeypatch:
     calls: list[str] = []
     real = COMPARE.solve_micro
 
-    def spy(wall: micro.BlockWall, friction: str, options: CompareOptions) -> Any:
+    def spy(wall: micro.BlockWall, friction: str, options: CompareOptions, **kw: Any) -> Any:
         calls.append(friction)
-        return real(wall, friction, options)
+        return real(wall, friction, options, **kw)
 
     monkeypatch.setattr(COMPARE, "solve_micro", spy)
     c = comparison.compare(ABOVE_BOUND)
@@ -178,8 +192,8 @@ def test_a_local_mechanism_is_named_and_the_wall_as_built_is_compared() -> None:
 
 def test_global_runs_on_the_wall_as_built() -> None:
     """Two rows, t = 40/31, m = 1, f = 0.6 with cut ends: the 0.05-wide top piece tips over alone (0.05); the
-    global search of the wall as built cannot prove it safe (the held wall's bound, 0.3797, was printed as
-    "safe" before); with closers (the default) the wall has no sliver and the search's bound is its own."""
+    global search of the wall as built cannot prove it safe (the held wall's bound, 0.3797, is another wall's);
+    with closers (the default) the wall has no sliver and the search's bound is its own."""
     spec = WallSpec.from_paper(t=40 / 31, m=1, rows=2, f=0.6, ends="cut")
     c = comparison.compare(spec, full=True, global_=True)
     assert c.verdict == "unsafe" and c.micro_load_factor == pytest.approx(0.05, rel=1e-6)
@@ -192,3 +206,12 @@ def test_global_runs_on_the_wall_as_built() -> None:
 def test_no_local_mechanism_on_the_paper_s_walls(set12: Comparison, set13: Comparison) -> None:
     assert set12.local_mechanism is None and set13.local_mechanism is None
     assert set13.associative_wall is not None and set13.associative_wall.n_blocks == set13.blocks
+
+
+def test_a_value_that_is_absent_is_none_in_python_as_in_json(set12: Comparison) -> None:
+    """A value that is absent (``global_status``, ``micro_quoted``, ``macro_mechanism`` without one) is
+    ``None`` in Python as it is ``null`` in the JSON."""
+    d = set12.to_dict()
+    assert set12.global_status is None and d["global_status"] is None
+    for name in ("global_status", "micro_quoted", "macro_mechanism", "verdict", "proof"):
+        assert getattr(set12, name) == d[name], name

@@ -85,7 +85,7 @@ BAD_PAPER = [
     ({"t": 1e-300}, "t must be in [1.2e-05, 4], got 1e-300"),
     ({"m": 1e-300}, "m must be in (1e-06, 1], got 1e-300"),
     ({"f": 1e300}, "f must be in (0.001, 10], got 1e+300"),
-    ({"p": 1e300}, "p must be at most 83333.3, got 1e+300"),
+    ({"p": 1e300}, "p must be at most 83333.33333333333, got 1e+300"),
     ({"rows": 2_000_000}, "rows must be at most 1e+06, got 2000000"),
 ]
 

@@ -32,7 +32,7 @@ BAD_INT: tuple[Any, ...] = (*NOT_NUMBERS, math.nan, 12.5, 0, -3, 0.0)
 
 
 def _message(template: str, name: str, value: Any) -> str:
-    return template.format(name=name, value=value, lo=0.0, hi=1.0)
+    return template.format(name=name, value=value, lo=checks.exact(0.0), hi=checks.exact(1.0))
 
 
 def _expect(call: Callable[[], object], message: str) -> None:

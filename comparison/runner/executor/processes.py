@@ -44,7 +44,7 @@ JOIN_SECONDS = 5.0
 _PR_SET_PDEATHSIG = 1
 
 
-def _die_with_parent(parent: int) -> None:
+def die_with_parent(parent: int) -> None:
     """End this worker when its parent process does: a kernel signal (Linux) and a watchdog thread.
 
     The kernel's signal works while the worker runs C code that holds the
@@ -87,7 +87,7 @@ def _sigint_ignored() -> Iterator[None]:
 def _worker(conn: Connection, parent: int) -> None:
     """A worker's loop: receive ``(fn, args)``, send back :func:`call`'s tuple; ``None`` ends it."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent(parent)
+    die_with_parent(parent)
     while True:
         try:
             item = conn.recv()

@@ -94,7 +94,7 @@ from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
 from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.config import INTERPENETRATION, LPProgress, Resolved
-from micro.nonassociative.descent.lowest_direction import BUDGET, FAILED, FINISHED, FOUND, LowestDirection
+from micro.nonassociative.descent.lowest_direction import BUDGET, FAILED, FINISHED, FOUND, TARGET, LowestDirection
 from micro.nonassociative.descent.states import (
     Basis,
     ForceField,
@@ -180,6 +180,8 @@ class Descent:
             self.gilbert = self._runs(model, warm=True)
         self.seen: set[bytes] = set()
         self.out_of_budget = False
+        #: a state below the options' ``stop_below`` was found: no more LPs
+        self.on_target = False
 
     def _runs(self, model: IterationModel, *, warm: bool) -> tuple[IterationModel, PersistentRuns]:
         """``model`` with the runner of the proposals' steps (warm: from its basis)."""
@@ -191,7 +193,10 @@ class Descent:
     def may_run(self) -> bool:
         """Whether one more LP fits in the budget (the runners' gate: a refused
         LP fails, and the step that asked for it finds nothing); a refusal is
-        remembered in :attr:`out_of_budget`."""
+        remembered in :attr:`out_of_budget`. None runs once a state below the
+        options' ``stop_below`` is found (:attr:`on_target`)."""
+        if self.on_target:
+            return False
         if self.budget is not None and self.lps >= self.budget:
             self.out_of_budget = True
             return False
@@ -225,8 +230,11 @@ class Descent:
         :data:`~micro.nonassociative.config.INTERPENETRATION` of the largest rate as the certificate
         reads them (the iterated LP's certified state of Table 5's Set 3 closes at 1.6e-6)."""
         res = verify_collapse_state(self.lp, self.as_result(state))
-        return all(v <= (INTERPENETRATION if k == "interpenetration" else EXACT_TOL)
-                   for k, v in res.items() if k != "slipping_points")
+        ok = all(v <= (INTERPENETRATION if k == "interpenetration" else EXACT_TOL)
+                 for k, v in res.items() if k != "slipping_points")
+        if ok and self.resolved.options.below_target(state.load_factor):
+            self.on_target = True  # a certified state below the target: the search ends (``stop_below``)
+        return ok
 
     # ------------------------------------------------------------ polish
     def settle(self, f: ForceField, v: FloatArray, origin: str) -> CollapseState | None:
@@ -359,7 +367,7 @@ class Descent:
         """The band of the lowest state's mechanism and the result."""
         name = DIR_NAME[self.d]
         budget = -1 if self.budget is None else self.budget
-        stop = BUDGET if self.out_of_budget else FINISHED
+        stop = TARGET if self.on_target else BUDGET if self.out_of_budget else FINISHED
         if best is None:
             return LowestDirection(name, FAILED, math.nan, None, path, moves, self.lps, budget, stop,
                                    time.perf_counter() - t0, None, {},

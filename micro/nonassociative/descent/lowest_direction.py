@@ -18,7 +18,7 @@ from micro.records import json_number
 #: Values of :attr:`LowestDirection.status`.
 FOUND, FAILED = "found", "failed"
 #: Values of :attr:`LowestDirection.stop`.
-FINISHED, BUDGET = "finished", "budget"
+FINISHED, BUDGET, TARGET = "finished", "budget", "target"
 
 
 @dataclass(frozen=True, eq=False)
@@ -36,8 +36,9 @@ class LowestDirection:
         moves: the accepted proposals (their origin).
         lps: LPs solved by the descent.
         budget: the most LPs it could solve (module docstring).
-        stop: ``"finished"`` (it ended by its own rules) or ``"budget"`` (it
-            spent its budget: the lowest state found so far).
+        stop: ``"finished"`` (it ended by its own rules), ``"budget"`` (it
+            spent its budget: the lowest state found so far) or ``"target"``
+            (it stopped at the first state below the options' ``stop_below``).
         seconds: its wall time.
         state: the state as a direction result (dimensional forces, mechanism,
             contact states; ``None`` when failed).
@@ -76,10 +77,12 @@ def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirecti
 
     Returns:
         The ``lowest_*`` fields (:class:`micro.records.NonAssociativeRecord`); LPs and seconds summed over
-        the directions, ``"failed"`` when some direction has no state, ``"budget"`` when one spent its budget.
+        the directions, ``"failed"`` when some direction has no state, ``"budget"`` when one spent its budget,
+        ``"target"`` when one stopped below the options' ``stop_below``.
     """
     status = "" if not lowest else FOUND if governing is not None else FAILED
-    stop = "" if not lowest else BUDGET if any(low.stop == BUDGET for low in lowest) else FINISHED
+    stops = {low.stop for low in lowest}
+    stop = "" if not lowest else TARGET if TARGET in stops else BUDGET if BUDGET in stops else FINISHED
     return {
         "lowest_load_factor": governing.load_factor if governing is not None else math.nan,
         "lowest_direction": governing.direction if governing is not None else "",

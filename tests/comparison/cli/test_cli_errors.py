@@ -7,6 +7,7 @@ not UTF-8 text, and extreme but finite numbers that once reached a solver.
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -292,3 +293,52 @@ def test_stability_takes_workers_like_report_and_sweep(
     assert seen == [1, 2, 1, 2]
     code, _, err = run(capsys, "stability", "--quick", "--out", out, "--workers", "1", "--processes", "1")
     one_line_error(code, err, "--processes is the old name of --workers")
+
+
+@pytest.mark.parametrize("command", ["micro --scene", "macro --scene", "compare --scene", "sweep"])
+def test_a_file_nested_too_deep_is_one_line_and_exit_2(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, command: str
+) -> None:
+    """A scene or grid holding ``a = [[[...]]]`` 1,500 deep is one line naming the file, exit 2."""
+    deep = tmp_path / "deep.toml"
+    deep.write_text("a = " + "[" * 1500 + "1" + "]" * 1500 + "\n")
+    argv = [*command.split(), str(deep)] + (["--out", str(tmp_path / "out")] if command == "sweep" else [])
+    code, out, err = run(capsys, *argv)
+    one_line_error(code, err, "deep.toml", "malformed TOML: arrays or tables nested too deep to read")
+    assert out == ""
+
+
+@pytest.mark.parametrize(("rows", "bound"), [("6", "166666.66666666666"), ("12", "83333.33333333333")])
+def test_a_bound_is_printed_unrounded(capsys: pytest.CaptureFixture[str], rows: str, bound: str) -> None:
+    """A bound in a message is printed with every digit it has, never rounded onto the value it refuses."""
+    code, _, err = run(capsys, "macro", "--rows", rows, "--t", "1", "--m", "1/3", "--f", "0.6", "--p", "166667")
+    one_line_error(code, err, f"p must be at most {bound}, got 166667")
+
+
+@pytest.mark.parametrize("option, name", [("--plot", "wall.png"), ("--state", "state.json")])
+@pytest.mark.parametrize("where", ["dangling link", "folder not writable"])
+def test_an_output_that_cannot_be_written_is_refused_before_the_solve(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, tmp_path: Path, option: str, name: str,
+    where: str,
+) -> None:
+    """``--state`` or ``--plot`` through a link to nothing, or into a folder this process cannot write, is
+    refused before the solve, exit 2. (The tests run as root, who may write anywhere: the folder's
+    permission is what ``os.access`` answers for it.)"""
+    import micro
+
+    target = tmp_path / name
+    if where == "dangling link":
+        target.symlink_to(tmp_path / "missing" / name)
+    else:
+        real = os.access
+        monkeypatch.setattr(os, "access", lambda p, mode, **kw: Path(p) != tmp_path and real(p, mode, **kw))
+
+    def no_solve(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the solve ran")
+
+    monkeypatch.setattr(micro, "solve_nonassociative", no_solve)
+    monkeypatch.setattr(micro, "solve_associative", no_solve)
+    code, out, err = run(capsys, "micro", *WALL, option, str(target))
+    reason = "is a symbolic link to nothing" if where == "dangling link" else "cannot write into the folder of"
+    one_line_error(code, err, option, reason)
+    assert out == ""

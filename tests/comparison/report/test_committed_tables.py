@@ -43,6 +43,10 @@ def _cut(name: str, size: int) -> bytes:
     return (REPORTS / name).read_bytes()[:size]
 
 
+def _full(name: str) -> list[bytes]:
+    return (REPORTS / name).read_bytes().splitlines(keepends=True)
+
+
 def _lines(name: str, n: int) -> bytes:
     return b"".join((REPORTS / name).read_bytes().splitlines(keepends=True)[:n])
 
@@ -61,9 +65,16 @@ CASES = {
                     r"lowest.csv: not a text table \(byte 128 is not UTF-8\); remake it with `xcheck stability "
                     r"--lowest --out .*tables`"),
     "wrong columns": (ERRORMAP, b"a,b\n1,2\n", False,
-                      r"sweeps/errormap.csv:1: no column 't', 'm', 'f', 'p', 'load_factor', 'rows', 'storeys', "
-                      r"'blocks', 'iterations', 'kind', 'status', 'first_course' \(the header has 2 columns\)"),
+                      r"sweeps/errormap.csv:1: no column 't', 'm', 'f', 'p', 'load_factor', 'cell', 'rows', "
+                      r"'storeys', 'blocks', 'iterations', 'kind', 'first_course', 'status' \(the header has 2 "
+                      r"columns\)"),
     "header only": (LOWEST, _lines(LOWEST, 1), False, r"lowest.csv: no rows under the header"),
+    "a row repeated": (ERRORMAP, b"".join(_full(ERRORMAP)[:2] + _full(ERRORMAP)[1:2] + _full(ERRORMAP)[3:]), True,
+                       r"sweeps/errormap.csv:3: cell '0' where cell 1 comes \(the cells are numbered from 0, each "
+                       r"once, in order: a row repeated, dropped or moved\)"),
+    "a status no sweep writes": (ERRORMAP, (REPORTS / ERRORMAP).read_bytes().replace(b",optimal,", b",banana,", 1),
+                                 True, r"sweeps/errormap.csv:2: status must be a status a sweep writes \(converged, "
+                                       r".*\), got 'banana'"),
     "not a number": (ERRORMAP, _lines(ERRORMAP, 2).replace(b",0.4,0.25,12,", b",0.4,0.25,twelve,"), False,
                      r"sweeps/errormap.csv:2: rows must be an integer >= 0, got 'twelve'"),
 }

@@ -30,6 +30,7 @@ def _forget_smallest(cache: Path, per_method: int) -> int:
     return removed
 
 
+@pytest.mark.processes  # a cluster's processes, and a second report: the processes tier, not the fast suite
 def test_the_quick_report_on_a_dask_cluster_is_the_local_report(
     quick_report_dir: Path, quick_report_cache: Path, dask_scheduler: str, tmp_path: Path,
     capsys: pytest.CaptureFixture[str],

@@ -11,12 +11,15 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
+
 from comparison.report import build_report
 from comparison.report.timings import TIMING_FILES
 
 REPORTS = Path(__file__).resolve().parents[3] / "reports"
 
 
+@pytest.mark.processes  # the quick report computed a second time (~45 s): the processes tier, not the fast suite
 def test_the_quick_report_reproduces_but_for_timings(quick_report_dir: Path, tmp_path: Path) -> None:
     again = tmp_path / "again"
     build_report(again, quick=True, cache_dir=None, tables_dir=REPORTS)
