@@ -39,11 +39,10 @@ from micro.global_search.global_types import (
     STATUSES,
     TIME_LIMIT,
     GlobalDirection,
+    GlobalExtras,
     GlobalOptions,
     GlobalResult,
     StartState,
-    global_fields,
-    global_summary,
     relative_gap,
 )
 from micro.global_search.search import Incumbent, search_direction
@@ -63,8 +62,7 @@ __all__ = [
     "GlobalOptions",
     "GlobalResult",
     "StartState",
-    "global_fields",
-    "global_summary",
+    "GlobalExtras",
     "relative_gap",
     "solve_global",
     "starts_from",
