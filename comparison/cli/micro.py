@@ -22,7 +22,6 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
     from comparison.domain.wall import WallSpec
     from comparison.domain.wall_mechanism import WallMechanism
     from micro import BlockWall
-    from micro.global_search import GlobalResult
     from micro.nonassociative import LPProgress
 
 from comparison.cli.micro_words import print_associative, print_cut, print_local, print_nonassociative
@@ -294,7 +293,7 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         )
     state_written, state_error = write_state_file(args, result, wall, spec)
     if args.json:
-        summary = result.summary() if search is None else _with_global(result.summary(), search)
+        summary = result.summary(search)
         print(_json({**summary, **own.to_dict()}, args, spec, wall,
                     plotted=mechanism is not None and plot_error is None, state=state_written))
     else:
@@ -304,18 +303,5 @@ def _run_nonassociative(args: argparse.Namespace, spec: WallSpec, wall: BlockWal
         if args.plot is not None and mechanism is None:
             print(f"  no plot written to {args.plot}: no converged mechanism")
     return exit_after_outputs(result.ok, plot_error, state_error)
-
-
-def _with_global(summary: dict[str, Any], search: GlobalResult) -> dict[str, Any]:
-    """The run's summary with the global search's keys: its record keys in place, its direction, nodes and
-    seconds before ``options``."""
-    from micro.global_search import global_summary
-
-    out: dict[str, Any] = {}
-    for key, value in summary.items():
-        if key == "options":
-            out.update(global_summary(search))
-        out.setdefault(key, value)
-    return out
 
 

@@ -183,7 +183,7 @@ class Comparison:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready (NaN -> ``None``), in the field names of ``docs/schemas/compare.schema.json``."""
-        from micro.records import json_number as num  # the one NaN-to-null conversion
+        from micro.columns import json_number as num  # the one NaN-to-null conversion
 
         nonassoc = self.nonassociative_result
         return {

@@ -14,6 +14,7 @@ from comparison.report.computed import Results
 from comparison.report.plan import table9_alternative
 from comparison.runner import NONASSOC_RETRY_LPS, Record
 from comparison.utilities.outputs import csv_text, write_text
+from micro.columns import json_number
 from micro.records import NonAssociativeRecord
 
 
@@ -81,7 +82,7 @@ DIGITS = 7
 def plain(c: Any) -> Any:
     """A cell for CSV/JSON: non-finite numbers as ``None``, a float to :data:`DIGITS` significant digits."""
     if isinstance(c, float):
-        return float(f"{c:.{DIGITS}g}") if math.isfinite(c) else None
+        return json_number(float(f"{c:.{DIGITS}g}"))
     return c
 
 

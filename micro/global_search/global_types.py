@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import check_integer, finite_real
+from micro.columns import FlatRecord, Seconds, column, record_of
 from micro.lp import LimitLP
 from micro.mechanism import Mechanism
-from micro.records import json_number
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -281,6 +281,15 @@ class GlobalResult:
     seconds: float
     message: str = ""
 
+    @property
+    def nodes(self) -> int:
+        """Branch-and-bound nodes over the directions."""
+        return sum(d.nodes for d in self.directions)
+
+    def extras(self) -> dict[str, Any]:
+        """The JSON keys the search adds to a summary beside the record's ``global_*`` (:class:`GlobalExtras`)."""
+        return record_of(GlobalExtras, self).to_dict()
+
 
 def relative_gap(value: float, bound: float) -> float:
     """``max(value - bound, 0) / |value|`` (NaN when either is not finite)."""
@@ -289,31 +298,13 @@ def relative_gap(value: float, bound: float) -> float:
     return max(value - bound, 0.0) / max(abs(value), 1e-12)
 
 
-def global_summary(result: GlobalResult) -> dict[str, Any]:
-    """The JSON keys of the global search (NaN and infinities as ``None``).
+@dataclass(frozen=True)
+class GlobalExtras(FlatRecord):
+    """The keys a global search adds to a summary beside the record's ``global_*`` fields
+    (:class:`micro.NonAssociativeRecord`, read from the search by ``result.to_record(search=g)``)."""
 
-    Returns:
-        ``global_load_factor``, ``global_lower_bound``, ``global_gap``,
-        ``global_status``, and beside them ``global_direction``,
-        ``global_nodes`` and ``global_seconds``.
-    """
-    return {
-        "global_load_factor": json_number(result.load_factor),
-        "global_lower_bound": json_number(result.lower_bound),
-        "global_gap": json_number(result.gap),
-        "global_status": result.status,
-        "global_direction": result.direction,
-        "global_nodes": sum(r.nodes for r in result.directions),
-        "global_seconds": result.seconds,
-    }
+    global_direction: str = column("--global: the direction of its best state.", source="direction")
+    global_nodes: int = column("--global: branch-and-bound nodes over the directions.", source="nodes")
+    global_seconds: Seconds = column("--global: the search's time.", source="seconds")
 
 
-def global_fields(result: GlobalResult | None) -> dict[str, Any]:
-    """The record fields of the global search (:class:`micro.NonAssociativeRecord`):
-    ``global_load_factor``, ``global_lower_bound``, ``global_gap`` and
-    ``global_status`` (NaN and ``""`` when there was no search)."""
-    if result is None:
-        return {"global_load_factor": math.nan, "global_lower_bound": math.nan, "global_gap": math.nan,
-                "global_status": ""}
-    return {"global_load_factor": result.load_factor, "global_lower_bound": result.lower_bound,
-            "global_gap": result.gap, "global_status": result.status}
