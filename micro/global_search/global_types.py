@@ -35,9 +35,9 @@ POLICIES = ("per_point", "uniform")
 
 #: The default budget of the branch and bound, in nodes times binaries per direction: a node's LP grows
 #: with the model (0.6 ms of CPU a node on a 10-block wall of 80 binaries, 6 ms on Set 12's 536), so that
-#: nodes times binaries is about the work. 1.6 million: 20,000 nodes on ten blocks (about 12 s of CPU),
-#: 3,000 on Set 12 (about 20 s with its root). A count of nodes, not seconds: the same answer on every
-#: machine, busy or quiet (``docs/micro/global-search.md``).
+#: nodes times binaries is about the work. 1.6 million: 20,000 nodes on ten blocks (about 13 s of CPU),
+#: 2,985 on Set 12 (its root 2.4 s and 6 ms a node: about 20 s). A count of nodes, not seconds: the same
+#: answer on every machine, busy or quiet (``docs/micro/global-search.md``).
 NODE_WORK = 1_600_000
 #: The default budget's bounds in nodes per direction: at least the root and a few branchings, at most
 #: what the walls that close ever needed (a 9-block wall closed in 18,693 nodes) with room to spare.
