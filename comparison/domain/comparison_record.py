@@ -10,12 +10,9 @@ of the wall as built.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 from micro.columns import Band, FlatRecord, LoadFactor, Seconds, column, record_of
-
-if TYPE_CHECKING:  # pragma: no cover - typing only
-    from comparison.domain.verdict import Comparison
 
 
 @dataclass(frozen=True)
@@ -65,6 +62,7 @@ class ComparisonRecord(FlatRecord):
                                     source="seconds.total")
 
 
-def comparison_record(c: Comparison) -> ComparisonRecord:
-    """The :class:`ComparisonRecord` of ``c``."""
+def comparison_record(c: Any) -> ComparisonRecord:
+    """The :class:`ComparisonRecord` of ``c``, a :class:`comparison.domain.verdict.Comparison` (named, not
+    imported: that module imports this one)."""
     return record_of(ComparisonRecord, c)

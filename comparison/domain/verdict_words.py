@@ -7,12 +7,12 @@ where a sliver's local mechanism governs the wall as built (:mod:`comparison.dom
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import Any
 
 from comparison.domain.proof import ASSOCIATIVE_BOUND, GLOBAL_CLOSED, NOT_REFUTED, SAFE, UNSAFE, above
 
-if TYPE_CHECKING:  # pragma: no cover - typing only
-    from comparison.domain.verdict import Comparison
+#: A :class:`comparison.domain.verdict.Comparison` (named, not imported: that module imports this one).
+Comparison = Any
 
 
 def verdict_sentence(c: Comparison) -> str:
