@@ -5,7 +5,7 @@ Example::
     xcheck compare --rows 12 --t 1 --m 1/2 --f 0.75
     xcheck compare --storeys 5 --rows 150 --t 1 --m 1/3 --f 0.75 --json
 
-The first line states the verdict and its proof (:func:`comparison.domain.verdict.verdict_sentence`), the next
+The first line states the verdict and its proof (:func:`comparison.domain.verdict_words.verdict_sentence`), the next
 ones the numbers. Exit 0 whatever the verdict, 1 when a method failed (the verdict is then only what was
 proven, and the lines say what is missing), 2 on bad input.
 """
