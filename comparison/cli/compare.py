@@ -67,9 +67,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="then the global search by branch and bound: a proven lower bound, the only way to a "
                    "'safe' verdict (a reference tool for walls of a few blocks)")
     g.add_argument("--node-limit", default=None, metavar="N",
-                   help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647")
+                   help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647 (default: 1,600,000 "
+                   "over the model's binaries, 20 to 100,000); the budget that decides where the search stops, the "
+                   "same answer on every machine")
     g.add_argument("--time-limit", default=None, metavar="SECONDS",
-                   help="time limit per LP solve (with --global also of each direction's branch and bound)")
+                   help="time limit per LP solve (with --global also of each direction's branch and bound: a "
+                   "wall-clock limit, reported as such; default none)")
     g.add_argument("--json", action="store_true", help="print one JSON object (docs/schemas/compare.schema.json)")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its governing micro mechanism")
     g.add_argument("--state", default=None, metavar="FILE.json",

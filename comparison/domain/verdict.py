@@ -59,9 +59,10 @@ class CompareOptions:
             only way to a "safe" verdict; a reference tool for walls of a few blocks).
         lowest: the descent to the lowest certified collapse state (the value to quote); ``False``: the
             iterated LP's state only.
-        time_limit: seconds per LP solve, and of each direction's branch and bound (``None``: the
-            library's defaults).
-        node_limit: branch-and-bound nodes per direction of the global search (``None``: no limit).
+        time_limit: seconds per LP solve, and of each direction's branch and bound (``None``: none; a
+            wall-clock limit the user gives, whose numbers depend on the machine).
+        node_limit: branch-and-bound nodes per direction of the global search (``None``: the budget of the
+            wall's size, :func:`micro.global_search.default_node_limit`): where it stops, on every machine.
     """
 
     first_course: Literal["full", "half"] = "full"
