@@ -211,7 +211,8 @@ class NonAssociativeRecord(MicroRecord):
                                source="search.gap", default=math.nan)
     global_status: str = column(
         "empty (not run), optimal (the gap closed: global_load_factor is the global minimum), time_limit "
-        "(stopped by --time-limit: depends on the machine), node_limit, infeasible or solver_error.",
+        "(stopped by --time-limit: depends on the machine), node_limit (stopped at its budget of nodes: the "
+        "same on every machine), infeasible or solver_error.",
         source="search.status", default="")
     fused_bodies: int = column(
         "--fuse: moving bodies of the fused wall the iterated LP ran on (0: the wall itself).",

@@ -5,7 +5,7 @@ Example::
     xcheck compare --rows 12 --t 1 --m 1/2 --f 0.75
     xcheck compare --storeys 5 --rows 150 --t 1 --m 1/3 --f 0.75 --json
 
-The first line states the verdict and its proof (:func:`comparison.domain.verdict.verdict_sentence`), the next
+The first line states the verdict and its proof (:func:`comparison.domain.verdict_words.verdict_sentence`), the next
 ones the numbers. Exit 0 whatever the verdict, 1 when a method failed (the verdict is then only what was
 proven, and the lines say what is missing), 2 on bad input.
 """
@@ -67,9 +67,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="then the global search by branch and bound: a proven lower bound, the only way to a "
                    "'safe' verdict (a reference tool for walls of a few blocks)")
     g.add_argument("--node-limit", default=None, metavar="N",
-                   help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647")
+                   help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647 (default: 1,600,000 "
+                   "over the model's binaries, 20 to 100,000); the budget that decides where the search stops, the "
+                   "same answer on every machine")
     g.add_argument("--time-limit", default=None, metavar="SECONDS",
-                   help="time limit per LP solve (with --global also of each direction's branch and bound)")
+                   help="time limit per LP solve (with --global also of each direction's branch and bound: a "
+                   "wall-clock limit, reported as such; default none)")
     g.add_argument("--json", action="store_true", help="print one JSON object (docs/schemas/compare.schema.json)")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its governing micro mechanism")
     g.add_argument("--state", default=None, metavar="FILE.json",

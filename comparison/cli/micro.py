@@ -86,8 +86,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="friction on the head joints (default frictional)",
     )
     g.add_argument("--time-limit", default=None, metavar="SECONDS",
-                   help="time limit per LP solve (with --global also of each direction's branch and bound, "
-                   "default 300)")
+                   help="time limit per LP solve (with --global also of each direction's branch and bound: a "
+                   "wall-clock limit, reported as such; default none)")
     g.add_argument("--json", action="store_true", help="print one JSON object")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its collapse mechanism")
     add_state_option(g)
@@ -118,8 +118,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--node-limit",
         default=None,
         metavar="N",
-        help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647 (the same answer on every "
-        "machine, unlike --time-limit)",
+        help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647 (default: 1,600,000 over the "
+        "model's binaries, 20 to 100,000: 20,000 on ten blocks); the budget that decides where the search stops, "
+        "the same answer on every machine, unlike --time-limit",
     )
     na.add_argument(
         "--tuning",

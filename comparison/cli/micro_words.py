@@ -177,3 +177,5 @@ def _print_global(g: GlobalResult | None) -> None:
     if g is not None:
         print(f"  global search ({g.status}): best lambda = {g.load_factor:.6f}, proven lower bound "
               f"{g.lower_bound:.6f}, gap {100 * g.gap:.2f} %, {g.seconds:.1f} s")
+        if g.message:  # where it stopped: its node budget (the same on every machine) or a time limit given
+            print(f"    {g.message}")

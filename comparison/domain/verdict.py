@@ -22,9 +22,6 @@ from typing import TYPE_CHECKING, Any, Literal, cast, overload
 from comparison.domain.proof import (
     ASSOCIATIVE_BOUND,
     GLOBAL_CLOSED,
-    NOT_REFUTED,
-    SAFE,
-    UNSAFE,
     above,
     judge,
     refuting_below,
@@ -36,6 +33,7 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
 
     import macro
     import micro
+    from comparison.domain.comparison_record import ComparisonRecord
     from comparison.domain.wall_mechanism import WallMechanism
 
     #: :func:`compare`'s ``progress``: a line when a model has its value, each non-associative LP as it finishes.
@@ -61,9 +59,10 @@ class CompareOptions:
             only way to a "safe" verdict; a reference tool for walls of a few blocks).
         lowest: the descent to the lowest certified collapse state (the value to quote); ``False``: the
             iterated LP's state only.
-        time_limit: seconds per LP solve, and of each direction's branch and bound (``None``: the
-            library's defaults).
-        node_limit: branch-and-bound nodes per direction of the global search (``None``: no limit).
+        time_limit: seconds per LP solve, and of each direction's branch and bound (``None``: none; a
+            wall-clock limit the user gives, whose numbers depend on the machine).
+        node_limit: branch-and-bound nodes per direction of the global search (``None``: the budget of the
+            wall's size, :func:`micro.global_search.default_node_limit`): where it stops, on every machine.
     """
 
     first_course: Literal["full", "half"] = "full"
@@ -176,9 +175,32 @@ class Comparison:
         r = self.nonassociative_result
         return r is not None and any(low.stop == TARGET for low in r.lowest)
 
+    @property
+    def held_load_factor(self) -> float:
+        """The held wall's λ beside the wall as built's where a sliver's local mechanism governs it (NaN: none,
+        or its analysis failed)."""
+        loc = self.local_mechanism
+        held = None if loc is None else loc.get("held_load_factor")
+        return math.nan if held is None else float(held)
+
+    @property
+    def local_description(self) -> str:
+        """What a sliver lets collapse in the wall as built (``""``: nothing local governs)."""
+        return "" if self.local_mechanism is None else str(self.local_mechanism["description"])
+
     def sentence(self) -> str:
-        """The verdict and its proof in one sentence (the first line of ``xcheck compare``)."""
+        """The verdict and its proof in one sentence (the first line of ``xcheck compare``):
+        :func:`comparison.domain.verdict_words.verdict_sentence`."""
+        from comparison.domain.verdict_words import verdict_sentence
+
         return verdict_sentence(self)
+
+    def to_record(self) -> ComparisonRecord:
+        """The flat record: a read-only mapping of the numbers, the verdict and the bond
+        (:class:`comparison.domain.comparison_record.ComparisonRecord`); ``to_record().to_dict()`` its JSON form."""
+        from comparison.domain.comparison_record import comparison_record
+
+        return comparison_record(self)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready (NaN -> ``None``), in the field names of ``docs/schemas/compare.schema.json``."""
@@ -436,66 +458,3 @@ def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResu
                mechanism_band=result.mechanism_band,
                certified_load_factor=min(states) if states else math.nan)
     return out
-
-
-def verdict_sentence(c: Comparison) -> str:
-    """The verdict and its proof in one sentence, with the numbers it rests on (and, where a sliver's local
-    mechanism governs the wall as built, a second sentence that says so)."""
-    return _verdict_only(c) + _local_sentence(c)
-
-
-def _local_sentence(c: Comparison) -> str:
-    loc = c.local_mechanism
-    if loc is None:
-        return ""
-    held = loc.get("held_load_factor")
-    beside = (f"; with the slivers held to the blocks that carry them (another wall), λ would be {held:.4f}"
-              if held is not None else "")
-    return (f" The wall as built collapses there by a local mechanism: {loc['description']} at λ "
-            f"{loc['load_factor']:.4f}, which the verdict rests on{beside}.")
-
-
-def _verdict_only(c: Comparison) -> str:
-    macro_lam = c.macro_load_factor
-    lam = f"{macro_lam:.4f}"
-    if c.verdict == UNSAFE and c.proof == ASSOCIATIVE_BOUND:
-        return (f"The macro model is unsafe for this wall: its λ {lam} is above the associative bound "
-                f"{c.associative_load_factor:.4f} ({_percent(macro_lam, c.associative_load_factor)}), which no "
-                "non-associative collapse load exceeds.")
-    if c.verdict == UNSAFE:
-        return (f"The macro model is unsafe for this wall: its λ {lam} is above the certified collapse state's "
-                f"{c.certified_load_factor:.4f} ({_percent(macro_lam, c.certified_load_factor)}).")
-    if c.verdict == SAFE:
-        return (f"The macro model is safe for this wall: its λ {lam} lies below the global search's proven lower "
-                f"bound {c.global_lower_bound:.4f} on every collapse load "
-                f"({_percent(macro_lam, c.global_lower_bound)}).")
-    if c.verdict == NOT_REFUTED:
-        what = "lowest certified" if c.micro_quoted == "lowest certified" else "the iterated LP's"
-        where = ("lies below every collapse state found" if above(c.micro_load_factor, macro_lam)
-                 else "agrees with the lowest collapse state found within the solvers' accuracy")
-        closed = c.global_status == GLOBAL_CLOSED
-        bound = ("no lower bound was computed" if not c.global_status else
-                 f"the global search's proven lower bound {c.global_lower_bound:.4f} agrees with it within the "
-                 "solvers' accuracy: the macro λ is the wall's collapse load to that accuracy"
-                 if closed and not above(macro_lam, c.global_lower_bound) else
-                 f"the global search's lower bound {c.global_lower_bound:.4f} does not lie above it"
-                 if closed else
-                 f"the global search did not close ({c.global_status}; lower bound {c.global_lower_bound:.4f})")
-        return (f"The macro model is not refuted for this wall: its λ {lam} {where} ({what} "
-                f"{c.micro_load_factor:.4f}, {_percent(macro_lam, c.micro_load_factor)}); {bound}.")
-    if not math.isfinite(macro_lam):
-        return "No verdict for this wall: the macro model gave no load factor."
-    bound = f" {c.associative_load_factor:.4f}" if math.isfinite(c.associative_load_factor) else ""
-    if math.isfinite(c.micro_load_factor):  # above a state that is not certified
-        return (f"No verdict for this wall: the macro λ {lam} is not above the associative bound{bound}, and the "
-                f"state it lies above ({c.micro_load_factor:.4f}, "
-                f"{_percent(macro_lam, c.micro_load_factor)}) is not certified (" + "; ".join(c.diagnostics) + ").")
-    return (f"No verdict for this wall: the macro λ {lam} is not above the associative bound{bound}, and no "
-            "collapse state was found to compare it with (" + "; ".join(c.diagnostics) + ").")
-
-
-def _percent(value: float, reference: float) -> str:
-    """``+0.4 %`` / ``−6.2 %``: ``value`` relative to ``reference``."""
-    d = 100.0 * (value - reference) / reference
-    size = f"{abs(d):.1f}" if abs(d) >= 0.1 or d == 0 else f"{abs(d):.2g}"  # +0.03 %, never an unsafe +0.0 %
-    return f"{'+' if d >= 0 else '−'}{size} %"

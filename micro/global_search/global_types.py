@@ -33,6 +33,22 @@ SOLVERS = ("highs", "scip")
 #: Big-M policies for the normal forces (:attr:`GlobalOptions.bounds`).
 POLICIES = ("per_point", "uniform")
 
+#: The default budget of the branch and bound, in nodes times binaries per direction: a node's LP grows
+#: with the model (0.6 ms of CPU a node on a 10-block wall of 80 binaries, 6 ms on Set 12's 536), so that
+#: nodes times binaries is about the work. 1.6 million: 20,000 nodes on ten blocks (about 13 s of CPU),
+#: 2,985 on Set 12 (its root 2.4 s and 6 ms a node: about 20 s). A count of nodes, not seconds: the same
+#: answer on every machine, busy or quiet (``docs/micro/global-search.md``).
+NODE_WORK = 1_600_000
+#: The default budget's bounds in nodes per direction: at least the root and a few branchings, at most
+#: what the walls that close ever needed (a 9-block wall closed in 18,693 nodes) with room to spare.
+MIN_NODES, MAX_NODES = 20, 100_000
+
+
+def default_node_limit(binaries: int) -> int:
+    """The default node budget of one direction of a model of ``binaries`` binary columns:
+    :data:`NODE_WORK` over ``binaries``, within [:data:`MIN_NODES`, :data:`MAX_NODES`]."""
+    return int(min(MAX_NODES, max(MIN_NODES, NODE_WORK // max(int(binaries), 1))))
+
 
 def scip_available() -> bool:
     """True when ``pyscipopt`` is installed (the optional extra ``global``)."""
@@ -44,13 +60,14 @@ class GlobalOptions:
     """Options of the global search.
 
     Attributes:
-        direction_time_limit: seconds of branch and bound per load direction
-            (``None``: none). A search stopped by it reports ``time_limit``
-            with its bound and best state; such numbers depend on the machine.
-            Named apart from the iterated LP's ``time_limit`` (seconds per LP):
-            one meaning per name.
-        node_limit: branch-and-bound nodes per direction (``None``: none);
-            unlike the time limit it gives the same answer on every machine.
+        direction_time_limit: seconds of branch and bound per load direction, a limit the user gives
+            (``None``, the default: none, the clock decides nothing). A search stopped by it reports
+            ``time_limit`` with its bound and best state, and says that they depend on the machine.
+            Named apart from the iterated LP's ``time_limit`` (seconds per LP): one meaning per name.
+        node_limit: branch-and-bound nodes per direction: the budget that decides where the search
+            stops (``None``, the default: :func:`default_node_limit` of the model, :data:`NODE_WORK`
+            over its binaries). A count, so that the same command gives the same status, bound and
+            state on a busy machine and on a quiet one.
         mip_gap: relative gap ``(lambda - bound) / lambda`` at which the
             search stops as ``optimal``.
         bounds: big-M policy for the normal forces: ``"per_point"`` (an LP
@@ -62,7 +79,7 @@ class GlobalOptions:
             SCIP; needs ``pyscipopt``, the optional extra ``global``).
     """
 
-    direction_time_limit: float | None = 300.0
+    direction_time_limit: float | None = None
     node_limit: int | None = None
     mip_gap: float = 1e-7
     bounds: Literal["per_point", "uniform"] = "per_point"
@@ -206,6 +223,8 @@ class GlobalDirection:
         residuals: its check (:func:`micro.global_search.pattern.collapse_residuals`).
         bounds: the big-M bounds used, or ``None``.
         binaries: binary columns of the model.
+        node_limit: the node budget it ran under (:attr:`GlobalOptions.node_limit`, or the default of
+            the model's size).
         nodes: branch-and-bound nodes.
         mip_seconds: time of the branch and bound.
         seconds: time of the whole direction (bounds, model, search, checks).
@@ -227,6 +246,7 @@ class GlobalDirection:
     residuals: dict[str, float] = field(repr=False)
     bounds: BigM | None = field(repr=False)
     binaries: int
+    node_limit: int
     nodes: int
     mip_seconds: float
     seconds: float

@@ -215,3 +215,28 @@ def test_a_value_that_is_absent_is_none_in_python_as_in_json(set12: Comparison) 
     assert set12.global_status is None and d["global_status"] is None
     for name in ("global_status", "micro_quoted", "macro_mechanism", "verdict", "proof"):
         assert getattr(set12, name) == d[name], name
+
+
+def test_a_comparison_has_a_flat_record(set12: Comparison) -> None:
+    """``to_record()``: a read-only mapping of the numbers, the verdict and the bond; its JSON form round-trips,
+    and every field named as a key of ``--json`` holds the same value there."""
+    from comparison.domain.comparison_record import ComparisonRecord
+
+    rec = set12.to_record()
+    assert rec["verdict"] == "not refuted" and rec["micro_load_factor"] == set12.micro_load_factor
+    assert rec["ends"] == "closers" and rec["local_description"] == "" and math.isnan(rec["held_load_factor"])
+    assert rec["total_seconds"] == set12.seconds.total and list(rec)[0] == "verdict"
+    with pytest.raises(KeyError):
+        rec["no such field"]
+    back = ComparisonRecord.from_dict(json.loads(json.dumps(rec.to_dict())))
+    assert back.to_dict() == rec.to_dict()
+    doc = set12.to_dict()
+    shared = [k for k in rec if k in doc]
+    assert len(shared) >= 20 and all(rec.to_dict()[k] == doc[k] for k in shared)
+
+
+def test_the_record_names_the_local_mechanism_and_the_held_wall() -> None:
+    c = comparison.compare(CUT_TOP)
+    rec = c.to_record()
+    assert rec["local_description"] == c.local_mechanism["description"]  # type: ignore[index]
+    assert rec["held_load_factor"] == c.local_mechanism["held_load_factor"] > rec["associative_load_factor"]  # type: ignore[index]
