@@ -55,13 +55,14 @@ solver = "highs-ipm"
 """
 
 
-def _sweep(tmp_path: Path) -> list[str]:
+def _sweep(tmp_path: Path, micro: bool = True) -> list[str]:
+    """Sweep :data:`ONE_WALL` (``micro=False``: its macro cell only, no worker process); the paths printed."""
     grid, out, cache = tmp_path / "one.toml", tmp_path / "out", tmp_path / "cache"
-    grid.write_text(ONE_WALL)
+    grid.write_text(ONE_WALL if micro else ONE_WALL.split('[[method]]\nkind = "micro-assoc"')[0])
     argv = ["sweep", str(grid), "--out", str(out), "--cache", str(cache), "--workers", "1", "--no-report"]
     assert main(argv) == 0  # the page (--no-report: not drawn here) is the sweep's tests' business
     assert {p.name for p in out.iterdir()} == {"one.csv", "one.json"}
-    assert len(list((cache / "micro-assoc").glob("*.json"))) == 1  # the computed result kept
+    assert len(list((cache / "micro-assoc").glob("*.json"))) == micro  # the computed result kept
     return [str(p) for p in (out / "one.csv", out / "one.json")]
 
 
@@ -72,7 +73,7 @@ def test_a_sweep_whose_standard_error_fails_or_is_closed_keeps_its_results(
     """``xcheck sweep ... 2>`` a full device, or with standard error closed: every cell computed and kept in
     the cache, the table and metadata written, exit 0, and standard output holds the paths alone."""
     monkeypatch.setattr(sys, "stderr", FullDevice() if stderr == "full" else None)
-    paths = _sweep(tmp_path)
+    paths = _sweep(tmp_path, micro=stderr == "full")  # the micro cell's storing shown once
     out = capsys.readouterr().out
     assert out.splitlines() == [f"{kind}{path}" for kind, path in zip(RESULT_LINES, paths, strict=True)]
 
