@@ -186,7 +186,8 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
         results_list.append(res)
         if res.converged and o.lowest:
             # without the iterated LP's model (a fused wall) the descent makes no proposal (its module docstring)
-            lowest_list.append(lowest_state(lp, res, r, model, proposals=model is not None))
+            searched = isinstance(res.sequence, SequenceDiagnostics) and res.sequence.reduced
+            lowest_list.append(lowest_state(lp, res, r, model, proposals=model is not None, searched=searched))
         del model  # the descent has taken over what it needs
         if _on_target(o, res, lowest_list):
             break  # a certified state below ``stop_below``: the other direction is not needed
