@@ -15,7 +15,6 @@ Example:
 """
 
 from macro.paper import PaperWalls, paper_walls
-from macro.records import MacroRecord
 from macro.search import SearchSettings
 from macro.solve import HingeResult, MacroResult, MacroWall, StoreyTerms, load_factor_curve, solve
 from macro.sweep import MECHANISMS, SweepResult, sweep
@@ -23,7 +22,6 @@ from macro.sweep import MECHANISMS, SweepResult, sweep
 __all__ = [
     "MECHANISMS",
     "HingeResult",
-    "MacroRecord",
     "MacroResult",
     "MacroWall",
     "PaperWalls",

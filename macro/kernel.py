@@ -392,3 +392,15 @@ def search_walls(
         L, v, b, f = length[w], overlap[w], height[w], friction[w]
         storey_constants(best_k, w, L, v, b, weight[w], f, rows, thickness, overload, st)
         lam_s[w] = sliding_factor(tau[w, best_k - 1], best_k, st, L, v, b, f, overload, w)
+
+
+#: The compiled functions of this module (what :func:`compilations` counts).
+COMPILED = (storey_constants, piece_coefficients, lambda_derivatives, _low, lower_bound, sliding_factor, _refine,
+            _search_piece, _minimise_hinge, search_walls)
+
+
+def compilations() -> int:
+    """How many compilations of this module's functions this process made rather than read from numba's cache
+    on disk: the first use after an install (or an edit of this file) compiles them, seconds that a time
+    printed then includes; 0 once the cache is warm."""
+    return sum(sum(f.stats.cache_misses.values()) for f in COMPILED)

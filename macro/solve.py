@@ -12,14 +12,13 @@ import numpy as np
 from macro import checks
 from macro.bounds import MECHANISMS, governing, overturning_load_factor
 from macro.equations import TERM_NAMES, evaluate, hinge_problems
-from macro.records import MacroRecord
 from macro.search import DEFAULT_SEARCH, SearchSettings, minimise_walls
 
 #: Peak memory of the search per square of the number of storeys, for one wall with the
 #: minimum of every hinge (:func:`solve`), and per wall and storey for a batch that keeps
 #: only each wall's minimum (:func:`macro.sweep`). Measured (resident set above the
 #: imports): one wall of 1,000 / 2,000 / 4,000 one-row storeys 173 MB / 723 MB / 2.8 GB
-#: (173-181 bytes N^2; 7 s / 46 s / 317 s); sweeps of 4,096 walls of 10 and 50 storeys and
+#: (173-181 bytes N^2; their seconds: docs/speed.md); sweeps of 4,096 walls of 10 and 50 storeys and
 #: 300 walls of 200 storeys 123-146 bytes per wall and storey.
 SEARCH_BYTES_PER_STOREY_SQUARED = 200
 SWEEP_BYTES_PER_WALL_STOREY = 200
@@ -199,25 +198,10 @@ class MacroResult:
         d["wall"] = asdict(self.wall)
         return d
 
-    def to_record(self) -> MacroRecord:
-        """The flat record of this result (see :class:`macro.records.MacroRecord`)."""
-        return MacroRecord(
-            load_factor=self.load_factor,
-            rocking_load_factor=self.rocking_load_factor,
-            sliding_load_factor=self.sliding_load_factor,
-            overturning_load_factor=self.overturning_load_factor,
-            tan_alpha_c=self.tan_alpha_c,
-            alpha_c_deg=self.alpha_c_deg,
-            tan_alpha_c_star=self.tan_alpha_c_star,
-            alpha_c_star_deg=self.alpha_c_star_deg,
-            alpha_b_deg=self.alpha_b_deg,
-            alpha_ratio=self.alpha_ratio,
-            hinge_storey=self.hinge_storey,
-            hinge_load_factors=tuple(h.rocking_load_factor for h in self.hinges),
-            mechanism=self.mechanism,
-            status=self.status,
-            solve_seconds=self.solve_seconds,
-        )
+    @property
+    def hinge_load_factors(self) -> tuple[float, ...]:
+        """The minimum of Eq. (10) for the hinge at storeys 1, 2, ..."""
+        return tuple(h.rocking_load_factor for h in self.hinges)
 
 
 def _problems(wall: MacroWall) -> Any:

@@ -20,8 +20,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Status
+from micro.columns import record_of
 from micro.mechanism import CONTACT_STATE_NAMES, Mechanism
-from micro.records import AssociativeRecord, check_success, json_number, record_of
+from micro.records import AssociativeDirection, AssociativeRecord, check_success
 
 FloatArray = NDArray[np.float64]
 
@@ -58,18 +59,47 @@ def direction_sign(name: str) -> int:
     return 1 if name == "+x" else -1
 
 
-def given_fields(directions: tuple[DirectionResult, ...], mechanism: Mechanism | None,
-                 by_direction: Mapping[str, float] | None = None) -> dict[str, Any]:
-    """The :class:`~micro.records.MicroRecord` fields a result computes for its record (the others it holds
-    under their names): ``lambda`` per direction (``by_direction``, else each direction's own
-    ``load_factor``) and the contact states of the governing ``mechanism``."""
-    counts = dict.fromkeys(CONTACT_STATE_NAMES, 0) if mechanism is None else mechanism.state_counts()
-    by_dir = {d.direction: d.load_factor for d in directions} if by_direction is None else by_direction
-    return {
-        "load_factor_plus": by_dir.get("+x", math.nan), "load_factor_minus": by_dir.get("-x", math.nan),
-        "closed_contacts": counts["closed"], "opening_contacts": counts["opening"],
-        "sliding_contacts": counts["sliding"],
-    }
+@dataclass(frozen=True)
+class ContactCounts:
+    """How many contacts of a mechanism stay closed, open and slide (0 each without a mechanism)."""
+
+    closed: int = 0
+    opening: int = 0
+    sliding: int = 0
+
+    @classmethod
+    def of(cls, mechanism: Mechanism | None) -> ContactCounts:
+        """The counts of ``mechanism`` (zeros for ``None``)."""
+        return cls() if mechanism is None else cls(**mechanism.state_counts())
+
+
+class RecordSources:
+    """What a result's record (:mod:`micro.records`) reads beside the result's own fields, the same for
+    both analyses: ``lambda`` per direction and the governing mechanism's contact states."""
+
+    def direction_load_factors(self) -> dict[str, float]:
+        """The load factor of each direction solved."""
+        raise NotImplementedError
+
+    @property
+    def governing_mechanism(self) -> Mechanism | None:
+        """The mechanism of the governing direction (``None`` without one)."""
+        raise NotImplementedError
+
+    @property
+    def load_factor_plus(self) -> float:
+        """``lambda`` of the ``+x`` direction (NaN when not solved)."""
+        return self.direction_load_factors().get("+x", math.nan)
+
+    @property
+    def load_factor_minus(self) -> float:
+        """``lambda`` of the ``-x`` direction (NaN when not solved, e.g. a mirror-symmetric wall)."""
+        return self.direction_load_factors().get("-x", math.nan)
+
+    @property
+    def mechanism_contacts(self) -> ContactCounts:
+        """The governing mechanism's contact states."""
+        return ContactCounts.of(self.governing_mechanism)
 
 
 @dataclass(frozen=True, eq=False)
@@ -123,7 +153,7 @@ class DirectionResult:
 
 
 @dataclass(frozen=True, eq=False)
-class LimitResult:
+class LimitResult(RecordSources):
     """Result of an associative limit analysis (governing direction first).
 
     Attributes:
@@ -201,26 +231,24 @@ class LimitResult:
                                    seconds=0.0, native_status=d.native_status, info={"mirror_of": d.direction})
         raise KeyError(direction)
 
+    def direction_load_factors(self) -> dict[str, float]:
+        """The load factor of each direction solved."""
+        return {d.direction: d.load_factor for d in self.directions}
+
+    @property
+    def governing_mechanism(self) -> Mechanism | None:
+        """The governing mechanism (:attr:`mechanism`)."""
+        return self.mechanism
+
     def to_record(self) -> AssociativeRecord:
         """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form
         (see :mod:`micro.records`)."""
-        return record_of(AssociativeRecord, self, solver=self.solver, **given_fields(self.directions, self.mechanism))
+        return record_of(AssociativeRecord, self)
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary: the record (:meth:`to_record`, whose ``*_contacts``
         keys are the mechanism's contact states, 0 without one) with the
         directions as a nested object."""
         record = self.to_record()
-        return {
-            **record.to_dict(),
-            "directions": {
-                d.direction: {
-                    "load_factor": json_number(d.load_factor),
-                    "status": d.status,
-                    "native_status": d.native_status,
-                    "iterations": d.iterations,
-                    "solve_seconds": d.seconds,
-                }
-                for d in self.directions
-            },
-        }
+        return {**record.to_dict(),
+                "directions": {d.direction: record_of(AssociativeDirection, d).to_dict() for d in self.directions}}

@@ -41,9 +41,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.columns import json_number
 from micro.geometry import BED, BlockWall, closer_width
 from micro.mechanism import Mechanism
-from micro.records import json_number
 
 FloatArray = NDArray[np.float64]
 

@@ -22,8 +22,8 @@ generators, ``n = g+ + g-``, ``s = mu (g+ - g-)``, ``g+/- >= 0``
 rows and ``2 P + 1`` columns (``g+`` for all points, ``g-`` for all points,
 ``lambda``). The same LP written with ``n``, ``s`` columns and two friction
 rows per point (``s - mu n <= 0``, ``-s - mu n <= 0``; the cvxpy reference
-back end uses it) has ``2P`` more rows; HiGHS IPM took 6.5 s on it for the
-1,230-block wall versus 2.0 s in generator form, and was no more accurate.
+back end uses it) has ``2P`` more rows; HiGHS IPM was slower on it than on the
+generator form (docs/speed.md) and no more accurate.
 
 Non-associative friction: the rebuilt condition ``|s_p| <= mu_p nbar_p`` is
 a pair of columns per point, ``n_p >= 0`` along the normal and ``s_p`` along

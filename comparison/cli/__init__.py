@@ -13,9 +13,8 @@ the command like one later (exit 130, one line), not with a traceback.
 
 An interrupted command exits without the interpreter's garbage collection of
 what it built (:func:`_skip_collection_at_exit`): after a Ctrl-C inside
-``--solver cvxpy`` on a 1,230-block wall the collection at exit took about a
-second of the time to exit 130 (the research page
-the research page on Ctrl-C and the exit (``docs/research/``) has the figures).
+``--solver cvxpy`` the collection at exit is most of the time to exit 130 (measured:
+docs/speed.md, "What the code's choices rest on").
 """
 
 from __future__ import annotations

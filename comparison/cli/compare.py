@@ -5,7 +5,7 @@ Example::
     xcheck compare --rows 12 --t 1 --m 1/2 --f 0.75
     xcheck compare --storeys 5 --rows 150 --t 1 --m 1/3 --f 0.75 --json
 
-The first line states the verdict and its proof (:func:`comparison.domain.verdict.verdict_sentence`), the next
+The first line states the verdict and its proof (:func:`comparison.domain.verdict_words.verdict_sentence`), the next
 ones the numbers. Exit 0 whatever the verdict, 1 when a method failed (the verdict is then only what was
 proven, and the lines say what is missing), 2 on bad input.
 """
@@ -18,6 +18,7 @@ import math
 from typing import TYPE_CHECKING
 
 from comparison.cli.options import (
+    COMPILING,
     PLOT_SUFFIXES,
     QUIET,
     SOLVER_COUNT_MAX,
@@ -66,9 +67,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="then the global search by branch and bound: a proven lower bound, the only way to a "
                    "'safe' verdict (a reference tool for walls of a few blocks)")
     g.add_argument("--node-limit", default=None, metavar="N",
-                   help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647")
+                   help="with --global: branch-and-bound nodes per direction, 1..2,147,483,647 (default: 1,600,000 "
+                   "over the model's binaries, 20 to 100,000); the budget that decides where the search stops, the "
+                   "same answer on every machine")
     g.add_argument("--time-limit", default=None, metavar="SECONDS",
-                   help="time limit per LP solve (with --global also of each direction's branch and bound)")
+                   help="time limit per LP solve (with --global also of each direction's branch and bound: a "
+                   "wall-clock limit, reported as such; default none)")
     g.add_argument("--json", action="store_true", help="print one JSON object (docs/schemas/compare.schema.json)")
     g.add_argument("--plot", default=None, metavar="FILE.png", help="draw the wall and its governing micro mechanism")
     g.add_argument("--state", default=None, metavar="FILE.json",
@@ -99,11 +103,13 @@ def options_from_args(args: argparse.Namespace) -> CompareOptions:
 def run(args: argparse.Namespace) -> int:
     """Handler of ``xcheck compare``."""
     from comparison.domain.verdict import compare
+    from macro import kernel
 
     options = options_from_args(args)
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)  # before the solves, not after
     check_state_path(args)
     spec = wall_from_args(args)
+    compiled = kernel.compilations()
     progress = None
     if args.verbosity != QUIET:
         from comparison.cli.solve_progress import SolveProgress
@@ -125,7 +131,8 @@ def run(args: argparse.Namespace) -> int:
     elif args.verbosity == QUIET:
         print(result.verdict + (f" ({result.proof})" if result.proof else "") if result.verdict else "no verdict")
     else:
-        print(format_comparison(result, verbose=args.verbosity >= VERBOSE))
+        print(format_comparison(result, verbose=args.verbosity >= VERBOSE,
+                                compiled=kernel.compilations() > compiled))
         if args.plot is not None and not drawn:
             print(f"  no plot written to {args.plot}: no micro mechanism")
     return exit_after_outputs(result.status == "ok", plot_error, state_error)
@@ -141,8 +148,10 @@ def _state(args: argparse.Namespace, c: Comparison, spec: WallSpec) -> tuple[str
     return (None, None) if args.state is None else (None, "--state: no micro state to write")
 
 
-def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
-    """The verdict's sentence, then the numbers, one per line (NaN ones left out, what is missing said)."""
+def format_comparison(c: Comparison, *, verbose: bool = False, compiled: bool = False) -> str:
+    """The verdict's sentence, then the numbers, one per line (NaN ones left out, what is missing said);
+    ``compiled``: the macro model's compiled kernel was compiled during the run (its first use after an
+    install), which its time says."""
     lines = [c.sentence()]
     lines.append(f"  macro model:         lambda = {c.macro_load_factor:.6f} ({c.macro_mechanism or 'failed'})"
                  if math.isfinite(c.macro_load_factor) else "  macro model:         no load factor")
@@ -172,6 +181,8 @@ def format_comparison(c: Comparison, *, verbose: bool = False) -> str:
     s = c.seconds
     stages = [f"{name} {v:.2f} s" for name, v in (("macro", s.macro), ("associative", s.associative),
                                                     ("non-associative", s.nonassociative)) if math.isfinite(v)]
+    if compiled and stages and stages[0].startswith("macro"):
+        stages[0] += f" ({COMPILING})"
     lines.append(f"  {c.blocks} blocks; " + ", ".join(stages) + f"; total {s.total:.2f} s")
     if verbose:
         paper = ", ".join(f"{k} = {v:.6g}" for k, v in c.wall.paper_parameters().items()

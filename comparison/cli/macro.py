@@ -7,7 +7,16 @@ import json
 from collections.abc import Sequence
 
 import macro
-from comparison.cli.options import QUIET, VERBOSE, UsageError, add_command, add_wall_options, wall_from_args
+from comparison.cli.options import (
+    COMPILING,
+    QUIET,
+    VERBOSE,
+    UsageError,
+    add_command,
+    add_wall_options,
+    wall_from_args,
+)
+from macro import kernel
 from macro.checks import TooLarge
 
 
@@ -27,6 +36,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Solve and print."""
     spec = wall_from_args(args)
+    compiled = kernel.compilations()
     try:
         result = macro.solve(spec.to_macro())
     except TooLarge as exc:
@@ -43,7 +53,8 @@ def run(args: argparse.Namespace) -> int:
     if args.verbosity >= VERBOSE:
         paper = ", ".join(f"{k} = {v:.6g}" for k, v in spec.paper_parameters().items()
                           if k != "p_storeys" and v is not None)
-        print(f"  paper parameters: {paper}\n  solved in {1e3 * result.solve_seconds:.2f} ms")
+        why = f" ({COMPILING})" if kernel.compilations() > compiled else ""
+        print(f"  paper parameters: {paper}\n  solved in {1e3 * result.solve_seconds:.2f} ms{why}")
     return 0
 
 

@@ -55,6 +55,9 @@ exit codes:
 """
 
 
+#: Beside a time that includes compiling the macro model's kernel (numba), which its first use after an
+#: install does once (``macro.kernel.compilations``): seconds of a first command, not the model's speed.
+COMPILING = "compiling the macro model's kernel on its first use; later runs read it from the cache"
 #: The figure formats ``--plot`` writes.
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 

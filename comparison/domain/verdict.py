@@ -22,9 +22,6 @@ from typing import TYPE_CHECKING, Any, Literal, cast, overload
 from comparison.domain.proof import (
     ASSOCIATIVE_BOUND,
     GLOBAL_CLOSED,
-    NOT_REFUTED,
-    SAFE,
-    UNSAFE,
     above,
     judge,
     refuting_below,
@@ -36,6 +33,7 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
 
     import macro
     import micro
+    from comparison.domain.comparison_record import ComparisonRecord
     from comparison.domain.wall_mechanism import WallMechanism
 
     #: :func:`compare`'s ``progress``: a line when a model has its value, each non-associative LP as it finishes.
@@ -61,9 +59,10 @@ class CompareOptions:
             only way to a "safe" verdict; a reference tool for walls of a few blocks).
         lowest: the descent to the lowest certified collapse state (the value to quote); ``False``: the
             iterated LP's state only.
-        time_limit: seconds per LP solve, and of each direction's branch and bound (``None``: the
-            library's defaults).
-        node_limit: branch-and-bound nodes per direction of the global search (``None``: no limit).
+        time_limit: seconds per LP solve, and of each direction's branch and bound (``None``: none; a
+            wall-clock limit the user gives, whose numbers depend on the machine).
+        node_limit: branch-and-bound nodes per direction of the global search (``None``: the budget of the
+            wall's size, :func:`micro.global_search.default_node_limit`): where it stops, on every machine.
     """
 
     first_course: Literal["full", "half"] = "full"
@@ -109,19 +108,20 @@ class Comparison:
         diagnostics: what was not computed or failed, and why, one sentence each.
         verdict: :data:`UNSAFE`, :data:`NOT_REFUTED`, :data:`SAFE` or ``None`` (:func:`judge`).
         proof: :data:`ASSOCIATIVE_BOUND`, :data:`CERTIFIED_STATE`, :data:`GLOBAL_BOUND` or ``None``.
-        macro_load_factor, macro_mechanism: the macro model's λ and mechanism (NaN, ``""`` when it failed).
+        macro_load_factor, macro_mechanism: the macro model's λ and mechanism (NaN, ``None`` when it failed).
         associative_load_factor: the associative LP's λ, an upper bound of every non-associative collapse
             load (NaN when it failed).
         micro_load_factor: the non-associative λ to quote, the value compared (the lowest certified state,
             else the iterated LP's); NaN when the solve was skipped or failed.
-        micro_quoted: which that is, ``"lowest certified"`` or ``"iterated"`` (``""`` without one).
+        micro_quoted: which that is, ``"lowest certified"`` or ``"iterated"`` (``None`` without one).
         certified_load_factor: the lowest λ of a certified collapse state found (the quoted one when it is
             certified, or the global search's best state when lower); NaN without one.
         iterated_load_factor, mechanism_band: the iterated LP's λ and the band of λ over the collapse states
             of its mechanism (NaN, ``None`` without them).
         difference_percent: ``(macro − micro) / micro · 100`` (NaN without both).
-        global_status, global_lower_bound: the global search's status and proven lower bound (``""``, NaN
-            when it did not run).
+        global_status, global_lower_bound: the global search's status and proven lower bound (``None``, NaN
+            when it did not run). A text field that has no value is ``None`` here and ``null`` in
+            :meth:`to_dict`, the same absence in Python and in JSON.
         local_mechanism: where a sliver's local mechanism governs the wall as built by the method the verdict
             rests on (``None``: none): that method, the mechanism's description, its λ (``load_factor``, the
             wall as built's), the moving blocks and their weight share, the slivers held and the held wall's λ
@@ -139,15 +139,15 @@ class Comparison:
     verdict: str | None
     proof: str | None
     macro_load_factor: float
-    macro_mechanism: str
+    macro_mechanism: str | None
     associative_load_factor: float
     micro_load_factor: float
-    micro_quoted: str
+    micro_quoted: str | None
     certified_load_factor: float
     iterated_load_factor: float
     mechanism_band: tuple[float, float] | None
     difference_percent: float
-    global_status: str
+    global_status: str | None
     global_lower_bound: float
     seconds: Seconds
     blocks: int
@@ -175,13 +175,37 @@ class Comparison:
         r = self.nonassociative_result
         return r is not None and any(low.stop == TARGET for low in r.lowest)
 
+    @property
+    def held_load_factor(self) -> float:
+        """The held wall's λ beside the wall as built's where a sliver's local mechanism governs it (NaN: none,
+        or its analysis failed)."""
+        loc = self.local_mechanism
+        held = None if loc is None else loc.get("held_load_factor")
+        return math.nan if held is None else float(held)
+
+    @property
+    def local_description(self) -> str:
+        """What a sliver lets collapse in the wall as built (``""``: nothing local governs)."""
+        return "" if self.local_mechanism is None else str(self.local_mechanism["description"])
+
     def sentence(self) -> str:
-        """The verdict and its proof in one sentence (the first line of ``xcheck compare``)."""
+        """The verdict and its proof in one sentence (the first line of ``xcheck compare``):
+        :func:`comparison.domain.verdict_words.verdict_sentence`."""
+        from comparison.domain.verdict_words import verdict_sentence
+
         return verdict_sentence(self)
+
+    def to_record(self) -> ComparisonRecord:
+        """The flat record: a read-only mapping of the numbers, the verdict and the bond
+        (:class:`comparison.domain.comparison_record.ComparisonRecord`); ``to_record().to_dict()`` its JSON form."""
+        from comparison.domain.comparison_record import comparison_record
+
+        return comparison_record(self)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready (NaN -> ``None``), in the field names of ``docs/schemas/compare.schema.json``."""
-        num = _json_number
+        from micro.columns import json_number as num  # the one NaN-to-null conversion
+
         nonassoc = self.nonassociative_result
         return {
             "verdict": self.verdict,
@@ -193,14 +217,14 @@ class Comparison:
             "difference_percent": num(self.difference_percent),
             "associative_load_factor": num(self.associative_load_factor),
             "certified_load_factor": num(self.certified_load_factor),
-            "micro_quoted": self.micro_quoted or None,
+            "micro_quoted": self.micro_quoted,
             "iterated_load_factor": num(self.iterated_load_factor),
             "mechanism_band": None if self.mechanism_band is None else [num(x) for x in self.mechanism_band],
-            "macro_mechanism": self.macro_mechanism or None,
+            "macro_mechanism": self.macro_mechanism,
             "macro_status": None if self.macro_result is None else self.macro_result.status,
             "associative_status": None if self.associative_result is None else self.associative_result.status,
             "nonassociative_status": None if nonassoc is None else nonassoc.status,
-            "global_status": self.global_status or None,
+            "global_status": self.global_status,
             "global_lower_bound": num(self.global_lower_bound),
             "local_mechanism": self.local_mechanism,
             "blocks": self.blocks,
@@ -211,11 +235,6 @@ class Comparison:
             "search_stopped": self.search_stopped,
             "seconds": {k: num(v) for k, v in self.seconds.__dict__.items()},
         }
-
-
-def _json_number(value: float) -> float | None:
-    value = float(value)
-    return value if math.isfinite(value) else None
 
 
 def _nonassociative_values(result: micro.NonAssociativeResult) -> tuple[float, float]:
@@ -381,7 +400,7 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, *, progress: 
         verdict=verdict,
         proof=proof,
         macro_load_factor=lam_macro,
-        macro_mechanism=macro_result.mechanism if macro_ok else "",
+        macro_mechanism=macro_result.mechanism if macro_ok else None,
         associative_load_factor=lam_assoc,
         micro_load_factor=micro_lam,
         micro_quoted=values["micro_quoted"],
@@ -406,11 +425,11 @@ def compare(wall: WallSpec, options: CompareOptions | None = None, *, progress: 
 
 def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResult | None,
                   notes: list[str]) -> dict[str, Any]:
-    """The non-associative numbers a :class:`Comparison` holds (NaN, ``None`` and ``""`` where there are none),
+    """The non-associative numbers a :class:`Comparison` holds (NaN and ``None`` where there are none),
     the global search's (``g``, started from ``result``) bound when it closed (``closed_bound``); what is
     missing goes to ``notes``."""
-    out: dict[str, Any] = {"micro_load_factor": math.nan, "micro_quoted": "", "certified_load_factor": math.nan,
-                           "iterated_load_factor": math.nan, "mechanism_band": None, "global_status": "",
+    out: dict[str, Any] = {"micro_load_factor": math.nan, "micro_quoted": None, "certified_load_factor": math.nan,
+                           "iterated_load_factor": math.nan, "mechanism_band": None, "global_status": None,
                            "global_lower_bound": math.nan, "closed_bound": math.nan}
     if result is None:
         return out
@@ -435,70 +454,7 @@ def _micro_values(result: micro.NonAssociativeResult | None, g: micro.GlobalResu
         else:
             notes.append(f"the global search did not close (status {g.status}): its lower bound "
                          f"{g.lower_bound:.6g} is not proven to the gap")
-    out.update(micro_load_factor=quoted, micro_quoted=result.quoted, iterated_load_factor=iterated,
+    out.update(micro_load_factor=quoted, micro_quoted=result.quoted or None, iterated_load_factor=iterated,
                mechanism_band=result.mechanism_band,
                certified_load_factor=min(states) if states else math.nan)
     return out
-
-
-def verdict_sentence(c: Comparison) -> str:
-    """The verdict and its proof in one sentence, with the numbers it rests on (and, where a sliver's local
-    mechanism governs the wall as built, a second sentence that says so)."""
-    return _verdict_only(c) + _local_sentence(c)
-
-
-def _local_sentence(c: Comparison) -> str:
-    loc = c.local_mechanism
-    if loc is None:
-        return ""
-    held = loc.get("held_load_factor")
-    beside = (f"; with the slivers held to the blocks that carry them (another wall), λ would be {held:.4f}"
-              if held is not None else "")
-    return (f" The wall as built collapses there by a local mechanism: {loc['description']} at λ "
-            f"{loc['load_factor']:.4f}, which the verdict rests on{beside}.")
-
-
-def _verdict_only(c: Comparison) -> str:
-    macro_lam = c.macro_load_factor
-    lam = f"{macro_lam:.4f}"
-    if c.verdict == UNSAFE and c.proof == ASSOCIATIVE_BOUND:
-        return (f"The macro model is unsafe for this wall: its λ {lam} is above the associative bound "
-                f"{c.associative_load_factor:.4f} ({_percent(macro_lam, c.associative_load_factor)}), which no "
-                "non-associative collapse load exceeds.")
-    if c.verdict == UNSAFE:
-        return (f"The macro model is unsafe for this wall: its λ {lam} is above the certified collapse state's "
-                f"{c.certified_load_factor:.4f} ({_percent(macro_lam, c.certified_load_factor)}).")
-    if c.verdict == SAFE:
-        return (f"The macro model is safe for this wall: its λ {lam} lies below the global search's proven lower "
-                f"bound {c.global_lower_bound:.4f} on every collapse load "
-                f"({_percent(macro_lam, c.global_lower_bound)}).")
-    if c.verdict == NOT_REFUTED:
-        what = "lowest certified" if c.micro_quoted == "lowest certified" else "the iterated LP's"
-        where = ("lies below every collapse state found" if above(c.micro_load_factor, macro_lam)
-                 else "agrees with the lowest collapse state found within the solvers' accuracy")
-        closed = c.global_status == GLOBAL_CLOSED
-        bound = ("no lower bound was computed" if not c.global_status else
-                 f"the global search's proven lower bound {c.global_lower_bound:.4f} agrees with it within the "
-                 "solvers' accuracy: the macro λ is the wall's collapse load to that accuracy"
-                 if closed and not above(macro_lam, c.global_lower_bound) else
-                 f"the global search's lower bound {c.global_lower_bound:.4f} does not lie above it"
-                 if closed else
-                 f"the global search did not close ({c.global_status}; lower bound {c.global_lower_bound:.4f})")
-        return (f"The macro model is not refuted for this wall: its λ {lam} {where} ({what} "
-                f"{c.micro_load_factor:.4f}, {_percent(macro_lam, c.micro_load_factor)}); {bound}.")
-    if not math.isfinite(macro_lam):
-        return "No verdict for this wall: the macro model gave no load factor."
-    bound = f" {c.associative_load_factor:.4f}" if math.isfinite(c.associative_load_factor) else ""
-    if math.isfinite(c.micro_load_factor):  # above a state that is not certified
-        return (f"No verdict for this wall: the macro λ {lam} is not above the associative bound{bound}, and the "
-                f"state it lies above ({c.micro_load_factor:.4f}, "
-                f"{_percent(macro_lam, c.micro_load_factor)}) is not certified (" + "; ".join(c.diagnostics) + ").")
-    return (f"No verdict for this wall: the macro λ {lam} is not above the associative bound{bound}, and no "
-            "collapse state was found to compare it with (" + "; ".join(c.diagnostics) + ").")
-
-
-def _percent(value: float, reference: float) -> str:
-    """``+0.4 %`` / ``−6.2 %``: ``value`` relative to ``reference``."""
-    d = 100.0 * (value - reference) / reference
-    size = f"{abs(d):.1f}" if abs(d) >= 0.1 or d == 0 else f"{abs(d):.2g}"  # +0.03 %, never an unsafe +0.0 %
-    return f"{'+' if d >= 0 else '−'}{size} %"

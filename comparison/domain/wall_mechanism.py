@@ -22,8 +22,8 @@ import numpy as np
 
 import micro
 from micro import HeldWall, LimitResult, LocalMechanism, NonAssociativeResult, hold_blocks, local_mechanism
+from micro.columns import FlatRecord, LoadFactor, column, json_number, record_of
 from micro.local_mechanisms import slivers
-from micro.records import json_number
 
 MicroResult = LimitResult | NonAssociativeResult
 Solve = Callable[[micro.BlockWall], MicroResult]
@@ -33,44 +33,27 @@ WALL, FAILED = "wall", "failed"
 
 
 @dataclass(frozen=True)
-class LocalRecord:
-    """A local mechanism and the wall's own value, flat, for the records, the cache and the tables.
+class LocalRecord(FlatRecord):
+    """A local mechanism that governs the wall as built and the held wall's value beside it, flat: the
+    record of the runner and the cache, and the ``local_mechanism`` object of ``xcheck micro --json``
+    (made from a :class:`WallMechanism` that has one). Each field's meaning is its declaration."""
 
-    Attributes:
-        description: what moves (:attr:`micro.LocalMechanism.description`).
-        load_factor: the local mechanism's ``lambda``, the wall as built's value to quote.
-        weight_share: the moving blocks' share of the dead load.
-        blocks: the moving blocks.
-        held_load_factor: the held wall's ``lambda`` (NaN when not found: ``status`` says why).
-        held: the slivers held for it.
-        status: :attr:`WallMechanism.status`.
-        message: why the wall's own value is missing.
-    """
-
-    description: str
-    load_factor: float
-    weight_share: float
-    blocks: tuple[int, ...]
-    held_load_factor: float
-    held: tuple[int, ...]
-    status: str
-    message: str = ""
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON form (NaN -> ``None``, tuples -> lists)."""
-        return {"description": self.description, "load_factor": json_number(self.load_factor),
-                "weight_share": json_number(self.weight_share), "blocks": list(self.blocks),
-                "held_load_factor": json_number(self.held_load_factor), "held": list(self.held),
-                "status": self.status, "message": self.message}
-
-    @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> LocalRecord:
-        """The record :meth:`to_dict` wrote."""
-        def num(x: Any) -> float:
-            return math.nan if x is None else float(x)
-
-        return cls(d["description"], num(d["load_factor"]), num(d["weight_share"]), tuple(d["blocks"]),
-                   num(d["held_load_factor"]), tuple(d["held"]), d["status"], d.get("message", ""))
+    description: str = column("What moves, in words.", source="local.description")
+    load_factor: LoadFactor = column("Its lambda: the wall as built's value to quote.", source="local.load_factor")
+    weight_share: float = column("The moving blocks' share of the wall's dead load.", source="local.weight_share",
+                                 schema={"type": "number", "minimum": 0, "maximum": 1})
+    blocks: tuple[int, ...] = column(
+        "The moving blocks (numbered course by course from the base, left to right).", source="local.blocks")
+    slivers: tuple[int, ...] = column("The slivers it moves or rests on: the pieces held for the held wall.",
+                                      source="local.slivers")
+    direction: str = column("The load direction.", source="local.direction", schema={"enum": ["+x", "-x"]})
+    held_load_factor: LoadFactor = column(
+        "The held wall's lambda (the same analysis with the slivers held to the blocks that carry them: "
+        "another wall, never compared); null when its analysis failed (status says so).")
+    held: tuple[int, ...] = column("The slivers held to the blocks that carry them: every sliver of the wall.")
+    status: str = column("wall: held_load_factor is the held wall's (its mechanism is not local); otherwise "
+                         "held_load_factor is null and message says why.", schema={"enum": [WALL, FAILED]})
+    message: str = column("Why the held wall's value is missing (empty when found).")
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,19 +94,13 @@ class WallMechanism:
 
     def to_record(self) -> LocalRecord | None:
         """The flat :class:`LocalRecord` (``None`` when nothing local governs)."""
-        if self.local is None:
-            return None
-        loc = self.local
-        return LocalRecord(loc.description, loc.load_factor, loc.weight_share, loc.blocks, self.held_load_factor,
-                           self.held, self.status, self.message)
+        return None if self.local is None else record_of(LocalRecord, self)
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: ``held_load_factor`` and ``local_mechanism`` (object or ``None``)."""
-        return {
-            "held_load_factor": json_number(self.held_load_factor),
-            "local_mechanism": None if self.local is None else {
-                **self.local.to_dict(), "held": list(self.held), "status": self.status, "message": self.message},
-        }
+        """JSON-ready: ``held_load_factor`` and ``local_mechanism`` (its :class:`LocalRecord`, or ``None``)."""
+        rec = self.to_record()
+        return {"held_load_factor": json_number(self.held_load_factor),
+                "local_mechanism": None if rec is None else rec.to_dict()}
 
 
 def solve_wall_mechanism(wall: micro.BlockWall, solve: Solve, *, first: MicroResult | None = None) -> WallMechanism:

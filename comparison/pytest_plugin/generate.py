@@ -22,9 +22,9 @@ from comparison.report.plan import build_plan
 from comparison.runner import MACRO, Method, Record, Runner, code_version, prefetch
 from comparison.runner.executor import LocalExecutor
 from comparison.runner.fingerprint import versions_used
+from comparison.runner.macro_record import MacroRecord
 from comparison.utilities.outputs import write_text
 from comparison.utilities.progress import NORMAL, Progress
-from macro.records import MacroRecord
 
 #: Relative tolerance of the macro model's cells: its global search is within 6e-10 of a
 #: 100,001-point brute force; 1e-6 leaves room for other platforms' floating point.

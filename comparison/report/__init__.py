@@ -2,7 +2,7 @@
 
 * :mod:`~comparison.report.plan`: the explicit run plan (every wall and method);
 * :mod:`~comparison.report.computed`: the plan computed;
-* :mod:`~comparison.report.tables`, :mod:`~comparison.report.findings`,
+* :mod:`~comparison.report.tables`, :mod:`~comparison.report.speed_accuracy`, :mod:`~comparison.report.findings`,
   :mod:`~comparison.report.figures`, :mod:`~comparison.report.text`: what the
   report shows, read from the results;
 * :mod:`~comparison.report.build`: :func:`build_report`, plan -> compute -> render.

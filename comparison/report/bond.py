@@ -132,12 +132,13 @@ def findings(rows: Sequence[BondRow]) -> list[str]:
     return out
 
 
-def section(path: Path | None) -> tuple[str, list[dict[str, Any]]]:
+def section(path: Path | None, missing: str = "") -> tuple[str, list[dict[str, Any]]]:
     """The report's markdown section and its rows (for ``report.json``); says so when the table is missing
-    (``None``: :func:`~comparison.report.committed.committed_table` warned)."""
+    (``None``: :func:`~comparison.report.committed.committed_table` warned; ``missing``: the sentence naming
+    the path looked for, :func:`~comparison.report.committed.missing`)."""
     title = "## Table 9's walls with coarser bonds"
     if path is None or not path.exists():
-        return f"{title}\n\nThe sweep table `reports/sweeps/table9_bond.csv` is missing.\n", []
+        return f"{title}\n\n{missing or 'The committed sweep table is missing.'}\n", []
     rows = load(path)
     lines = [
         title,

@@ -22,18 +22,18 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from comparison.report.committed import BOND, ERRORMAP, LOWEST, check_tables, committed_table
+from comparison.report.committed import BOND, ERRORMAP, LOWEST, check_tables, committed_table, missing
 from comparison.report.computed import Results, compute
 from comparison.report.plan import build_plan
 from comparison.report.robustness import bond_variants_table, robustness_table
 from comparison.report.sections import Body, Bond, ErrorMap, Lowest, Section, render
+from comparison.report.speed_accuracy import speed_accuracy
 from comparison.report.tables import (
     Table,
     all_cases,
     failure_modes,
     histories,
     sensitivity,
-    speed_accuracy,
     table5,
     table7,
     table8,
@@ -140,9 +140,9 @@ def sections(res: Results, meta: Mapping[str, Any], tables_dir: Path) -> list[Se
     (a missing one: :func:`~comparison.report.committed.committed_table` warns and its section says so)."""
     return [
         Body(res, all_tables(res), meta),
-        ErrorMap(committed_table(tables_dir, ERRORMAP)),
-        Bond(committed_table(tables_dir, BOND)),
-        Lowest(committed_table(tables_dir, LOWEST)),
+        ErrorMap(committed_table(tables_dir, ERRORMAP), missing(tables_dir, ERRORMAP)),
+        Bond(committed_table(tables_dir, BOND), missing(tables_dir, BOND)),
+        Lowest(committed_table(tables_dir, LOWEST), missing(tables_dir, LOWEST)),
     ]
 
 

@@ -227,6 +227,12 @@ class UncountedTableWarning(UserWarning):
     """A committed sweep table without the metadata that counts its rows."""
 
 
+def missing(tables_dir: Path | str, name: str) -> str:
+    """The sentence a section of ``REPORT.md`` says in place of the committed table ``name`` that is not in
+    ``tables_dir``: the path looked for, as the warning names it, and the command that makes it."""
+    return f"The table `{Path(tables_dir) / name}` is missing: make it with `{made_by(name, tables_dir)}`."
+
+
 def committed_table(tables_dir: Path, name: str) -> Path | None:
     """The path of the committed table ``name`` (:data:`ERRORMAP`, :data:`BOND`, :data:`LOWEST`) in
     ``tables_dir``, or ``None`` after a :class:`MissingTableWarning` when it is not there."""

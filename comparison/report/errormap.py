@@ -35,16 +35,18 @@ def load(path: Path) -> list[Wall]:
     return walls(read_table(path))
 
 
-def write(out: Path, table: Path | None, number: int | None = None) -> tuple[str, dict[str, Any]]:
+def write(out: Path, table: Path | None, number: int | None = None, missing: str = "") -> tuple[str, dict[str, Any]]:
     """Draw the section's figures (``errormap-*.png``) into ``out``; the section's markdown and its numbers
     (for ``report.json``: the macro model's ``summary`` and ``worst`` walls, the cells by method and
     ``statuses``, the ``figures`` drawn).
 
     Without the committed table (``None``: :func:`~comparison.report.committed.committed_table` warned)
-    the section says so and nothing is drawn. ``number``: the number of its first figure in the report.
+    the section says so (``missing``: the sentence naming the path looked for,
+    :func:`~comparison.report.committed.missing`) and nothing is drawn. ``number``: the number of its first
+    figure in the report.
     """
     if table is None or not table.exists():
-        return f"## Error map\n\nThe sweep table `{SOURCE}` is missing.\n", {}
+        return f"## Error map\n\n{missing or 'The committed sweep table is missing.'}\n", {}
     intro = (
         f"From the committed sweep `{SOURCE}` (`xcheck sweep examples/sweeps/errormap.toml --out reports/sweeps`; "
         "the report reads it and does not recompute it), drawn as `xcheck sweep` draws the validation page of "

@@ -21,7 +21,8 @@ from matplotlib.ticker import MaxNLocator
 
 from comparison.domain.cases import cases_in_table
 from comparison.report.computed import Results
-from comparison.report.tables import published, speed_reference, speed_rows
+from comparison.report.speed_accuracy import speed_reference, speed_rows
+from comparison.report.tables import published
 
 #: How each swept parameter is named on its axis.
 PARAMETERS = {
@@ -304,7 +305,7 @@ def _table5_points(base: Mapping[str, float]) -> dict[str, tuple[list[float], li
 
 
 def speed_figure(res: Results, path: Path) -> Figure:
-    """The speed-accuracy chart of :func:`comparison.report.tables.speed_rows`."""
+    """The speed-accuracy chart of :func:`comparison.report.speed_accuracy.speed_rows`."""
     rows = speed_rows(res)
     points = [SpeedPoint(f"{r.rows} rows", r.family, r.seconds, r.error, r.rows) for r in rows]
     ref = speed_reference(res)

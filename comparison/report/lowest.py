@@ -39,16 +39,18 @@ def figure(rows: list[dict[str, Any]], path: Path) -> Path:
     return chart(over_global, over_lowest, path)
 
 
-def section(path: Path | None, out: Path | None = None, number_: int | None = None) -> str:
+def section(path: Path | None, out: Path | None = None, number_: int | None = None, missing: str = "") -> str:
     """The report's markdown section (says so when the table is missing).
 
     Args:
         path: the study's table (``None``: :func:`~comparison.report.committed.committed_table` warned).
         out: where to draw ``lowest.png`` (``None``: no figure).
         number_: the figure's number in the report.
+        missing: the sentence said in place of a missing table, naming the path looked for
+            (:func:`~comparison.report.committed.missing`).
     """
     if path is None or not path.exists():
-        return "## Table 7: the lowest collapse load\n\nThe study table `reports/lowest.csv` is missing.\n"
+        return f"## Table 7: the lowest collapse load\n\n{missing or 'The committed study table is missing.'}\n"
     rows = load(path)
     lines = table7_lines(rows)
     fig: list[str] = []

@@ -16,17 +16,17 @@ from dataclasses import dataclass, replace
 from comparison.domain.cases import CASES, PaperCase, cases_in_table
 from comparison.domain.wall import WallSpec
 from comparison.runner import MICRO_ASSOC, MICRO_NONASSOC, Method, ResultCache, approximate_blocks
-from micro.backends.registry import missing_extra
+from micro.backends.registry import timed_solvers
 
 #: The report runs the iterated non-associative LP on the walls of its sweeps
 #: and of the speed-accuracy study of at most this many blocks: the Table 5
-#: walls of up to 1,830 blocks take 1-335 s each (the runner caps a sequence at
-#: :data:`comparison.runner.NONASSOC_MAX_LPS`) ...
+#: walls of up to 1,830 blocks (the runner caps a sequence at
+#: :data:`comparison.runner.NONASSOC_MAX_LPS`; their times: docs/speed.md) ...
 NONASSOC_MAX_BLOCKS = 2000
 #: ... and on the paper's walls of at most this many: Set 10 (3,630 blocks)
-#: runs fused with the continuation (:data:`micro.nonassociative.config.FUSE_BLOCKS`,
-#: 475 s); the 7,575-block Table 9 walls stay out (their first LPs take minutes
-#: and no method here has settled on them, see ``docs/micro/nonassociative.md``).
+#: runs fused with the continuation (:data:`micro.nonassociative.config.FUSE_BLOCKS`);
+#: the 7,575-block Table 9 walls stay out (no method here has settled on them, see
+#: ``docs/micro/nonassociative.md``; what their first LPs cost: docs/speed.md).
 NONASSOC_MAX_BLOCKS_CASES = 4000
 
 #: Base walls of the sensitivity sweeps and of the speed-accuracy study.
@@ -183,7 +183,5 @@ def build_plan(quick: bool = False) -> Plan:
         base=BASE_QUICK if quick else BASE_FULL,
         sweeps=SWEEPS_QUICK if quick else SWEEPS_FULL,
         resolutions=(3, 6, 9, 12) if quick else (12, 24, 36, 60, 102, 150),
-        # the cvxpy back end is an optional extra: where it is not installed its row is left out
-        solvers=tuple(s for s in (("highs-ipm", "clarabel", "normal-ipm", "cvxpy", "highs-simplex") if quick
-                                  else ("highs-ipm", "clarabel", "normal-ipm", "cvxpy")) if not missing_extra(s)),
+        solvers=timed_solvers(quick),  # the registry's (micro/backends/registry.py), installed
     )

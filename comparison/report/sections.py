@@ -88,10 +88,11 @@ class ErrorMap:
     """The error map from the committed sweep table (:mod:`comparison.report.errormap`; ``None``: missing)."""
 
     table: Path | None
+    missing: str = ""
     name: str = "errormap"
 
     def render(self, out: Path, first_figure: int) -> Rendered:
-        text, numbers = errormap.write(out, self.table, number=first_figure)
+        text, numbers = errormap.write(out, self.table, number=first_figure, missing=self.missing)
         drawn = tuple(numbers.get("figures", ()))
         return Rendered(text, drawn, drawn, numbers)
 
@@ -101,10 +102,11 @@ class Bond:
     """Table 9's walls with coarser bonds, from the committed sweep table (:mod:`comparison.report.bond`)."""
 
     table: Path | None
+    missing: str = ""
     name: str = "table9_bond"
 
     def render(self, out: Path, first_figure: int) -> Rendered:
-        text, rows = bond.section(self.table)
+        text, rows = bond.section(self.table, self.missing)
         return Rendered(text, record=rows)
 
 
@@ -114,10 +116,11 @@ class Lowest:
     no entry in ``report.json`` (its numbers are the committed table's)."""
 
     table: Path | None
+    missing: str = ""
     name: str = "lowest"
 
     def render(self, out: Path, first_figure: int) -> Rendered:
-        text = lowest.section(self.table, out=out, number_=first_figure)
+        text = lowest.section(self.table, out=out, number_=first_figure, missing=self.missing)
         drawn = ("lowest.png",) if self.table is not None and self.table.exists() else ()  # drawn with its rows
         return Rendered(text, drawn, drawn)
 

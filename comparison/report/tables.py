@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -12,8 +12,9 @@ from comparison.domain.cases import SET4_HINGE_LOAD_FACTORS, PaperCase, cases_in
 from comparison.domain.wall_mechanism import LocalRecord
 from comparison.report.computed import Results
 from comparison.report.plan import table9_alternative
-from comparison.runner import MICRO_ASSOC, NONASSOC_RETRY_LPS, Record
+from comparison.runner import NONASSOC_RETRY_LPS, Record
 from comparison.utilities.outputs import csv_text, write_text
+from micro.columns import json_number
 from micro.records import NonAssociativeRecord
 
 
@@ -81,7 +82,7 @@ DIGITS = 7
 def plain(c: Any) -> Any:
     """A cell for CSV/JSON: non-finite numbers as ``None``, a float to :data:`DIGITS` significant digits."""
     if isinstance(c, float):
-        return float(f"{c:.{DIGITS}g}") if math.isfinite(c) else None
+        return json_number(float(f"{c:.{DIGITS}g}"))
     return c
 
 
@@ -404,67 +405,6 @@ def sensitivity(res: Results) -> Table:
                 iterated_cell(res.nonassoc_record(spec)),
             )
     t.note = f"Base wall: {', '.join(f'{k} = {v:.4g}' for k, v in plan.base.items())}. Figure: `sensitivity.png`."
-    return t
-
-
-@dataclass(frozen=True)
-class SpeedRow:
-    """One method, back end and resolution of the speed-accuracy study."""
-
-    label: str
-    family: str
-    rows: int
-    blocks: int | None
-    seconds: float
-    load_factor: float
-    error: float  # |lambda - reference| / reference
-
-
-def speed_reference(res: Results) -> Record:
-    """The reference of the speed-accuracy study: the best micro record of the finest wall the
-    non-associative LP runs on (:attr:`~comparison.report.plan.Plan.reference_rows`)."""
-    return res.best_micro(res.plan.speed_spec(res.plan.reference_rows, "finest"))
-
-
-def speed_rows(res: Results) -> list[SpeedRow]:
-    """Every method, back end and resolution of the speed-accuracy study, against :func:`speed_reference`."""
-    plan, lam_ref = res.plan, speed_reference(res).load_factor
-
-    def row(label: str, family: str, rows: int, blocks: int | None, seconds: float, lam: float) -> SpeedRow:
-        err = abs(lam - lam_ref) / lam_ref if math.isfinite(lam) else float("nan")
-        return SpeedRow(label, family, rows, blocks, seconds, lam, err)
-
-    base_rows = int(plan.base["rows"])
-    out = [row("macro", "macro", base_rows, None, res.macro_seconds, res.macro[plan.speed_spec(base_rows)].load_factor)]
-    for rows in plan.resolutions:
-        spec = plan.speed_spec(rows)
-        for solver in plan.solvers:
-            rec = res.record(spec, replace(MICRO_ASSOC, solver=solver))
-            blocks = None if rec.micro is None else rec.micro.blocks
-            out.append(
-                row(f"micro-assoc {solver}", f"micro-assoc {solver}", rows, blocks, rec.seconds, rec.load_factor)
-            )
-        for m in plan.methods[1:]:
-            rec = res.record(spec, m)
-            if rec.status != "not_run":
-                blocks = None if rec.micro is None else rec.micro.blocks
-                out.append(row(m.label, m.kind, rows, blocks, rec.seconds, rec.load_factor))
-    return out
-
-
-def speed_accuracy(res: Results) -> Table:
-    """Each method, back end and block resolution against the finest micro reference."""
-    ref = speed_reference(res)
-    t = Table(
-        "speed_accuracy",
-        f"Speed against accuracy (reference: {ref.method.column}, {res.plan.reference_rows} rows, "
-        f"λ = {ref.load_factor:.4f})",
-        ["method", "rows", "blocks", "λ", "rel. error of λ"],
-        keys=2,
-    )
-    for r in speed_rows(res):
-        t.add(r.label, r.rows, r.blocks, r.load_factor, r.error)
-    t.note = "Run times: `timings.md` (they change from run to run); figure: `speed_accuracy.png`."
     return t
 
 

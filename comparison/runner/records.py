@@ -11,8 +11,8 @@ from numpy.typing import NDArray
 
 from comparison.domain.failure import FailureMode
 from comparison.domain.wall_mechanism import LocalRecord
+from comparison.runner.macro_record import MacroRecord
 from comparison.runner.methods import Method
-from macro.records import MacroRecord
 from micro.records import AssociativeRecord, NonAssociativeRecord
 
 #: The typed result record of each method kind.

@@ -20,6 +20,7 @@ from comparison.domain.failure import FailureMode, failure_mode
 from comparison.domain.wall import WallSpec
 from comparison.domain.wall_mechanism import solve_wall_mechanism
 from comparison.runner.cache import ResultCache
+from comparison.runner.macro_record import macro_record
 from comparison.runner.methods import Method
 from comparison.runner.records import MechanismRecord, Record
 from micro.records import AssociativeRecord, NonAssociativeRecord
@@ -41,7 +42,7 @@ def compute(spec: WallSpec, method: Method) -> tuple[Record, MechanismRecord | N
     if method.kind == "macro":
         import macro
 
-        result = macro.solve(spec.to_macro()).to_record()
+        result = macro_record(macro.solve(spec.to_macro()))
         return Record(name, method, time.perf_counter() - t0, result), None
     import micro
 

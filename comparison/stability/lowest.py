@@ -13,7 +13,6 @@ number reproduces on another machine. Each run is one typed
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -32,8 +31,8 @@ TINY_GRID: dict[str, tuple[float, ...]] = {
     "f": (0.6, 0.75),
     "storeys": (1,),
 }
-#: Walls of at most this many blocks get the global search (on 12-21 blocks
-#: a 60 s search left the bound at 0; on 9 blocks it closed in 5,000-8,500 nodes).
+#: Walls of at most this many blocks get the global search (on 12-21 blocks a search
+#: of a minute left the bound at 0; on 9 blocks it closed in 5,000-8,500 nodes).
 GLOBAL_MAX_BLOCKS = 10
 #: Branch-and-bound nodes per direction on those walls.
 GLOBAL_NODES = 10_000
@@ -220,7 +219,7 @@ def study_cases(quick: bool = False) -> list[LowestCase]:
 def run_case(case: LowestCase) -> LowestRun:
     """The iterated LP, the descent and (with ``case.nodes``) the global search on one wall."""
     import micro
-    from micro.global_search import GlobalOptions, global_fields, solve_global
+    from micro.global_search import GlobalOptions, solve_global
 
     wall = case.wall.spec().to_micro(first_course=case.first_course, head_joints=case.head_joints)
     nan = math.nan
@@ -230,12 +229,12 @@ def run_case(case: LowestCase) -> LowestRun:
                                                                 bounds=GLOBAL_BOUNDS)) if case.nodes else None
     except Exception as exc:  # noqa: BLE001 - recorded as the run's status
         return _failed(case, wall.n_blocks, f"error: {type(exc).__name__}: {exc}")
-    rec = r.to_record() if g is None else dataclasses.replace(r.to_record(), **global_fields(g))
+    rec = r.to_record(search=g)
     band = r.mechanism_band if r.converged and r.mechanism_band is not None else (nan, nan)
     return LowestRun(
         case, wall.n_blocks, r.status, r.iterated_load_factor, band, rec.lowest_load_factor, rec.lowest_moves,
         rec.global_status, rec.global_load_factor, rec.global_lower_bound, rec.global_gap,
-        0 if g is None else sum(d.nodes for d in g.directions), sum(d.seconds for d in r.directions),
+        0 if g is None else g.nodes, sum(d.seconds for d in r.directions),
         rec.lowest_seconds, nan if g is None else g.seconds, r.total_iterations, rec.lowest_lps,
         macro_load_factor(case),
     )

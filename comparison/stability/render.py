@@ -137,7 +137,7 @@ def _intro(s: dict[str, Any], n_runs: int, seconds: float, processes: int) -> li
         "Setting = scheme/relaxation beta; scheme (a) `|s| <= mu nbar`, scheme (b) line of slope "
         "-alpha through (nbar, mu nbar), alpha halved 0.3 -> 1e-3; start: interior-point associative solution; "
         f"cap 100 LPs and {MAX_SIMPLEX_ITERATIONS:,} simplex iterations per direction; no clock (a stalled HiGHS "
-        "run is interrupted by a count, `micro.backends.highs.StallGuard`, and recovered like a failed LP). "
+        "run is interrupted by a count, `micro.backends.highs_runs.StallGuard`, and recovered like a failed LP). "
         "A wall counts as converged only if every direction solved converged. "
         "`plain`: the iterated LP alone, converged only when an LP's own forces satisfy Coulomb. Otherwise, "
         "once lambda has settled (spread <= 1e-3 over 3 iterates), the current LP's mechanism is tested for an "

@@ -34,11 +34,11 @@ GRID: dict[str, tuple[float, ...]] = {
 }
 
 
-#: Work budget per run and direction, in simplex iterations (scheme (b) once
-#: spent 190 s on a 294-block wall in fallback steps, each after a warm run
-#: of up to 20,000 iterations that fails); a run that spends it is reported as
-#: ``max_iterations`` / ``work_budget``. A count, not seconds (the former 20 s),
-#: so the study gives the same table on every machine.
+#: Work budget per run and direction, in simplex iterations (scheme (b) can spend
+#: minutes on a 294-block wall in fallback steps, each after a warm run of up to
+#: 20,000 iterations that fails: docs/speed.md); a run that spends it is reported as
+#: ``max_iterations`` / ``work_budget``. A count, not seconds, so the study gives
+#: the same table on every machine.
 MAX_SIMPLEX_ITERATIONS = 200_000
 
 

@@ -150,7 +150,7 @@ def error_map(ws: Sequence[Wall], column: str, path: Path) -> Path | None:
     fig.suptitle(
         f"λ {column} against λ micro" + (f" ({where})" if where else "") + ". Red: above micro (unsafe); black "
         "line: where it turns unsafe;\nnumbers in %; * the associative LP is the reference (elsewhere the "
-        "non-associative); grey: no micro value"
+        "non-associative); hatched grey: no micro value"
         + (";\noutlined: an outlier beyond the colour scale (its own number written)" if clipped else ""),
         fontsize=9,
     )
@@ -174,13 +174,22 @@ def _panel(ax: Any, panel: Sequence[Sequence[Wall | None]], column: str, norm: A
                 dark = abs(float(norm(grid[a, b])) - 0.5) > DARK  # white on the deep reds and blues
                 ax.text(b, a, f"{100 * grid[a, b]:+.0f}{star}", ha="center", va="center", fontsize=7,
                         color="w" if dark else "k")
-    ax.set_facecolor("0.85")
     mesh = ax.pcolormesh(np.ma.masked_invalid(grid), cmap="RdBu_r", norm=norm, shading="nearest")
+    for a, b in zip(*np.nonzero(np.isnan(grid)), strict=True):  # no micro value: hatched, never a pale colour
+        ax.add_patch(_no_value(int(a), int(b)))
     for a, b in zip(*np.nonzero(np.abs(np.nan_to_num(grid)) > norm.vmax), strict=True):  # beyond the scale
         ax.add_patch(_outline(int(a), int(b)))
     for (a0, b0), (a1, b1) in _unsafe_edges(grid):
         ax.plot([b0, b1], [a0, a1], color="k", lw=1.8, solid_capstyle="butt")
     return mesh
+
+
+def _no_value(a: int, b: int) -> Any:
+    """The heat map's cell ``(a, b)`` without a micro value: grey and hatched, so that it cannot be read as
+    a difference near 0 (the colour scale's middle is near-white)."""
+    from matplotlib.patches import Rectangle
+
+    return Rectangle((b - 0.5, a - 0.5), 1.0, 1.0, facecolor="0.8", edgecolor="0.45", hatch="///", lw=0.0)
 
 
 def _outline(a: int, b: int) -> Any:
@@ -299,20 +308,34 @@ def histogram(ws: Sequence[Wall], macro_columns: Sequence[str], path: Path) -> P
     edges = (np.arange(first, last + 1) + 0.5) * width
     if edges[-1] > 0:
         ax.axvspan(0, edges[-1], color="tab:red", alpha=0.08, lw=0)
+    ends: dict[float, int] = {}  # the open-ended bars: their place and height
     for k, (column, ds) in enumerate(diffs.items()):
         kind = "stepfilled" if len(diffs) == 1 else "step"
-        below, beyond = sum(d < edges[0] for d in ds), sum(d > edges[-1] for d in ds)
-        out = [f"{n} below {edges[0]:+.0f} %" for n in (below,) if n] + [
-            f"{n} above {edges[-1]:+.0f} %" for n in (beyond,) if n]
-        shown_ = np.clip(ds, edges[0], edges[-1])  # outliers in the end bins, counted in the label
-        ax.hist(shown_, bins=edges, histtype=kind, color=f"C{k}", alpha=0.8 if len(diffs) == 1 else 1.0, lw=1.5,
-                label=f"{column} ({len(ds)} walls" + (f"; {', '.join(out)}: in the end bin" if out else "") + ")")
+        inside, below, beyond = binned(ds, float(edges[0]), float(edges[-1]))
+        apart = len(below) + len(beyond)
+        ax.hist(inside, bins=edges, histtype=kind, color=f"C{k}", alpha=0.8 if len(diffs) == 1 else 1.0, lw=1.5,
+                label=f"{column} ({len(ds)} walls" + (f"; hatched: {apart} beyond the scale" if apart else "") + ")")
+        # the walls beyond the scale: an open-ended bar of their own beside it, never in the end bin
+        for side, count, at in ((-1, len(below), edges[0] - width), (1, len(beyond), edges[-1] + width)):
+            if count:
+                ax.bar(at, count, width=width, fill=False, hatch="//", edgecolor=f"C{k}", lw=1.0)
+                ends[at] = max(ends.get(at, 0), count)
+                ax.text(at, ends[at], f"{'<' if side < 0 else '>'} {edges[0 if side < 0 else -1]:+.0f} %",
+                        ha="center", va="bottom", fontsize=7)
+    if ends:
+        ax.set_ylim(top=1.12 * max(ax.get_ylim()[1], *ends.values()))
     ax.axvline(0, color="k", lw=1)
     ax.set_xlabel("(λ macro − λ micro) / λ micro, %  (right of 0: unsafe)")
     ax.set_ylabel("walls")
     ax.yaxis.get_major_locator().set_params(integer=True)
     ax.legend(fontsize=7)
     return _save(fig, path)
+
+
+def binned(ds: Sequence[float], lo: float, hi: float) -> tuple[list[float], list[float], list[float]]:
+    """The differences ``ds`` within the histogram's scale ``[lo, hi]``, below it and beyond it (the outliers,
+    drawn apart as open-ended bars, never in an end bin)."""
+    return [d for d in ds if lo <= d <= hi], [d for d in ds if d < lo], [d for d in ds if d > hi]
 
 
 def time_against_blocks(rows: Sequence[Mapping[str, str]], path: Path) -> Path | None:

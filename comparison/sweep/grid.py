@@ -101,7 +101,7 @@ SCHEMES = ("a", "b")
 #: The most values one axis may expand to (a range with a tiny step is a typo, not a sweep).
 MAX_AXIS_VALUES = 10_000
 #: The most cells (rows of the table) a grid may have: its cells are planned in memory before anything
-#: runs (about 0.6 kB and 1 ms each for a micro method), and 100,000 rows are a 30 MB table. A larger
+#: runs (about 0.6 kB each for a micro method), and 100,000 rows are a 30 MB table. A larger
 #: grid is refused when read; split it into several sweeps (they share the result cache).
 MAX_CELLS = 100_000
 #: What a sweep's name may be made of (it names the table, metadata, page and figure files): a letter or

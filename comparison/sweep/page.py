@@ -436,8 +436,8 @@ def _map_caption(ws: Sequence[Wall], column: str, source: str) -> str:
         f"(λ {column} − λ micro)/λ micro in per cent" + (" " + ", ".join(parts) if parts else "")
         + (f"; {where}" if where else "") + ". Red: the macro value above the micro reference (unsafe), blue: "
         "below; the black line: where it turns unsafe. The reference is the converged non-associative value, or "
-        "(marked *) the associative LP; grey cells: no micro value. The colour scale ends at the outlier fences "
-        f"(the quartiles ± {figures.FENCE_IQR:g} interquartile ranges): a wall beyond them is outlined, its "
+        "(marked *) the associative LP; hatched grey cells: no micro value. The colour scale ends at the outlier "
+        f"fences (the quartiles ± {figures.FENCE_IQR:g} interquartile ranges): a wall beyond them is outlined, its "
         f"number its own. Data: `{source}`."
     )
 

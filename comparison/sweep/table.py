@@ -1,10 +1,10 @@
 """The sweep's table: one CSV row per cell, every input and result, and its JSON metadata.
 
-CSV, not Parquet: measured on a table of 10,000 rows of these columns, the
-CSV is 3.0 MB (0.9 MB gzipped), written and read back by the standard library
-in about a second each on a loaded 2-core machine; Parquet makes it 0.9 MB and
-writes it in 0.24 s, but needs ``pyarrow``, a 55 MB wheel (170 MB installed),
-to save disk space nobody misses at this size, while a CSV opens in every tool.
+CSV, not Parquet: on a table of 10,000 rows of these columns the CSV is 3.0 MB
+(0.9 MB gzipped), written and read back by the standard library; Parquet makes
+it 0.9 MB and writes it faster, but needs ``pyarrow``, a 55 MB wheel (170 MB
+installed), to save disk space nobody misses at this size, while a CSV opens in
+every tool (the times: docs/speed.md, "What the code's choices rest on").
 Floats are written exactly (``repr``), so a table read back gives the same
 numbers; ``nan`` is a NaN, an empty field a value that does not apply.
 """

@@ -4,6 +4,7 @@
 ``interrupt`` Ctrl-C during a solver's compiled code: the solver stopped by its own callback;
 ``registry``  :func:`make_backend`, the back ends by name (:data:`SOLVERS`, :data:`DEFAULT_SOLVER`);
 ``highs``     :class:`HighsBackend` and the :class:`PersistentHighsModel` it (and the iterated LP) runs on;
+``highs_runs``  how a HiGHS run is watched (the stall guard, its callback) and kept quiet;
 ``clarabel``  Clarabel's settings and :class:`ClarabelStaticBackend` (the static form: ``clarabel-static``);
 ``clarabel_kinematic``  :class:`ClarabelKinematicBackend` (the kinematic form, ``clarabel``);
 ``normal_ipm``  :class:`NormalIpmBackend` (``normal-ipm``), the suite's interior point on the normal

@@ -35,9 +35,9 @@ from micro.lp import LimitLP
 #: feasibility tolerances (1e-11) took 200+ iterations and stalled at ~2e-6;
 #: lowering the static regularisation and tightening iterative refinement as
 #: well reaches 1e-8 (Table 7 walls) and ~1e-6 (1,230 blocks) in ~40 iterations.
-#: QDLDL is named: Clarabel's "auto" picks faer above ~2,700 blocks, 3x slower
-#: on one core (3,630 blocks: 16.6 s against 5.6 s, same lambda to 1e-10);
-#: below that size "auto" is QDLDL, so nothing changes there.
+#: QDLDL is named: Clarabel's "auto" picks faer above ~2,700 blocks, slower on
+#: these walls (same lambda to 1e-10; the times: docs/speed.md); below that size
+#: "auto" is QDLDL, so nothing changes there.
 CLARABEL_TIGHT: dict[str, Any] = {
     "direct_solve_method": "qdldl",
     "tol_gap_abs": 1e-10,
@@ -68,8 +68,8 @@ RETRY_ON = ("AlmostSolved", "InsufficientProgress", "NumericalError")
 def solve_interruptibly(solver: Any) -> Any:
     """``solver.solve()`` with Ctrl-C stopping Clarabel through its termination
     callback (checked once per iteration) and raised once it has returned
-    (:mod:`micro.backends.interrupt`): without it a Ctrl-C waited for the
-    solve to end (9.3-9.7 s on a 90-row wall)."""
+    (:mod:`micro.backends.interrupt`): without it a Ctrl-C waits for the
+    solve to end (seconds on a large wall: docs/speed.md)."""
     stop = SolverStop()
     solver.set_termination_callback(lambda info: stop.requested)
     try:

@@ -64,7 +64,7 @@ from micro.lp import LimitLP
 #: cannot silently pick a slower or looser path (``tests/micro/backends/test_clarabel_kinematic.py``):
 #:
 #: * ``direct_solve_method="qdldl"``: Clarabel's ``"auto"`` picks faer above
-#:   ~2,700 blocks, 3x slower on one core on these walls;
+#:   ~2,700 blocks, slower on these walls (docs/speed.md);
 #: * tolerances 1e-10: at 1e-9 lambda came out 1.7e-7 low on 1,230 blocks
 #:   (1.5e-8 at 1e-10);
 #: * iterative refinement at Clarabel's default tolerances (1e-13 relative,

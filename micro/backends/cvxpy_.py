@@ -33,7 +33,7 @@ Clarabel is called through cvxpy's own interface with one change (:func:`_interr
 solver object cvxpy builds solves through
 :func:`~micro.backends.clarabel.solve_interruptibly`, so a Ctrl-C stops it within an
 iteration, as it stops the direct back ends; through cvxpy's ``CLARABEL`` it
-waited for the solve to end (up to 3 s on a 1,230-block wall).
+would wait for the solve to end (docs/speed.md).
 
 cvxpy dual convention (pinned by ``tests/micro/backends``): for this
 ``Maximize`` problem, the dual of the equality ``B x + lam f_L == -f_D``

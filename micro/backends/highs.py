@@ -16,24 +16,17 @@ shared sign.
 
 from __future__ import annotations
 
-import contextlib
-import ctypes
-import os
-import sys
-import threading
 import time
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status, recheck
-from micro.backends.interrupt import SolverStop, deferred_signals
+from micro.backends.highs_runs import STALL_CALLS, RunCallback, StallGuard, quiet_highs
+from micro.backends.interrupt import deferred_signals
 from micro.lp import LimitLP
-
-if TYPE_CHECKING:
-    import highspy
 
 FloatArray = NDArray[np.float64]
 
@@ -49,121 +42,6 @@ DUAL_STRATEGY, PRIMAL_STRATEGY = 1, 4
 LOWER, BASIC, UPPER = 0, 1, 2
 #: HiGHS' default (no limit) of ``simplex_iteration_limit`` and ``ipm_iteration_limit``.
 _ITERATIONS_MAX = 2**31 - 1
-#: A guarded run (:meth:`PersistentHighsModel.guard_stalls`) is interrupted
-#: when HiGHS calls its simplex interrupt callback this often without the
-#: iteration count advancing. On scheme (b)'s infeasible third LP of the
-#: 1,230-block wall single iterations took 800-1,333 calls and seconds each
-#: from iteration ~23,970 ("possibly singular basis"), against at most 7 calls
-#: per iteration in every normal run; HiGHS' ``objective_bound`` did not stop it.
-STALL_CALLS = 100
-
-
-class StallGuard:
-    """Counts the simplex interrupt callbacks of a guarded model per simplex
-    iteration and fires at :data:`STALL_CALLS` (:class:`RunCallback` then
-    interrupts the run), or, with :attr:`excess` set, once the calls beyond
-    one per iteration add up to it over the run. Counts, not seconds: the
-    same run stops at the same iteration on every machine.
-
-    Attributes:
-        excess: the most callbacks beyond one per iteration a run may make
-            (``None``: no such limit; :meth:`PersistentHighsModel.limit_excess_calls`).
-    """
-
-    def __init__(self, calls: int = STALL_CALLS) -> None:
-        self.calls = calls
-        self.excess: int | None = None
-        self.reset()
-
-    def reset(self) -> None:
-        """Before a run."""
-        self.iteration, self.count, self.fired, self.extra = -1, 0, False, 0
-
-    def tick(self, iteration: int) -> bool:
-        """One simplex interrupt callback at simplex iteration ``iteration``: whether the guard has fired."""
-        if iteration != self.iteration:
-            self.iteration, self.count = iteration, 0
-        else:
-            self.extra += 1
-        self.count += 1
-        self.fired = (self.fired or self.count >= self.calls
-                      or (self.excess is not None and self.extra > self.excess))
-        return self.fired
-
-
-class RunCallback:
-    """The one HiGHS callback of a :class:`PersistentHighsModel` (its simplex
-    and interior-point interrupt callbacks): interrupts the run when a Ctrl-C
-    arrived (:attr:`stop`, :func:`~micro.backends.interrupt.deferred_signals`)
-    or the model's :class:`StallGuard` fired on a simplex iteration. It never
-    raises (:mod:`micro.backends.interrupt`: an exception unwound through
-    HiGHS left the model broken and the next run crashed the process).
-
-    Args:
-        simplex_type: HiGHS' code of the simplex interrupt callback (the guard counts those calls only).
-
-    Attributes:
-        guard: the stall guard (``None``: none).
-        stop: the run's stop request and any error kept from the callback.
-    """
-
-    def __init__(self, simplex_type: int) -> None:
-        self.simplex_type = simplex_type
-        self.guard: StallGuard | None = None
-        self.stop = SolverStop()
-
-    def __call__(self, kind: Any, message: str, data_out: Any, data_in: Any, user_data: Any) -> None:
-        try:
-            guard = self.guard
-            fired = (guard is not None and int(kind) == self.simplex_type
-                     and guard.tick(int(data_out.simplex_iteration_count)))
-            # set every call: HiGHS keeps the flag, and a flag left set from an
-            # interrupted run interrupted every later run of the model at once
-            data_in.user_interrupt = self.stop.requested or fired
-        except BaseException as exc:  # anything at all: HiGHS must never see it
-            self.stop.keep(exc)
-            with contextlib.suppress(BaseException):
-                data_in.user_interrupt = True
-
-
-#: Serialises :func:`quiet_highs`' swaps of file descriptor 1 between threads.
-_STDOUT_LOCK = threading.Lock()
-
-
-def quiet_highs() -> highspy.Highs:
-    """A new ``highspy.Highs`` with its output off.
-
-    highspy 1.16 prints its banner (two lines) on the process's standard
-    output when it builds its first instance, before any option can be set:
-    it broke ``xcheck micro --json`` (one JSON line on stdout). The
-    instance is built with file descriptor 1 pointed at the null device
-    (C-level output; a Python-level redirect does not see it), the C
-    buffers flushed before it is restored.
-    """
-    import highspy
-
-    with _STDOUT_LOCK:  # two threads swapping descriptor 1 at once could leave it on the null device
-        sys.stdout.flush()
-        saved = os.dup(1)
-        null = os.open(os.devnull, os.O_WRONLY)
-        try:
-            os.dup2(null, 1)
-            h = highspy.Highs()
-            h.setOptionValue("output_flag", False)
-        finally:
-            _flush_c_stdout()
-            os.dup2(saved, 1)
-            os.close(saved)
-            os.close(null)
-    return h
-
-
-def _flush_c_stdout() -> None:
-    """``fflush(NULL)``: what HiGHS wrote on descriptor 1 goes out before it is restored."""
-    with contextlib.suppress(OSError, AttributeError):  # no C library to ask (not seen on Linux or macOS)
-        ctypes.CDLL(None).fflush(None)
-
-
 def _highs_inf(a: FloatArray, inf: float) -> FloatArray:
     a = np.array(a, dtype=np.float64, copy=True)
     a[np.isposinf(a)] = inf
@@ -253,7 +131,7 @@ class PersistentHighsModel:
         return self._callback.guard
 
     def guard_stalls(self, calls: int = STALL_CALLS) -> None:
-        """Interrupt every later simplex run that stalls (:data:`STALL_CALLS`);
+        """Interrupt every later simplex run that stalls (:data:`~micro.backends.highs_runs.STALL_CALLS`);
         such a run ends ``solver_error`` with ``info["stalled"]``."""
         self._callback.guard = StallGuard(calls)
 
@@ -370,8 +248,8 @@ class PersistentHighsModel:
         interior-point iteration counts (``None`` or ``inf``: no limit).
 
         HiGHS compares ``time_limit`` with the run time accumulated over
-        all runs of the object (measured: a warm run stopped after 0.27 s
-        with ``time_limit`` 24 s after 20 s of earlier runs), so the limit is
+        all runs of the object (a warm run after earlier runs stops at once,
+        long before its own ``time_limit``: docs/speed.md), so the limit is
         set from the run time so far; the iteration limits count per run. A
         run stopped by an iteration limit reports ``iteration_limit``.
         """

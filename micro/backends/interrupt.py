@@ -33,8 +33,8 @@ from typing import Any
 Handler = Callable[[int, FrameType | None], Any]
 
 #: The signals a handler can be set for. :func:`deferred_signals` reads every one's handler through
-#: ``_signal``: ``signal.getsignal`` converts to enums and took 14 us a call (860 us for the 62 signals,
-#: around every LP, where a warm LP takes about a millisecond); ``_signal`` reads all 62 in 3.5 us.
+#: ``_signal``: ``signal.getsignal`` converts to enums, around every LP a cost near a warm LP's own; ``_signal``
+#: reads all 62 a few hundred times faster (docs/speed.md).
 _SIGNALS = tuple(int(s) for s in signal.valid_signals())
 
 

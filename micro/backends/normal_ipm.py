@@ -22,8 +22,8 @@ Each iteration is one numeric Cholesky factorisation of ``M``
 Why: Clarabel (the ``clarabel`` back end) factorises a quasi-definite KKT
 system with a row per generator as well (~32,000 rows on the 1,230-block
 wall against ``M``'s 3,690), by QDLDL, which has no supernodes: ``normal-ipm``
-is 1.8-4.3 times faster on 1,230-7,575 blocks, as accurate
-(``docs/micro/associative.md``).
+is faster on 1,230-7,575 blocks, as accurate (``docs/micro/associative.md``;
+the ratios: docs/speed.md).
 
 The answer's forces are the primal iterate, checked and if need be polished
 exactly as the kinematic back end's (:func:`micro.backends.polish.checked_outcome`);

@@ -16,10 +16,8 @@ on the pattern is done once here:
   Python package ships CHOLMOD as a wheel). Per iteration only the numeric
   factorisation runs.
 
-Measured on one core (factorisation of ``M`` only, supernodal against
-simplicial; SuperLU and QDLDL for comparison): 1,230 blocks 3.1 ms
-(simplicial 7.5 ms, SuperLU 13 ms, QDLDL 7-10 ms); 7,575 blocks 40 ms
-(simplicial 260 ms, SuperLU 164 ms, QDLDL 174-300 ms).
+The supernodal factorisation of ``M`` is the fastest of those measured
+(simplicial, SuperLU, QDLDL: the times, docs/speed.md).
 
 Near the optimum ``d`` spans ~20 decades (``x_j / z_j`` of the generators
 that carry force against those that do not) and CHOLMOD's last pivots lose
@@ -93,7 +91,7 @@ class NormalMatrix:
         A: ``(n, m)`` sparse matrix of full row rank.
         regularization: the relative diagonal shift.
         supernodal: CHOLMOD's supernodal factorisation (``False``: simplicial,
-            2-7 times slower on walls, but no BLAS call: the same factors and
+            slower on walls (docs/speed.md), but no BLAS call: the same factors and
             solves under every BLAS kernel and on every CPU, for a solve that
             decides a path).
         refine_steps: refinement steps at most per solve.

@@ -68,7 +68,7 @@ LOAD_FACTOR_WEIGHT = 1.0
 #: (0) one correction left 6e-8 block weights on a 300-block wall (p = 64) and
 #: took 4 more to reach 1e-11; 0.01 reaches 2e-11 in one. Partial pivoting
 #: (1, unsymmetric mode) is as accurate with 4x the fill (Set 17: 22.5 M
-#: against 5.6 M non-zeros, 3.7 s against 0.6 s of CPU).
+#: against 5.6 M non-zeros; its CPU seconds: docs/speed.md).
 PIVOT_THRESHOLD = 0.01
 #: Largest change of the load factor the polish may make, relative to
 #: ``max(|lambda|, 1)``; a larger one is not a rounding correction and the

@@ -4,10 +4,10 @@ Names of :data:`SOLVERS` (the CLI's ``--solver``, the report's back ends):
 
 ``normal-ipm``     the suite's own interior point on the normal equations
                    (:mod:`micro.backends.normal_ipm`, CHOLMOD through cvxopt),
-                   the default (:data:`DEFAULT_SOLVER`): 1.8-4.3 times faster
-                   than the best configuration of the maintained solvers
-                   (``clarabel``) on walls of 1,230-7,575 blocks, as accurate
-                   (``docs/micro/associative.md``);
+                   the default (:data:`DEFAULT_SOLVER`): faster than the best
+                   configuration of the maintained solvers (``clarabel``) on
+                   walls of 1,230-7,575 blocks, as accurate
+                   (``docs/micro/associative.md``, docs/speed.md);
 ``clarabel``       Clarabel (interior point) on the kinematic (dual) form of
                    the LP (:mod:`micro.backends.clarabel_kinematic`), the
                    fastest and most accurate maintained solver measured;
@@ -39,6 +39,7 @@ import importlib.util
 from collections.abc import Callable
 from dataclasses import dataclass
 from types import ModuleType
+from typing import Literal
 
 from micro.backends.base import Backend, check_time_limit
 from micro.lp import LimitLP
@@ -50,19 +51,23 @@ DEFAULT_SOLVER = "normal-ipm"
 
 @dataclass(frozen=True)
 class _Entry:
-    """One back end by name: its module (imported when chosen), how to make it, and the optional
-    extra that installs its package (``""``: a dependency of the package itself)."""
+    """One back end by name: its module (imported when chosen), how to make it, the optional extra that
+    installs its package (``""``: a dependency of the package itself), and which reports time it in their
+    speed-accuracy study (``"all"``; ``"quick"``: the quick report's small walls only)."""
 
     module: str
     make: Callable[[ModuleType, LimitLP, float | None], Backend]
     extra: str = ""
+    timed: Literal["all", "quick"] = "all"
 
 
 _SOLVERS: dict[str, _Entry] = {
     "normal-ipm": _Entry("normal_ipm", lambda m, lp, t: m.NormalIpmBackend(lp, time_limit=t)),
     "clarabel": _Entry("clarabel_kinematic", lambda m, lp, t: m.ClarabelKinematicBackend(lp, time_limit=t)),
     "highs-ipm": _Entry("highs", lambda m, lp, t: m.HighsBackend(lp, algorithm="ipm", time_limit=t)),
-    "highs-simplex": _Entry("highs", lambda m, lp, t: m.HighsBackend(lp, algorithm="simplex", time_limit=t)),
+    # cold, the simplex is slow on large walls: timed on the quick report's walls only
+    "highs-simplex": _Entry("highs", lambda m, lp, t: m.HighsBackend(lp, algorithm="simplex", time_limit=t),
+                            timed="quick"),
     "cvxpy": _Entry("cvxpy_", lambda m, lp, t: m.CvxpyBackend(lp, solver="CLARABEL"), extra="cvxpy"),
 }
 _EXPERIMENTS: dict[str, _Entry] = {
@@ -94,6 +99,14 @@ def make_backend(lp: LimitLP, solver: str = DEFAULT_SOLVER, *, time_limit: float
     if missing:
         raise ValueError(missing)
     return entry.make(importlib.import_module(f"micro.backends.{entry.module}"), lp, time_limit)
+
+
+def timed_solvers(quick: bool) -> tuple[str, ...]:
+    """The back ends of :data:`SOLVERS` the report times in its speed-accuracy study (all of them on the quick
+    report's walls, those that are not ``timed="quick"`` on the full report's), where they can run here (an
+    optional extra that is not installed leaves its back end out, :func:`missing_extra`)."""
+    return tuple(name for name, entry in _SOLVERS.items()
+                 if (quick or entry.timed == "all") and not missing_extra(name))
 
 
 def missing_extra(solver: str) -> str:

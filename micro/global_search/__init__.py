@@ -10,7 +10,7 @@ closes, ``lambda`` is the global minimum of the non-associative problem (to
 the MIP gap). Every big-M bound is provable (:mod:`.bounds`), and every
 returned state is rebuilt by two LPs from its contact pattern and checked
 against the collapse conditions (:mod:`.pattern`) before it is reported
-(:mod:`.search`: one load direction). Options and results: :mod:`.results`.
+(:mod:`.search`: one load direction). Options and results: :mod:`.global_types`.
 Derivation and figures: ``docs/micro/global-search.md``. A reference tool
 for small walls: the search closes on tens of blocks, not thousands.
 
@@ -33,17 +33,18 @@ from micro.geometry import BlockWall
 from micro.global_search.global_types import (
     INFEASIBLE,
     NODE_LIMIT,
+    NODE_WORK,
     OPTIMAL,
     SOLVER_ERROR,
     SOLVERS,
     STATUSES,
     TIME_LIMIT,
     GlobalDirection,
+    GlobalExtras,
     GlobalOptions,
     GlobalResult,
     StartState,
-    global_fields,
-    global_summary,
+    default_node_limit,
     relative_gap,
 )
 from micro.global_search.search import Incumbent, search_direction
@@ -54,17 +55,18 @@ from micro.nonassociative.nonassociative_result import NonAssociativeResult
 __all__ = [
     "INFEASIBLE",
     "NODE_LIMIT",
+    "NODE_WORK",
     "OPTIMAL",
     "SOLVER_ERROR",
     "SOLVERS",
     "STATUSES",
     "TIME_LIMIT",
     "GlobalDirection",
+    "GlobalExtras",
     "GlobalOptions",
     "GlobalResult",
     "StartState",
-    "global_fields",
-    "global_summary",
+    "default_node_limit",
     "relative_gap",
     "solve_global",
     "starts_from",
@@ -169,7 +171,8 @@ def _direction(lp: LimitLP, d: int, opts: GlobalOptions, start: StartState | Non
         gap=relative_gap(lam, out.lower_bound), normal=None if st is None else st.n,
         shear=None if st is None else st.s, mechanism=None if st is None else st.mechanism(lp, d),
         pattern=None if st is None else st.pattern, pattern_band=out.band, residuals=out.residuals,
-        bounds=out.bounds, binaries=out.binaries, nodes=out.nodes, mip_seconds=out.mip_seconds,
+        bounds=out.bounds, binaries=out.binaries, node_limit=out.node_limit, nodes=out.nodes,
+        mip_seconds=out.mip_seconds,
         seconds=time.perf_counter() - t0, start_load_factor=math.nan if inc is None else inc.load_factor,
         message=out.message)
 

@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import check_integer, finite_real
+from micro.columns import FlatRecord, Seconds, column, record_of
 from micro.lp import LimitLP
 from micro.mechanism import Mechanism
-from micro.records import json_number
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -33,6 +33,22 @@ SOLVERS = ("highs", "scip")
 #: Big-M policies for the normal forces (:attr:`GlobalOptions.bounds`).
 POLICIES = ("per_point", "uniform")
 
+#: The default budget of the branch and bound, in nodes times binaries per direction: a node's LP grows
+#: with the model (0.6 ms of CPU a node on a 10-block wall of 80 binaries, 6 ms on Set 12's 536), so that
+#: nodes times binaries is about the work. 1.6 million: 20,000 nodes on ten blocks (about 13 s of CPU),
+#: 2,985 on Set 12 (its root 2.4 s and 6 ms a node: about 20 s). A count of nodes, not seconds: the same
+#: answer on every machine, busy or quiet (``docs/micro/global-search.md``).
+NODE_WORK = 1_600_000
+#: The default budget's bounds in nodes per direction: at least the root and a few branchings, at most
+#: what the walls that close ever needed (a 9-block wall closed in 18,693 nodes) with room to spare.
+MIN_NODES, MAX_NODES = 20, 100_000
+
+
+def default_node_limit(binaries: int) -> int:
+    """The default node budget of one direction of a model of ``binaries`` binary columns:
+    :data:`NODE_WORK` over ``binaries``, within [:data:`MIN_NODES`, :data:`MAX_NODES`]."""
+    return int(min(MAX_NODES, max(MIN_NODES, NODE_WORK // max(int(binaries), 1))))
+
 
 def scip_available() -> bool:
     """True when ``pyscipopt`` is installed (the optional extra ``global``)."""
@@ -44,13 +60,14 @@ class GlobalOptions:
     """Options of the global search.
 
     Attributes:
-        direction_time_limit: seconds of branch and bound per load direction
-            (``None``: none). A search stopped by it reports ``time_limit``
-            with its bound and best state; such numbers depend on the machine.
-            Named apart from the iterated LP's ``time_limit`` (seconds per LP):
-            one meaning per name.
-        node_limit: branch-and-bound nodes per direction (``None``: none);
-            unlike the time limit it gives the same answer on every machine.
+        direction_time_limit: seconds of branch and bound per load direction, a limit the user gives
+            (``None``, the default: none, the clock decides nothing). A search stopped by it reports
+            ``time_limit`` with its bound and best state, and says that they depend on the machine.
+            Named apart from the iterated LP's ``time_limit`` (seconds per LP): one meaning per name.
+        node_limit: branch-and-bound nodes per direction: the budget that decides where the search
+            stops (``None``, the default: :func:`default_node_limit` of the model, :data:`NODE_WORK`
+            over its binaries). A count, so that the same command gives the same status, bound and
+            state on a busy machine and on a quiet one.
         mip_gap: relative gap ``(lambda - bound) / lambda`` at which the
             search stops as ``optimal``.
         bounds: big-M policy for the normal forces: ``"per_point"`` (an LP
@@ -62,7 +79,7 @@ class GlobalOptions:
             SCIP; needs ``pyscipopt``, the optional extra ``global``).
     """
 
-    direction_time_limit: float | None = 300.0
+    direction_time_limit: float | None = None
     node_limit: int | None = None
     mip_gap: float = 1e-7
     bounds: Literal["per_point", "uniform"] = "per_point"
@@ -206,6 +223,8 @@ class GlobalDirection:
         residuals: its check (:func:`micro.global_search.pattern.collapse_residuals`).
         bounds: the big-M bounds used, or ``None``.
         binaries: binary columns of the model.
+        node_limit: the node budget it ran under (:attr:`GlobalOptions.node_limit`, or the default of
+            the model's size).
         nodes: branch-and-bound nodes.
         mip_seconds: time of the branch and bound.
         seconds: time of the whole direction (bounds, model, search, checks).
@@ -227,6 +246,7 @@ class GlobalDirection:
     residuals: dict[str, float] = field(repr=False)
     bounds: BigM | None = field(repr=False)
     binaries: int
+    node_limit: int
     nodes: int
     mip_seconds: float
     seconds: float
@@ -261,6 +281,15 @@ class GlobalResult:
     seconds: float
     message: str = ""
 
+    @property
+    def nodes(self) -> int:
+        """Branch-and-bound nodes over the directions."""
+        return sum(d.nodes for d in self.directions)
+
+    def extras(self) -> dict[str, Any]:
+        """The JSON keys the search adds to a summary beside the record's ``global_*`` (:class:`GlobalExtras`)."""
+        return record_of(GlobalExtras, self).to_dict()
+
 
 def relative_gap(value: float, bound: float) -> float:
     """``max(value - bound, 0) / |value|`` (NaN when either is not finite)."""
@@ -269,31 +298,13 @@ def relative_gap(value: float, bound: float) -> float:
     return max(value - bound, 0.0) / max(abs(value), 1e-12)
 
 
-def global_summary(result: GlobalResult) -> dict[str, Any]:
-    """The JSON keys of the global search (NaN and infinities as ``None``).
+@dataclass(frozen=True)
+class GlobalExtras(FlatRecord):
+    """The keys a global search adds to a summary beside the record's ``global_*`` fields
+    (:class:`micro.NonAssociativeRecord`, read from the search by ``result.to_record(search=g)``)."""
 
-    Returns:
-        ``global_load_factor``, ``global_lower_bound``, ``global_gap``,
-        ``global_status``, and beside them ``global_direction``,
-        ``global_nodes`` and ``global_seconds``.
-    """
-    return {
-        "global_load_factor": json_number(result.load_factor),
-        "global_lower_bound": json_number(result.lower_bound),
-        "global_gap": json_number(result.gap),
-        "global_status": result.status,
-        "global_direction": result.direction,
-        "global_nodes": sum(r.nodes for r in result.directions),
-        "global_seconds": result.seconds,
-    }
+    global_direction: str = column("--global: the direction of its best state.", source="direction")
+    global_nodes: int = column("--global: branch-and-bound nodes over the directions.", source="nodes")
+    global_seconds: Seconds = column("--global: the search's time.", source="seconds")
 
 
-def global_fields(result: GlobalResult | None) -> dict[str, Any]:
-    """The record fields of the global search (:class:`micro.NonAssociativeRecord`):
-    ``global_load_factor``, ``global_lower_bound``, ``global_gap`` and
-    ``global_status`` (NaN and ``""`` when there was no search)."""
-    if result is None:
-        return {"global_load_factor": math.nan, "global_lower_bound": math.nan, "global_gap": math.nan,
-                "global_status": ""}
-    return {"global_load_factor": result.load_factor, "global_lower_bound": result.lower_bound,
-            "global_gap": result.gap, "global_status": result.status}

@@ -17,7 +17,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from micro.backends.highs import quiet_highs
+from micro.backends.highs_runs import quiet_highs
 
 FloatArray = NDArray[np.float64]
 #: The HiGHS model object the global search holds (its modules name the type

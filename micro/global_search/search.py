@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from micro.global_search import highs as gh
 from micro.global_search.bounds import BoundError, big_m
-from micro.global_search.global_types import BigM, GlobalOptions, Pattern
+from micro.global_search.global_types import BigM, GlobalOptions, Pattern, default_node_limit
 from micro.global_search.model import Layout, build_mip, pattern_of, solution_vector
 from micro.global_search.pattern import collapse_residuals, force_state, is_collapse_state, mechanism
 from micro.lp import LimitLP
@@ -39,9 +39,14 @@ MIP_FEASIBILITY = 1e-9
 #: Relative slack between the rebuilt state's gap and the requested one
 #: (the rebuilt load factor differs from HiGHS' by its tolerances).
 GAP_SLACK = 1e-8
-#: HiGHS model statuses that mean "a limit stopped the search", with ours.
-_LIMITS = {"Time limit reached": "time_limit", "Iteration limit reached": "time_limit",
-           "Node limit reached": "node_limit", "Solution limit reached": "node_limit"}
+#: HiGHS' threads in the branch and bound. HiGHS sizes its thread pool by the machine's cores, and its
+#: search takes another path with another count (a 3,000-node budget on a 10-block wall: 3,036 nodes
+#: run on two cores, 3,000 on one): one thread, the same path on every machine.
+MIP_THREADS = 1
+#: HiGHS model statuses that mean "a limit stopped the search", with ours (HiGHS reports its node limit as
+#: "Solution limit reached").
+_LIMITS = {"Time limit reached": "time_limit", "Node limit reached": "node_limit",
+           "Solution limit reached": "node_limit"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -103,25 +108,29 @@ class SearchOutcome:
     residuals: dict[str, float] = field(repr=False)
     bounds: BigM | None = field(repr=False)
     binaries: int = 0
+    node_limit: int = 0
     nodes: int = 0
     mip_seconds: float = 0.0
     message: str = ""
 
 
-def _configure(h: gh.Model, opts: GlobalOptions) -> None:
+def _configure(h: gh.Model, opts: GlobalOptions, node_limit: int) -> None:
+    """HiGHS' options of the branch and bound: the gap, the tolerances, the seed, and the limits: the node
+    budget always, a time limit only where the user gave one."""
     h.setOptionValue("output_flag", bool(opts.log))
     h.setOptionValue("mip_rel_gap", float(opts.mip_gap))
     h.setOptionValue("mip_abs_gap", MIP_ABS_GAP)
     h.setOptionValue("random_seed", int(opts.seed))
+    h.setOptionValue("threads", MIP_THREADS)
     h.setOptionValue("mip_feasibility_tolerance", MIP_FEASIBILITY)
     h.setOptionValue("primal_feasibility_tolerance", MIP_FEASIBILITY)
     if opts.direction_time_limit is not None:
         h.setOptionValue("time_limit", float(opts.direction_time_limit))
-    if opts.node_limit is not None:
-        h.setOptionValue("mip_max_nodes", int(opts.node_limit))
+    h.setOptionValue("mip_max_nodes", int(node_limit))
 
 
-def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts: GlobalOptions) -> gh.MipOutcome:
+def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts: GlobalOptions,
+           node_limit: int) -> gh.MipOutcome:
     """The branch and bound by HiGHS, or by SCIP on the same model (``opts.solver``)."""
     start = None if inc is None else solution_vector(lp, layout, inc.pattern, inc.n, inc.s, inc.load_factor, inc.v)
     if opts.solver == "scip":
@@ -130,7 +139,7 @@ def _solve(h: gh.Model, lp: LimitLP, layout: Layout, inc: Incumbent | None, opts
         m, xs = scip.from_model(h)
         if start is not None:
             scip.set_start(m, xs, start)
-        return scip.run(m, xs, node_limit=opts.node_limit, time_limit=opts.direction_time_limit, mip_gap=opts.mip_gap,
+        return scip.run(m, xs, node_limit=node_limit, time_limit=opts.direction_time_limit, mip_gap=opts.mip_gap,
                                abs_gap=MIP_ABS_GAP, feasibility=MIP_FEASIBILITY, seed=opts.seed, log=opts.log)
     if start is not None:
         gh.set_start(h, start)
@@ -154,19 +163,20 @@ def search_direction(lp: LimitLP, direction: int, opts: GlobalOptions, inc: Incu
     except BoundError as e:
         return SearchOutcome("solver_error", None, math.nan, None, {}, None, message=f"big-M bounds: {e}")
     h, layout = build_mip(lp, direction, bounds, energy_cut=opts.energy_cut)
-    _configure(h, opts)
+    budget = opts.node_limit if opts.node_limit is not None else default_node_limit(layout.binaries)
+    _configure(h, opts, budget)
     t0 = time.perf_counter()
-    out = _solve(h, lp, layout, inc, opts)
+    out = _solve(h, lp, layout, inc, opts, budget)
     secs = time.perf_counter() - t0
     found = Incumbent.from_pattern(lp, direction, pattern_of(layout, out.x)) if out.x is not None else None
     best = min((c for c in (found, inc) if c is not None), key=lambda c: c.load_factor, default=None)
     bound = out.dual_bound if math.isfinite(out.dual_bound) else bounds.lambda_lower
-    common = dict(bounds=bounds, binaries=layout.binaries, nodes=out.nodes, mip_seconds=secs)
+    common = dict(bounds=bounds, binaries=layout.binaries, node_limit=budget, nodes=out.nodes, mip_seconds=secs)
     if out.status == "Infeasible" and inc is None:
         return SearchOutcome("infeasible", None, math.inf, None, {}, **common,  # type: ignore[arg-type]
                              message=f"no collapse state with lambda in [{bounds.lambda_lower:.6g}, "
                                      f"{bounds.lambda_upper:.6g}] (the associative load factor)")
-    status, msg = _status(out, best, found, bound, opts)
+    status, msg = _status(out, best, found, bound, opts, budget)
     if best is None:
         return SearchOutcome(status, None, bound, None, {}, **common, message=msg)  # type: ignore[arg-type]
     res = best.residuals(lp, direction)
@@ -181,10 +191,15 @@ def search_direction(lp: LimitLP, direction: int, opts: GlobalOptions, inc: Incu
 
 
 def _status(out: gh.MipOutcome, best: Incumbent | None, found: Incumbent | None, bound: float,
-            opts: GlobalOptions) -> tuple[str, str]:
-    """Status and message from HiGHS' outcome and the rebuilt states."""
+            opts: GlobalOptions, budget: int) -> tuple[str, str]:
+    """Status and message from the solver's outcome and the rebuilt states."""
     if out.status in _LIMITS:
-        return _LIMITS[out.status], f"HiGHS: {out.status.lower()} after {out.nodes} nodes"
+        status = _LIMITS[out.status]
+        if status == "time_limit":
+            return status, (f"stopped by the time limit given, {opts.direction_time_limit:g} s per direction, after "
+                            f"{out.nodes} nodes: a wall-clock limit, so its bound and state depend on the machine")
+        return status, (f"stopped at its budget of {budget:,} nodes ({out.nodes:,} run): the same on every "
+                        "machine")
     if out.status != "Optimal":
         return "solver_error", f"HiGHS ended with status {out.status!r}"
     if found is None:

@@ -82,9 +82,8 @@ class IterationModel:
     def set_capacity(self, nbar: FloatArray, alpha: float, alpha_prev: float, c0: float) -> None:
         """Rebuild the yield condition of every point from ``nbar`` (bounds;
         for scheme (b) row
-        bounds and, when ``alpha`` changed, coefficients: 9 ms for the 14,200
-        coefficients of the 1,230-block wall against ~1 s for one warm
-        simplex run)."""
+        bounds and, when ``alpha`` changed, coefficients: a small part of one
+        warm simplex run, docs/speed.md)."""
         P, mu, m = self.P, self.lp.mu, self.model
         nbar = np.maximum(nbar, 0.0)
         self.nbar = nbar

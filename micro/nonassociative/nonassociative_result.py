@@ -6,12 +6,44 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol
 
-from micro.limit_result import DirectionResult, given_fields
+from micro.columns import FlatRecord, LoadFactor, Seconds, column, record_of
+from micro.limit_result import DirectionResult, RecordSources
+from micro.mechanism import Mechanism
 from micro.nonassociative.config import Resolved
-from micro.nonassociative.descent.lowest_direction import LowestDirection, lowest_fields, lowest_summary
-from micro.records import NonAssociativeRecord, check_success, json_number, record_of
+from micro.nonassociative.descent.lowest_direction import (
+    DescentEntry,
+    DescentSummary,
+    LowestDirection,
+    descent_summary,
+)
+from micro.records import IteratedDirection, NonAssociativeRecord, check_success
+
+
+class ComposedSearch(Protocol):
+    """What a record reads of a search composed after the run (:class:`micro.GlobalResult`; the method
+    does not import the search: it is started from the result)."""
+
+    @property
+    def load_factor(self) -> float:
+        """Its best verified lambda."""
+
+    @property
+    def lower_bound(self) -> float:
+        """Its proven lower bound."""
+
+    @property
+    def gap(self) -> float:
+        """``(load_factor - lower_bound) / load_factor``."""
+
+    @property
+    def status(self) -> str:
+        """How it ended."""
+
+    def extras(self) -> dict[str, Any]:
+        """The keys the search adds to a summary."""
+        ...
 
 #: Values of ``status``. ``max_iterations``: the cap on LPs or the work budget
 #: (simplex iterations) spent; ``time_limit``: stopped by a user's wall-clock
@@ -25,54 +57,31 @@ Band = tuple[float, float]
 
 
 @dataclass(frozen=True)
-class IterationRecord:
-    """One LP of the sequence.
+class IterationRecord(FlatRecord):
+    """One LP of the sequence, an entry of the summary's ``history`` (each field's meaning: its declaration)."""
 
-    Attributes:
-        iteration: 0 for the associative LP, then 1, 2, ...
-        load_factor: ``lambda`` of this LP (NaN if it failed).
-        lambda_change: ``|lambda_k - lambda_(k-1)| / |lambda_k|`` (NaN for k = 0).
-        max_dn: ``max |n_k - n_(k-1)|`` relative to ``max n_k`` (NaN for k = 0).
-        coulomb_residual: ``max(|s_k| - mu n_k, 0)`` relative to ``max n_k``.
-        alpha: slope parameter of scheme (b) (0 for scheme (a) and k = 0).
-        simplex_iterations: simplex iterations of this LP.
-        ipm_iterations: interior-point iterations of this LP.
-        seconds: wall time of the solve (and of the model update before it).
-        algorithm: ``"clarabel"``, ``"ipm"``, ``"ipm+crossover+simplex"``,
-            ``"simplex-warm"``, ``"simplex-warm-unrelaxed"``, ``"fallback-a"``
-            or ``"ipm-restart"`` (after a failed warm run).
-        status: the LP's status (:class:`micro.Status` value).
-        certificate: ``""`` (not tried), ``"not found"`` (no collapse state
-            at this ``lambda`` with this LP's mechanism, or the try hit its
-            time limit) or ``"certified"``; ``coulomb_residual`` is then that
-            of the certified field.
-        certificate_seconds, certificate_iterations: cost of the try
-            (interior-point iterations).
-        proximal_step: the proximal selection's ``|n - nbar|_1 / |nbar|_1``
-            of the projection that gave this LP's ``nbar`` (its QP's time is
-            in ``seconds``); NaN for the other selections, the first LP and
-            an unsolved QP.
-    """
-
-    iteration: int
-    load_factor: float
-    lambda_change: float
-    max_dn: float
-    coulomb_residual: float
-    alpha: float
-    simplex_iterations: int
-    ipm_iterations: int
-    seconds: float
-    algorithm: str
-    status: str
-    certificate: str = ""
-    certificate_seconds: float = 0.0
-    certificate_iterations: int = 0
-    proximal_step: float = math.nan
-
-    def as_dict(self) -> dict[str, Any]:
-        """JSON-ready (NaN -> None)."""
-        return {k: json_number(v) if isinstance(v, float) else v for k, v in self.__dict__.items()}
+    iteration: int = column("0 for the associative LP, then 1, 2, ...")
+    load_factor: LoadFactor = column("lambda of this LP (null if it failed).")
+    lambda_change: float = column("|lambda_k - lambda_(k-1)| / |lambda_k| (null for the first LP).")
+    max_dn: float = column("max |n_k - n_(k-1)| relative to max n_k (null for the first LP).")
+    coulomb_residual: float = column("max(|s_k| - mu n_k, 0) relative to max n_k.")
+    alpha: float = column("The slope parameter of scheme (b) (0 for scheme (a) and the first LP).")
+    simplex_iterations: int = column("Simplex iterations of this LP.")
+    ipm_iterations: int = column("Interior-point iterations of this LP.")
+    seconds: Seconds = column("Wall time of the solve (and of the model update before it).")
+    algorithm: str = column(
+        "clarabel, ipm, ipm+crossover+simplex, simplex-warm, simplex-warm-unrelaxed, fallback-a or ipm-restart "
+        "(after a failed warm run).")
+    status: str = column("The LP's status (a micro.Status value).")
+    certificate: str = column(
+        "certified, not found (no collapse state at this lambda with this LP's mechanism, or the try hit its "
+        "time limit), or empty when not attempted; coulomb_residual is then that of the certified field.",
+        default="")
+    certificate_seconds: Seconds = column("The certificate's time.", default=0.0)
+    certificate_iterations: int = column("The certificate's interior-point iterations.", default=0)
+    proximal_step: float = column(
+        "The proximal selection's |n - nbar|_1 / |nbar|_1 of the projection that gave this LP's nbar (its QP's "
+        "time is in seconds); null for the other selections, the first LP and an unsolved QP.", default=math.nan)
 
 
 @dataclass(frozen=True)
@@ -199,7 +208,7 @@ QUOTED_LOWEST, QUOTED_ITERATED = "lowest certified", "iterated"
 
 
 @dataclass(frozen=True, eq=False)
-class NonAssociativeResult:
+class NonAssociativeResult(RecordSources):
     """Result of the non-associative analysis. The value to quote is :attr:`load_factor` (the lowest
     certified collapse state where the descent found one in every direction, else the iterated LP's
     value; which one is :attr:`quoted`); the iterated LP's own value is :attr:`iterated_load_factor`,
@@ -336,48 +345,57 @@ class NonAssociativeResult:
         use_lowest = self.quoted == QUOTED_LOWEST
         return {d.direction: lowest[d.direction] if use_lowest else d.load_factor for d in self.directions}
 
-    def to_record(self) -> NonAssociativeRecord:
-        """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form.
-        Each field is read along its declared source (:mod:`micro.records`); this method gives only the
-        values computed over the directions."""
-        return record_of(
-            NonAssociativeRecord, self,
-            solver=self.resolved.solver_description(),
-            **given_fields(self.directions, self.governing.mechanism, self.direction_load_factors()),
-            history_load_factor=tuple(r.load_factor for r in self.sequence.history),
-            fallback_steps=sum(diagnostics(d).fallback_steps for d in self.directions),
-            **lowest_fields(self.lowest_state, self.lowest),
-        )
+    @property
+    def governing_mechanism(self) -> Mechanism | None:
+        """The mechanism of the governing direction's state (``None`` without one)."""
+        return self.governing.mechanism if self.governing is not None else None
 
-    def summary(self) -> dict[str, Any]:
-        """JSON-ready summary: the record (:meth:`to_record`) with the
-        contact states, the descent, options, history and directions as
-        nested objects (a global search composed after the run adds its keys:
-        :func:`micro.global_search.global_summary`). The contact states of the mechanism
-        are the record's ``*_contacts`` keys (0 without one). Each entry of
-        ``directions`` gives ``load_factor`` of the kind the wall's is
-        (:meth:`direction_load_factors`) and the iterated LP's value beside it."""
-        num = json_number
-        record = self.to_record().to_dict()
+    @property
+    def solver(self) -> str:
+        """Which solver did what in the iterated LP (:meth:`Resolved.solver_description`)."""
+        return self.resolved.solver_description()
+
+    @property
+    def history_load_factor(self) -> tuple[float, ...]:
+        """``lambda`` of every LP of the governing sequence, the associative one first."""
+        return tuple(r.load_factor for r in self.sequence.history)
+
+    @property
+    def fallback_steps(self) -> int:
+        """Scheme (b) LPs replaced by a scheme (a) step, over the directions solved."""
+        return sum(diagnostics(d).fallback_steps for d in self.directions)
+
+    @property
+    def descent(self) -> DescentSummary:
+        """The descent over the directions, as the record reads it (:class:`DescentSummary`)."""
+        return descent_summary(self.lowest_state, self.lowest)
+
+    def to_record(self, search: ComposedSearch | None = None) -> NonAssociativeRecord:
+        """The flat record of this result: a read-only mapping of its fields; ``.to_dict()`` is its JSON form.
+        Each field is read along its declared source (:mod:`micro.records`); ``search``: a global search
+        composed after the run (:func:`micro.solve_global`), whose ``global_*`` fields it fills."""
+        return record_of(NonAssociativeRecord, self, search=search)
+
+
+    def summary(self, search: ComposedSearch | None = None) -> dict[str, Any]:
+        """JSON-ready summary: the record (:meth:`to_record`) with the descent, options, history and
+        directions as nested objects, each a record of its own (their schemas: :mod:`micro.schema`); a global
+        search composed after the run (``search``) fills the record's ``global_*`` keys and adds its own
+        (:class:`micro.global_search.GlobalExtras`) before ``options``. The contact states of the mechanism
+        are the record's ``*_contacts`` keys (0 without one). Each entry of ``directions`` gives
+        ``load_factor`` of the kind the wall's is (:meth:`direction_load_factors`) and the iterated LP's value
+        beside it."""
+        record = self.to_record(search).to_dict()
         by_direction = self.direction_load_factors()
         first = ("load_factor", "quoted", "iterated_load_factor", "mechanism_band", "lowest_load_factor",
                  "lowest_band", "lowest_stop")
         return {
             **{k: record[k] for k in first}, **record,
-            "lowest": [lowest_summary(low) for low in self.lowest],
+            "lowest": [record_of(DescentEntry, low).to_dict() for low in self.lowest],
+            **({} if search is None else search.extras()),
             "options": self.resolved.as_dict(),
-            "history": [r.as_dict() for r in self.sequence.history],
-            "directions": {
-                d.direction: {
-                    "status": d.status,
-                    "stop_reason": diagnostics(d).stop_reason,
-                    "load_factor": num(by_direction[d.direction]),
-                    "iterated_load_factor": num(d.load_factor),
-                    "last_load_factor": num(diagnostics(d).last_load_factor),
-                    "associative_load_factor": num(diagnostics(d).associative_load_factor),
-                    "iterations": d.iterations,
-                    "seconds": d.seconds,
-                }
-                for d in self.directions
-            },
+            "history": [r.to_dict() for r in self.sequence.history],
+            "directions": {d.direction: record_of(IteratedDirection, d,
+                                                  quoted_value=by_direction[d.direction]).to_dict()
+                           for d in self.directions},
         }

@@ -63,7 +63,7 @@ CONT_GAMMA_MIN = 1e-3
 #: lambda = 5.46 against 0.394 associative).
 CONT_COHESION = 1e-9
 #: Its warm runs are not cut short (a cap would make the path depend on it):
-#: the fused Set 10's second LP took 60,122 simplex iterations, 40 s.
+#: the fused Set 10's second LP took 60,122 simplex iterations.
 WARM_UNLIMITED = 2**31 - 1
 #: Scheme (b)'s slope schedule: ``alpha`` from ``ALPHA0``, times
 #: ``ALPHA_FACTOR`` at every LP, down to ``ALPHA_MIN`` (Gilbert et al.'s).

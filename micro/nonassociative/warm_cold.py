@@ -39,7 +39,7 @@ COLD_SWITCH_PIVOTS = 2.0
 #: at its limit below).
 COLD_STREAK = 3
 #: A warm run that takes more than this many simplex iterations per
-#: equilibrium row is stuck (a small infeasible LP took seconds to be
+#: equilibrium row is stuck (a small infeasible LP took many times its usual work to be
 #: declared so: the research page on the re-cut of the non-associative package (``docs/research/``)): it is stopped and
 #: recovered ...
 WARM_LIMIT_PIVOTS = 10.0

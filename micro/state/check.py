@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from micro.columns import json_number
 from micro.geometry import BlockWall
 from micro.hold import HeldWall
 from micro.nonassociative.config import INTERPENETRATION
@@ -214,9 +215,7 @@ class StateCheck:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready (non-finite values as ``None``)."""
-        def num(x: float) -> float | None:
-            return float(x) if math.isfinite(x) else None
-
+        num = json_number
         return {
             "passed": self.passed, "worst": self.worst.name, "friction": self.friction,
             "load_factor": num(self.load_factor), "direction": self.direction, "blocks": self.blocks,

@@ -118,10 +118,9 @@ def _wall() -> dict[str, Any]:
 
 @pytest.mark.parametrize("name", list(CASES))
 def test_a_bad_value_is_refused_at_the_entry_point_naming_it(name: str) -> None:
-    """Before: ``AttributeError`` from deep inside (``macro.solve(None)``, ``tuning='b'``, ``options='fast'``),
-    ``OverflowError`` (``time_limit=10**400``), ``range() arg 3 must not be zero`` (``chunk=0``), numpy's
-    ``shape mismatch ... arg 0 with shape (3,)``, the first wall of ``from_paper(t=array)`` with the rest
-    dropped, ``global_=1`` starting a branch and bound, ``certify='no'`` read as True."""
+    """A bad value is refused at the entry point, naming the parameter: never an error from deep inside (an
+    ``AttributeError``, an ``OverflowError``, numpy's shape mismatch), a value dropped, or a string read as
+    True."""
     call, error, match = CASES[name]
     with pytest.raises(error) as info:
         call()
@@ -130,9 +129,9 @@ def test_a_bad_value_is_refused_at_the_entry_point_naming_it(name: str) -> None:
 
 
 def test_a_sweep_too_large_for_the_memory_is_refused_before_any_array_is_built() -> None:
-    """Item 13: ``macro.sweep(t=np.ones(10**8), ...)`` grew past 7 GB; no check stood at the API (the CLI's
-    grid limit did). 10^10 walls broadcast from one number take no memory as input; the estimate
-    (about 300 bytes a wall) refuses them at once."""
+    """``macro.sweep`` of more walls than the memory holds is refused at the API before any array is built:
+    10^10 walls broadcast from one number take no memory as input; the estimate (about 300 bytes a wall)
+    refuses them at once."""
     t = np.broadcast_to(1.0, (10**10,))
     with pytest.raises(TooLarge, match=r"^t, m, rows, f, p: a sweep of 10,000,000,000 walls of 1 storey needs an "
                                        r"estimated [\d.e+]+ GB of memory, but only"):

@@ -192,8 +192,8 @@ def test_a_local_mechanism_is_named_and_the_wall_as_built_is_compared() -> None:
 
 def test_global_runs_on_the_wall_as_built() -> None:
     """Two rows, t = 40/31, m = 1, f = 0.6 with cut ends: the 0.05-wide top piece tips over alone (0.05); the
-    global search of the wall as built cannot prove it safe (the held wall's bound, 0.3797, was printed as
-    "safe" before); with closers (the default) the wall has no sliver and the search's bound is its own."""
+    global search of the wall as built cannot prove it safe (the held wall's bound, 0.3797, is another wall's);
+    with closers (the default) the wall has no sliver and the search's bound is its own."""
     spec = WallSpec.from_paper(t=40 / 31, m=1, rows=2, f=0.6, ends="cut")
     c = comparison.compare(spec, full=True, global_=True)
     assert c.verdict == "unsafe" and c.micro_load_factor == pytest.approx(0.05, rel=1e-6)
@@ -206,3 +206,37 @@ def test_global_runs_on_the_wall_as_built() -> None:
 def test_no_local_mechanism_on_the_paper_s_walls(set12: Comparison, set13: Comparison) -> None:
     assert set12.local_mechanism is None and set13.local_mechanism is None
     assert set13.associative_wall is not None and set13.associative_wall.n_blocks == set13.blocks
+
+
+def test_a_value_that_is_absent_is_none_in_python_as_in_json(set12: Comparison) -> None:
+    """A value that is absent (``global_status``, ``micro_quoted``, ``macro_mechanism`` without one) is
+    ``None`` in Python as it is ``null`` in the JSON."""
+    d = set12.to_dict()
+    assert set12.global_status is None and d["global_status"] is None
+    for name in ("global_status", "micro_quoted", "macro_mechanism", "verdict", "proof"):
+        assert getattr(set12, name) == d[name], name
+
+
+def test_a_comparison_has_a_flat_record(set12: Comparison) -> None:
+    """``to_record()``: a read-only mapping of the numbers, the verdict and the bond; its JSON form round-trips,
+    and every field named as a key of ``--json`` holds the same value there."""
+    from comparison.domain.comparison_record import ComparisonRecord
+
+    rec = set12.to_record()
+    assert rec["verdict"] == "not refuted" and rec["micro_load_factor"] == set12.micro_load_factor
+    assert rec["ends"] == "closers" and rec["local_description"] == "" and math.isnan(rec["held_load_factor"])
+    assert rec["total_seconds"] == set12.seconds.total and list(rec)[0] == "verdict"
+    with pytest.raises(KeyError):
+        rec["no such field"]
+    back = ComparisonRecord.from_dict(json.loads(json.dumps(rec.to_dict())))
+    assert back.to_dict() == rec.to_dict()
+    doc = set12.to_dict()
+    shared = [k for k in rec if k in doc]
+    assert len(shared) >= 20 and all(rec.to_dict()[k] == doc[k] for k in shared)
+
+
+def test_the_record_names_the_local_mechanism_and_the_held_wall() -> None:
+    c = comparison.compare(CUT_TOP)
+    rec = c.to_record()
+    assert rec["local_description"] == c.local_mechanism["description"]  # type: ignore[index]
+    assert rec["held_load_factor"] == c.local_mechanism["held_load_factor"] > rec["associative_load_factor"]  # type: ignore[index]

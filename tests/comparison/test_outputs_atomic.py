@@ -46,7 +46,7 @@ def _limited() -> None:
 
 
 def test_a_sweep_on_a_full_disk_leaves_the_last_whole_outputs_and_no_temporary_file(tmp_path: Path) -> None:
-    """Before: the table's temporary file (``.full.csv.<pid>.tmp``) was left behind, cut at the limit."""
+    """A sweep on a full disk leaves the last whole outputs and no temporary file."""
     grid = tmp_path / "full.toml"
     grid.write_text(GRID)
     out = tmp_path / "out"

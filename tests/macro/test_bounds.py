@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 
 import macro
 from comparison.domain.wall import WallSpec
+from comparison.runner.macro_record import macro_record
 from macro.bounds import overturning_load_factor
 
 
@@ -73,7 +74,7 @@ def test_an_optimal_result_needs_a_finite_positive_load_factor() -> None:
         with pytest.raises(ValueError, match="finite positive load factor"):
             dataclasses.replace(r, load_factor=bad)
         with pytest.raises(ValueError, match="finite positive load factor"):
-            dataclasses.replace(r.to_record(), load_factor=bad)
+            dataclasses.replace(macro_record(r), load_factor=bad)
     assert dataclasses.replace(r, load_factor=math.nan, status="numerical_error").status == "numerical_error"
 
 

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 
 import macro
 from comparison.domain.wall import WallSpec
+from comparison.runner.macro_record import macro_record
 
 walls = st.builds(  # t at most o m: a wall at least one block long (macro.checks.wall_bounds)
     lambda t, m, per, n, f, p: WallSpec.from_paper(t=min(t, per * n * m), m=m, rows=per * n, f=f, p=p, storeys=n)
@@ -198,7 +199,7 @@ def test_a_macro_record_reads_as_a_mapping_of_its_fields() -> None:
     import dataclasses
     from collections.abc import Mapping
 
-    rec = macro.solve(WallSpec.from_paper(t=1, m=1 / 3, rows=60, f=0.6, storeys=3).to_macro()).to_record()
+    rec = macro_record(macro.solve(WallSpec.from_paper(t=1, m=1 / 3, rows=60, f=0.6, storeys=3).to_macro()))
     assert isinstance(rec, Mapping)
     assert rec["hinge_storey"] == rec.hinge_storey == 3 and rec["mechanism"] == "rocking-sliding"
     assert list(rec) == [f.name for f in dataclasses.fields(rec)] and dict(rec)["load_factor"] == rec.load_factor

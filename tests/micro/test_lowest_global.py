@@ -15,7 +15,6 @@ import pytest
 from hand_walls import column_wall, small_wall
 
 import micro
-from micro.global_search import global_summary
 
 #: Branch-and-bound nodes per direction (each search here closes in far fewer).
 NODES = 20_000
@@ -44,9 +43,9 @@ def test_lowest_reaches_the_proven_global_minimum(name: str, make, exact: float 
     assert lam_low == pytest.approx(g.load_factor, rel=1e-7)
     if exact is not None:
         assert lam_low == pytest.approx(exact, rel=1e-7)
-    s = global_summary(g)
-    assert s["global_status"] == "optimal" and s["global_gap"] <= 1e-6
-    assert s["global_lower_bound"] == pytest.approx(g.lower_bound)
+    rec = r.to_record(search=g)
+    assert rec.global_status == "optimal" and rec.global_gap <= 1e-6
+    assert rec.global_lower_bound == pytest.approx(g.lower_bound)
 
 
 def test_iterated_lp_can_stop_above_the_global_minimum() -> None:

@@ -115,17 +115,17 @@ def test_from_dict_names_a_missing_field() -> None:
 def test_summaries_hold_no_nan_at_any_depth() -> None:
     """The summary of a run with the descent and the global search (a 5-block wall, a node-limited
     search) is strict JSON at every depth: NaN and infinities become ``null`` in the record, the
-    descent's and the search's nested parts (:func:`micro.records.json_number`)."""
+    descent's and the search's nested parts (:func:`micro.columns.json_number`)."""
     from comparison.domain.wall import WallSpec
-    from micro.global_search import global_summary
-    from micro.records import json_number
+    from micro.columns import json_number
 
     assert [json_number(x) for x in (0.5, 1, math.nan, math.inf, -math.inf)] == [0.5, 1.0, None, None, None]
     wall = WallSpec.from_paper(t=1, m=1, rows=2, f=0.6).to_micro()
     r = micro.solve_nonassociative(wall, lowest=True)
     g = micro.solve_global(wall, start=r, options=micro.GlobalOptions(node_limit=5))
     assert r.converged and r.lowest
-    summary = {**r.summary(), **global_summary(g)}
+    summary = r.summary(search=g)
+    assert summary["global_status"] == g.status and summary["global_nodes"] == g.nodes
     text = json.dumps(summary, allow_nan=False)  # raises on any NaN or infinity left
     assert math.isnan(r.sequence.cold_load_factor) == (summary["cold_load_factor"] is None)
     assert json.loads(text)["lowest"][0]["direction"] == r.lowest[0].direction
@@ -156,12 +156,14 @@ def test_a_record_reads_as_a_mapping_of_its_fields() -> None:
 
 
 def test_a_field_declared_once_reaches_the_record_its_json_and_its_schema() -> None:
-    """One :func:`~micro.records.column` line is all a diagnostic the result already holds needs: the record
+    """One :func:`~micro.columns.column` line is all a diagnostic the result already holds needs: the record
     reads it along its source, its JSON form and ``from_dict`` carry it, the schema documents it with its
-    type and description (here ``sliding_points``, which the iterated LP's diagnostics hold)."""
+    type and description (here ``sliding_points``, which the iterated LP's diagnostics hold). Every value
+    of a record is read along a declared source: none is computed in a second place."""
     import dataclasses
 
-    from micro.records import GIVEN, NonAssociativeRecord, column, record_of, record_schema
+    from micro.columns import column, record_of, record_schema
+    from micro.records import NonAssociativeRecord
 
     @dataclasses.dataclass(frozen=True)
     class Extended(NonAssociativeRecord):
@@ -171,9 +173,7 @@ def test_a_field_declared_once_reaches_the_record_its_json_and_its_schema() -> N
     r = micro.solve_nonassociative(table7_wall("set12"))
     plain = r.to_record()
     assert type(plain) is NonAssociativeRecord and "sliding_points" not in plain
-    # the values the result computes are given as its to_record gives them; the new field is read
-    given = {k: plain[k] for k in plain if NonAssociativeRecord.__dataclass_fields__[k].metadata["source"] == GIVEN}
-    ext = record_of(Extended, r, **given)
+    ext = record_of(Extended, r, search=None)  # no global search composed: its fields keep their defaults
     assert _same(plain, NonAssociativeRecord.from_dict(ext.to_dict()))
     assert ext.sliding_points == r.sequence.sliding_points and ext.to_dict()["sliding_points"] == ext.sliding_points
     assert _same(Extended.from_dict(json.loads(json.dumps(ext.to_dict()))), ext)
@@ -183,22 +183,21 @@ def test_a_field_declared_once_reaches_the_record_its_json_and_its_schema() -> N
 
 
 def test_record_sources_break_off_at_none_to_the_default_and_unknown_values_are_refused() -> None:
-    """A source path through an absent part (no vertex attempt, no fused wall) gives the field's default; a
-    value given for a field the record does not have is refused, naming it."""
-    from micro.records import NonAssociativeRecord, record_of
+    """A source path through an absent part (no vertex attempt, no fused wall, no global search) gives the
+    field's default."""
 
     r = micro.solve_nonassociative(table7_wall("set12"), tuning=micro.Tuning(selection="vertex"))
     assert r.sequence.vertex_attempt is None and r.sequence.fusion is None
     rec = r.to_record()
     assert (rec.vertex_stop_reason, rec.vertex_lambda_band, rec.fused_bodies, rec.fused_points) == ("", None, 0, 0)
-    with pytest.raises(TypeError, match="no field 'nonsense'"):
-        record_of(NonAssociativeRecord, r, nonsense=1)
+    assert rec.global_status == "" and math.isnan(rec.global_load_factor)
 
 
 def test_every_record_field_is_described_and_typed_in_the_schema() -> None:
     """Every field of both records has a description and a JSON type (the schema's properties are made
-    from them, :func:`micro.records.record_schema`)."""
-    from micro.records import AssociativeRecord, NonAssociativeRecord, record_schema
+    from them, :func:`micro.columns.record_schema`)."""
+    from micro.columns import record_schema
+    from micro.records import AssociativeRecord, NonAssociativeRecord
 
     for cls in (AssociativeRecord, NonAssociativeRecord):
         schema = record_schema(cls)

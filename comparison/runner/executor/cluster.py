@@ -30,9 +30,9 @@ from comparison.runner.executor.base import Task, TaskOutcome, call, ordered
 #: Seconds to wait for the scheduler to answer and for at least one worker.
 CONNECT_SECONDS = 20.0
 #: Seconds for the first contact (:func:`check_scheduler`: the host resolved, the connection made, Dask's
-#: handshake and the scheduler's identity). Without it a silent TCP server held the client for over 400 s
-#: (Dask waits for the handshake without a limit), an HTTP server over 90 s, a server sending other bytes
-#: 40 s and then a traceback, and a closed port or an unknown host 21 s.
+#: handshake and the scheduler's identity). Without it a silent TCP server held the client for minutes
+#: (Dask waits for the handshake without a limit), and a server sending other bytes ended in a traceback
+#: (measured: docs/speed.md, "What the code's choices rest on").
 HANDSHAKE_SECONDS = 4.0
 
 

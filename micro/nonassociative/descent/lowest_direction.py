@@ -2,18 +2,17 @@
 
 A types module (it imports no module that computes): :mod:`.lowest` fills
 :class:`LowestDirection`; :class:`micro.NonAssociativeResult` holds one per
-converged direction and writes its record fields (:func:`lowest_fields`) and
-its summary (:func:`lowest_summary`) from them.
+converged direction and reads its record fields (:func:`descent_summary`) and
+its summary's entries (:class:`DescentEntry`) from them.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
 
+from micro.columns import Band, FlatRecord, LoadFactor, Seconds, column
 from micro.limit_result import DirectionResult
-from micro.records import json_number
 
 #: Values of :attr:`LowestDirection.status`.
 FOUND, FAILED = "found", "failed"
@@ -67,43 +66,65 @@ class LowestDirection:
         """True when an exact state was found."""
         return self.status == FOUND
 
+    @property
+    def contact_states(self) -> dict[str, int] | None:
+        """The contacts of its mechanism in each state (``None`` without a state)."""
+        mech = self.state.mechanism if self.state is not None else None
+        return mech.state_counts() if mech is not None else None
 
-def lowest_fields(governing: LowestDirection | None, lowest: tuple[LowestDirection, ...]) -> dict[str, Any]:
-    """The record fields of the descent (:class:`micro.NonAssociativeRecord`).
 
-    Args:
-        governing: the lowest state over the directions (``None`` without one).
-        lowest: the descent of every direction (empty when it did not run).
+@dataclass(frozen=True)
+class DescentSummary:
+    """The descent over the directions, as the record's ``lowest_*`` fields read it
+    (:class:`micro.records.NonAssociativeRecord`): the lowest state's λ, direction, band and moves, the LPs
+    and seconds summed over the directions, ``status`` ``"found"`` or ``"failed"`` (some direction has no
+    state) and ``stop`` ``"finished"``, ``"budget"`` (one spent its budget) or ``"target"`` (one stopped
+    below the options' ``stop_below``); ``""`` for both when the descent did not run."""
 
-    Returns:
-        The ``lowest_*`` fields (:class:`micro.records.NonAssociativeRecord`); LPs and seconds summed over
-        the directions, ``"failed"`` when some direction has no state, ``"budget"`` when one spent its budget,
-        ``"target"`` when one stopped below the options' ``stop_below``.
-    """
-    status = "" if not lowest else FOUND if governing is not None else FAILED
+    load_factor: float = math.nan
+    direction: str = ""
+    band: tuple[float, float] | None = None
+    moves: int = 0
+    lps: int = 0
+    seconds: float = 0.0
+    status: str = ""
+    stop: str = ""
+
+
+def descent_summary(governing: LowestDirection | None, lowest: tuple[LowestDirection, ...]) -> DescentSummary:
+    """The :class:`DescentSummary` of the descents ``lowest`` (empty: it did not run), ``governing`` the
+    lowest state over the directions (``None`` without one)."""
+    if not lowest:
+        return DescentSummary()
     stops = {low.stop for low in lowest}
-    stop = "" if not lowest else TARGET if TARGET in stops else BUDGET if BUDGET in stops else FINISHED
-    return {
-        "lowest_load_factor": governing.load_factor if governing is not None else math.nan,
-        "lowest_direction": governing.direction if governing is not None else "",
-        "lowest_band": governing.band if governing is not None else None,
-        "lowest_moves": len(governing.moves) if governing is not None else 0,
-        "lowest_lps": sum(low.lps for low in lowest),
-        "lowest_seconds": sum(low.seconds for low in lowest),
-        "lowest_status": status,
-        "lowest_stop": stop,
-    }
+    stop = TARGET if TARGET in stops else BUDGET if BUDGET in stops else FINISHED
+    lps, seconds = sum(low.lps for low in lowest), sum(low.seconds for low in lowest)
+    if governing is None:
+        return DescentSummary(lps=lps, seconds=seconds, status=FAILED, stop=stop)
+    return DescentSummary(governing.load_factor, governing.direction, governing.band, len(governing.moves), lps,
+                          seconds, FOUND, stop)
 
 
-def lowest_summary(low: LowestDirection) -> dict[str, Any]:
-    """One direction's descent as JSON-ready data (NaN -> ``None``; ``contact_states`` ``None`` without a state)."""
-    num = json_number
-    mech = low.state.mechanism if low.state is not None else None
-    return {
-        "direction": low.direction, "status": low.status, "load_factor": num(low.load_factor),
-        "band": None if low.band is None else [num(x) for x in low.band], "path": [num(x) for x in low.path],
-        "moves": list(low.moves), "origin": low.origin, "lps": low.lps, "budget": low.budget,
-        "stop": low.stop, "seconds": low.seconds,
-        "contact_states": mech.state_counts() if mech is not None else None,
-        "residuals": {k: num(v) for k, v in low.residuals.items()}, "message": low.message,
-    }
+@dataclass(frozen=True)
+class DescentEntry(FlatRecord):
+    """One direction's descent, an entry of the summary's ``lowest`` (made from a :class:`LowestDirection`)."""
+
+    direction: str = column("The load direction.", schema={"enum": ["+x", "-x"]})
+    status: str = column("found (an exact state, checked) or failed.", schema={"enum": [FOUND, FAILED]})
+    load_factor: LoadFactor = column("lambda of the lowest certified state (null when failed).")
+    band: Band = column("[lambda, greatest lambda] of the collapse states with its mechanism (null when failed).")
+    path: tuple[LoadFactor, ...] = column(
+        "lambda of the iterated LP's state, of its band's lower end after the polish (when lower) and after "
+        "every accepted move.")
+    moves: tuple[str, ...] = column("The accepted proposals (their origin).")
+    origin: str = column("How the state was found.")
+    lps: int = column("LPs solved by the descent.")
+    budget: int = column("The most LPs it could solve.")
+    stop: str = column("finished (by its own rules), budget (it spent its budget: the lowest state found so "
+                       "far) or target (the first state below the options' stop_below).",
+                       schema={"enum": [FINISHED, BUDGET, TARGET]})
+    seconds: Seconds = column("Its wall time.")
+    contact_states: dict[str, int] | None = column(
+        "closed, opening, sliding: the contacts of its mechanism in each state (null without a state).")
+    residuals: dict[str, float] = column("Its residuals of the collapse conditions (verify_collapse_state).")
+    message: str = column("Why it failed.")

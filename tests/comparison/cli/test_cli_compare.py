@@ -146,3 +146,22 @@ def test_an_output_that_is_not_a_regular_file_is_refused_before_the_solves(
         captured = capsys.readouterr()
         assert captured.out == "" and "not a regular file" in captured.err
     assert stat.S_ISCHR(os.stat("/dev/null").st_mode) and stat.S_ISFIFO(os.stat(fifo).st_mode)
+
+
+@pytest.mark.parametrize("command", ["compare", "macro"])
+def test_a_time_that_includes_compiling_the_macro_kernel_says_so(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, command: str
+) -> None:
+    """A time that includes compiling the macro model's kernel (its first use after an install) says so; a
+    run that reads it from numba's cache says nothing more."""
+    from macro import kernel
+
+    argv = [command, "--rows", "12", "--t", "1", "--m", "1/2", "--f", "0.75", *(["-v"] if command == "macro" else [])]
+    assert main(argv) == 0
+    assert "first use" not in capsys.readouterr().out  # the kernel compiled or read before this run
+    counts = iter(range(0, 100, 10))
+    monkeypatch.setattr(kernel, "compilations", lambda: next(counts))  # as in a fresh environment
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if "blocks; macro" in x or "solved in" in x)
+    assert "(compiling the macro model's kernel on its first use; later runs read it from the cache)" in line, out

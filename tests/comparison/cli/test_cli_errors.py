@@ -299,7 +299,7 @@ def test_stability_takes_workers_like_report_and_sweep(
 def test_a_file_nested_too_deep_is_one_line_and_exit_2(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, command: str
 ) -> None:
-    """A scene or grid holding ``a = [[[...]]]`` 1,500 deep ended in a ``RecursionError`` traceback."""
+    """A scene or grid holding ``a = [[[...]]]`` 1,500 deep is one line naming the file, exit 2."""
     deep = tmp_path / "deep.toml"
     deep.write_text("a = " + "[" * 1500 + "1" + "]" * 1500 + "\n")
     argv = [*command.split(), str(deep)] + (["--out", str(tmp_path / "out")] if command == "sweep" else [])
@@ -310,7 +310,7 @@ def test_a_file_nested_too_deep_is_one_line_and_exit_2(
 
 @pytest.mark.parametrize(("rows", "bound"), [("6", "166666.66666666666"), ("12", "83333.33333333333")])
 def test_a_bound_is_printed_unrounded(capsys: pytest.CaptureFixture[str], rows: str, bound: str) -> None:
-    """``--p 166667`` on 6 rows said "p must be at most 166667, got 166667": the bound rounded to six digits."""
+    """A bound in a message is printed with every digit it has, never rounded onto the value it refuses."""
     code, _, err = run(capsys, "macro", "--rows", rows, "--t", "1", "--m", "1/3", "--f", "0.6", "--p", "166667")
     one_line_error(code, err, f"p must be at most {bound}, got 166667")
 
@@ -321,8 +321,8 @@ def test_an_output_that_cannot_be_written_is_refused_before_the_solve(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, tmp_path: Path, option: str, name: str,
     where: str,
 ) -> None:
-    """``--state`` or ``--plot`` through a link to nothing, or into a folder this process cannot write: the
-    solve ran, then "cannot write", exit 1. (The tests run as root, who may write anywhere: the folder's
+    """``--state`` or ``--plot`` through a link to nothing, or into a folder this process cannot write, is
+    refused before the solve, exit 2. (The tests run as root, who may write anywhere: the folder's
     permission is what ``os.access`` answers for it.)"""
     import micro
 

@@ -239,7 +239,7 @@ def test_report_quick_writes_tables_and_figures(
     lines = err.splitlines()
     missing = [line for line in lines if line.startswith("xcheck: warning: the report's table ")]
     assert [line.split()[5] for line in missing] == [str(tmp_path / n) for n in (ERRORMAP, BOND, LOWEST)], err
-    assert "The sweep table `reports/sweeps/errormap.csv` is missing." in (tmp_path / "REPORT.md").read_text()
+    assert f"The table `{tmp_path / ERRORMAP}` is missing: make it with `" in (tmp_path / "REPORT.md").read_text()
     assert lines[0].startswith("plan: ") and ", 0 to compute" in lines[0], err
     assert lines[-1].startswith(f"wrote {len(list(tmp_path.glob('*.*')))} files into {tmp_path}: REPORT.md, "
                                 "report.json, timings.md, "), err

@@ -35,9 +35,9 @@ def _run(argv: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str,
 ])
 def test_an_option_that_does_not_apply_is_refused(extra: list[str], line: str,
                                                   capsys: pytest.CaptureFixture[str]) -> None:
-    """Before: ``--max-iterations``, ``--global``, ``--node-limit`` and ``--lowest`` with associative friction,
-    and ``--node-limit`` without ``--global``, were ignored silently (exit 0 and λ) while ``--tuning`` and
-    ``--solver`` in the wrong mode were refused."""
+    """``--max-iterations``, ``--global``, ``--node-limit`` and ``--lowest`` with associative friction, and
+    ``--node-limit`` without ``--global``, are refused in one line, as ``--tuning`` and ``--solver`` in the
+    wrong mode are."""
     code, out, err = _run(["micro", *WALL, *extra], capsys)
     assert (code, out, err) == (2, "", f"xcheck: error: {line}\n")
 
@@ -71,8 +71,8 @@ def test_stability_table7_refuses_the_options_it_ignored(extra: list[str], tmp_p
     ("max_simplex_iterations=none", "max_simplex_iterations", None),
 ])
 def test_every_kind_of_knob_can_be_set(item: str, key: str, value: object) -> None:
-    """``--tuning start=vertex`` could not be set: the knob's type was read as int because "int" appears in
-    the text ``Literal['interior', 'vertex']``."""
+    """Every knob of the tuning can be set by ``--tuning``, each read by its declared type (``start=vertex``: a
+    choice among ``Literal['interior', 'vertex']``, not an int)."""
     assert getattr(parse_tuning([item]), key) == value
 
 
@@ -99,8 +99,8 @@ def test_a_bad_knob_value_names_the_choices(item: str, message: str, capsys: pyt
 
 @pytest.mark.parametrize("rows", [1, 5, 12, 13, 35])
 def test_a_wall_of_exactly_a_million_block_heights_is_accepted(rows: int, capsys: pytest.CaptureFixture[str]) -> None:
-    """o/t = 1e6 exactly was refused while the message said ``o/t <= 1e+06`` (``t`` was checked as
-    ``t > o/1e6``); for some ``o`` the length ``o/t`` comes out a unit in the last place above 1e6."""
+    """o/t = 1e6 exactly is accepted, as the message ``o/t <= 1e+06`` says, even where the length ``o/t``
+    comes out a unit in the last place above 1e6."""
     t = rows / 1e6
     spec = WallSpec.from_paper(t=t, m=1, rows=rows, f=0.6)
     assert spec.length == pytest.approx(1e6, rel=1e-15)

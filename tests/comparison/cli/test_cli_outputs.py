@@ -38,7 +38,7 @@ def full_disk(monkeypatch: pytest.MonkeyPatch) -> None:
 def test_a_plot_that_cannot_be_written_leaves_no_file_and_the_result_is_printed_first(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], full_disk: None, friction: str
 ) -> None:
-    """Before: exit 2 ("bad input") after solving, no lambda printed, a cut file left by savefig."""
+    """A plot that cannot be written: the result is printed first, then one line, exit 1, and no cut file."""
     png = tmp_path / "x.png"
     code = main(["micro", *WALL, "--friction", friction, "--plot", str(png), "-q"])
     out, err = capsys.readouterr()
@@ -61,7 +61,7 @@ def test_the_json_of_a_plot_that_failed_says_no_plot(
 def test_a_plot_named_only_by_its_extension_is_written_under_that_name(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """``--plot .png``: savefig wrote ``.png.png`` while the JSON said ``.png``."""
+    """``--plot .png`` writes ``.png``, the name the JSON gives."""
     monkeypatch.chdir(tmp_path)
     code = main(["micro", *WALL, "--plot", ".png", "--json"])
     summary = json.loads(capsys.readouterr().out)
@@ -71,7 +71,7 @@ def test_a_plot_named_only_by_its_extension_is_written_under_that_name(
 
 
 def test_a_report_figure_on_a_full_disk_leaves_no_empty_file(tmp_path: Path, full_disk: None) -> None:
-    """Before: ``histories.png`` of 0 bytes in a full output folder."""
+    """A report figure that cannot be written on a full disk leaves no file (no ``histories.png`` of 0 bytes)."""
     from comparison.report.figures import pyplot, save_figure
 
     fig = pyplot().figure()
@@ -117,7 +117,7 @@ def test_worker_memory_beyond_any_machine_is_one_line_exit_2(tmp_path: Path,
 
 
 def test_a_closed_standard_output_is_one_line_exit_1_before_any_work() -> None:
-    """``xcheck micro ... -q >&-``: ``sys.stdout`` is None and its flush was an AttributeError traceback."""
+    """``xcheck micro ... -q >&-`` (``sys.stdout`` is None): one line, exit 1, before any work."""
     proc = subprocess.run(
         [sys.executable, "-c", "import sys; from comparison.cli import main; sys.exit(main(sys.argv[1:]))",
          "micro", *WALL, "-q"],

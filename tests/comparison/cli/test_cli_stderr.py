@@ -51,8 +51,8 @@ def _sweep(tmp_path: Path) -> list[str]:
 def test_a_sweep_whose_standard_error_fails_or_is_closed_keeps_its_results(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, tmp_path: Path, stderr: str
 ) -> None:
-    """``xcheck sweep ... 2>`` a full device ended with exit 1 in a second or two: no table, no cache
-    entries; with standard error closed the plan and the progress went to standard output."""
+    """``xcheck sweep ... 2>`` a full device, or with standard error closed: every cell computed and kept in
+    the cache, the table, metadata and page written, exit 0, and standard output holds the paths alone."""
     monkeypatch.setattr(sys, "stderr", FullDevice() if stderr == "full" else None)
     paths = _sweep(tmp_path)
     out = capsys.readouterr().out
@@ -63,8 +63,8 @@ def test_a_sweep_whose_standard_error_fails_or_is_closed_keeps_its_results(
 def test_micro_verbose_whose_standard_error_fails_or_is_closed_prints_its_result(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, stderr: str
 ) -> None:
-    """``xcheck micro -v`` writes one line per LP on standard error: a full one lost the result (exit 1), a
-    closed one mixed the LPs into the result."""
+    """``xcheck micro -v`` (one line per LP on standard error) with a full or closed standard error prints its
+    result, exit 0, and standard output holds no LP line."""
     monkeypatch.setattr(sys, "stderr", FullDevice() if stderr == "full" else None)
     assert main(["micro", *WALL, "--friction", "nonassociative", "-v"]) == 0
     out = capsys.readouterr().out

@@ -216,9 +216,9 @@ def test_a_version_1_file_main_wrote_verifies_saying_what_it_could_not_check(
 
 
 def test_a_held_walls_version_1_file_is_not_a_state_of_the_wall_it_names(capsys: pytest.CaptureFixture[str]) -> None:
-    """``xcheck compare --rows 2 --t 40/31 --m 1 --f 0.6 --state`` on main a21edb9: the 0.05-wide top piece
-    held to the block below, which the file does not say: 4 bodies where its wall has 5 blocks, and the
-    host's outline leaves out the piece whose points it carries."""
+    """A version-1 state file of ``xcheck compare --rows 2 --t 40/31 --m 1 --f 0.6 --state`` whose 0.05-wide
+    top piece is held to the block below, which the file does not say (4 bodies where its wall has 5
+    blocks, the host's outline leaving out the piece whose points it carries), is not a state of that wall."""
     path = STATES / "held-v1.json"
     assert main(["verify", str(path), "--json"]) == 1
     doc = json.loads(capsys.readouterr().out)

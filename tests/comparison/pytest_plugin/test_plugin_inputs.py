@@ -29,7 +29,7 @@ REFS = References.load()
 @pytest.mark.parametrize("widen", ["rel", "abs"])
 @pytest.mark.parametrize("bad", [math.nan, math.inf, -0.01, 10**400])
 def test_a_nan_or_negative_widening_is_refused_not_passed(widen: str, bad: float) -> None:
-    """Item 1: ``check(case, "orduna-micro", 99.0, rel=nan)`` passed (every comparison with NaN is false)."""
+    """A NaN, infinite or negative ``rel`` or ``abs`` is refused, never a check every value passes."""
     with pytest.raises(ValueError, match=rf"^{widen} must be a finite number >= 0"):
         REFS.check("Set 11", "orduna-micro", 99.0, **{widen: bad})  # type: ignore[arg-type]
     with pytest.raises(ValueError, match=rf"^{widen} must be a finite number >= 0"):
@@ -83,8 +83,8 @@ def test_a_method_or_cell_that_is_not_a_string_is_named() -> None:
     ((["7"],), TypeError, r"^paper_cases: tables must be strings"),
 ])
 def test_paper_cases_of_no_table_is_an_error_not_an_empty_list(tables: tuple, error: type, match: str) -> None:
-    """Item 2: ``paper_cases("99")`` and ``paper_cases(7)`` returned ``[]``: the user's test was skipped and
-    pytest exited 0."""
+    """``paper_cases("99")`` and ``paper_cases(7)`` raise, naming the table; never an empty list (a test
+    skipped, pytest exit 0)."""
     with pytest.raises(error, match=match):
         paper_cases(*tables)
 
@@ -106,8 +106,8 @@ def test_paper_cases_of_real_tables() -> None:
     ({"Set 99": "why"}, ValueError, r"^known_gaps: case must be Ref or 1..17, got 'Set 99'"),
 ])
 def test_malformed_known_gaps_are_named(gaps: object, error: type, match: str) -> None:
-    """``known_gaps={"Set 11": None}`` gave an INTERNALERROR when the strict xfail passed; a list an
-    ``AttributeError``."""
+    """Malformed ``known_gaps`` (a reason that is not a string, not a mapping, an unknown case) raise at once,
+    naming the entry."""
     with pytest.raises(error, match=match):
         paper_cases("7", known_gaps=gaps)  # type: ignore[arg-type]
 
@@ -119,7 +119,8 @@ def test_select_cases_of_a_non_string_is_named() -> None:
 
 @pytest.mark.parametrize("m", ['"1/0"', '"x"', '"1/"', '"1e999999/1"'])
 def test_a_walls_file_fraction_that_is_no_number_is_named(tmp_path: Path, m: str) -> None:
-    """A walls file with ``m = "1/0"`` said ``wall[0] (a): Fraction(1, 0)``."""
+    """A walls file with ``m = "1/0"`` (or another fraction that is no number) is refused naming the wall and
+    the key."""
     path = tmp_path / "w.toml"
     path.write_text(f'[[wall]]\nname = "a"\nt = 1\nm = {m}\nrows = 12\nf = 0.75\n')
     with pytest.raises(ValueError, match=r"w.toml: wall\[0\] \(a\): m must (be a number or a fraction such as "
@@ -191,8 +192,8 @@ def _pytest(pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, *args: s
 def test_plugin_options_are_checked_before_the_tests(
     pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, args: tuple[str, ...], line: str
 ) -> None:
-    """``--xcheck-against bogus`` was accepted (an empty column) while ``--xcheck-compute bogus`` was refused;
-    a table into a missing folder was a traceback after the tests."""
+    """The plugin's options are checked before any test runs, each refused in one usage-error line: an
+    unknown ``--xcheck-against`` method, a table into a missing folder, a directory or an empty name."""
     run = _pytest(pytester, monkeypatch, *args)
     assert run.returncode == 4 and run.stderr.startswith(line) and "Traceback" not in run.stderr, run.stderr
 
@@ -250,11 +251,10 @@ def _damaged(how: str) -> str:
 def test_damaged_references_are_refused_in_one_line(
     pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, how: str
 ) -> None:
-    """A references file with a tolerance that passes anything (NaN, infinite, 1e308 for a value of 0.68), or
-    one that is truncated, empty, has a cell without ``value`` or no cells, is refused: by
+    """A references file with a tolerance that would pass any value near it (NaN, infinite, 1e308 for a value
+    of 0.68), or one that is truncated, empty, has a cell without ``value`` or no cells, is refused: by
     ``References.load`` naming the file and the cell, and by the plugin as a usage error of one line (exit
-    4) before any test runs, never an INTERNALERROR; ``check("Set 12", "orduna-micro", 6.8, rel=0.05)``
-    never passes."""
+    4) before any test runs."""
     path = pytester.path / "references.json"
     path.write_text(_damaged(how))
     with pytest.raises(BadReferences, match=rf"^{re.escape(str(path))}: "):
@@ -269,7 +269,7 @@ def test_damaged_references_are_refused_in_one_line(
 def test_a_walls_file_nested_too_deep_is_a_usage_error(
     pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """``a = [[[...]]]`` 1,500 deep in a ``--xcheck-walls`` file: one usage error line, not an INTERNALERROR."""
+    """``a = [[[...]]]`` 1,500 deep in a ``--xcheck-walls`` file: one usage-error line, exit 4."""
     (pytester.path / "w.toml").write_text("a = " + "[" * 1500 + "1" + "]" * 1500 + "\n")
     run = _pytest(pytester, monkeypatch, "--xcheck-walls", "w.toml")
     assert run.returncode == 4 and "INTERNALERROR" not in run.stdout + run.stderr, run.stdout + run.stderr
@@ -280,7 +280,7 @@ def test_a_walls_file_nested_too_deep_is_a_usage_error(
 def test_a_selection_of_no_wall_is_a_usage_error(
     pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch, selection: str
 ) -> None:
-    """``--xcheck-cases ","`` selected nothing: "1 skipped", exit 0."""
+    """``--xcheck-cases ","`` selects no wall: a usage error, exit 4."""
     run = _pytest(pytester, monkeypatch, "--xcheck-cases", selection)
     assert run.returncode == 4, run.stdout + run.stderr
     assert run.stderr.startswith(f"ERROR: --xcheck-cases: no wall selected by {selection!r}"), run.stderr

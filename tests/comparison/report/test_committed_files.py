@@ -124,8 +124,8 @@ def _report(tables: Path, out: Path) -> tuple[int, str, str]:
 
 @pytest.mark.parametrize("case", list(REFUSED))
 def test_a_table_that_cannot_be_read_whole_is_refused_in_one_line(tmp_path: Path, case: str) -> None:
-    """Before: each of these gave exit 0 and no warning (a section over 167 of 250 walls, "lowest.csv is
-    missing" for a directory, a FIFO or ``/dev/zero``, an infinite or negative value quoted)."""
+    """A committed table that cannot be read whole (cut short, a directory, a FIFO, a device, an infinite or
+    negative value) is refused in one line naming it, exit 2."""
     damage, words = REFUSED[case]
     tables = _copy(tmp_path)
     damage(tables)

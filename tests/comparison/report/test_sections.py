@@ -48,3 +48,21 @@ def test_the_report_is_the_body_and_the_three_committed_sections_in_order(quick_
     headings = ["## Findings", "## Error map", "## Table 9's walls with coarser bonds", "## Table 7: iterated LP"]
     at = [text.find(h) for h in headings]
     assert -1 not in at and at == sorted(at), dict(zip(headings, at, strict=True))
+
+
+def test_a_missing_table_is_named_in_the_report_as_the_warning_names_it(tmp_path: Path) -> None:
+    """A missing committed table: its section of REPORT.md names the path looked for (the ``--tables``
+    folder) and the command that makes it, as the warning does."""
+    import warnings
+
+    from comparison.report.committed import BOND, ERRORMAP, LOWEST, committed_table, made_by, missing
+
+    tables = tmp_path / "my-tables"
+    for cls, name in ((ErrorMap, ERRORMAP), (Bond, BOND), (Lowest, LOWEST)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            found = committed_table(tables, name)
+        path = str(tables / name)
+        assert found is None and path in str(caught[0].message)
+        text = cls(found, missing(tables, name)).render(tmp_path / "out", 1).text  # type: ignore[operator]
+        assert f"`{path}` is missing: make it with `{made_by(name, tables)}`" in text and "reports/" not in text

@@ -241,8 +241,8 @@ def test_a_result_stopped_by_the_clock_is_used_by_its_run_but_not_stored(tmp_pat
 def test_a_cache_that_cannot_be_written_warns_once_and_its_run_keeps_every_result(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """A full or read-only cache disk (here: every write fails with ENOSPC): one warning, the records
-    stay with the run (before: the OSError ended the report with exit 1 and no report)."""
+    """A full or read-only cache disk (here: every write fails with ENOSPC): one warning, and the records
+    stay with the run, which writes its report."""
     import errno
 
     from comparison.runner import MACRO

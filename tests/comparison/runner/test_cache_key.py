@@ -101,8 +101,8 @@ def test_an_edit_of_the_walls_conversion_to_the_block_model_recomputes_the_tiny_
     tmp_path: Path, copy: Path, tiny_sweep: Sweep
 ) -> None:
     """The tiny sweep's 8 micro cells, computed once from an empty cache (the suite's shared run), are all
-    read back; after a docstring edit of ``WallSpec.to_micro`` still all; after an edit that gives the block wall
-    half the friction, all 8 are computed again (before, ``comparison/domain/wall.py`` was not in the key: 0)."""
+    read back; after a docstring edit of ``WallSpec.to_micro`` still all; after an edit that gives the block
+    wall half the friction, all 8 are computed again."""
     cache = tmp_path / "cache"
     shutil.copytree(tiny_sweep.cache, cache)
     assert _computed(tmp_path, cache) == 0

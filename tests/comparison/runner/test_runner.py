@@ -13,7 +13,7 @@ import micro
 from comparison.domain.wall import WallSpec
 from comparison.runner import MACRO, MICRO_ASSOC, MICRO_NONASSOC, Record, ResultCache, Runner
 from comparison.runner.cache import default_cache_dir
-from macro.records import MacroRecord
+from comparison.runner.macro_record import MacroRecord
 from micro.records import AssociativeRecord, NonAssociativeRecord
 
 

@@ -1,8 +1,8 @@
 """``--scheduler`` at something that is not a usable Dask scheduler: the message names the cause.
 
-Before, a transport Dask cannot use here and a peer that does not speak Dask's protocol were worded by
-the exception's type alone: ``not a Dask scheduler: TypeError`` (``ucx://``, ``tls://`` without TLS
-settings), ``MemoryError`` (an HTTP server's answer read as a frame length of exabytes).
+A transport Dask cannot use here (``ucx://``, ``tls://`` without TLS settings) and a peer that does not
+speak Dask's protocol (an HTTP server, whose answer would be read as a frame length of exabytes) are each
+worded by their cause, never by an exception's type alone.
 """
 
 from __future__ import annotations

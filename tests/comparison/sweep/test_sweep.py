@@ -285,9 +285,9 @@ kind = "micro-nonassoc"
 
 @pytest.mark.processes
 def test_a_scheduler_killed_mid_sweep_is_one_line_and_no_cell_is_called_worker_died(tmp_path: Path) -> None:
-    """Before: the client's reconnection tracebacks, and the unfinished cells in the table as
-    ``worker_died`` although the worker lived. After: one line, exit 1, no table (as after a kill of the
-    sweep itself); the finished cells are in the cache and a sweep started again computes only the rest."""
+    """A scheduler killed mid-sweep: one line, exit 1, no table (as after a kill of the sweep itself), no cell
+    called ``worker_died``; the finished cells are in the cache and a sweep started again computes only the
+    rest."""
     grid = tmp_path / "sixteen.toml"
     grid.write_text(SIXTEEN)
     cache, out = tmp_path / "cache", tmp_path / "out"

@@ -50,3 +50,24 @@ def test_tick_labels_of_the_time_figure_do_not_overlap(
         assert all(float(t) > 0 for t in texts[name]), texts[name]  # plain numbers, not 2×10^1
         for a, b in itertools.combinations(found, 2):
             assert not a.overlaps(b), (name, a, b)
+
+
+def test_a_wall_beyond_the_histograms_scale_is_not_counted_in_its_end_bin() -> None:
+    """Walls beyond the histogram's scale are drawn apart, as open-ended bars of their own, never in an end bin."""
+    inside, below, beyond = figures.binned([-3.0, 0.0, 2.0, 6.0, 20.0], -2.0, 6.0)
+    assert inside == [0.0, 2.0, 6.0] and below == [-3.0] and beyond == [20.0]
+
+
+def test_a_cell_without_a_micro_value_is_hatched_not_pale(tmp_path: Path) -> None:
+    """A cell of the error map without a micro value is hatched, never as pale as a difference near 0."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import TwoSlopeNorm
+
+    fig, ax = plt.subplots()
+    figures._panel(ax, [[None, None]], "macro", TwoSlopeNorm(0.0, -0.1, 0.1))
+    hatched = [p for p in ax.patches if p.get_hatch()]
+    plt.close(fig)
+    assert len(hatched) == 2

@@ -61,8 +61,8 @@ def _sweep(grid: Path, out: Path | str, cache: Path | str, *extra: str) -> int:
 def test_a_user_model_that_exits_is_an_error_cell_and_the_sweep_goes_on(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], call: str, words: str
 ) -> None:
-    """Before: ``sys.exit(0)`` ended the sweep with exit 0 and nothing written (3: exit 3), a
-    ``BaseException`` with a traceback."""
+    """A model that calls ``sys.exit`` or raises a ``BaseException`` gives an ``error`` cell; the other cells
+    and the page are written, exit 1."""
     module = f"exits_{abs(hash(call))}"
     body = f"import sys\ndef lam(t, m, rows, f, p, storeys):\n    if t > 1:\n        {call}\n    return 0.3\n"
     grid = _grid(tmp_path, module, body)
@@ -86,8 +86,8 @@ def test_ctrl_c_in_a_user_model_still_interrupts() -> None:
 @pytest.mark.parametrize("value", [0, 0.0, -0.5, -5, 1e308, 10**400, -(10**400), math.inf, MAX_LOAD_FACTOR * 2],
                          ids=["0", "0.0", "-0.5", "-5", "1e308", "10**400", "-10**400", "inf", "twice the bound"])
 def test_a_number_that_is_not_a_load_factor_is_a_failed_cell(value: object) -> None:
-    """Before: 0, a negative number and 1e308 were ``optimal`` (the page then compared 0 walls or reported
-    -240 %), ``10**400`` was reported as inf."""
+    """Zero, a negative number, NaN, an infinity or a number above ``MAX_LOAD_FACTOR`` (``10**400`` too) is a
+    ``failed`` cell, never a value the page compares."""
     lam, status, message, _ = UserModel("m", lambda *a: value).evaluate(1, 1, 6, 0.6, 0, 1, "w")
     assert status == "failed" and math.isnan(lam)
     assert "not a load factor (a positive number at most 1e+06)" in message
@@ -101,7 +101,7 @@ def test_the_largest_load_factor_is_accepted() -> None:
 
 
 def test_what_a_user_model_prints_goes_to_standard_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """Before: its prints were mixed into standard output, under ``-q`` too."""
+    """What a model prints goes to standard error; standard output holds the paths written, under ``-q`` too."""
     body = "print('LOADING')\ndef lam(t, m, rows, f, p, storeys):\n    print('CALLED', t)\n    return 0.3\n"
     grid = _grid(tmp_path, "prints_u", body)
     assert _sweep(grid, tmp_path / "out", tmp_path / "cache") == 0
@@ -114,8 +114,8 @@ def test_what_a_user_model_prints_goes_to_standard_error(tmp_path: Path, capsys:
 def test_a_user_model_that_changes_directory_moves_no_output(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Before: with a relative ``--out``, a model calling ``os.chdir("/")`` had the table written under
-    ``/``. The folders are absolute before any user code runs, and the working directory is restored."""
+    """A model calling ``os.chdir("/")`` moves no output, even with a relative ``--out``: the folders are
+    absolute before any user code runs, and the working directory is restored."""
     body = "import os\nos.chdir('/')\ndef lam(t, m, rows, f, p, storeys):\n    os.chdir('/')\n    return 0.3\n"
     grid = _grid(tmp_path, "chdir_u", body, name="chdir-u-i50")
     monkeypatch.chdir(tmp_path)
@@ -140,8 +140,7 @@ AFTER_THE_MODEL = {
 
 @pytest.mark.parametrize("bad", list(AFTER_THE_MODEL))
 def test_a_refused_grid_imports_no_user_model(tmp_path: Path, capsys: pytest.CaptureFixture[str], bad: str) -> None:
-    """Before: the user model's module was imported (its top-level code run) as its entry was read, before
-    the rest of the grid was checked."""
+    """A grid refused for any reason imports no user model (its module's top-level code does not run)."""
     grid = _grid(tmp_path, "marker_u", MARKER)
     old, new = AFTER_THE_MODEL[bad]
     text = grid.read_text()
@@ -165,8 +164,8 @@ def test_a_function_that_is_not_a_python_name_is_refused_unimported(tmp_path: Pa
 def test_a_grid_name_that_is_not_a_safe_file_stem_is_refused_when_read(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], name: str
 ) -> None:
-    """Before: a name of 300 characters was accepted and the sweep failed with a traceback when it wrote its
-    table, after the computation; ``"."`` wrote hidden files (``..csv``)."""
+    """A grid name that is not a safe file stem (300 characters, ``"."``) is refused when the grid is read,
+    before any computation."""
     grid = tmp_path / "g.toml"
     grid.write_text(_macro_only(name))
     assert _sweep(grid, tmp_path / "out", tmp_path / "cache") == 2
@@ -185,7 +184,7 @@ def test_the_longest_name_is_accepted(tmp_path: Path) -> None:
 def test_a_scheduler_that_is_not_one_creates_no_folder(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], command: str
 ) -> None:
-    """Before: exit 2 with an empty ``--out`` folder (and cache folder) left behind."""
+    """A ``--scheduler`` that is not one: exit 2, and no ``--out`` or cache folder made."""
     grid = _grid(tmp_path, "unused_w", "def lam(*a):\n    return 0.3\n")
     out, cache = tmp_path / "o" / "deeper", tmp_path / "c"
     first = [str(grid)] if command == "sweep" else ["--quick"]
@@ -204,10 +203,8 @@ def test_a_scheduler_that_is_not_one_creates_no_folder(
 def test_a_user_model_cannot_end_fork_or_silence_the_sweep(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], call: str, status: str, words: str
 ) -> None:
-    """A model that called ``os._exit(0)`` ended the sweep with exit 0 and nothing written; ``os.fork()`` ran
-    the rest of the sweep twice; ``sys.stdout.close()`` and ``os.close(1)`` took the paths the sweep prints
-    (a traceback). The models run in a process of their own: the cell says what happened, every cell and
-    the page are written once, the paths printed once."""
+    """A model that calls ``os._exit``, is killed, forks or closes standard output runs in a process of its own:
+    its cell says what happened, every cell and the page are written once, the paths printed once."""
     module = f"ends_{abs(hash(call))}"
     body = f"import os, sys\ndef lam(t, m, rows, f, p, storeys):\n    if t > 1:\n        {call}\n    return 0.3\n"
     grid = _grid(tmp_path, module, body)
@@ -226,9 +223,8 @@ def test_a_user_model_cannot_end_fork_or_silence_the_sweep(
 @pytest.mark.processes  # the console script in a process of its own: its descriptor 1 is a real pipe
 @pytest.mark.parametrize("call", ["os.close(1)", "os.fork()", "os._exit(0)"])
 def test_the_console_sweep_survives_a_model_that_closes_forks_or_exits(tmp_path: Path, call: str) -> None:
-    """In a process of its own: a model's ``os.close(1)`` closed the sweep's standard output (a traceback),
-    ``os.fork()`` ran the rest of the sweep twice (every path printed twice), ``os._exit(0)`` ended it with
-    exit 0 and nothing written."""
+    """In a process of its own, the console's sweep prints its paths once and writes its page whatever a
+    model does to its process (``os.close(1)``, ``os.fork()``, ``os._exit(0)``)."""
     import subprocess
 
     module = f"console_{abs(hash(call))}"

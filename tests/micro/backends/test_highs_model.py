@@ -102,7 +102,7 @@ def test_stall_guard_counts_calls_per_iteration() -> None:
     the model's callback interrupts on simplex calls only and sets HiGHS' flag every call."""
     from types import SimpleNamespace
 
-    from micro.backends.highs import STALL_CALLS, RunCallback, StallGuard
+    from micro.backends.highs_runs import STALL_CALLS, RunCallback, StallGuard
 
     SIMPLEX, IPM = 1, 2
     callback = RunCallback(SIMPLEX)

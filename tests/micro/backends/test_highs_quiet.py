@@ -7,7 +7,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
-from micro.backends.highs import quiet_highs
+from micro.backends.highs_runs import quiet_highs
 
 
 def test_threads_building_instances_leave_stdout_working(capfd: pytest.CaptureFixture[str]) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import dataclasses
 import inspect
 import re
 from pathlib import Path
@@ -29,12 +30,12 @@ def test_solve_associative_without_a_solver_runs_the_default() -> None:
     assert r.ok and r.solver == micro.DEFAULT_SOLVER
 
 
-def test_names_are_few_and_aliases_refused() -> None:
-    assert micro.SOLVERS == ("normal-ipm", "clarabel", "highs-ipm", "highs-simplex", "cvxpy")
+def test_names_are_the_registrys_and_aliases_refused() -> None:
+    assert tuple(registry._SOLVERS) == micro.SOLVERS and micro.SOLVERS[0] == micro.DEFAULT_SOLVER
     assert not set(micro.SOLVERS) & set(registry.EXPERIMENTS)
     lp = micro.assemble(three_storey_wall())
     for alias in ("highs", "cvxpy-clarabel", "ipm"):
-        with pytest.raises(ValueError, match=f"solver must be one of normal-ipm, clarabel.*got '{alias}'"):
+        with pytest.raises(ValueError, match=f"solver must be one of {', '.join(micro.SOLVERS)}; got '{alias}'"):
             micro.make_backend(lp, alias)
 
 
@@ -128,6 +129,19 @@ def test_the_report_runs_the_cvxpy_back_end_where_it_is_installed(monkeypatch: p
 
     from comparison.report.plan import build_plan
 
-    assert "cvxpy" in build_plan(quick=True).solvers
+    assert build_plan(quick=True).solvers == micro.SOLVERS  # every back end of the registry, cvxpy included
     monkeypatch.setitem(sys.modules, "cvxpy", None)
-    assert build_plan(quick=True).solvers == ("highs-ipm", "clarabel", "normal-ipm", "highs-simplex")
+    assert build_plan(quick=True).solvers == tuple(s for s in micro.SOLVERS if s != "cvxpy")
+
+
+def test_the_full_report_times_what_the_registry_says(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A back end is its module and its registry entry: the report reads which back ends it times from the
+    registry (here a new one, registered for the test), never a list of its own."""
+    from comparison.report.plan import build_plan
+
+    entry = registry._SOLVERS["normal-ipm"]
+    monkeypatch.setitem(registry._SOLVERS, "new-one", entry)
+    monkeypatch.setitem(registry._SOLVERS, "quick-one", dataclasses.replace(entry, timed="quick"))
+    full, quick = build_plan().solvers, build_plan(quick=True).solvers
+    assert "new-one" in full and "new-one" in quick and "quick-one" in quick and "quick-one" not in full
+    assert "highs-simplex" in quick and "highs-simplex" not in full

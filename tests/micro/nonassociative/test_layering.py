@@ -40,9 +40,10 @@ def test_the_non_associative_method_calls_highs_only_through_micro_backends(monk
     wall = WallSpec.from_paper(t=1, m=1, rows=6, f=0.75).to_micro()  # Table 7's Set 14 with 6 rows
     r = micro.solve_nonassociative(wall, lowest=True, directions="+x")
     assert r.converged and r.lowest and r.lowest[0].lps > 0  # the sequence and the descent both ran
-    assert created and set(created) <= {"micro.backends.highs"}
+    highs = {"micro.backends.highs", "micro.backends.highs_runs"}  # the model, and the quiet instance it is
+    assert created and set(created) <= highs
     ours = {c for c in callers if not c.startswith("highspy")}  # highspy's own wrapper calls itself
-    assert ours == {"micro.backends.highs"}, ours
+    assert "micro.backends.highs" in ours and ours <= highs, ours
 
 
 def test_the_non_associative_method_makes_clarabel_solvers_only_in_micro_backends(

@@ -220,8 +220,7 @@ def test_slowed_clock_gives_the_same_path(monkeypatch: pytest.MonkeyPatch, schem
     and slower (the n-th call to ``time.perf_counter`` is ``n**2`` s further
     on, so every run looks slower than the one before, as on a machine
     getting loaded) gives the same LPs, algorithms, certificate outcomes and
-    load factor. (With the former rules, warm runs measured against the
-    first LP's seconds, this clock switched the sequence to cold solves.) The path does not depend on the
+    load factor. The path does not depend on the
     wall's size: on 8 rows (36 blocks) scheme (b) takes warm runs, fallback steps and failed certificates
     (37 LPs), scheme (a) warm runs and a certified stop."""
     w = wall(1.0, 1 / 2, rows=8)
@@ -246,7 +245,7 @@ def test_stalled_warm_runs_are_recovered_not_waited_for(monkeypatch: pytest.Monk
     """Every run of the iteration model is guarded (``STALL_CALLS``). With a guard
     that fires on every simplex run, each warm run of scheme (b) and its scheme (a)
     fallback step are interrupted and the iterate is recovered by a cold interior
-    point: the sequence goes on (it used to hang in such a run), and reports no
+    point: the sequence goes on (no run is waited for), and reports no
     load factor unless it converges."""
     from micro_walls import table7_wall
 
