@@ -156,16 +156,10 @@ def solve_fused(lp: LimitLP, direction: int, resolved: Resolved) -> Solved:
 
 
 def solve_chain(lp: LimitLP, direction: int, resolved: Resolved) -> Solved:
-    """One load direction as ``resolved`` asks: the reduced wall first (``reduce``: walls of more than
-    :data:`~micro.nonassociative.config.REDUCE_BLOCKS` blocks; where it gives no state, on), then the fused
-    wall (``fuse``: walls of more than :data:`~micro.nonassociative.config.FUSE_BLOCKS` blocks), or the
-    fallback chain (:func:`run_stages`) on the wall."""
-    if resolved.reduce:
-        from micro.nonassociative.reduced import solve_reduced
-
-        reduced = solve_reduced(lp, direction, resolved)
-        if reduced is not None:
-            return reduced, None  # its model is a model of the bodies
+    """One load direction as ``resolved`` asks: the fused wall (``fuse``: walls of more than
+    :data:`~micro.nonassociative.config.FUSE_BLOCKS` blocks), or the fallback chain (:func:`run_stages`) on
+    the wall. (The reduced wall, tried before it on large walls, is
+    :func:`micro.nonassociative.reduced.solve_reduced`'s.)"""
     if resolved.fuse:
         return solve_fused(lp, direction, resolved)
     return run_stages(lp, direction, resolved)

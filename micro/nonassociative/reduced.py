@@ -54,6 +54,7 @@ from micro.nonassociative.descent.lowest import lowest_state
 from micro.nonassociative.descent.states import restricted_columns
 from micro.nonassociative.fusion import FusedLP, fuse, rigid_bodies
 from micro.nonassociative.nonassociative_result import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
+from micro.nonassociative.pipeline import Solved, run_stages, solve_chain
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -146,8 +147,6 @@ class _Search:
         Returns:
             ``(whether one lifted, the last mechanism of the blocks or None)``.
         """
-        from micro.nonassociative.pipeline import run_stages
-
         t = self.resolved.tuning
         capped = dataclasses.replace(
             self.resolved, fuse=False, continuation=False, max_lps=MODEL_LPS,
@@ -169,6 +168,17 @@ class _Search:
                 if self.best is not before:
                     self.best_model = (fused, r)
         return lifted, fused.velocities(mechanisms[-1]) if mechanisms else None
+
+
+def solve_direction(lp: LimitLP, direction: int, resolved: Resolved) -> Solved:
+    """One load direction: the reduced wall first where ``resolved.reduce`` asks for it (walls of more than
+    :data:`~micro.nonassociative.config.REDUCE_BLOCKS` blocks), and where it gives no state (or is not asked
+    for) :func:`~micro.nonassociative.pipeline.solve_chain`."""
+    if resolved.reduce:
+        reduced = solve_reduced(lp, direction, resolved)
+        if reduced is not None:
+            return reduced, None  # its models are of the bodies: no model of the wall for the descent
+    return solve_chain(lp, direction, resolved)
 
 
 def solve_reduced(lp: LimitLP, direction: int, resolved: Resolved) -> DirectionResult | None:
