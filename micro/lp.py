@@ -69,6 +69,9 @@ class LimitLP:
         length_scale, force_scale: units of the scaled problem (block height,
             reference block weight).
         build_seconds: wall time of the assembly.
+        points: the wall's index of each point, for an LP of only some of the
+            wall's points (a fused wall's, :mod:`micro.nonassociative.fusion`);
+            ``None``: every point of the wall, in its order.
     """
 
     wall: BlockWall = field(repr=False)
@@ -86,6 +89,7 @@ class LimitLP:
     length_scale: float
     force_scale: float
     build_seconds: float
+    points: IntArray | None = field(default=None, repr=False)
 
     @property
     def n_cols(self) -> int:
@@ -106,6 +110,11 @@ class LimitLP:
     def lam_col(self) -> int:
         """Index of the load-factor column."""
         return 2 * self.n_points
+
+    def point_kinds(self) -> IntArray:
+        """The contact kind (:data:`~micro.geometry.BASE`, ``BED``, ``HEAD``) of each point."""
+        kinds = np.repeat(self.wall.contact_kind, 2)
+        return kinds if self.points is None else kinds[self.points]
 
     def active_generators(self) -> NDArray[np.intp]:
         """Indices of the generator columns that may carry force (upper bound ``> 0``;

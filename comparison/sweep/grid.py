@@ -23,6 +23,8 @@ Format (see ``examples/sweeps/``)::
     max_blocks = 1500                  # non-associative micro walls of more blocks are not run
                                        # (the associative LP runs on every wall: its bound
                                        # gives a verdict where it settles it)
+    where_needed = true                # ... but for the walls whose verdict needs it: the macro
+                                       # value not above the associative bound (default false)
 
     [[method]]
     kind = "macro"
@@ -141,6 +143,9 @@ class Grid:
         methods: the methods.
         max_blocks: non-associative micro walls of more blocks are not run (``None``: no limit); the
             associative LP runs on every wall up to its own method's ``max_blocks``.
+        where_needed: above ``max_blocks`` the non-associative method still runs on the walls whose
+            verdict needs it: where the macro λ is not above the associative LP's of the same bond
+            (:func:`comparison.domain.proof.above`), the bound settling nothing there.
     """
 
     name: str
@@ -148,6 +153,7 @@ class Grid:
     bond: Mapping[str, tuple[str, ...]]
     methods: tuple[GridMethod, ...]
     max_blocks: int | None = None
+    where_needed: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         """A JSON-ready description (for the sweep's metadata)."""
@@ -156,6 +162,7 @@ class Grid:
             "axes": {k: list(v) for k, v in self.axes.items()},
             "bond": {k: list(v) for k, v in self.bond.items()},
             "max_blocks": self.max_blocks,
+            "where_needed": self.where_needed,
             "methods": [{**m.method.key(), "max_blocks": m.max_blocks} for m in self.methods],
         }
 
@@ -208,9 +215,12 @@ def parse_grid(text: str, source: str = "<grid>", name: str = "sweep", folder: P
     axes = {axis: _axis(_table(data, "axes", src), axis, src) for axis in AXES}
     bond = {key: _bond(_table(data, "bond", src, required=False), key, src) for key in BOND}
     limits = _table(data, "limits", src, required=False)
-    _known(limits, {"max_blocks"}, "limits", src)
+    _known(limits, {"max_blocks", "where_needed"}, "limits", src)
     max_blocks = _max_blocks(limits, "limits", 0, src)
-    grid = Grid(label, axes, bond, _methods(data, src), max_blocks)
+    where_needed = limits.get("where_needed", False)
+    if not isinstance(where_needed, bool):
+        raise src.error(f"limits.where_needed must be true or false, got {where_needed!r}", "limits", "where_needed")
+    grid = Grid(label, axes, bond, _methods(data, src), max_blocks, where_needed)
     count = cell_count(grid)
     if count > MAX_CELLS:
         sizes = " x ".join(f"{len(v):,} {k}" for k, v in axes.items() if len(v) > 1)

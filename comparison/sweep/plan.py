@@ -72,6 +72,9 @@ class Cell:
         blocks: blocks of the micro wall, approximately (0 for the macro model).
         skip: ``""``, or :data:`NOT_APPLICABLE` / :data:`NOT_RUN`.
         message: why it is skipped.
+        where_needed: a non-associative cell over the block limit of a grid with ``where_needed``: it runs
+            after all if the associative bound does not settle its wall's verdict
+            (:func:`comparison.sweep.run.needed`).
     """
 
     index: int
@@ -81,6 +84,7 @@ class Cell:
     blocks: int = 0
     skip: str = ""
     message: str = ""
+    where_needed: bool = False
 
     @property
     def micro(self) -> bool:
@@ -133,7 +137,8 @@ def cells(grid: Grid) -> list[Cell]:
             for fc, hj, ends in bonds:
                 method = replace(gm.method, first_course=fc, head_joints=hj)
                 built = None if spec is None else replace(spec, ends=ends)
-                out.append(_micro_cell(len(out), point, method, built, why, _limit(grid, gm)))
+                out.append(_micro_cell(len(out), point, method, built, why, _limit(grid, gm),
+                                       grid.where_needed and method.kind == "micro-nonassoc"))
     return out
 
 
@@ -172,11 +177,13 @@ def _limit(grid: Grid, gm: GridMethod) -> int | None:
 
 
 def _micro_cell(
-    index: int, point: WallPoint, method: Method, spec: WallSpec | None, why: str, limit: int | None
+    index: int, point: WallPoint, method: Method, spec: WallSpec | None, why: str, limit: int | None,
+    where_needed: bool = False,
 ) -> Cell:
     if spec is None:
         return Cell(index, point, method, None, skip=NOT_APPLICABLE, message=why)
     blocks = approximate_blocks(spec)
     if limit is not None and blocks > limit:
-        return Cell(index, point, method, spec, blocks, NOT_RUN, f"about {blocks} blocks: above max_blocks = {limit}")
+        return Cell(index, point, method, spec, blocks, NOT_RUN, f"about {blocks} blocks: above max_blocks = {limit}",
+                    where_needed)
     return Cell(index, point, method, spec, blocks)

@@ -20,7 +20,7 @@ import csv
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -71,9 +71,16 @@ def run_sweep(
     rows: dict[int, dict[str, Any]] = {}
     macro_rate = _macro_side(plan, rows)
     user_failed = _user_side(plan, rows)
+    early = Prefetched()
+    early_items: set[Any] = set()
+    if any(c.where_needed for c in plan):  # the associative LPs first: their bounds say where it is needed
+        first = [c.item for c in plan if c.micro and not c.skip and c.method.kind == "micro-assoc"]
+        early_items = set(dict.fromkeys(i for i in first if i is not None and i not in cache))
+        early = prefetch(cache, list(early_items), executor, progress)
+        plan = [needed(c, plan, rows, cache) if c.where_needed else c for c in plan]
     runnable = [c for c in plan if c.micro and not c.skip]
     items = {c.index: c.item for c in runnable if c.item is not None}
-    cached = {i for i, item in items.items() if item in cache}
+    cached = {i for i, item in items.items() if item in cache and item not in early_items}
     pending = list(dict.fromkeys(item for i, item in items.items() if i not in cached))
     skipped = sum(1 for c in plan if c.skip)
     users = sum(1 for c in plan if isinstance(c.method, UserModel) and not c.skip)
@@ -86,7 +93,10 @@ def run_sweep(
     t0 = time.perf_counter()
     wanted = {cell.item: cell for cell in reversed(runnable)}  # the first cell of each item
     seconds = {item: known[_row_key(wanted[item])] for item in pending if _row_key(wanted[item]) in known}
-    done = prefetch(cache, pending, executor, progress, cached=len(cached), known=seconds)
+    done = prefetch(cache, [i for i in pending if i not in cache], executor, progress, cached=len(cached),
+                    known=seconds)
+    done = Prefetched(done.computed + early.computed, {**early.failures, **done.failures},
+                      {**early.unstored, **done.unstored})
     micro_seconds = time.perf_counter() - t0
     progress.close()
     rows.update({c.index: _micro_row(c, cache, done, c.index in cached) for c in plan if c.micro})
@@ -122,6 +132,27 @@ def run_sweep(
         f"{counts['skipped']} skipped in {meta['seconds']:.1f} s: {table}"
     )
     return SweepRun(table, path, counts, macro_rate, micro_seconds, written)
+
+
+def needed(cell: Cell, plan: Sequence[Cell], rows: dict[int, dict[str, Any]], cache: ResultCache) -> Cell:
+    """A ``where_needed`` cell (over the block limit) made runnable where its wall's verdict needs the
+    non-associative method: the macro λ is finite and not above the associative LP's of the same wall and
+    bond (:func:`comparison.domain.proof.above`); else it stays skipped, its message saying why."""
+    from comparison.domain.proof import above
+
+    lam_macro = next((rows[c.index]["load_factor"] for c in plan if c.point == cell.point and c.method.kind == "macro"
+                      and c.index in rows), math.nan)
+    assoc = [c for c in plan if c.point == cell.point and c.method.kind == "micro-assoc" and c.item is not None
+             and not c.skip and c.spec == cell.spec and isinstance(c.method, Method)
+             and isinstance(cell.method, Method) and c.method.first_course == cell.method.first_course
+             and c.method.head_joints == cell.method.head_joints]
+    record = cache.load(*assoc[0].item) if assoc and assoc[0].item is not None else None
+    lam_assoc = record.load_factor if record is not None else math.nan
+    if not (math.isfinite(lam_macro) and math.isfinite(lam_assoc)):
+        return replace(cell, message=f"{cell.message}; no macro or associative value to tell whether it is needed")
+    if above(lam_macro, lam_assoc):
+        return replace(cell, message=f"{cell.message}; not needed: the associative bound settles the verdict")
+    return replace(cell, skip="", message="")
 
 
 def _row_key(cell: Cell) -> tuple[str, str]:

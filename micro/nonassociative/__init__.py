@@ -103,7 +103,7 @@ from micro.nonassociative.nonassociative_result import (
     NonAssociativeResult,
     SequenceDiagnostics,
 )
-from micro.nonassociative.pipeline import solve_chain
+from micro.nonassociative.reduced import solve_direction
 from micro.nonassociative.selections import detect_cycle
 
 __all__ = [
@@ -182,11 +182,12 @@ def solve_nonassociative(wall: BlockWall, options: NonAssociativeOptions | None 
     results_list: list[DirectionResult] = []
     lowest_list: list[LowestDirection] = []
     for d in load_directions(o.directions, wall.mirror_symmetric):
-        res, model = solve_chain(lp, d, r)
+        res, model = solve_direction(lp, d, r)
         results_list.append(res)
         if res.converged and o.lowest:
             # without the iterated LP's model (a fused wall) the descent makes no proposal (its module docstring)
-            lowest_list.append(lowest_state(lp, res, r, model, proposals=model is not None))
+            searched = isinstance(res.sequence, SequenceDiagnostics) and res.sequence.reduced
+            lowest_list.append(lowest_state(lp, res, r, model, proposals=model is not None, searched=searched))
         del model  # the descent has taken over what it needs
         if _on_target(o, res, lowest_list):
             break  # a certified state below ``stop_below``: the other direction is not needed

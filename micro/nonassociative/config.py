@@ -58,6 +58,10 @@ RETRY_LPS = 40
 #: certified that way; the walls of up to 2,000 blocks keep the wall's own
 #: sequences.
 FUSE_BLOCKS = 2000
+#: Walls of more than this many blocks try the reduced wall first (``reduce`` left ``None``;
+#: :mod:`micro.nonassociative.reduced`, which says why): the committed error map runs the iterated LP on
+#: walls of up to 1,500 blocks, and their values are the wall's own chain's.
+REDUCE_BLOCKS = 1500
 
 # ------------------------------------------ tolerances shared by several modules
 #: Largest closing rate (relative to the largest rate) that the certificate
@@ -120,6 +124,12 @@ class Tuning:
         fused_retry: with ``"vertex+proximal"`` and scheme (a), where both
             sequences fail on a direction, a third run on the fused wall with
             the continuation.
+        reduce: try the reduced wall first (:mod:`micro.nonassociative.reduced`:
+            the chain on models of the associative mechanism's rigid parts, every
+            mechanism lifted onto the wall; where that mechanism has a dominant
+            rigid part). ``None``: on walls of more than
+            :data:`REDUCE_BLOCKS` blocks with scheme
+            (a) and a vertex sequence.
 
     Raises:
         ValueError: a bad knob (the message names it).
@@ -136,6 +146,7 @@ class Tuning:
     fuse: bool | None = None
     continuation: bool | None = None
     fused_retry: bool = True
+    reduce: bool | None = None
 
     def __post_init__(self) -> None:
         if self.scheme not in SCHEMES:
@@ -159,12 +170,13 @@ class Tuning:
             check_integer("max_simplex_iterations", self.max_simplex_iterations, 1)
         if beta is not None:
             object.__setattr__(self, "relaxation", float(beta))
-        for name in ("certify", "mechanism_band", "fused_retry", "fuse", "continuation"):
+        by_size = ("fuse", "continuation", "reduce")
+        for name in ("certify", "mechanism_band", "fused_retry", *by_size):
             value = getattr(self, name)
-            if value is None and name in ("fuse", "continuation"):
+            if value is None and name in by_size:
                 continue
             if not isinstance(value, (bool, np.bool_)):  # certify="no" was read as True
-                may_be_none = " or None (by the wall's size)" if name in ("fuse", "continuation") else ""
+                may_be_none = " or None (by the wall's size)" if name in by_size else ""
                 raise ValueError(f"{name} must be True or False{may_be_none}, got {value!r}")
             object.__setattr__(self, name, bool(value))
 
@@ -179,6 +191,11 @@ class Tuning:
     def beta(self) -> float:
         """The relaxation used: :attr:`relaxation` or the scheme's default."""
         return DEFAULT_RELAXATION[self.scheme] if self.relaxation is None else float(self.relaxation)
+
+    def reduced_wall(self, blocks: int) -> bool:
+        """Whether ``reduce`` left at ``None`` is on for a wall of ``blocks`` blocks (more than
+        :data:`REDUCE_BLOCKS`, scheme (a), a vertex sequence)."""
+        return blocks > REDUCE_BLOCKS and continuation_allowed(self.scheme, self.resolved_selection)
 
     def large_wall(self, blocks: int) -> bool:
         """Whether ``fuse`` and ``continuation`` left at ``None`` are on for a
@@ -330,10 +347,12 @@ class LPProgress:
 
     Attributes:
         direction: ``"+x"`` or ``"-x"``.
-        stage: ``"vertex"``, ``"proximal"``, ``"fused"`` (a
-            sequence of the iterated LP) or ``"lowest"`` (the descent).
+        stage: ``"vertex"``, ``"proximal"``, ``"fused ..."`` (a
+            sequence of the iterated LP, on the wall or a model of its bodies), ``"lowest"`` (the descent) or
+            ``"reduced lift"`` (the reduced wall's lift of a mechanism onto the wall).
         lp: the LP's number in its stage (0: the associative LP).
-        load_factor: its ``lambda`` (NaN when it failed or has none).
+        load_factor: its ``lambda`` (NaN when it failed or has none); of a lift, the lowest state of the
+            wall lifted so far.
         step: ``max |n_k - n_(k-1)|`` relative to ``max n_k`` (NaN when not defined).
         algorithm: how it was solved.
         seconds: its wall time.
@@ -367,6 +386,7 @@ class Resolved:
             ``tuning.retry_iterations``.
         fuse, continuation: ``tuning.fuse`` and ``tuning.continuation`` resolved for the wall's size
             (:meth:`Tuning.large_wall`); the stages turn them on or off for a sequence.
+        reduce: ``tuning.reduce`` resolved for the wall's size (:meth:`Tuning.reduced_wall`).
         progress: the caller's callback (not part of the method).
     """
 
@@ -375,6 +395,7 @@ class Resolved:
     max_lps: int
     fuse: bool
     continuation: bool
+    reduce: bool = False
     progress: Progress | None = field(default=None, repr=False, compare=False)
 
     @property
@@ -407,7 +428,8 @@ class Resolved:
         (``selection``, ``fuse``, ``continuation``; ``relaxation`` and ``beta``: the relaxation used)."""
         given = {k: v for k, v in self.options.as_dict().items() if k != "tuning"}
         return {**given, **self.tuning.as_dict(), "selection": self.selection, "fuse": self.fuse,
-                "continuation": self.continuation, "relaxation": self.tuning.beta, "beta": self.tuning.beta}
+                "continuation": self.continuation, "reduce": self.reduce, "relaxation": self.tuning.beta,
+                "beta": self.tuning.beta}
 
 
 def resolve(blocks: int, options: NonAssociativeOptions | None = None,
@@ -419,4 +441,5 @@ def resolve(blocks: int, options: NonAssociativeOptions | None = None,
     large = t.large_wall(blocks)
     return Resolved(o, selection=t.resolved_selection, max_lps=o.max_iterations,
                     fuse=large if t.fuse is None else t.fuse,
-                    continuation=large if t.continuation is None else t.continuation, progress=progress)
+                    continuation=large if t.continuation is None else t.continuation,
+                    reduce=t.reduced_wall(blocks) if t.reduce is None else t.reduce, progress=progress)

@@ -62,7 +62,8 @@ IntArray = NDArray[np.int64]
 FUSE_RIGID_TOL = 1e-5
 
 
-def rigid_bodies(lp: LimitLP, velocities: FloatArray, tol: float = FUSE_RIGID_TOL) -> tuple[IntArray, int]:
+def rigid_bodies(lp: LimitLP, velocities: FloatArray, tol: float = FUSE_RIGID_TOL, *,
+                 single_band: bool = True) -> tuple[IntArray, int]:
     """The rigid bodies of a mechanism.
 
     Args:
@@ -70,6 +71,10 @@ def rigid_bodies(lp: LimitLP, velocities: FloatArray, tol: float = FUSE_RIGID_TO
         velocities: block velocities (duals of the equilibrium rows, ``3 n_blocks``).
         tol: a contact is rigid when the opening and slip rates at both its
             points are below this fraction of the largest rate.
+        single_band: keep every block with a contact that is not rigid a body
+            of its own (below); ``False``: join the blocks by their rigid
+            contacts only (the reduced wall's coarsest model,
+            :mod:`micro.nonassociative.reduced`).
 
     Returns:
         ``(body, n_bodies)``: the body of every block, ``-1`` for the blocks
@@ -89,8 +94,9 @@ def rigid_bodies(lp: LimitLP, velocities: FloatArray, tol: float = FUSE_RIGID_TO
     b = np.where(wall.contact_b < 0, ground, wall.contact_b)
     # a block with a moving contact stays single: the cracks may shift by a block
     single = np.zeros(nb + 1, dtype=bool)
-    single[a[~rigid]] = True
-    single[b[~rigid]] = True
+    if single_band:
+        single[a[~rigid]] = True
+        single[b[~rigid]] = True
     single[ground] = False
     join = rigid & ~single[a] & ~single[b]
     graph = sp.coo_matrix((np.ones(int(join.sum())), (a[join], b[join])), shape=(nb + 1, nb + 1))
@@ -165,7 +171,7 @@ def fuse(lp: LimitLP, body: IntArray, n_bodies: int) -> FusedLP:
     A, lower, upper = generator_form(Bn, Bs, mu, live)
     fused = dataclasses.replace(
         lp, A=A, Bn=Bn, Bs=Bs, rhs=-dead, col_lower=lower, col_upper=upper, n_eq=3 * n_bodies,
-        n_points=points.size, mu=mu, dead=dead, live=live,
+        n_points=points.size, mu=mu, dead=dead, live=live, points=points,
     )
     return FusedLP(fused, R, points, body, n_bodies)
 

@@ -166,6 +166,9 @@ class SequenceDiagnostics:
             on the fused wall with the continuation certified the direction
             (``tuning.fused_retry``; ``None`` otherwise); their LPs count
             in the direction's ``iterations`` and ``seconds``.
+        reduced: the state is the reduced wall's (:mod:`micro.nonassociative.reduced`): the lowest of the
+            wall's states that its models' mechanisms lifted, at the lower end of its band; its history is
+            that of the model whose mechanism gave it, ``fusion`` that model's.
     """
 
     stop_reason: str
@@ -186,6 +189,7 @@ class SequenceDiagnostics:
     vertex_attempt: SequenceDiagnostics | None = field(default=None, repr=False)
     fusion: FusionDiagnostics | None = None
     unfused_attempt: SequenceDiagnostics | None = field(default=None, repr=False)
+    reduced: bool = False
 
 
 def diagnostics(d: DirectionResult) -> SequenceDiagnostics:

@@ -157,8 +157,9 @@ def solve_fused(lp: LimitLP, direction: int, resolved: Resolved) -> Solved:
 
 def solve_chain(lp: LimitLP, direction: int, resolved: Resolved) -> Solved:
     """One load direction as ``resolved`` asks: the fused wall (``fuse``: walls of more than
-    :data:`~micro.nonassociative.config.FUSE_BLOCKS` blocks), or the fallback chain
-    (:func:`run_stages`) on the wall."""
+    :data:`~micro.nonassociative.config.FUSE_BLOCKS` blocks), or the fallback chain (:func:`run_stages`) on
+    the wall. (The reduced wall, tried before it on large walls, is
+    :func:`micro.nonassociative.reduced.solve_reduced`'s.)"""
     if resolved.fuse:
         return solve_fused(lp, direction, resolved)
     return run_stages(lp, direction, resolved)

@@ -166,11 +166,17 @@ class Descent:
         proposals: whether the descent moves to other mechanisms (``False``:
             the lower end of the start's own mechanism band and its polish
             only).
+        searched: the start is already the lowest state a search found, at
+            the lower end of its band (the reduced wall's,
+            :mod:`micro.nonassociative.reduced`): it is checked and returned
+            with that band, and no LP runs.
     """
 
     def __init__(self, lp: LimitLP, direction: int, resolved: Resolved, budget: int | None = None,
-                 model: IterationModel | None = None, *, proposals: bool = True) -> None:
+                 model: IterationModel | None = None, *, proposals: bool = True, searched: bool = False) -> None:
         self.lp, self.d, self.resolved, self.budget, self.proposals = lp, direction, resolved, budget, proposals
+        self.searched = searched
+        self.known_band: tuple[float, float] | None = None
         self.forces = ForceLP(lp, direction, resolved.options.user_limit)
         self.mechanisms = MechanismLP(lp, direction, resolved.options.user_limit)
         self.forces.report = self.mechanisms.report = self._progress
@@ -294,7 +300,7 @@ class Descent:
     # --------------------------------------------------------- proposals
     def released(self) -> BoolArray:
         """The points whose friction a proposal releases (:data:`RELEASED_KINDS`)."""
-        return np.isin(np.repeat(self.lp.wall.contact_kind, 2), RELEASED_KINDS) & (self.lp.mu > 0.0)
+        return np.isin(self.lp.point_kinds(), RELEASED_KINDS) & (self.lp.mu > 0.0)
 
     def gilbert_model(self, n: FloatArray) -> tuple[IterationModel, PersistentRuns]:
         """The model of the proposals' Gilbert steps: the iterated LP's own
@@ -346,6 +352,9 @@ class Descent:
         it = CollapseState(lam0, start.normal / fs, start.shear / fs, v0, "iterated")
         best = it if self.exact(it) else None
         path = [] if best is None else [best.load_factor]
+        if self.searched:  # its band is the start's own (no LP)
+            self.known_band = start.sequence.mechanism_band if start.sequence is not None else None
+            return self._finish(best, tuple(path), (), t0)
         start_basis = self.gilbert_model(it.n)[0].generator_basis() if self.proposals else None
         lower = self.polish(v0, "lower end", start_basis)
         if lower is not None and (best is None or lower.load_factor < best.load_factor * (1.0 - LOWEST_TOL)):
@@ -362,6 +371,17 @@ class Descent:
             path.append(new.load_factor)
         return self._finish(best, tuple(path), tuple(moves), t0)
 
+    def _band(self, best: CollapseState) -> tuple[float, float]:
+        """The band of ``best``'s mechanism: its upper end one LP beyond the budget."""
+        restricted = restricted_columns(self.lp, best.v)
+        self.budget = None
+        top = None
+        if restricted is not None:
+            if best.basis is not None:  # its lower end's vertex is a field of the pattern: the primal simplex
+                self.forces.model.set_basis(best.basis)
+            top = self.forces.solve(restricted, sense=-1.0, primal=best.basis is not None)
+        return best.load_factor, top.load_factor if top is not None else math.nan
+
     def _finish(self, best: CollapseState | None, path: tuple[float, ...], moves: tuple[str, ...],
                 t0: float) -> LowestDirection:
         """The band of the lowest state's mechanism and the result."""
@@ -372,14 +392,7 @@ class Descent:
             return LowestDirection(name, FAILED, math.nan, None, path, moves, self.lps, budget, stop,
                                    time.perf_counter() - t0, None, {},
                                    message="no collapse state passed the check, the iterated LP's included")
-        restricted = restricted_columns(self.lp, best.v)
-        self.budget = None  # the band of the state returned: one LP beyond the budget
-        top = None
-        if restricted is not None:
-            if best.basis is not None:  # its lower end's vertex is a field of the pattern: the primal simplex
-                self.forces.model.set_basis(best.basis)
-            top = self.forces.solve(restricted, sense=-1.0, primal=best.basis is not None)
-        band = (best.load_factor, top.load_factor if top is not None else math.nan)
+        band = (best.load_factor, self.known_band[1]) if self.known_band is not None else self._band(best)
         result = self.as_result(best)
         return LowestDirection(name, FOUND, best.load_factor, band, path, moves, self.lps, budget, stop,
                                time.perf_counter() - t0, result, verify_collapse_state(self.lp, result),
@@ -387,7 +400,8 @@ class Descent:
 
 
 def lowest_state(lp: LimitLP, start: DirectionResult, resolved: Resolved,
-                 model: IterationModel | None = None, *, proposals: bool = True) -> LowestDirection:
+                 model: IterationModel | None = None, *, proposals: bool = True,
+                 searched: bool = False) -> LowestDirection:
     """The lowest certified state reached from a converged direction of the iterated LP.
 
     Args:
@@ -397,6 +411,7 @@ def lowest_state(lp: LimitLP, start: DirectionResult, resolved: Resolved,
         model: the iterated LP's model of the direction after its last LP,
             taken over (:class:`Descent`); ``None``: the descent builds one.
         proposals: whether the descent moves to other mechanisms (:class:`Descent`).
+        searched: the start is already the lowest state a search found (:class:`Descent`).
 
     Returns:
         The :class:`LowestDirection`.
@@ -407,4 +422,4 @@ def lowest_state(lp: LimitLP, start: DirectionResult, resolved: Resolved,
     if start.normal is None or start.shear is None or start.mechanism is None:
         raise ValueError(f"direction {start.direction} has no final state ({start.status})")
     return Descent(lp, direction_sign(start.direction), resolved, resolved.options.lowest_budget, model,
-                   proposals=proposals).run(start)
+                   proposals=proposals, searched=searched).run(start)

@@ -96,3 +96,21 @@ def test_a_worst_wall_s_plot_command_draws_that_wall(tmp_path: Path, monkeypatch
     expected = compare(WallSpec.from_paper(t=1, m=1 / 3, rows=12, f=0.75, p=0.2, storeys=2), first_course="half")
     assert doc["macro_load_factor"] == pytest.approx(expected.macro_load_factor, rel=1e-12)
     assert doc["plot"] == "worst-1.png" and (tmp_path / "worst-1.png").stat().st_size > 0
+
+
+def test_where_needed_runs_the_dry_friction_method_above_the_limit_only_where_the_verdict_needs_it(
+        tmp_path: Path) -> None:
+    """Above ``max_blocks``, ``where_needed`` runs the non-associative method on the walls whose macro λ is not
+    above the associative bound (Set 12, 54 blocks: macro 0.6481 against 0.7120), not on those the bound
+    settles (24 rows, 204 blocks: 0.6270 against 0.6143)."""
+    grid = tmp_path / "needed.toml"
+    grid.write_text(GRID.replace('name = "verdicts"', 'name = "needed"')
+                    .replace("max_blocks = 100", "max_blocks = 50\nwhere_needed = true"))
+    out = tmp_path / "out"
+    assert main(["sweep", str(grid), "--out", str(out), "--cache", str(tmp_path / "cache"), "--quiet",
+                 "--workers", "1"]) == 0
+    rows = {(r["kind"], r["rows"]): r for r in read_table(out / "needed.csv")}
+    needed, settled = rows[("micro-nonassoc", "12")], rows[("micro-nonassoc", "24")]
+    assert needed["status"] == "converged" and float(needed["load_factor"]) == pytest.approx(0.6911, abs=1e-4)
+    assert settled["status"] == "not_run" and "the associative bound settles the verdict" in settled["message"]
+    assert json.loads((out / "needed.json").read_text())["grid"]["where_needed"] is True

@@ -120,7 +120,7 @@ def test_one_options_object_resolved_without_copies() -> None:
     assert r.options is options and r.tuning is tuning
     assert (r.selection, r.fuse, r.continuation, r.max_lps) == ("vertex", False, False, 7)
     assert [f.name for f in dataclasses.fields(Resolved)] == [
-        "options", "selection", "max_lps", "fuse", "continuation", "progress"]
+        "options", "selection", "max_lps", "fuse", "continuation", "reduce", "progress"]
     assert len(dataclasses.fields(Tuning)) <= 12
     d = r.as_dict()
     names = {f.name for cls in (micro.NonAssociativeOptions, Tuning) for f in dataclasses.fields(cls)} - {"tuning"}

@@ -1,0 +1,73 @@
+"""The reduced wall (``micro.nonassociative.reduced``): where the associative mechanism has a dominant rigid
+part, states found on models of its rigid parts and lifted onto the wall; elsewhere the wall's own chain."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import micro
+from comparison.domain.wall import WallSpec
+from micro.backends.roles import InteriorLP
+from micro.nonassociative.checks import verify_collapse_state
+from micro.nonassociative.config import REDUCE_BLOCKS, resolve
+from micro.nonassociative.fusion import rigid_bodies
+from micro.nonassociative.reduced import DOMINANT_SHARE, dominant_share, refined, solve_reduced
+
+#: Table 7's Set 13 (78 blocks, m = 1/2): a rigid wedge holds 56 % of the moving blocks.
+SET13 = WallSpec.from_paper(t=1, m=1 / 2, rows=12, f=0.75)
+#: 36 rows of m = 1/3 (450 blocks): a fan of single rocking blocks, its largest rigid part 11 %.
+FAN = WallSpec.from_paper(t=1, m=1 / 3, rows=36, f=0.6)
+REDUCE = micro.Tuning(reduce=True)
+
+
+def _bodies(spec: WallSpec) -> tuple[micro.LimitLP, np.ndarray]:
+    lp = micro.assemble(spec.to_micro())
+    assoc = InteriorLP(lp).solve(1)
+    assert assoc.duals is not None
+    return lp, rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]), 1e-3, single_band=False)[0]
+
+
+def test_the_default_tries_it_on_large_walls_only() -> None:
+    assert not resolve(REDUCE_BLOCKS).reduce and resolve(REDUCE_BLOCKS + 1).reduce
+    assert not resolve(REDUCE_BLOCKS + 1, micro.NonAssociativeOptions(tuning=micro.Tuning(scheme="b"))).reduce
+    assert resolve(10, micro.NonAssociativeOptions(tuning=REDUCE)).reduce
+
+
+def test_a_wedge_is_dominant_and_a_fan_is_not() -> None:
+    assert dominant_share(_bodies(SET13)[1]) >= DOMINANT_SHARE > dominant_share(_bodies(FAN)[1])
+    assert dominant_share(np.full(4, -1)) == 0.0
+
+
+def test_refined_makes_the_blocks_at_moving_contacts_single() -> None:
+    lp, body = _bodies(SET13)
+    v = np.zeros(lp.n_eq)
+    wedge = np.flatnonzero(body == np.bincount(body[body >= 0]).argmax())
+    v[3 * wedge] = 1.0  # the wedge slides as one body: its contacts with the rest move
+    new, n = refined(lp, body, v)
+    assert n > int(body.max()) + 1
+    assert np.all(new[body >= 0] >= 0)  # no moving block joins the ground
+    sizes = np.bincount(new[new >= 0])
+    assert sizes.max() < np.bincount(body[body >= 0]).max()  # the wedge lost its boundary blocks
+
+
+def test_set13_reduced_state_is_exact_and_the_descent_only_checks_it() -> None:
+    wall = SET13.to_micro()
+    r = micro.solve_nonassociative(wall, tuning=REDUCE)
+    (d,) = r.directions
+    assert d.converged and d.sequence.reduced and d.sequence.stop_reason == "certified"
+    assert d.sequence.fusion is not None and d.sequence.fusion.wall_certificate == "certified"
+    (low,) = r.lowest
+    assert (low.lps, low.stop, low.origin) == (0, "finished", "iterated")
+    assert r.load_factor == r.iterated_load_factor == low.load_factor <= r.associative_load_factor
+    assert low.band is not None and low.band[0] == low.load_factor <= low.band[1]
+    residuals = verify_collapse_state(micro.assemble(wall), low.state)  # type: ignore[arg-type]
+    assert max(v for k, v in residuals.items() if k != "slipping_points") < 1e-9
+    # the wall's own chain and descent reach 0.4894591 (test_lowest); the reduced wall a state 2e-5 below
+    assert r.load_factor == pytest.approx(0.4894487, abs=1e-7)
+
+
+def test_a_fan_gives_no_reduced_state_and_the_chain_runs() -> None:
+    wall = FAN.to_micro()
+    lp = micro.assemble(wall)
+    assert solve_reduced(lp, 1, resolve(wall.n_blocks, micro.NonAssociativeOptions(tuning=REDUCE))) is None
