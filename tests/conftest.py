@@ -58,12 +58,12 @@ def quick_report_cache(quick_report: QuickReport, tmp_path: Path) -> Path:
 
 @pytest.fixture(scope="session")
 def own_walls_sweep(tmp_path_factory: pytest.TempPathFactory) -> Sweep:
-    """``xcheck sweep examples/own-walls/walls.toml``, computed once per run from an empty cache."""
-    return sweep(OWN_WALLS, tmp_path_factory.mktemp("own-walls"))
+    """``xcheck sweep examples/own-walls/walls.toml --workers 1``, computed once per run from an empty cache."""
+    return sweep(OWN_WALLS, tmp_path_factory.mktemp("own-walls"), "--workers", "1")
 
 
 @pytest.fixture(scope="session")
 def tiny_sweep(tmp_path_factory: pytest.TempPathFactory) -> Sweep:
-    """``xcheck sweep examples/sweeps/tiny.toml --workers 2``, computed once per run from an empty cache (the
-    sweep tests add to its cache)."""
-    return sweep(TINY, tmp_path_factory.mktemp("tiny"), "--workers", "2")
+    """``xcheck sweep examples/sweeps/tiny.toml --workers 1``, computed once per run from an empty cache (the
+    sweep tests add to its cache; one worker process: its 8 small walls are not worth a second one's start)."""
+    return sweep(TINY, tmp_path_factory.mktemp("tiny"), "--workers", "1")

@@ -28,7 +28,8 @@ import math
 #: Relative accuracy of the solvers' load factors: the LPs are solved to about 1e-6 relative, a certified
 #: state's residuals are at rounding level, the macro minimum is exact to about 1e-9. One value is *above*
 #: another only when it exceeds it by more than this fraction (walls where both models slide at λ = f agree
-#: to 1e-9 and are not told apart). The same margin as the sweeps' (:data:`comparison.sweep.compare.AGREEMENT`).
+#: to 1e-9 and are not told apart). The same margin as the sweeps'
+#: (:data:`comparison.sweep.wall_comparisons.AGREEMENT`).
 ACCURACY = 1e-4
 
 #: Values of :attr:`comparison.domain.verdict.Comparison.verdict` (``None``: no verdict, nothing proves either way).

@@ -32,6 +32,7 @@ reference values are regenerated with ``xcheck references`` (see
 :mod:`comparison.pytest_plugin.generate`).
 """
 
+from comparison.pytest_plugin.comparison_table import DEFAULT_AGAINST, ComparisonTable
 from comparison.pytest_plugin.references import (
     BadReferences,
     MissingReference,
@@ -39,7 +40,6 @@ from comparison.pytest_plugin.references import (
     ReferenceMismatch,
     References,
 )
-from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
 from comparison.pytest_plugin.walls import UserWall, paper_cases, select_cases, walls_from_file
 
 __all__ = [

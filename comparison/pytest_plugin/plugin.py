@@ -4,7 +4,7 @@ Fixtures:
 
 * ``xcheck_references``: the shipped :class:`~comparison.pytest_plugin.references.References`
   (session scope); ``xcheck_references.check(case, method, value, rel=...)`` asserts;
-* ``xcheck_table``: the session's :class:`~comparison.pytest_plugin.table.ComparisonTable`;
+* ``xcheck_table``: the session's :class:`~comparison.pytest_plugin.comparison_table.ComparisonTable`;
   ``xcheck_table.add(case, value, method)`` records a value. The table is printed
   at the end of the session and written to ``--xcheck-table PATH``;
 * ``xcheck_case``: a test that takes it runs once per wall of ``--xcheck-cases``
@@ -18,7 +18,7 @@ or names of the walls of ``--xcheck-walls``: see :func:`~comparison.pytest_plugi
 ``--xcheck-table PATH`` (``.md`` or ``.csv``; its folder is checked before the tests run, and a table
 that cannot be written at the end, a full disk, is one line in the summary and fails the run),
 ``--xcheck-against LIST`` (the reference columns of the table, methods of the references, default
-:data:`~comparison.pytest_plugin.table.DEFAULT_AGAINST`).
+:data:`~comparison.pytest_plugin.comparison_table.DEFAULT_AGAINST`).
 """
 
 from __future__ import annotations
@@ -31,8 +31,8 @@ from typing import Any
 import pytest
 
 from comparison.domain.cases import PaperCase
+from comparison.pytest_plugin.comparison_table import DEFAULT_AGAINST, ComparisonTable
 from comparison.pytest_plugin.references import COMPUTABLE, BadReferences, References
-from comparison.pytest_plugin.table import DEFAULT_AGAINST, ComparisonTable
 from comparison.pytest_plugin.walls import UserWall, cases_and_walls
 
 _TABLE = pytest.StashKey[ComparisonTable]()

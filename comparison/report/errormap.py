@@ -18,9 +18,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from comparison.sweep.compare import Wall, walls
 from comparison.sweep.page import render
 from comparison.sweep.table import read_table
+from comparison.sweep.wall_comparisons import Wall, walls
 
 #: The committed table, as the section names it.
 SOURCE = "reports/sweeps/errormap.csv"
@@ -31,7 +31,8 @@ MACRO = "macro"
 
 
 def load(path: Path) -> list[Wall]:
-    """The walls of a sweep table with their macro and micro load factors (:func:`comparison.sweep.compare.walls`)."""
+    """The walls of a sweep table with their macro and micro load factors
+    (:func:`comparison.sweep.wall_comparisons.walls`)."""
     return walls(read_table(path))
 
 

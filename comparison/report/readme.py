@@ -203,7 +203,7 @@ def _robustness(d: Data) -> str:
 
 def _errormap(d: Data) -> str:
     from comparison.report.errormap import load
-    from comparison.sweep.compare import AGREEMENT
+    from comparison.sweep.wall_comparisons import AGREEMENT
 
     summary = d.json["errormap"]["summary"]
     nonassoc, verdicts = summary["nonassoc"], summary["verdicts"]

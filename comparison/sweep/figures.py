@@ -1,7 +1,7 @@
-"""The figures of a sweep's validation page, drawn from its walls (:mod:`~comparison.sweep.compare`) and rows.
+"""The figures of a sweep's validation page, drawn from its walls (:mod:`~comparison.sweep.wall_comparisons`) and rows.
 
 * :func:`error_map`: a macro column's difference from the micro reference as heat maps over the grid's
-  axes: the first two axes the grid varies (in :data:`~comparison.sweep.compare.AXES`' order: t, m, f, p,
+  axes: the first two axes the grid varies (in :data:`~comparison.sweep.wall_comparisons.AXES`' order: t, m, f, p,
   rows, storeys, the bond) across and up each panel, one column of panels per value of the third, one row
   per combination of the others, with the line where the macro value turns unsafe;
 * :func:`scatter`: every macro column against the micro reference, with the 1:1 line;
@@ -26,8 +26,17 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from comparison.sweep.compare import AGREEMENT, MACRO_KINDS, SYMBOLS, Wall, axis_values, shown, success, varying
 from comparison.sweep.table import number
+from comparison.sweep.wall_comparisons import (
+    AGREEMENT,
+    MACRO_KINDS,
+    SYMBOLS,
+    Wall,
+    axis_values,
+    shown,
+    success,
+    varying,
+)
 from micro.plot import save_figure
 
 #: Resolution of the page's figures.

@@ -7,7 +7,7 @@ report's error-map section is this page drawn from its committed sweep
 (:mod:`comparison.report.errormap`). What it holds:
 
 * a summary: the walls, the micro computations, and per macro column
-  (:mod:`~comparison.sweep.compare`) how many walls it lies above the micro
+  (:mod:`~comparison.sweep.wall_comparisons`) how many walls it lies above the micro
   reference on, by more than 5 % and 10 %, the median and worst
   difference and the worst wall; then the walls by verdict and proof, as
   ``xcheck compare`` gives them (:func:`comparison.domain.proof.judge`): unsafe by
@@ -32,7 +32,9 @@ from pathlib import Path
 from typing import Any
 
 from comparison.sweep import figures
-from comparison.sweep.compare import (
+from comparison.sweep.figures import layout
+from comparison.sweep.table import read_table
+from comparison.sweep.wall_comparisons import (
     AGREEMENT,
     AXES,
     MACRO_KINDS,
@@ -49,8 +51,6 @@ from comparison.sweep.compare import (
     walls,
     worst,
 )
-from comparison.sweep.figures import layout
-from comparison.sweep.table import read_table
 from comparison.utilities.outputs import write_text
 
 #: Walls listed in the worst-walls table of each macro column.
@@ -77,8 +77,9 @@ class Page:
     Attributes:
         text: its Markdown.
         figures: the PNG files it links, in order.
-        numbers: its numbers, JSON-ready: ``columns`` (each macro column's :func:`~comparison.sweep.compare.summary`),
-            ``worst`` (each column's worst walls), ``statuses`` (cells by method and status).
+        numbers: its numbers, JSON-ready: ``columns`` (each macro column's
+            :func:`~comparison.sweep.wall_comparisons.summary`), ``worst`` (each column's worst walls),
+            ``statuses`` (cells by method and status).
         path: the Markdown file written (``None``: rendered as a section of another document).
     """
 

@@ -19,7 +19,7 @@ options: ``solve_global(lp, start=result)`` starts from a finished
 :class:`~micro.NonAssociativeResult` (its lowest certified states, else its
 converged states). The iterated LP knows nothing of this package; this
 package reads the iterated LP's result types only, and its patterns are
-checked by :func:`micro.nonassociative.checks.state_residuals`.
+checked by :func:`micro.nonassociative.final_checks.state_residuals`.
 """
 
 from __future__ import annotations

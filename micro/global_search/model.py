@@ -106,7 +106,7 @@ def build_mip(lp: LimitLP, direction: int, bounds: BigM, *, energy_cut: bool = T
     Args:
         lp: the LP of the wall.
         direction: ``+1`` or ``-1``.
-        bounds: the big-M bounds (:func:`micro.global_search.bounds.big_m`).
+        bounds: the big-M bounds (:func:`micro.global_search.big_m.big_m`).
         energy_cut: add ``lift <= lambda_up * live work`` (valid when the
             mechanisms cannot lower the dead load, see :class:`BigM`).
 

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from micro.global_search import highs as gh
 from micro.global_search.global_types import Pattern
 from micro.lp import LimitLP
-from micro.nonassociative.checks import state_residuals
+from micro.nonassociative.final_checks import state_residuals
 
 FloatArray = NDArray[np.float64]
 
@@ -122,7 +122,7 @@ def collapse_residuals(lp: LimitLP, direction: int, n: FloatArray, s: FloatArray
         ``energy`` (``|lambda W_L + W_D - dissipation|`` with the live work
         ``W_L`` normalised to 1, relative to ``lambda``), ``live_work`` (``W_L``
         before normalisation, / ``rate``: must be positive). One computation with
-        :func:`micro.nonassociative.checks.state_residuals`.
+        :func:`micro.nonassociative.final_checks.state_residuals`.
     """
     res = state_residuals(lp, direction, n, s, lam, lp.Bn.T @ v, lp.Bs.T @ v, float(direction) * float(lp.live @ v),
                           float(lp.dead @ v), CHECK_TOL)

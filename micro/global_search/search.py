@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.global_search import highs as gh
-from micro.global_search.bounds import BoundError, big_m
+from micro.global_search.big_m import BoundError, big_m
 from micro.global_search.global_types import BigM, GlobalOptions, Pattern, default_node_limit
 from micro.global_search.model import Layout, build_mip, pattern_of, solution_vector
 from micro.global_search.pattern import collapse_residuals, force_state, is_collapse_state, mechanism

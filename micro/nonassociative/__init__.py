@@ -73,7 +73,6 @@ from typing import Any
 from micro.geometry import BlockWall, check_block_wall
 from micro.limit_result import DirectionResult, load_directions
 from micro.lp import assemble
-from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.config import (
     DEFAULT_RELAXATION,
     FUSE_BLOCKS,
@@ -91,6 +90,7 @@ from micro.nonassociative.config import (
 )
 from micro.nonassociative.descent.lowest import lowest_state
 from micro.nonassociative.descent.lowest_direction import LowestDirection
+from micro.nonassociative.final_checks import verify_collapse_state
 from micro.nonassociative.nonassociative_result import (
     CONVERGED,
     CYCLING,

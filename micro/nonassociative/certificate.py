@@ -63,7 +63,7 @@ def point_states(dn: FloatArray, ds: FloatArray, max_noise: float) -> tuple[Bool
     :func:`~micro.nonassociative.descent.states.restricted_columns`).
 
     A rate is zero below :data:`~micro.mechanism.STATE_TOL` of the largest,
-    the rule of :func:`~micro.nonassociative.checks.verify_collapse_state`, so
+    the rule of :func:`~micro.nonassociative.final_checks.verify_collapse_state`, so
     that a state built on the pattern passes its slip-at-yield check (a
     former margin of 10 x the dual noise let states slip at 1.01e-6 of the
     largest rate with friction below yield). Closing rates up to

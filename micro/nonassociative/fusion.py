@@ -42,7 +42,7 @@ from micro.backends.roles import InteriorLP
 from micro.limit_result import DirectionResult
 from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
-from micro.nonassociative import checks
+from micro.nonassociative import final_checks
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, Resolved
 from micro.nonassociative.nonassociative_result import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
@@ -248,7 +248,7 @@ def on_the_wall(lp: LimitLP, direction: int, fused: FusedLP, assoc: Outcome, r: 
             sequence=dataclasses.replace(seq, stop_reason="fused_state_rejected", lambda_band=None,
                                          fusion=fusion))
     n, s = cert.forces
-    state = checks.final_state(lp, direction, v, n, s, lam)
+    state = final_checks.final_state(lp, direction, v, n, s, lam)
     fusion = dataclasses.replace(fusion, wall_certificate="certified", certificate_seconds=t_cert)
     seq = dataclasses.replace(
         seq, mechanism_band=cert.band, coulomb_residual=state.coulomb, dilatancy_residual=state.dilatancy,

@@ -18,7 +18,7 @@ stops ``max_seconds`` and ``time_limit`` read the clock, and a sequence they
 stop has status ``time_limit``. A failed run is
 recovered (:meth:`LPSequence._recover`); each iterate is then tested for the
 stops of :mod:`micro.nonassociative.selections`. The final iterate is
-checked (:mod:`micro.nonassociative.checks`). How an iterate goes on (the
+checked (:mod:`micro.nonassociative.final_checks`). How an iterate goes on (the
 next ``nbar`` and slope, whether it may go cold, when the certificate is due,
 which no-progress test applies) is its selection's
 (:mod:`micro.nonassociative.selections`: vertex, proximal, continuation); which sequences run on a direction is
@@ -38,7 +38,7 @@ from micro.backends.base import Outcome, Status
 from micro.backends.roles import InteriorLP, PersistentLP
 from micro.limit_result import DIR_NAME, DirectionResult
 from micro.lp import LimitLP
-from micro.nonassociative import checks
+from micro.nonassociative import final_checks
 from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, TINY, LPProgress, Resolved
 from micro.nonassociative.model import IterationModel, restart
@@ -150,7 +150,7 @@ class LPSequence:
         lam_assoc = float(x[2 * self.lp.n_points]) * self.d
         n0, s0 = x[: self.lp.n_points], x[self.lp.n_points : 2 * self.lp.n_points]
         n0 = assoc_n0 = np.maximum(n0, 0.0)
-        self._record(0, lam_assoc, NAN, NAN, checks.coulomb_residual(self.lp, n0, s0), 0.0, out, algo0)
+        self._record(0, lam_assoc, NAN, NAN, final_checks.coulomb_residual(self.lp, n0, s0), 0.0, out, algo0)
         if self.start is not None:
             n0 = np.maximum(self.start, 0.0)
         if lam_assoc < 0:
@@ -274,7 +274,7 @@ class LPSequence:
         nscale = max(float(np.max(n, initial=0.0)), TINY)
         dlam = abs(lam - lam_prev) / max(abs(lam), TINY)
         dn = float(np.max(np.abs(n - n_prev), initial=0.0)) / nscale
-        coul = checks.coulomb_residual(self.lp, n, s)
+        coul = final_checks.coulomb_residual(self.lp, n, s)
         self._record(k, lam, dlam, dn, coul, alpha, out, algo)
         self.lams.append(lam)
         self.dns.append(dn)
@@ -298,7 +298,7 @@ class LPSequence:
         cert = self.certificate.certify(v, lam, time_limit=self.resolved.options.user_limit)
         self.last_try = k
         rec = self.history[-1]
-        coul = checks.coulomb_residual(self.lp, *cert.forces) if cert.forces is not None else NAN
+        coul = final_checks.coulomb_residual(self.lp, *cert.forces) if cert.forces is not None else NAN
         self.history[-1] = dataclasses.replace(
             rec, certificate="certified" if cert.forces is not None else "not found",
             certificate_seconds=float(cert.seconds), certificate_iterations=int(cert.iterations),
@@ -340,9 +340,9 @@ class LPSequence:
         v, n, s, lam = self.final
         status = (CONVERGED if stop in CONVERGED_STOPS else TIME_LIMIT if stop == "time_budget"
                   else MAX_ITERATIONS if stop in ("max_iterations", "work_budget") else CYCLING)
-        state = checks.final_state(lp, self.d, v, n, s, lam)
-        check_cold = checks.cold_check_due(stop)
-        cold = checks.cold_check(model, lam, COLD_TOL) if check_cold else checks.ColdCheck(NAN, NAN, "", "")
+        state = final_checks.final_state(lp, self.d, v, n, s, lam)
+        check_cold = final_checks.cold_check_due(stop)
+        cold = final_checks.cold_check(model, lam, COLD_TOL) if check_cold else final_checks.ColdCheck(NAN, NAN, "", "")
         msg = cold_note = ""
         if check_cold and (not math.isfinite(cold.rel_diff) or cold.rel_diff > COLD_TOL):
             cold_note = (f"the final iterate re-solved cold gives lambda = {cold.load_factor:.9g} against "

@@ -138,7 +138,7 @@ class SequenceDiagnostics:
         history: every LP, the associative one first.
         cold_load_factor: ``lambda`` of the final iterate re-solved cold
             (NaN unless the sequence stopped exactly:
-            :data:`~micro.nonassociative.checks.COLD_CHECKED_STOPS`).
+            :data:`~micro.nonassociative.final_checks.COLD_CHECKED_STOPS`).
         warm_cold_rel_diff: ``|warm - cold| / |cold|`` (NaN likewise).
         cold_algorithm: ``"ipm"``, ``"simplex"`` (when IPX gave up) or
             ``"ipm+crossover+simplex"`` (when IPX disagreed).

@@ -47,7 +47,7 @@ from numpy.typing import NDArray
 from micro.backends.roles import InteriorLP
 from micro.limit_result import DIR_NAME, DirectionResult
 from micro.lp import LimitLP
-from micro.nonassociative import checks
+from micro.nonassociative import final_checks
 from micro.nonassociative.certificate import Certificate, StateTriple
 from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, LPProgress, Resolved
 from micro.nonassociative.descent.lowest import lowest_state
@@ -223,7 +223,7 @@ def _result(lp: LimitLP, d: int, resolved: Resolved, search: _Search, lam_assoc:
     fused, r = search.best_model
     hi, _ = Certificate(lp, d, "a").state_lp(v, -1.0, resolved.options.user_limit)
     band = (lam, hi[2] if hi is not None else math.nan)
-    state = checks.final_state(lp, d, v, n, s, lam)
+    state = final_checks.final_state(lp, d, v, n, s, lam)
     fusion = FusionDiagnostics(
         bodies=fused.n_bodies, single_bodies=fused.single_bodies, blocks_at_rest=fused.blocks_at_rest,
         points=fused.lp.n_points, wall_points=lp.n_points, rigid_tol=REDUCE_TOLS[0], seconds=seconds,

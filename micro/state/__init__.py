@@ -11,11 +11,11 @@
                the block or point it is at, so that another program's state is checked as this library's is.
 """
 
-from micro.state.check import Residual, StateCheck, verify_state
 from micro.state.data import CollapseStateData, collapse_state
 from micro.state.document import StateFileError
 from micro.state.file import parse_state, read_state, write_state
 from micro.state.structure import WallParameters
+from micro.state.verify import Residual, StateCheck, verify_state
 
 __all__ = ["CollapseStateData", "Residual", "StateCheck", "StateFileError", "WallParameters", "collapse_state",
            "parse_state", "read_state", "verify_state", "write_state"]

@@ -19,7 +19,7 @@ from hand_walls import column_wall, small_wall
 
 import micro
 from micro.global_search import GlobalOptions, StartState, global_types, solve_global
-from micro.global_search.bounds import big_m
+from micro.global_search.big_m import big_m
 from micro.nonassociative import verify_collapse_state
 
 #: The solvers of the branch and bound; SCIP only with the optional extra ``global`` (pyscipopt).

@@ -25,8 +25,8 @@ import micro
 import micro.files
 from comparison.domain.wall import WallSpec
 from micro.state import CollapseStateData, collapse_state, parse_state, read_state, verify_state, write_state
-from micro.state import check as state_check
 from micro.state import file as state_file
+from micro.state import verify as state_check
 
 SCHEMA = Path(__file__).parents[2] / "docs" / "schemas" / "state.schema.json"
 #: The small walls: Table 7's Sets 12-14 and a wall 5.33 half blocks long (L = 8 block heights, l = 3)

@@ -70,7 +70,7 @@ the lowest certified state found so far with ``stop="budget"``
 (``"finished"``: it ended by its own rules).
 
 Every state the descent keeps is checked by
-:func:`~micro.nonassociative.checks.verify_collapse_state` (every residual at
+:func:`~micro.nonassociative.final_checks.verify_collapse_state` (every residual at
 most :data:`EXACT_TOL`); a state that fails is discarded. The start, the
 iterated LP's own converged state, is a candidate too, so the lowest state is
 never above the iterated LP's load factor. No decision depends on time: the
@@ -92,7 +92,6 @@ from micro.geometry import HEAD
 from micro.limit_result import DIR_NAME, DirectionResult, direction_sign
 from micro.lp import LimitLP
 from micro.mechanism import mechanism_from_duals
-from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.config import INTERPENETRATION, LPProgress, Resolved
 from micro.nonassociative.descent.lowest_direction import BUDGET, FAILED, FINISHED, FOUND, TARGET, LowestDirection
 from micro.nonassociative.descent.states import (
@@ -103,6 +102,7 @@ from micro.nonassociative.descent.states import (
     PersistentRuns,
     restricted_columns,
 )
+from micro.nonassociative.final_checks import verify_collapse_state
 from micro.nonassociative.model import IterationModel
 
 FloatArray = NDArray[np.float64]

@@ -41,7 +41,7 @@ class LowestDirection:
         seconds: its wall time.
         state: the state as a direction result (dimensional forces, mechanism,
             contact states; ``None`` when failed).
-        residuals: its :func:`~micro.nonassociative.checks.verify_collapse_state`.
+        residuals: its :func:`~micro.nonassociative.final_checks.verify_collapse_state`.
         origin: how the state was found.
         message: why it failed.
     """

@@ -21,9 +21,8 @@ import pytest
 from comparison.cli import main
 
 ROOT = Path(__file__).resolve().parents[3]
-TINY = ROOT / "examples" / "sweeps" / "tiny.toml"
 WALL = ["--rows", "12", "--t", "1", "--m", "1/3", "--f", "0.75"]
-RESULT_LINES = ("table: ", "meta: ", "page: ")
+RESULT_LINES = ("table: ", "meta: ")
 
 
 class FullDevice:
@@ -39,12 +38,32 @@ class FullDevice:
         return False
 
 
-def _sweep(tmp_path: Path) -> list[str]:
-    out, cache = tmp_path / "out", tmp_path / "cache"
-    assert main(["sweep", str(TINY), "--out", str(out), "--cache", str(cache), "--workers", "1"]) == 0
-    assert {"tiny.csv", "tiny.json", "tiny.md"} <= {p.name for p in out.iterdir()}
-    assert len(list((cache / "micro-assoc").glob("*.json"))) == 8  # every computed result kept
-    return [str(p) for p in (out / "tiny.csv", out / "tiny.json", out / "tiny.md")]
+#: One wall, the macro model and the associative LP: a sweep with one micro computation.
+ONE_WALL = """name = "one"
+[axes]
+t = 1.0
+m = "1/3"
+rows = 6
+f = 0.75
+
+[[method]]
+kind = "macro"
+
+[[method]]
+kind = "micro-assoc"
+solver = "highs-ipm"
+"""
+
+
+def _sweep(tmp_path: Path, micro: bool = True) -> list[str]:
+    """Sweep :data:`ONE_WALL` (``micro=False``: its macro cell only, no worker process); the paths printed."""
+    grid, out, cache = tmp_path / "one.toml", tmp_path / "out", tmp_path / "cache"
+    grid.write_text(ONE_WALL if micro else ONE_WALL.split('[[method]]\nkind = "micro-assoc"')[0])
+    argv = ["sweep", str(grid), "--out", str(out), "--cache", str(cache), "--workers", "1", "--no-report"]
+    assert main(argv) == 0  # the page (--no-report: not drawn here) is the sweep's tests' business
+    assert {p.name for p in out.iterdir()} == {"one.csv", "one.json"}
+    assert len(list((cache / "micro-assoc").glob("*.json"))) == micro  # the computed result kept
+    return [str(p) for p in (out / "one.csv", out / "one.json")]
 
 
 @pytest.mark.parametrize("stderr", ["full", "closed"])
@@ -52,9 +71,9 @@ def test_a_sweep_whose_standard_error_fails_or_is_closed_keeps_its_results(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, tmp_path: Path, stderr: str
 ) -> None:
     """``xcheck sweep ... 2>`` a full device, or with standard error closed: every cell computed and kept in
-    the cache, the table, metadata and page written, exit 0, and standard output holds the paths alone."""
+    the cache, the table and metadata written, exit 0, and standard output holds the paths alone."""
     monkeypatch.setattr(sys, "stderr", FullDevice() if stderr == "full" else None)
-    paths = _sweep(tmp_path)
+    paths = _sweep(tmp_path, micro=stderr == "full")  # the micro cell's storing shown once
     out = capsys.readouterr().out
     assert out.splitlines() == [f"{kind}{path}" for kind, path in zip(RESULT_LINES, paths, strict=True)]
 

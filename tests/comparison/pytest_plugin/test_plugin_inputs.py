@@ -259,6 +259,8 @@ def test_damaged_references_are_refused_in_one_line(
     path.write_text(_damaged(how))
     with pytest.raises(BadReferences, match=rf"^{re.escape(str(path))}: "):
         References.load(path)
+    if how not in ("NaN", "truncated"):  # the plugin reads the file through References.load: two runs show it
+        return
     monkeypatch.setattr(references_module, "shipped", lambda: path)
     run = _pytest(pytester, monkeypatch)
     assert run.returncode == 4, run.stdout + run.stderr

@@ -14,7 +14,7 @@ import pytest
 
 from comparison.cli import main
 from comparison.sweep import read_table
-from comparison.sweep.compare import walls
+from comparison.sweep.wall_comparisons import walls
 
 GRID = """name = "local"
 

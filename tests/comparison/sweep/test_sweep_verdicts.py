@@ -66,7 +66,7 @@ def _numbers(out: Path) -> list[dict[str, object]]:
 def test_a_value_above_the_quoted_one_is_proven_only_by_a_certified_state(quoted: str, label: str) -> None:
     """The iterated LP's value (or a table too old to say) is not known to be a certified state: a macro value
     above it is not proven unsafe, and without a converged certified value nothing else proves either way."""
-    from comparison.sweep.compare import walls
+    from comparison.sweep.wall_comparisons import walls
 
     base = {"t": "1", "m": "0.5", "rows": "12", "f": "0.75", "p": "0", "storeys": "1", "first_course": "full",
             "head_joints": "frictional", "blocks": "78", "quoted": "", "message": ""}
@@ -82,8 +82,8 @@ def test_a_worst_wall_s_plot_command_draws_that_wall(tmp_path: Path, monkeypatch
                                                      capsys: pytest.CaptureFixture[str]) -> None:
     """The worst-walls table gives, per wall, the ``xcheck compare --plot`` command of exactly that wall:
     run, it draws the figure and compares the same wall (same macro λ)."""
-    from comparison.sweep.compare import Wall
     from comparison.sweep.page import plot_command
+    from comparison.sweep.wall_comparisons import Wall
 
     w = Wall(t=1.0, m=1 / 3, rows=12, f=0.75, p=0.2, storeys=2, first_course="half", head_joints="frictional",
              blocks=0, macro={"macro": 0.5}, assoc=float("nan"), nonassoc=float("nan"))

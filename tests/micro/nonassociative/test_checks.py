@@ -85,20 +85,20 @@ def test_cold_resolve_only_after_an_exact_stop(monkeypatch: pytest.MonkeyPatch) 
     the certificate found the state, nor when the sequence did not converge."""
     import math
 
-    from micro.nonassociative import checks
-    from micro.nonassociative.checks import COLD_CHECKED_STOPS, cold_check_due
+    from micro.nonassociative import final_checks
+    from micro.nonassociative.final_checks import COLD_CHECKED_STOPS, cold_check_due
 
     assert cold_check_due("lambda_and_forces") and cold_check_due("lambda_and_coulomb")
     assert not any(cold_check_due(s) for s in ("certified", "oscillating", "repeating", "max_iterations"))
     calls: list[float] = []
-    real = checks.cold_check
+    real = final_checks.cold_check
 
-    def counted(*args: object, **kwargs: object) -> checks.ColdCheck:
+    def counted(*args: object, **kwargs: object) -> final_checks.ColdCheck:
         out = real(*args, **kwargs)  # type: ignore[arg-type]
         calls.append(out.rel_diff)
         return out
 
-    monkeypatch.setattr(checks, "cold_check", counted)
+    monkeypatch.setattr(final_checks, "cold_check", counted)
     w = wall(1.0, 1 / 3)  # Table 7's Set 12
     certified = solve_nonassociative(w, lowest=False)
     assert certified.sequence.stop_reason == "certified" and not calls

@@ -9,8 +9,8 @@ import pytest
 import micro
 from comparison.domain.wall import WallSpec
 from micro.backends.roles import InteriorLP
-from micro.nonassociative.checks import verify_collapse_state
 from micro.nonassociative.config import REDUCE_BLOCKS, resolve
+from micro.nonassociative.final_checks import verify_collapse_state
 from micro.nonassociative.fusion import rigid_bodies
 from micro.nonassociative.reduced import DOMINANT_SHARE, dominant_share, refined, solve_reduced
 

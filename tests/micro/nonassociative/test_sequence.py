@@ -14,7 +14,7 @@ import pytest
 import micro
 from comparison.domain.wall import WallSpec
 from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, TIME_LIMIT, Tuning, solve_nonassociative
-from micro.nonassociative.checks import COLD_CHECKED_STOPS
+from micro.nonassociative.final_checks import COLD_CHECKED_STOPS
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey,
 #: 12 rows, f = 0.75: (t, m, lambda).

@@ -9,7 +9,7 @@ import pytest
 
 import micro
 from comparison.domain.wall import WallSpec
-from micro.nonassociative.checks import verify_collapse_state
+from micro.nonassociative.final_checks import verify_collapse_state
 
 #: Table 7's Set 13 (78 blocks): iterated LP 0.4912758 (certified), lowest certified state 0.4894591.
 SET13 = WallSpec.from_paper(t=1, m=1 / 2, rows=12, f=0.75)
