@@ -291,11 +291,13 @@ def _closer_edges(edges: tuple[FloatArray, FloatArray], length: float,
     The regular joints stay where they are (every lap half a block); a course whose last piece would be
     narrower than ``closer`` (:func:`closer_width`) does not lay it: its last unit runs to the end,
     ``l`` plus the remainder long. Every other course keeps its last piece, a closer at least ``closer``
-    wide (``docs/micro/walls.md``: why, and what the load factor does).
+    wide (``docs/micro/walls.md``: why, and what the load factor does); a piece as wide as the closer
+    within :data:`WHOLE_TOLERANCE` of the length (``1.5 * 1.4`` leaves ``0.6 - 4e-16`` for a closer of
+    ``0.6``) is one.
     """
     out = []
     for e in edges:
-        if e.size > 2 and float(e[-1] - e[-2]) < closer:
+        if e.size > 2 and float(e[-1] - e[-2]) < closer - WHOLE_TOLERANCE * length:
             e = np.concatenate([e[:-2], [length]])
         out.append(e)
     return out[0], out[1]

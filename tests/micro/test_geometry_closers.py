@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import micro
@@ -60,6 +60,7 @@ def test_a_remainder_as_wide_as_the_closer_is_laid() -> None:
 
 
 @settings(max_examples=80, deadline=None)
+@example(half_blocks=1.4, rows=[1], first="half", mu=0.6, height=1.0)  # a remainder of 0.6 - 4e-16: a closer
 @given(
     half_blocks=st.floats(1.0, 14.0, allow_nan=False),
     rows=st.lists(st.integers(1, 4), min_size=1, max_size=3),
