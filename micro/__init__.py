@@ -38,7 +38,8 @@ value to quote: ``docs/micro/`` (walls, associative, nonassociative, tuning, glo
 
 from micro.associative import solve_associative
 from micro.backends import DEFAULT_SOLVER, SOLVERS, Outcome, Status, make_backend
-from micro.geometry import ENDS, BlockWall, build_wall, closer_width
+from micro.courses import closer_width
+from micro.geometry import ENDS, BlockWall, build_wall
 from micro.global_search import GlobalOptions, GlobalResult, solve_global
 from micro.hold import HeldWall, hold_blocks
 from micro.limit_result import DirectionResult, LimitResult

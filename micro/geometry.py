@@ -43,6 +43,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from micro.courses import blocks_in_course, closed_edges, closer_width, course_edges, half_block_count
 from micro.memory import guard_memory
 from micro.wall_checks import _number, _per_storey, _positive_int, physical_bounds
 
@@ -52,11 +53,6 @@ IntArray = NDArray[np.int64]
 #: Contact kinds (values of :attr:`BlockWall.contact_kind`).
 BASE, BED, HEAD = 0, 1, 2
 CONTACT_KIND_NAMES = ("base", "bed", "head")
-
-#: A length within this relative distance of a whole number of half blocks is
-#: that whole number (the builder's tolerance before cut end blocks, kept so
-#: that such walls come out exactly as before).
-WHOLE_TOLERANCE = 1e-9
 
 #: How a course ends when the wall's length is not a whole number of half blocks (:func:`build_wall`'s
 #: ``ends``): ``"closers"`` (the default) as a mason closes a course, with no piece narrower than half a
@@ -213,13 +209,13 @@ class BlockWall:
     @property
     def half_blocks(self) -> float:
         """The wall length in half blocks ``L/(l/2)`` (an integer-valued float when whole)."""
-        return _half_blocks(self.length, 0.5 * self.block_length)[0]
+        return half_block_count(self.length, 0.5 * self.block_length)[0]
 
     @property
     def end_blocks_cut(self) -> bool:
         """True when ``L`` is not a whole number of half blocks: the last block of every course is cut
         (module docstring)."""
-        return not _half_blocks(self.length, 0.5 * self.block_length)[1]
+        return not half_block_count(self.length, 0.5 * self.block_length)[1]
 
     def describe(self) -> str:
         """One-line summary."""
@@ -241,66 +237,6 @@ def check_block_wall(wall: object) -> BlockWall:
         raise TypeError("wall must be a micro.BlockWall (micro.build_wall(...) or WallSpec.to_micro() gives one), "
                         f"got {type(wall).__name__}")
     return wall
-
-
-def _half_blocks(length: float, half: float) -> tuple[float, bool]:
-    """The wall length in half blocks, and whether it is a whole number of them.
-
-    A ratio within :data:`WHOLE_TOLERANCE` (relative) of an integer counts as
-    whole and is returned as that integer (a length read from a file as
-    ``59.99999999999999`` lays the same blocks as ``60``).
-    """
-    ratio = length / half
-    n = round(ratio)
-    if n >= 1 and abs(ratio - n) <= WHOLE_TOLERANCE * max(1.0, ratio):
-        return float(n), True
-    return ratio, False
-
-
-def _count_blocks(last: int, starts_full: bool) -> int:
-    """Blocks in one course whose joints run up to ``last`` (half blocks)."""
-    if starts_full:  # joints 2, 4, ..., <= last
-        return max(last, 0) // 2 + 1
-    return max(last + 1, 0) // 2 + 1  # joints 1, 3, ..., <= last
-
-
-def _course_edges(last: int, end: float, half: float, starts_full: bool) -> FloatArray:
-    """Block edges of one course: ``0``, the joints up to ``last`` (half
-    blocks, times ``half``) and the course's end ``end``."""
-    inner = np.arange(2 if starts_full else 1, last + 1, 2, dtype=np.int64)
-    return np.concatenate([[0.0], inner * half, [end]])
-
-
-def closer_width(block_length: float, block_height: float, friction: float) -> float:
-    """The narrowest closer :func:`build_wall` lays with ``ends="closers"``: ``min(mu b, l/4)``.
-
-    A piece ``w`` wide and ``b`` high that carries nothing tips over alone at ``lambda = w/b`` with
-    non-associative friction, and at ``(w/b)(1 + mu^2)/(1 - mu^2 + 2 mu w/b)`` with associative friction;
-    at ``w = mu b`` both are ``mu``, the load at which the whole wall slides on its base, which bounds the
-    wall's own load factor from above. A closer at least ``mu b`` wide therefore never collapses alone
-    below the wall. The cap ``l/4`` keeps the longest end unit (``l`` plus a remainder narrower than the
-    closer) within a quarter block of a block, for walls of tall blocks (``mu b > l/4``).
-    """
-    return min(friction * block_height, 0.25 * block_length)
-
-
-def _closer_edges(edges: tuple[FloatArray, FloatArray], length: float,
-                  closer: float) -> tuple[FloatArray, FloatArray]:
-    """The two course types' edges with their ends closed as :func:`build_wall` does with ``ends="closers"``.
-
-    The regular joints stay where they are (every lap half a block); a course whose last piece would be
-    narrower than ``closer`` (:func:`closer_width`) does not lay it: its last unit runs to the end,
-    ``l`` plus the remainder long. Every other course keeps its last piece, a closer at least ``closer``
-    wide (``docs/micro/walls.md``: why, and what the load factor does); a piece as wide as the closer
-    within :data:`WHOLE_TOLERANCE` of the length (``1.5 * 1.4`` leaves ``0.6 - 4e-16`` for a closer of
-    ``0.6``) is one.
-    """
-    out = []
-    for e in edges:
-        if e.size > 2 and float(e[-1] - e[-2]) < closer - WHOLE_TOLERANCE * length:
-            e = np.concatenate([e[:-2], [length]])
-        out.append(e)
-    return out[0], out[1]
 
 
 def build_wall(
@@ -387,20 +323,20 @@ def build_wall(
     physical_bounds(L, lb, hb, gamma, mu, rows_t, thick, over)
 
     half = 0.5 * lb
-    r, whole = _half_blocks(L, half)
+    r, whole = half_block_count(L, half)
     if r < 1.0:
         raise ValueError(f"length must be at least half a block (block_length/2 = {half:g}), got {length!r}")
     last = math.ceil(r) - 1  # the last head joint (half blocks) before the end
     bottom_full = first_course == "full"
     n_courses = sum(rows_t)
     n_even = (n_courses + 1) // 2  # courses 0, 2, 4, ... (same type as the bottom one)
-    guard_memory(n_even * _count_blocks(last, bottom_full) + (n_courses // 2) * _count_blocks(last, not bottom_full),
-                  max_bytes)
+    n_blocks = n_even * blocks_in_course(last, bottom_full) + (n_courses // 2) * blocks_in_course(last, not bottom_full)
+    guard_memory(n_blocks, max_bytes)
 
     end = r * half if whole else L
-    edges = (_course_edges(last, end, half, bottom_full), _course_edges(last, end, half, not bottom_full))
+    edges = (course_edges(last, end, half, bottom_full), course_edges(last, end, half, not bottom_full))
     if not whole and ends == "closers":
-        edges = _closer_edges(edges, L, closer_width(lb, hb, mu))
+        edges = closed_edges(edges, L, closer_width(lb, hb, mu))
     blocks = _lay_blocks(edges, n_courses, hb)
     dead, live, storey = _block_loads(blocks, rows_t, thick, over, gamma, hb)
     contacts = _contacts(edges, blocks, hb)

@@ -11,7 +11,7 @@ which go to 0 with its width; a block resting on such a piece rocks out over it 
 small value with it as well (the corner wedge over a sliver). At ``w = mu b`` both closed forms are ``mu``,
 the load at which the whole wall slides on its base: a piece at least that wide never collapses alone
 below the wall. The default builder (``ends="closers"``, :mod:`micro.geometry`) lays no piece narrower
-than :func:`micro.geometry.closer_width` (``min(mu b, l/4)``); a narrower one, a **sliver**, comes only
+than :func:`micro.courses.closer_width` (``min(mu b, l/4)``); a narrower one, a **sliver**, comes only
 from ``ends="cut"``.
 
 The rule (:func:`find_local`): the governing mechanism is **local** when
@@ -42,7 +42,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.columns import json_number
-from micro.geometry import BED, BlockWall, closer_width
+from micro.courses import closer_width
+from micro.geometry import BED, BlockWall
 from micro.mechanism import Mechanism
 
 FloatArray = NDArray[np.float64]
@@ -107,7 +108,7 @@ def weight_share(wall: BlockWall, blocks: tuple[int, ...]) -> float:
 
 
 def slivers(wall: BlockWall) -> NDArray[np.bool_]:
-    """Which blocks are slivers: narrower than :func:`micro.geometry.closer_width` (module docstring)."""
+    """Which blocks are slivers: narrower than :func:`micro.courses.closer_width` (module docstring)."""
     limit = closer_width(wall.block_length, wall.block_height, wall.friction) - CUT_TOL * wall.block_length
     return wall.block_lengths < limit
 

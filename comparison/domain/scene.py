@@ -35,6 +35,7 @@ from typing import Any
 
 from comparison.domain.wall import ENDS, StoreySpec, WallSpec
 from comparison.utilities.inputs import parse_toml, read_input_file
+from comparison.utilities.toml_source import TomlSource, key_line
 from macro.checks import friction, magnitude
 
 #: Largest scene file read (a scene is a few hundred bytes; this refuses a wrong file before reading it whole).
@@ -67,34 +68,6 @@ _REQUIRED: dict[str, set[str]] = {
     "block": {"length", "height"},
     "storey": {"rows"},
 }
-
-
-def _key_line(text: str, table: str, key: str, index: int = 0) -> int | None:
-    """Line number (1-based) of ``key`` inside the ``index``-th ``[table]``."""
-    current, seen = "", -1
-    header = re.compile(r"^\s*\[\[?\s*([A-Za-z0-9_.\-\"]+)\s*\]\]?")
-    assign = re.compile(r"^\s*([A-Za-z0-9_\-\"]+)\s*=")
-    for number, line in enumerate(text.splitlines(), start=1):
-        h = header.match(line)
-        if h:
-            current = h.group(1).strip('"')
-            if current == table:
-                seen += 1
-            continue
-        a = assign.match(line)
-        if a and a.group(1).strip('"') == key and current == table and (table == "" or seen == index):
-            return number
-    return None
-
-
-def _table_line(text: str, table: str, index: int = 0) -> int | None:
-    seen = -1
-    for number, line in enumerate(text.splitlines(), start=1):
-        if re.match(rf"^\s*\[\[?\s*{re.escape(table)}\s*\]\]?", line):
-            seen += 1
-            if seen == index:
-                return number
-    return None
 
 
 class SceneError(ValueError):
@@ -136,25 +109,13 @@ def decode_scene(data: bytes, source: str) -> str:
         ) from None
 
 
-class _Source:
-    """The text of a scene and its name, to word errors with the key's line."""
-
-    def __init__(self, text: str, source: str) -> None:
-        self.text, self.source = text, source
-
-    def error(self, msg: str, table: str = "", key: str | None = None, index: int = 0) -> SceneError:
-        line = _key_line(self.text, table, key, index) if key else _table_line(self.text, table, index)
-        where = f" (line {line})" if line else ""
-        return SceneError(f"scene {self.source}{where}: {msg}")
-
-
 def parse_scene(text: str, source: str = "<scene>") -> WallSpec:
     """Parse the text of a TOML scene; see :func:`load_scene`."""
     try:
         data = parse_toml(text)
     except ValueError as exc:
         raise SceneError(f"scene {source}: {exc}") from None
-    src = _Source(text, source)
+    src = TomlSource(text, source, "scene", SceneError)
     tables = _tables(data, src)
     name = data.get("name", Path(source).stem)
     if not isinstance(name, str):
@@ -162,14 +123,14 @@ def parse_scene(text: str, source: str = "<scene>") -> WallSpec:
     return _wall(tables, name, src)
 
 
-def _tables(data: dict[str, Any], src: _Source) -> dict[str, list[dict[str, Any]]]:
+def _tables(data: dict[str, Any], src: TomlSource[SceneError]) -> dict[str, list[dict[str, Any]]]:
     """The tables of the scene, every key known and every required key there."""
     for key in data:
         if key not in _ALLOWED[""]:
             hint = f"; {STOREY_HOWTO}" if key == "storeys" else ""
             raise (
                 src.error(f"unknown key {key!r}{hint}", "", key)
-                if _key_line(src.text, "", key)
+                if key_line(src.text, "", key)
                 else src.error(f"unknown table [{key}]", key)
             )
     tables: dict[str, list[dict[str, Any]]] = {}
@@ -195,7 +156,7 @@ def _tables(data: dict[str, Any], src: _Source) -> dict[str, list[dict[str, Any]
     return tables
 
 
-def _check_keys(table: str, index: int, entry: dict[str, Any], src: _Source) -> None:
+def _check_keys(table: str, index: int, entry: dict[str, Any], src: TomlSource[SceneError]) -> None:
     """Every key of the ``index``-th ``[table]`` known, every required one there."""
     for key in entry:
         if key not in _ALLOWED[table]:
@@ -205,7 +166,7 @@ def _check_keys(table: str, index: int, entry: dict[str, Any], src: _Source) -> 
         raise src.error(f"missing key {key!r} in [{table}]", table, None, index)
 
 
-def _wall(tables: dict[str, list[dict[str, Any]]], name: str, src: _Source) -> WallSpec:
+def _wall(tables: dict[str, list[dict[str, Any]]], name: str, src: TomlSource[SceneError]) -> WallSpec:
     """The wall of checked tables; a bad value is worded with the wall vocabulary and its line."""
     scalars = {}
     for param, (table, key) in _SCENE_KEYS.items():
@@ -233,7 +194,7 @@ def _wall(tables: dict[str, list[dict[str, Any]]], name: str, src: _Source) -> W
         raise _bound_error(str(exc), src) from None
 
 
-def _bound_error(message: str, src: _Source) -> SceneError:
+def _bound_error(message: str, src: TomlSource[SceneError]) -> SceneError:
     """A physical bound of the wall (``macro.checks.wall_bounds``) in the scene's terms, with the key's line."""
     param, _, rest = message.partition(" must")
     entry = re.fullmatch(r"(\w+)\[(\d+)\]", param)

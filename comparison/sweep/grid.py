@@ -67,12 +67,12 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from comparison.domain.scene import _key_line, _table_line
 from comparison.domain.wall import ENDS
 from comparison.runner.methods import MACRO, Method
 from comparison.sweep.usermodel import UserModel, check_target, resolve
 from comparison.utilities import numbers
 from comparison.utilities.inputs import parse_toml, read_input_file
+from comparison.utilities.toml_source import TomlSource
 from macro import checks
 
 #: The axes, each with its check (the wall vocabulary) and its default (``None``: required).
@@ -167,18 +167,6 @@ class Grid:
         }
 
 
-class _Source:
-    """The text of a grid file and its name, to word errors with the key's line."""
-
-    def __init__(self, text: str, source: str) -> None:
-        self.text, self.source = text, source
-
-    def error(self, msg: str, table: str = "", key: str | None = None, index: int = 0) -> GridError:
-        line = _key_line(self.text, table, key, index) if key else _table_line(self.text, table, index)
-        where = f" (line {line})" if line else ""
-        return GridError(f"grid {self.source}{where}: {msg}")
-
-
 def load_grid(path: str | Path) -> Grid:
     """Read a grid file.
 
@@ -201,7 +189,7 @@ def parse_grid(text: str, source: str = "<grid>", name: str = "sweep", folder: P
         data = parse_toml(text)
     except ValueError as exc:
         raise GridError(f"grid {source}: {exc}") from None
-    src = _Source(text, source)
+    src = TomlSource(text, source, "grid", GridError)
     for key in data:
         if key not in _TOP:
             raise src.error(f"unknown key {key!r} (allowed: {', '.join(sorted(_TOP))})", "", key)
@@ -230,7 +218,7 @@ def parse_grid(text: str, source: str = "<grid>", name: str = "sweep", folder: P
     return _with_user_models(grid, src, folder)
 
 
-def _with_user_models(grid: Grid, src: _Source, folder: Path | None) -> Grid:
+def _with_user_models(grid: Grid, src: TomlSource[GridError], folder: Path | None) -> Grid:
     """``grid`` with its user models' functions imported: the last step of reading a grid, so that no user
     code runs for a grid that is refused."""
     methods = list(grid.methods)
@@ -252,7 +240,7 @@ def cell_count(grid: Grid) -> int:
     return walls * sum(1 if gm.method.kind in PER_WALL else bonds for gm in grid.methods)
 
 
-def _table(data: dict[str, Any], table: str, src: _Source, *, required: bool = True) -> dict[str, Any]:
+def _table(data: dict[str, Any], table: str, src: TomlSource[GridError], *, required: bool = True) -> dict[str, Any]:
     if table not in data:
         if required:
             raise GridError(f"grid {src.source}: missing table [{table}]")
@@ -266,13 +254,13 @@ def _table(data: dict[str, Any], table: str, src: _Source, *, required: bool = T
     return data[table]
 
 
-def _known(entry: dict[str, Any], allowed: set[str], table: str, src: _Source, index: int = 0) -> None:
+def _known(entry: dict[str, Any], allowed: set[str], table: str, src: TomlSource[GridError], index: int = 0) -> None:
     for key in entry:
         if key not in allowed:
             raise src.error(f"unknown key {table}.{key} (allowed: {', '.join(sorted(allowed))})", table, key, index)
 
 
-def _axis(axes: dict[str, Any], axis: str, src: _Source) -> tuple[float, ...]:
+def _axis(axes: dict[str, Any], axis: str, src: TomlSource[GridError]) -> tuple[float, ...]:
     """The checked, distinct values of one axis."""
     check, default = AXES[axis]
     if axis not in axes:
@@ -323,7 +311,7 @@ def _expand(spec: dict[str, Any], axis: str) -> list[float]:
     return [round(lo + i * step, 12) for i in range(count)]
 
 
-def _bond(bond: dict[str, Any], key: str, src: _Source) -> tuple[str, ...]:
+def _bond(bond: dict[str, Any], key: str, src: TomlSource[GridError]) -> tuple[str, ...]:
     choices = BOND[key]
     raw = bond.get(key, choices[0])
     values = raw if isinstance(raw, list) else [raw]
@@ -335,7 +323,7 @@ def _bond(bond: dict[str, Any], key: str, src: _Source) -> tuple[str, ...]:
         raise src.error(f"bond.{key}: {exc}", "bond", key) from None
 
 
-def _max_blocks(entry: dict[str, Any], table: str, index: int, src: _Source) -> int | None:
+def _max_blocks(entry: dict[str, Any], table: str, index: int, src: TomlSource[GridError]) -> int | None:
     if "max_blocks" not in entry:
         return None
     try:
@@ -344,7 +332,7 @@ def _max_blocks(entry: dict[str, Any], table: str, index: int, src: _Source) -> 
         raise src.error(f"{table}.{exc}", table, "max_blocks", index) from None
 
 
-def _methods(data: dict[str, Any], src: _Source) -> tuple[GridMethod, ...]:
+def _methods(data: dict[str, Any], src: TomlSource[GridError]) -> tuple[GridMethod, ...]:
     entries = data.get("method")
     if not entries:
         raise GridError(f"grid {src.source}: no [[method]] given; a sweep needs at least one")
@@ -362,7 +350,7 @@ def _methods(data: dict[str, Any], src: _Source) -> tuple[GridMethod, ...]:
     return tuple(methods)
 
 
-def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
+def _method(entry: dict[str, Any], index: int, src: TomlSource[GridError]) -> GridMethod:
     import micro
 
     kind = entry.get("kind")
@@ -393,7 +381,7 @@ def _method(entry: dict[str, Any], index: int, src: _Source) -> GridMethod:
     return GridMethod(method, _max_blocks(entry, "method", index, src))
 
 
-def _user(entry: dict[str, Any], index: int, src: _Source) -> UserModel:
+def _user(entry: dict[str, Any], index: int, src: TomlSource[GridError]) -> UserModel:
     """A user's model, its ``function`` checked in form but not imported yet (:func:`_with_user_models`
     imports it once the whole grid is checked)."""
     if "function" not in entry:

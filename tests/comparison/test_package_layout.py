@@ -124,3 +124,16 @@ def test_macro_and_micro_import_neither_each_other_nor_comparison() -> None:
 if __name__ == "__main__":
     g = import_graph()
     print(f"{len(g)} modules; circles: {circles(g)}; forbidden imports: {forbidden(g)}")
+
+
+#: The most lines a library module may have (the developers' guide: split along the seam, never trim docs).
+MAX_MODULE_LINES = 500
+
+
+def test_every_library_module_stays_under_500_lines() -> None:
+    """A module of ``macro``, ``micro`` or ``comparison`` longer than :data:`MAX_MODULE_LINES` is named with
+    its count (cut it along its seam)."""
+    over = [f"{path.relative_to(ROOT)}: {n} lines" for package in PACKAGES
+            for path in sorted((ROOT / package).rglob("*.py"))
+            if (n := len(path.read_text(encoding="utf-8").splitlines())) >= MAX_MODULE_LINES]
+    assert not over, over

@@ -53,6 +53,21 @@ def test_the_set_up_commands_run_what_they_install_and_say_how_long_they_take() 
     assert ".venv/bin/xcheck report --quick" in lines[0] and lines[1].split("#")[0].rstrip().endswith("pytest")
 
 
+def test_each_set_up_time_says_what_it_covers() -> None:
+    """A set-up line installs, then runs the report or the tests: its comment names what its figures time
+    (that program alone) before the figures, and the paragraph under the block says what they leave out
+    (the install and the macro kernel's first compilation), so a reader timing the whole line is told why it
+    takes longer."""
+    first = SHELL_BLOCK.search(README)
+    assert first is not None
+    lines = [line for line in first.group(1).splitlines() if line.strip()]
+    for line, timed in zip(lines, ("report", "tests"), strict=True):
+        comment = line.split("#", 1)[1].strip()
+        assert re.match(rf"the {timed} alone: \d", comment), f"README's set-up line does not say what it times: {line}"
+    after = README[first.end():].split("\n\n", 2)[1]
+    assert re.search(r"leave out the install\b", after) and "first compilation" in after, after
+
+
 def test_every_report_command_says_how_long_it_runs() -> None:
     """A line of README.md that starts a report says on that line how long it runs (a reader decides before
     running it)."""

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 import micro
 from comparison.domain.wall import WallSpec
-from micro.geometry import closer_width
+from micro.courses import closer_width
 
 
 def wall(length: float, ends: str = "closers", **kw: object) -> micro.BlockWall:
