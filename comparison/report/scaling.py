@@ -23,6 +23,7 @@ import numpy as np
 from comparison.report.computed import Results
 from comparison.report.figures import MARKERS, Figure, pyplot, save_figure
 from comparison.report.tables import Table
+from comparison.utilities.numbers import power_law
 
 #: Statuses whose records enter the fit.
 ANSWERED = ("optimal", "converged")
@@ -70,10 +71,8 @@ def scaling_points(res: Results) -> list[ScalingPoint]:
 def fit(points: Sequence[ScalingPoint]) -> Fit | None:
     """The log-log least-squares fit over the answered points with at least two block counts (else ``None``)."""
     good = [p for p in points if p.status in ANSWERED]
-    if len({p.blocks for p in good}) < 2:
-        return None
-    slope, intercept = np.polyfit(np.log([p.blocks for p in good]), np.log([p.seconds for p in good]), 1)
-    return Fit(float(slope), float(math.exp(intercept)), len(good))
+    law = power_law([p.blocks for p in good], [p.seconds for p in good])
+    return None if law is None else Fit(law[0], law[1], len(good))
 
 
 def by_method(points: Sequence[ScalingPoint]) -> dict[str, list[ScalingPoint]]:

@@ -37,6 +37,7 @@ from comparison.sweep.wall_comparisons import (
     success,
     varying,
 )
+from comparison.utilities.numbers import power_law
 from micro.plot import save_figure
 
 #: Resolution of the page's figures.
@@ -348,8 +349,9 @@ def binned(ds: Sequence[float], lo: float, hi: float) -> tuple[list[float], list
 
 
 def time_against_blocks(rows: Sequence[Mapping[str, str]], path: Path) -> Path | None:
-    """Seconds of every micro computation with a record against its blocks, per method, log-log; crosses:
-    computations that gave no value (a failed solve, an iterated LP that did not converge)."""
+    """Seconds of every micro computation with a record against its blocks, per method, log-log, with the
+    least-squares power law of each method's answered computations (dashed, its exponent in the legend);
+    crosses: computations that gave no value (a failed solve, an iterated LP that did not converge)."""
     groups: dict[str, tuple[list[tuple[float, float]], list[tuple[float, float]]]] = {}
     for r in rows:
         kind, status = r["kind"], r["status"]
@@ -363,11 +365,18 @@ def time_against_blocks(rows: Sequence[Mapping[str, str]], path: Path) -> Path |
         (ok if success(kind, status) else bad).append((blocks, seconds))
     if not groups:
         return None
+    import numpy as np
+
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(5.6, 3.8), layout="constrained")
     for k, (label, (ok, bad)) in enumerate(groups.items()):
+        law = power_law(*zip(*ok, strict=True)) if ok else None
         if ok:
-            ax.scatter(*zip(*ok, strict=True), s=14, color=f"C{k}", label=label)
+            fitted = "" if law is None else f" (fit: seconds ~ blocks^{law[0]:.2f})"
+            ax.scatter(*zip(*ok, strict=True), s=14, color=f"C{k}", label=f"{label}{fitted}")
+        if law is not None:
+            xs = np.geomspace(min(b for b, _ in ok), max(b for b, _ in ok), 20)
+            ax.plot(xs, law[1] * xs ** law[0], color=f"C{k}", linewidth=1.0, linestyle="--")
         if bad:
             ax.scatter(*zip(*bad, strict=True), s=22, marker="x", color=f"C{k}", label=f"{label}: no value")
     ax.set_xscale("log")

@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 import numbers
 import re
+from collections.abc import Sequence
 from fractions import Fraction
 
 #: The largest decimal exponent read (either sign): far beyond the doubles
@@ -102,3 +103,17 @@ def received_number(where: str, value: object) -> float:
         return float(value)
     except OverflowError:  # an int beyond the doubles (10**400): infinite, outside every reference
         return -math.inf if str(value).lstrip().startswith("-") else math.inf
+
+
+def power_law(sizes: Sequence[float], values: Sequence[float]) -> tuple[float, float] | None:
+    """``(k, c)`` of ``value ~ c size**k``, the least-squares line in log-log, over the pairs whose both numbers
+    are positive and finite; ``None`` with fewer than two distinct sizes among them. The one fit of run time
+    against blocks (the report's scaling table, the sweep page's time figure)."""
+    import numpy as np
+
+    pairs = [(x, y) for x, y in zip(sizes, values, strict=True)
+             if math.isfinite(x) and math.isfinite(y) and x > 0 and y > 0]
+    if len({x for x, _ in pairs}) < 2:
+        return None
+    k, log_c = np.polyfit(np.log([x for x, _ in pairs]), np.log([y for _, y in pairs]), 1)
+    return float(k), float(math.exp(log_c))

@@ -77,3 +77,13 @@ def test_grid_and_walls_files_read_numbers_written_as_text_by_the_same_rule(tmp_
 def test_a_ratio_of_decimals_prints_as_written(x: float, printed: float) -> None:
     assert shortest(x) == printed
     assert math.fabs(shortest(x) - x) <= 4 * math.ulp(x) if math.isfinite(x) else shortest(x) == x
+
+
+def test_power_law_recovers_an_exact_power_and_skips_what_it_cannot_fit() -> None:
+    from comparison.utilities.numbers import power_law
+
+    sizes = [10.0, 100.0, 1000.0, 5000.0]
+    law = power_law([*sizes, 0.0, math.nan], [0.003 * x**1.5 for x in sizes] + [1.0, 1.0])
+    assert law is not None and law[0] == pytest.approx(1.5, rel=1e-12) and law[1] == pytest.approx(0.003, rel=1e-9)
+    assert power_law([100.0, 100.0], [1.0, 2.0]) is None  # one size: no slope
+    assert power_law([], []) is None

@@ -34,8 +34,8 @@ import micro
 from comparison.domain.cases import case
 from micro.nonassociative import Tuning
 
-name, selection = sys.argv[1], sys.argv[2]
-tuning = Tuning(selection=selection) if selection else None
+name, knobs = sys.argv[1], json.loads(sys.argv[2])
+tuning = Tuning(**knobs) if knobs else None
 r = micro.solve_nonassociative(case(name).spec().to_micro(), tuning=tuning)
 h = hashlib.sha1()
 for d in [*r.directions, *(low.state for low in r.lowest)]:
@@ -50,21 +50,22 @@ print(json.dumps({
 """
 
 
-def solve_under(kernel: str, name: str, selection: str = "") -> dict[str, object]:
-    """:data:`CHILD` on the paper's case ``name`` in a process under ``kernel`` (``""``: the machine's)."""
+def solve_under(kernel: str, name: str, knobs: dict[str, object] | None = None) -> dict[str, object]:
+    """:data:`CHILD` on the paper's case ``name`` with the tuning ``knobs`` in a process under ``kernel`` (``""``:
+    the machine's)."""
     env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
     if kernel:
         env["OPENBLAS_CORETYPE"] = kernel
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
-    out = subprocess.run([sys.executable, "-c", CHILD, name, selection], env=env, cwd=ROOT, capture_output=True,
-                         text=True, check=True)
+    out = subprocess.run([sys.executable, "-c", CHILD, name, json.dumps(knobs or {})], env=env, cwd=ROOT,
+                         capture_output=True, text=True, check=True)
     result: dict[str, object] = json.loads(out.stdout.strip().splitlines()[-1])
     return result
 
 
-def same_under_every_kernel(name: str, selection: str = "") -> dict[str, object]:
+def same_under_every_kernel(name: str, knobs: dict[str, object] | None = None) -> dict[str, object]:
     """The runs under :data:`KERNELS` agree; at least two of them ran other kernels. Returns one."""
-    runs = [solve_under(k, name, selection) for k in KERNELS]
+    runs = [solve_under(k, name, knobs) for k in KERNELS]
     assert len({tuple(r.pop("kernels")) for r in runs}) >= 2, "OPENBLAS_CORETYPE changed no kernel"  # type: ignore[arg-type]
     for kernel, run in zip(KERNELS[1:], runs[1:], strict=True):
         assert run == runs[0], f"{kernel or 'default'} against {KERNELS[0]}"
@@ -83,7 +84,15 @@ def test_the_proximal_sequence_and_descent_are_the_same_under_three_kernels() ->
     descent: the same load factors, stop and states, to the last bit, under Prescott's, Haswell's
     and the machine's kernels. The projection's factorisation and the mechanisms' normalisation
     are where they differed (CHOLMOD's supernodal kernels, ``ddot``)."""
-    run = same_under_every_kernel("14", "proximal")
+    run = same_under_every_kernel("14", {"selection": "proximal"})
+    assert run["status"] == "converged" and run["lowest_stop"] == "finished"
+
+
+@pytest.mark.processes
+def test_the_reduced_wall_is_the_same_under_three_kernels() -> None:
+    """Set 13 (78 blocks) on the reduced wall (its models, their descents, the lifts and the exact field):
+    the same state to the last bit under the three kernels."""
+    run = same_under_every_kernel("13", {"reduce": True})
     assert run["status"] == "converged" and run["lowest_stop"] == "finished"
 
 
@@ -94,4 +103,13 @@ def test_set9_is_the_same_under_three_kernels() -> None:
     retry, descent), in three processes one after the other: the same value and stop under
     every kernel. Minutes each; run apart: ``pytest -m slow tests/micro/nonassociative/test_blas_kernels.py``."""
     run = same_under_every_kernel("9")
+    assert run["status"] == "converged" and run["lowest_stop"] == "finished"
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark
+def test_set10_is_the_same_under_three_kernels() -> None:
+    """Set 10 (3,630 blocks), the report's default (the reduced wall), in three processes: the same value, stop
+    and states under every kernel."""
+    run = same_under_every_kernel("10")
     assert run["status"] == "converged" and run["lowest_stop"] == "finished"
