@@ -47,10 +47,11 @@ from numpy.typing import NDArray
 from micro.backends.roles import InteriorLP
 from micro.limit_result import DIR_NAME, DirectionResult
 from micro.lp import LimitLP
+from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import final_checks
 from micro.nonassociative.certificate import Certificate, StateTriple
 from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, LPProgress, Resolved
-from micro.nonassociative.descent.lowest import lowest_state
+from micro.nonassociative.descent.lowest import exact_residuals, lowest_state
 from micro.nonassociative.descent.states import restricted_columns
 from micro.nonassociative.fusion import FusedLP, fuse, rigid_bodies
 from micro.nonassociative.nonassociative_result import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
@@ -119,7 +120,7 @@ class _Search:
         states with it; keep it when it is the lowest. A pattern lifted before is not lifted again.
 
         Returns:
-            Whether ``v`` has a state on the wall.
+            Whether ``v`` has a state on the wall that passes :meth:`exact`.
         """
         key = restricted_columns(self.lp, v)
         if key is None or key.tobytes() in seen:
@@ -128,13 +129,26 @@ class _Search:
         state, out = Certificate(self.lp, self.d, "a").state_lp(v, 1.0, self.resolved.options.user_limit)
         self.lifts += 1
         self.seconds += out.seconds
-        if state is not None and (self.best is None or state[2] < self.best[2]):
+        kept = state is not None and self.exact(v, state)
+        if kept and state is not None and (self.best is None or state[2] < self.best[2]):
             self.best, self.best_v = state, v
         # the lowest state of the wall so far (NaN before one): what the progress display shows after a lift
         self.resolved.tell(LPProgress(DIR_NAME[self.d], "reduced lift", self.lifts,
                                       math.nan if self.best is None else self.best[2], math.nan, "clarabel",
                                       float(out.seconds)))
-        return state is not None
+        return kept
+
+    def exact(self, v: FloatArray, state: StateTriple) -> bool:
+        """Whether the lifted state passes the checks the descent keeps a state by
+        (:func:`~micro.nonassociative.descent.lowest.exact_residuals`): the certificate's interior point gives
+        the field, the model's simplex the mechanism, and on some walls their power balance is off by more
+        than the check allows (1.6e-6 on the error map's t = 1, 48-row wall): such a state is not kept."""
+        n, s, lam = state
+        fs = self.lp.force_scale
+        probe = DirectionResult(direction=DIR_NAME[self.d], status=CONVERGED, load_factor=lam, iterations=0,
+                                seconds=0.0, normal=n * fs, shear=s * fs,
+                                mechanism=mechanism_from_duals(self.lp, v, self.d))
+        return exact_residuals(final_checks.verify_collapse_state(self.lp, probe))
 
     @property
     def on_target(self) -> bool:

@@ -149,6 +149,14 @@ class CollapseState:
     basis: Any = field(default=None, repr=False)
 
 
+def exact_residuals(residuals: dict[str, float]) -> bool:
+    """Whether the residuals of :func:`verify_collapse_state` are those of a state the descent keeps: every one
+    at most :data:`EXACT_TOL`, but the closing rates, read as the simplex duals' noise up to
+    :data:`~micro.nonassociative.config.INTERPENETRATION` of the largest rate."""
+    return all(v <= (INTERPENETRATION if k == "interpenetration" else EXACT_TOL)
+               for k, v in residuals.items() if k != "slipping_points")
+
+
 class Descent:
     """The descent in one load direction (module docstring).
 
@@ -235,9 +243,7 @@ class Descent:
         rates, read as the simplex duals' noise up to
         :data:`~micro.nonassociative.config.INTERPENETRATION` of the largest rate as the certificate
         reads them (the iterated LP's certified state of Table 5's Set 3 closes at 1.6e-6)."""
-        res = verify_collapse_state(self.lp, self.as_result(state))
-        ok = all(v <= (INTERPENETRATION if k == "interpenetration" else EXACT_TOL)
-                 for k, v in res.items() if k != "slipping_points")
+        ok = exact_residuals(verify_collapse_state(self.lp, self.as_result(state)))
         if ok and self.resolved.options.below_target(state.load_factor):
             self.on_target = True  # a certified state below the target: the search ends (``stop_below``)
         return ok

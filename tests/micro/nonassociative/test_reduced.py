@@ -71,3 +71,23 @@ def test_a_fan_gives_no_reduced_state_and_the_chain_runs() -> None:
     wall = FAN.to_micro()
     lp = micro.assemble(wall)
     assert solve_reduced(lp, 1, resolve(wall.n_blocks, micro.NonAssociativeOptions(tuning=REDUCE))) is None
+
+
+def test_a_lifted_state_is_kept_only_when_it_passes_the_descents_checks() -> None:
+    """The certificate's field with a model's mechanism can miss the power balance (1.6e-6 on the error
+    map's t = 1, 48-row wall): the search keeps a lifted state only where every residual of
+    ``verify_collapse_state`` is within the descent's tolerance. Set 13's reduced state passes; the same
+    field with its mechanism disturbed by 1e-4 of its largest rate does not."""
+    from micro.nonassociative.reduced import _Search
+
+    wall = SET13.to_micro()
+    lp = micro.assemble(wall)
+    resolved = resolve(wall.n_blocks, micro.NonAssociativeOptions(tuning=REDUCE))
+    d = solve_reduced(lp, 1, resolved)
+    assert d is not None and d.mechanism is not None and d.normal is not None and d.shear is not None
+    v = np.asarray(d.mechanism.velocities, dtype=float).ravel()
+    state = (d.normal / lp.force_scale, d.shear / lp.force_scale, d.load_factor)
+    search = _Search(lp, 1, resolved)
+    assert search.exact(v, state)
+    noise = np.random.default_rng(0).standard_normal(v.size) * 1e-4 * float(np.max(np.abs(v)))
+    assert not search.exact(v + noise, state)
