@@ -208,7 +208,8 @@ def _errormap(d: Data) -> str:
     summary = d.json["errormap"]["summary"]
     nonassoc, verdicts = summary["nonassoc"], summary["verdicts"]
     cells = load(d.reports / "sweeps" / "errormap.csv")
-    limit = tomllib.loads((d.root / ERRORMAP_GRID).read_text(encoding="utf-8"))["limits"]["max_blocks"]
+    limits = tomllib.loads((d.root / ERRORMAP_GRID).read_text(encoding="utf-8"))["limits"]
+    limit = limits["max_blocks"]
     with_ref = [c for c in cells if c.reference_kind == "non-assoc" and math.isfinite(c.error("macro"))]
 
     def above_from(rows: int) -> bool:
@@ -217,16 +218,21 @@ def _errormap(d: Data) -> str:
     first = min(r for r in {c.rows for c in with_ref} if above_from(r))
     fs = {c.f for c in cells}
     _require(len(fs) == 1, "at f = F", f"the error map has several f: {sorted(fs)}")
-    _require(max(c.blocks for c in with_ref) <= limit, "of up to N blocks", "a wall above the grid's max_blocks")
+    larger = sum(c.blocks > limit for c in with_ref)
+    _require(not larger or limits.get("where_needed", False), "of up to N blocks",
+             "a wall above the grid's max_blocks without where_needed")
     bound, state = verdicts.get("unsafe, by the associative bound", 0), verdicts.get("unsafe, by a certified state", 0)
     open_, none = verdicts.get("not refuted", 0), verdicts.get("no verdict", 0)
     _require(bound + state + open_ + none == len(cells), "walls by verdict", "the verdicts do not add up to the walls")
     return (
         f"**The error map** ({len(cells)} walls: t × m × rows × storeys at f = {fs.pop():g}; the non-associative "
-        f"micro model on the {nonassoc['walls']} of up to {limit:,} blocks, the associative LP on all): the macro "
+        f"micro model on the {nonassoc['walls'] - larger} of up to {limit:,} blocks"
+        + (f" and on the {larger} larger ones whose verdict needs it" if larger else "")
+        + f", the associative LP on all): the macro "
         f"model is unsafe on {bound + state} walls, proven by the associative bound on {bound} and by a certified "
-        f"collapse state on {state}; it is not refuted on {open_}, and {none} walls above the block limit have no "
-        f"verdict. Against the non-associative value the macro λ lies above on {nonassoc['unsafe']} of "
+        f"collapse state on {state}; it is not refuted on {open_}"
+        + (f", and {none} walls above the block limit have no verdict" if none else ", and every wall has a verdict")
+        + f". Against the non-associative value the macro λ lies above on {nonassoc['unsafe']} of "
         f"{nonassoc['walls']} walls, by more than 10 % on {nonassoc['above_10pct']}, by up to "
         f"{_bound(100 * nonassoc['max'])} %; from {first} rows on it is above on every wall with m < 1."
     )

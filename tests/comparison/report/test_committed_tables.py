@@ -59,7 +59,7 @@ CASES = {
                       r"sweeps/errormap.csv: 39 rows where its metadata \(errormap.json\) counts 750 cells "
                       r"\(a truncated table\)"),
     "a row cut short": (BOND, _lines(BOND, 3) + b"1,t=1,1.0,0.333\n" + _lines(BOND, 40)[len(_lines(BOND, 3)):],
-                        False, r"sweeps/table9_bond.csv:4: 4 fields where the header has 37 \(a truncated or "
+                        False, r"sweeps/table9_bond.csv:4: 4 fields where the header has 38 \(a truncated or "
                                r"damaged table\)"),
     "binary junk": (LOWEST, bytes(range(256)) * 4, False,
                     r"lowest.csv: not a text table \(byte 128 is not UTF-8\); remake it with `xcheck stability "

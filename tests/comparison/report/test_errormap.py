@@ -55,19 +55,19 @@ def test_the_committed_error_map_table_is_complete() -> None:
     ref = next(w for w in walls if (w.t, w.m, w.rows, w.storeys) == (1.0, pytest.approx(1 / 3), 60, 3))
     assert ref.macro["macro"] == pytest.approx(0.5825, abs=1e-4) and ref.error("macro") > 0.2
     # a non-associative collapse state is statically admissible for the associative LP
-    # (176 walls have both; the largest excess, 3.5e-8, is the LPs' accuracy)
+    # (200 walls have both; the largest excess, 3.5e-8, is the LPs' accuracy)
     both = [w for w in walls if math.isfinite(w.nonassoc) and math.isfinite(w.assoc)]
-    assert len(both) == 176 and all(w.nonassoc <= w.assoc * (1 + 1e-6) for w in both)
+    assert len(both) == 200 and all(w.nonassoc <= w.assoc * (1 + 1e-6) for w in both)
 
 
 def test_the_committed_section_keeps_the_numbers_it_had(tmp_path: Path) -> None:
     """Drawn as the sweep's page, the committed table gives the section's numbers against the micro
-    reference (the lowest certified state, the value to quote, on the 176 walls of up to 1,500 blocks; the
-    associative LP, a bound, on the 74 above): 160 of 250 walls above it, 56 by more than 10 %, 24
-    agreeing, median +3.3 %, worst +25.1 %, every wall with a micro value; by verdict and the proof of the
-    larger margin 54 unsafe by the associative bound (the 50 above the block limit among them), 106 by a
-    certified state, 66 not refuted, 24 without a verdict (above the block limit, the macro value below the
-    bound); the table per storeys and rows."""
+    reference (the lowest certified state, the value to quote, on the 176 walls of up to 1,500 blocks and the
+    24 larger walls of square blocks whose verdict needs it; the associative LP, a bound, on the other 50
+    above the limit): 160 of 250 walls above it, 56 by more than 10 %, 24 agreeing, median +3.3 %, worst
+    +25.1 %, every wall with a micro value; by verdict and the proof of the larger margin 54 unsafe by the
+    associative bound (the 50 above the block limit among them), 106 by a certified state, 90 not refuted
+    (the 24 square-block walls among them), every wall with a verdict; the table per storeys and rows."""
     text, numbers = errormap.write(tmp_path, REPORTS / ERRORMAP, number=23)
     s = numbers["summary"]
     assert {k: s["all"][k] for k in ("walls", "unsafe", "above_10pct", "agree")} == {
@@ -75,5 +75,5 @@ def test_the_committed_section_keeps_the_numbers_it_had(tmp_path: Path) -> None:
     assert round(100 * s["all"]["median"], 1) == 3.3 and round(100 * s["all"]["max"], 1) == 25.1
     assert s["no_reference"] == 0 and list(s["by_group"])[:2] == ["N=1, o=12", "N=1, o=24"]
     assert "| N=3, o=60 | 25 | 20 | 12 | 0 | +6.1 % | +25.1 % |" in text
-    assert "| macro | 54 | 106 | 66 | 24 |" in text
-    assert "`not_run` (above the block limit): 74" in text
+    assert "| macro | 54 | 106 | 90 | 0 |" in text
+    assert "`not_run` (above the block limit): 50" in text
