@@ -219,6 +219,11 @@ class NonAssociativeRecord(MicroRecord):
         source=_SEQ + "fusion.bodies", default=0)
     fused_points: int = column("--fuse: contact points of the fused wall (0: the wall itself).",
                                source=_SEQ + "fusion.points", default=0)
+    reduced: bool = column(
+        "The state is the reduced wall's: its sequences ran on models of the associative mechanism's rigid "
+        "parts (fused_bodies: the model whose mechanism gave it) and its mechanism was lifted onto the wall "
+        "(false: the wall's own sequences, or the fused wall with the continuation).",
+        source=_SEQ + "reduced", default=False)
     unfused_stop_reason: str = column(
         "How the wall's own sequences ended before the fused wall with the continuation certified the "
         "governing direction (options.fused_retry; empty: it did not run).",

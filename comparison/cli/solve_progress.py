@@ -4,10 +4,11 @@ The non-associative method of a wall of thousands of blocks runs for minutes; wi
 user cannot tell a slow solve from a hung one. :class:`SolveProgress` is the ``progress`` of
 :func:`comparison.compare`: it prints each model's line as it comes (the macro model, the associative LP),
 then, while the non-associative method works, a status line at its first LP and then at most every
-:data:`LINE_SECONDS`: the LPs so far, the last load factor, the stage, the time so far and the time a wall
-of its size is expected to take (:data:`comparison.runner.pool.COST_MODEL`, fitted to the report's run
-times). Everything goes to stderr; ``-q`` passes no progress at all. The clock only paces the display: no
-number of the result depends on it.
+:data:`LINE_SECONDS`: the LPs so far, the last load factor, the stage and the time so far. It names no
+expected time: the blocks do not predict it (a 7,230-block wall of square blocks takes about a minute by the
+reduced wall, a 7,575-block fan of thin blocks more than ten; ``docs/speed.md``), and a wrong estimate
+misleads more than none. Everything goes to stderr; ``-q`` passes no progress at all. The clock only paces
+the display: no number of the result depends on it.
 """
 
 from __future__ import annotations
@@ -25,24 +26,13 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
 
 #: Seconds between two status lines of the non-associative method.
 LINE_SECONDS = 10.0
-#: Expected seconds below which the status line gives no expected time (a small wall is done before it matters).
-MIN_EXPECTED = 5.0
-
-
-def expected_nonassociative_seconds(blocks: int) -> float:
-    """Seconds the non-associative method is expected to take on a wall of ``blocks`` blocks (the report's
-    cost model, :data:`comparison.runner.pool.COST_MODEL`)."""
-    from comparison.runner.pool import COST_MODEL
-
-    a, b = COST_MODEL["micro-nonassoc"]
-    return a * max(blocks, 1) ** b
 
 
 class SolveProgress:
     """The progress lines of one :func:`comparison.compare` (module docstring).
 
     Args:
-        blocks: the micro wall's blocks (for the expected time).
+        blocks: the micro wall's blocks.
         stream: where the lines go (``None``: stderr).
         clock: the display's clock (``time.monotonic``; a test passes its own).
     """
@@ -77,7 +67,5 @@ class SolveProgress:
     def line(self, event: LPProgress, elapsed: float) -> str:
         """The status line after ``event``, ``elapsed`` seconds into the method."""
         lam = f"lambda = {self.load_factor:.6f}" if math.isfinite(self.load_factor) else "no lambda yet"
-        expected = expected_nonassociative_seconds(self.blocks)
-        about = f"; about {duration(expected)} expected for {self.blocks:,} blocks" if expected >= MIN_EXPECTED else ""
         return (f"  non-associative: {self.lps} LP{'s' if self.lps != 1 else ''}, {lam} ({event.direction}, "
-                f"{event.stage}), {duration(elapsed)} so far{about}")
+                f"{event.stage}), {duration(elapsed)} so far")

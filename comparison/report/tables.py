@@ -101,14 +101,15 @@ def lam_cell(rec: Record) -> Any:
 
 def selection_cell(na: NonAssociativeRecord) -> str:
     """``"vertex"``, or ``"<selection> after vertex (<how the vertex sequence stopped>)"``;
-    where the sequences ran on a model of bodies (the reduced wall, or the fused wall with the
-    continuation: the record does not say which) followed by ``", on a model of <bodies> bodies"``, and,
+    where the sequences ran on a model of bodies followed by ``", reduced wall (<bodies> bodies)"`` (the
+    reduced wall: the lowest lifted state's model) or ``", fused wall (<bodies> bodies)"`` (the fused wall
+    with the continuation), and,
     where the wall's own sequences ran first (``fused_retry``), ``" after the wall's (<how they ended>)"``."""
     cell = na.selection
     if na.selection != "vertex" and na.vertex_stop_reason:
         cell = f"{na.selection} after vertex ({na.vertex_stop_reason})"
     if na.fused_bodies:
-        cell += f", on a model of {na.fused_bodies:,} bodies"
+        cell += f", {'reduced' if na.reduced else 'fused'} wall ({na.fused_bodies:,} bodies)"
     if na.unfused_stop_reason:
         cell += f" after the wall's ({na.unfused_stop_reason})"
     return cell
@@ -426,13 +427,13 @@ def histories(res: Results) -> Table:
         "iteration), or `proximal after vertex (...)`: the vertex sequence ended as said in brackets, and the "
         "proximal sequence (each LP's capacities moved towards the force field closest to them that carries "
         f"the last LP's load; at most {NONASSOC_RETRY_LPS} LPs) ran after it; the iterations count both, the "
-        "band is the last sequence's. `on a model of N bodies`: on the walls above 1,500 blocks whose "
+        "band is the last sequence's. `reduced wall (N bodies)`: on the walls above 1,500 blocks whose "
         "associative mechanism has a dominant rigid part, the reduced wall: the sequences and their descent run "
         "on models of the mechanism's rigid parts, each mechanism they reach is lifted onto the whole wall, and "
         "the lowest state that passes the checks there is kept (the iterations count the models' LPs and the "
-        "lifts); elsewhere above 2,000 blocks the fused wall with the continuation, whose vertex sequence "
-        "reaches scheme a from associative friction (its first 31 LPs bound the shear by lines of falling "
-        "slope) with the blocks that move as one rigid body fused into one body, its state checked on the "
-        "whole wall. Figure: `histories.png`."
+        "lifts). `fused wall (N bodies)`: elsewhere above 2,000 blocks, the fused wall with the continuation, "
+        "whose vertex sequence reaches scheme a from associative friction (its first 31 LPs bound the shear "
+        "by lines of falling slope) with the blocks that move as one rigid body fused into one body, its state "
+        "checked on the whole wall. Figure: `histories.png`."
     )
     return t

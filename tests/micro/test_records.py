@@ -190,6 +190,7 @@ def test_record_sources_break_off_at_none_to_the_default_and_unknown_values_are_
     assert r.sequence.vertex_attempt is None and r.sequence.fusion is None
     rec = r.to_record()
     assert (rec.vertex_stop_reason, rec.vertex_lambda_band, rec.fused_bodies, rec.fused_points) == ("", None, 0, 0)
+    assert rec.reduced is False
     assert rec.global_status == "" and math.isnan(rec.global_load_factor)
 
 

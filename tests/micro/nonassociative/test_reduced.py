@@ -8,6 +8,7 @@ import pytest
 
 import micro
 from comparison.domain.wall import WallSpec
+from comparison.report.tables import selection_cell
 from micro.backends.roles import InteriorLP
 from micro.nonassociative.config import REDUCE_BLOCKS, resolve
 from micro.nonassociative.final_checks import verify_collapse_state
@@ -65,6 +66,9 @@ def test_set13_reduced_state_is_exact_and_the_descent_only_checks_it() -> None:
     assert max(v for k, v in residuals.items() if k != "slipping_points") < 1e-9
     # the wall's own chain and descent reach 0.4894591 (test_lowest); the reduced wall a state 2e-5 below
     assert r.load_factor == pytest.approx(0.4894487, abs=1e-7)
+    rec = r.to_record()  # the record says which model the state came from, and the report's table names it
+    assert rec.reduced and rec.fused_bodies == d.sequence.fusion.bodies > 0
+    assert selection_cell(rec).endswith(f", reduced wall ({rec.fused_bodies:,} bodies)")
 
 
 def test_a_fan_gives_no_reduced_state_and_the_chain_runs() -> None:
