@@ -341,6 +341,8 @@ def histories_figure(res: Results, path: Path) -> Figure | None:
         if band is None and na.lambda_band is not None and all(math.isfinite(v) for v in na.lambda_band):
             band, kind = na.lambda_band, "cycling band"
         label = c.label if na.selection == "vertex" else f"{c.label}, {na.selection}"
+        if na.reduced:
+            label += f", model of {na.fused_bodies:,} bodies"
         series.append(History(label, rec.status, na.history_load_factor, band, kind))
     if not series:
         return None
@@ -353,5 +355,6 @@ def histories_figure(res: Results, path: Path) -> Figure | None:
         "(green) or, for a sequence that did not converge, the range of its last λ values (red). The panel's "
         "title gives the status (see the status legend) and the number of LPs (of the last sequence: a wall marked "
         "proximal shows that sequence, run after its vertex sequence ended without a state, see the "
-        "table `histories`); data: `histories.csv`.",
+        "table `histories`; a wall marked with a model of bodies, the reduced wall, shows the LPs of the model "
+        "whose mechanism gave the state, its λ the model's); data: `histories.csv`.",
     )
