@@ -69,6 +69,58 @@ def timings_table(res: Results, computed: Collection[tuple[WallSpec, Method]] = 
     return t
 
 
+def nonassociative_cost(res: Results) -> Table:
+    """The non-associative method's seconds against the associative LP's: how much dearer the method that
+    decides most verdicts is than the bound it refines.
+
+    Two sums and the spread of the per-wall ratio, each from the records' seconds (:func:`timings_table`):
+
+    * over the report: every computation of the non-associative method (the library's method, no research
+      knob) against every computation of the associative LP by the default back end, whether or not the
+      same wall has the other (Table 9's walls have only the associative LP);
+    * over the walls with both: the same sums restricted to the walls (and bond phase and head-joint
+      friction) that ran both;
+    * per wall with both: the median, the 90th percentile and the largest of the ratio, with its wall.
+    """
+    from micro import DEFAULT_SOLVER
+
+    t = Table("nonassociative_cost",
+              "The non-associative method's seconds against the associative LP's (the default back end)",
+              ["over", "computations", "non-associative s", "associative s", "ratio"], keys=1)
+    assoc: dict[tuple[WallSpec, str, str], float] = {}
+    nonassoc: dict[tuple[WallSpec, str, str], tuple[str, float]] = {}
+    for (spec, method), rec in res.records.items():
+        if rec.skipped or rec.seconds is None or not math.isfinite(rec.seconds):
+            continue
+        key = (spec, method.first_course, method.head_joints)
+        if method.kind == "micro-assoc" and method.solver == DEFAULT_SOLVER:
+            assoc[key] = float(rec.seconds)
+        elif method.kind == "micro-nonassoc" and not method.tuning:
+            nonassoc[key] = (f"{rec.wall} ({method.label})", float(rec.seconds))
+    if not assoc or not nonassoc:
+        return t
+    both = [k for k in nonassoc if k in assoc and assoc[k] > 0]
+    sum_n, sum_a = sum(v for _, v in nonassoc.values()), sum(assoc.values())
+    t.add("the report", f"{len(nonassoc)} / {len(assoc)}", sum_n, sum_a, sum_n / sum_a)
+    if both:
+        pair_n, pair_a = sum(nonassoc[k][1] for k in both), sum(assoc[k] for k in both)
+        t.add("the walls with both", f"{len(both)} / {len(both)}", pair_n, pair_a, pair_n / pair_a)
+        ratios = sorted((nonassoc[k][1] / assoc[k], nonassoc[k][0]) for k in both)
+        values = [r for r, _ in ratios]
+        t.add("per wall with both: median", len(both), None, None, _quantile(values, 0.5))
+        t.add("per wall with both: 90th percentile", len(both), None, None, _quantile(values, 0.9))
+        t.add(f"per wall with both: largest, {ratios[-1][1]}", len(both), None, None, ratios[-1][0])
+    return t
+
+
+def _quantile(values: Sequence[float], q: float) -> float:
+    """The ``q`` quantile of sorted ``values``, interpolated linearly (numpy's default)."""
+    pos = q * (len(values) - 1)
+    lo = math.floor(pos)
+    hi = min(lo + 1, len(values) - 1)
+    return values[lo] + (values[hi] - values[lo]) * (pos - lo)
+
+
 def write_timings(
     res: Results, out: Path, run: Mapping[str, Any], computed: Collection[tuple[WallSpec, Method]] = ()
 ) -> Path:
@@ -86,10 +138,12 @@ def write_timings(
     run = {"python": platform.python_version(), "machine": machine(), **run}
     table = timings_table(res, computed)
     scaling = scaling_table(res)
+    cost = nonassociative_cost(res)
     table.write_csv(out / "timings.csv")
     scaling.write_csv(out / "scaling.csv")
     write_text(out / "timings.json",
-               json.dumps({"run": dict(run), "timings": table.records(), "scaling": scaling.records()}, indent=1))
+               json.dumps({"run": dict(run), "timings": table.records(), "scaling": scaling.records(),
+                           "nonassociative_cost": cost.records()}, indent=1))
     path = out / "timings.md"
     write_text(
         path,
@@ -98,7 +152,7 @@ def write_timings(
         "cache (keyed by the wall, the method and the source of the packages it runs). Seconds change from run "
         "to run and machine to machine; nothing else in the report does. Figures: `speed_accuracy.png`, "
         "`scaling.png`.\n\n"
-        f"{table.markdown()}\n\n{scaling.markdown()}\n"
+        f"{table.markdown()}\n\n{scaling.markdown()}\n\n{cost.markdown()}\n"
     )
     return path
 

@@ -40,3 +40,24 @@ def test_the_result_files_hold_no_run_times(quick_report_dir: Path) -> None:
     assert "timings.md" in (quick_report_dir / "REPORT.md").read_text()
     run = json.loads((quick_report_dir / "timings.json").read_text())["run"]
     assert {"seconds", "computed", "cached", "python", "machine"} <= set(run)
+
+
+def test_the_nonassociative_cost_adds_up_the_timings(quick_report_dir: Path) -> None:
+    """``timings.json``'s ``nonassociative_cost``: its sums are those of the timing rows of each method (the
+    library's non-associative method, the associative LP by the default back end), its ratio their quotient,
+    and the per-wall median lies between the smallest and the largest ratio."""
+    data = json.loads((quick_report_dir / "timings.json").read_text())
+    cost = {row["over"]: row for row in data["nonassociative_cost"]}
+    rows = data["timings"]
+    sum_n = sum(r["total s"] for r in rows if r["method"].startswith("micro-nonassoc (scheme a"))
+    sum_a = sum(r["total s"] for r in rows if r["method"].startswith("micro-assoc (normal-ipm"))
+    whole = cost["the report"]
+    assert whole["non-associative s"] == pytest.approx(sum_n) and whole["associative s"] == pytest.approx(sum_a)
+    assert whole["ratio"] == pytest.approx(sum_n / sum_a)
+    both = cost["the walls with both"]
+    rounding = 1 + 1e-6  # the tables keep 7 significant digits
+    assert both["non-associative s"] <= sum_n * rounding and both["associative s"] <= sum_a * rounding
+    largest = next(v for k, v in cost.items() if k.startswith("per wall with both: largest"))
+    median = cost["per wall with both: median"]["ratio"]
+    assert 0 < median <= cost["per wall with both: 90th percentile"]["ratio"] <= largest["ratio"]
+    assert "non-associative method's seconds against" in (quick_report_dir / "timings.md").read_text()
