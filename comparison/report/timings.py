@@ -16,6 +16,8 @@ from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from comparison.domain.wall import WallSpec
 from comparison.report.computed import MACRO_TIMING_REPEATS, Results
 from comparison.report.reproduce import machine
@@ -106,19 +108,11 @@ def nonassociative_cost(res: Results) -> Table:
         pair_n, pair_a = sum(nonassoc[k][1] for k in both), sum(assoc[k] for k in both)
         t.add("the walls with both", f"{len(both)} / {len(both)}", pair_n, pair_a, pair_n / pair_a)
         ratios = sorted((nonassoc[k][1] / assoc[k], nonassoc[k][0]) for k in both)
-        values = [r for r, _ in ratios]
-        t.add("per wall with both: median", len(both), None, None, _quantile(values, 0.5))
-        t.add("per wall with both: 90th percentile", len(both), None, None, _quantile(values, 0.9))
+        median, p90 = np.quantile([r for r, _ in ratios], [0.5, 0.9])
+        t.add("per wall with both: median", len(both), None, None, float(median))
+        t.add("per wall with both: 90th percentile", len(both), None, None, float(p90))
         t.add(f"per wall with both: largest, {ratios[-1][1]}", len(both), None, None, ratios[-1][0])
     return t
-
-
-def _quantile(values: Sequence[float], q: float) -> float:
-    """The ``q`` quantile of sorted ``values``, interpolated linearly (numpy's default)."""
-    pos = q * (len(values) - 1)
-    lo = math.floor(pos)
-    hi = min(lo + 1, len(values) - 1)
-    return values[lo] + (values[hi] - values[lo]) * (pos - lo)
 
 
 def write_timings(
