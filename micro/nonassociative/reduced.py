@@ -47,11 +47,10 @@ from numpy.typing import NDArray
 from micro.backends.roles import InteriorLP
 from micro.limit_result import DIR_NAME, DirectionResult
 from micro.lp import LimitLP
-from micro.mechanism import mechanism_from_duals
 from micro.nonassociative import final_checks
 from micro.nonassociative.certificate import Certificate, StateTriple
 from micro.nonassociative.config import EQUILIBRIUM_RESIDUAL, LPProgress, Resolved
-from micro.nonassociative.descent.lowest import exact_residuals, lowest_state
+from micro.nonassociative.descent.lowest import is_exact, lowest_state
 from micro.nonassociative.descent.states import restricted_columns
 from micro.nonassociative.fusion import FusedLP, fuse, rigid_bodies
 from micro.nonassociative.nonassociative_result import CONVERGED, SOLVER_FAILURE, FusionDiagnostics
@@ -140,15 +139,11 @@ class _Search:
 
     def exact(self, v: FloatArray, state: StateTriple) -> bool:
         """Whether the lifted state passes the checks the descent keeps a state by
-        (:func:`~micro.nonassociative.descent.lowest.exact_residuals`): the certificate's interior point gives
+        (:func:`~micro.nonassociative.descent.lowest.is_exact`): the certificate's interior point gives
         the field, the model's simplex the mechanism, and on some walls their power balance is off by more
         than the check allows (1.6e-6 on the error map's t = 1, 48-row wall): such a state is not kept."""
         n, s, lam = state
-        fs = self.lp.force_scale
-        probe = DirectionResult(direction=DIR_NAME[self.d], status=CONVERGED, load_factor=lam, iterations=0,
-                                seconds=0.0, normal=n * fs, shear=s * fs,
-                                mechanism=mechanism_from_duals(self.lp, v, self.d))
-        return exact_residuals(final_checks.verify_collapse_state(self.lp, probe))
+        return is_exact(self.lp, self.d, lam, n, s, v)
 
     @property
     def on_target(self) -> bool:
