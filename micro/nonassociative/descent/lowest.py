@@ -50,11 +50,7 @@ starts from the basis of the Gilbert LP whose mechanism it asks about,
 carried over to the generator columns
 (:meth:`~micro.nonassociative.model.IterationModel.generator_basis`): its
 vertex is near a field of the pattern, so a short primal simplex finishes
-it. Once one Gilbert step's warm run has stopped at its cap (and been solved
-cold), the later steps of the descent start cold: a step changes the
-capacities as much as the capped one did, and on Set 9 (1,830 blocks) three
-of the four capped warm runs came after the first one (6.4-6.9 s each,
-where a cold run takes about 4 s). The polish's later rounds and the band's upper end start from the last
+it. The polish's later rounds and the band's upper end start from the last
 force LP's vertex, a field of their pattern. A proposal's force LP whose
 warm run fails is not redone cold (its candidate is dropped); the lower end
 of the iterated LP's state and the band are.
@@ -220,7 +216,7 @@ class Descent:
 
     def _runs(self, model: IterationModel, *, warm: bool) -> tuple[IterationModel, PersistentRuns]:
         """``model`` with the runner of the proposals' steps (warm: from its basis)."""
-        runs = PersistentRuns(model.model, self.resolved.options.user_limit, cold_after_cap=True)
+        runs = PersistentRuns(model.model, self.resolved.options.user_limit)
         runs.cold = not warm
         runs.report, runs.gate = self._progress, self.may_run
         return model, runs

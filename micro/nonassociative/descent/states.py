@@ -189,21 +189,14 @@ class PersistentRuns:
     Args:
         model: the model.
         time_limit: seconds per run (``inf``: none).
-        cold_after_cap: once a warm dual-simplex run has stopped at the cap,
-            every later run of this runner starts cold (the runs of one
-            model that change its capacities by as much as the capped one
-            did: the proposals' Gilbert steps, :class:`~micro.nonassociative.descent.lowest.Descent`).
     """
 
-    def __init__(self, model: PersistentLP, time_limit: float, *, cold_after_cap: bool = False) -> None:
+    def __init__(self, model: PersistentLP, time_limit: float) -> None:
         self.model, self.time_limit = model, time_limit
         if model.stall_guard is None:
             model.guard_stalls()  # a stalled run fails (and is recovered) instead of hanging
         self.cap = WARM_ITERATIONS * model.n_rows
         self.cold = True
-        self.cold_after_cap = cold_after_cap
-        #: a warm dual-simplex run stopped at :attr:`cap` (with :attr:`cold_after_cap`: all later runs go cold)
-        self.capped = False
         self.lps = 0
         self.seconds = 0.0
         #: called with every run's outcome and algorithm (a progress display; ``None``: nobody)
@@ -234,7 +227,6 @@ class PersistentRuns:
             primal = True
         if start is not None or not self.cold:
             out = self._capped(primal)
-            self.capped |= not primal and out.status is Status.ITERATION_LIMIT
             if out.status in (Status.OPTIMAL, Status.INFEASIBLE):
                 return self._book(out, "simplex-primal" if primal else "simplex-warm")
             if not cold:
@@ -279,7 +271,7 @@ class PersistentRuns:
     def _book(self, out: Outcome, algorithm: str) -> Outcome:
         if self.report is not None:
             self.report(out, algorithm)
-        self.cold = out.status not in (Status.OPTIMAL, Status.INFEASIBLE) or (self.cold_after_cap and self.capped)
+        self.cold = out.status not in (Status.OPTIMAL, Status.INFEASIBLE)
         self.lps += 1
         self.seconds += out.seconds
         return out
