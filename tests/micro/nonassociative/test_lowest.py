@@ -10,7 +10,7 @@ import pytest
 import micro
 from comparison.domain.wall import WallSpec
 from micro.nonassociative import Tuning, solve_nonassociative, verify_collapse_state
-from micro.nonassociative.descent.lowest import EXACT_TOL, LOWEST_TOL, Descent, lowest_state
+from micro.nonassociative.descent.lowest import EXACT_TOL, LOWEST_TOL, Descent, is_exact, lowest_state
 from micro.nonassociative.descent.states import ForceLP, refine, restricted_columns
 from micro.nonassociative.model import IterationModel, restart
 
@@ -117,6 +117,23 @@ def test_polish_never_goes_up_and_keeps_exact_states() -> None:
     assert state is not None and desc.exact(state)
     assert state.load_factor <= r.mechanism_band[0] * (1 + LOWEST_TOL)
     assert state.load_factor < r.mechanism_band[0] * (1 - 1e-3)  # it does descend here (0.6935 -> 0.6915)
+
+
+def test_is_exact_keeps_a_certified_state_and_rejects_it_moved(
+        table7_default: list[micro.NonAssociativeResult]) -> None:
+    """The one test of a kept state (the descent's and the reduced wall's): Set 12's lowest state passes it;
+    the same forces at a load factor 1e-4 higher break equilibrium and the power balance, and the shear
+    forces reversed break equilibrium and friction against the slip, so neither passes."""
+    w = wall(*TABLE7["set12"][0])
+    lp = micro.assemble(w)
+    low = table7_default[list(TABLE7).index("set12")].lowest[0]
+    assert low.state is not None and low.state.mechanism is not None
+    d = 1 if low.direction == "+x" else -1
+    n, s = low.state.normal / lp.force_scale, low.state.shear / lp.force_scale
+    v = np.asarray(low.state.mechanism.velocities, dtype=float).ravel()
+    assert is_exact(lp, d, low.load_factor, n, s, v)
+    assert not is_exact(lp, d, low.load_factor * (1 + 1e-4), n, s, v)
+    assert not is_exact(lp, d, low.load_factor, n, -s, v)
 
 
 def test_restricted_columns() -> None:
