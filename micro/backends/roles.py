@@ -1,7 +1,7 @@
 """Which back end plays which part in the non-associative method: the solver roles, by name.
 
 The iterated LP (:mod:`micro.nonassociative`) names a role, never a solver
-package; this module says which back end fills it. Four roles:
+package; this module says which back end fills it. Five roles:
 
 ``InteriorLP``       an interior point on a static LP, solved once: the
                      associative start (iterate 0), the certificate's restricted
@@ -11,6 +11,11 @@ package; this module says which back end fills it. Four roles:
                      Filled by Clarabel (:class:`~micro.backends.clarabel.ClarabelStaticBackend`):
                      a point near the centre of the optimal face, which the
                      scheme's fixed point needs.
+``InteriorLPRetry``  the certificate's restricted LP again where ``InteriorLP`` ends
+                     inaccurate, at an iteration limit or with a solver error.
+                     Filled by HiGHS' interior point without crossover
+                     (:class:`~micro.backends.highs.HighsBackend`, ``algorithm="ipm"``;
+                     no BLAS, so the path stays independent of the BLAS kernel).
 ``PersistentLP``     one LP changed in place between solves and warm-started:
                      the iterated LP's model, the descent's two LPs, the cold
                      check (a copy). Filled by HiGHS
@@ -36,13 +41,14 @@ matter: :mod:`micro.backends.registry`.
 from __future__ import annotations
 
 from micro.backends.clarabel import CLARABEL_RETRY, ClarabelStaticBackend
-from micro.backends.highs import BASIC, LOWER, PersistentHighsModel  # PersistentLP's basis statuses
+from micro.backends.highs import BASIC, LOWER, HighsBackend, PersistentHighsModel  # PersistentLP's basis statuses
 from micro.backends.normal_qp import ClarabelLeastDistance, LeastDistanceQP
 
 InteriorLP = ClarabelStaticBackend
 #: ``InteriorLP``'s settings for a retry after a failed solve (tighter than its defaults).
 INTERIOR_RETRY = CLARABEL_RETRY
 PersistentLP = PersistentHighsModel
+InteriorLPRetry = HighsBackend
 LeastDistance = LeastDistanceQP
 LeastDistanceFallback = ClarabelLeastDistance
 
@@ -50,5 +56,5 @@ LeastDistanceFallback = ClarabelLeastDistance
 #: (:meth:`micro.nonassociative.config.Resolved.solver_description`).
 ROLE_NAMES = {"interior": "clarabel", "persistent": "highs"}
 
-__all__ = ["BASIC", "INTERIOR_RETRY", "LOWER", "ROLE_NAMES", "InteriorLP", "LeastDistance",
+__all__ = ["BASIC", "INTERIOR_RETRY", "LOWER", "ROLE_NAMES", "InteriorLP", "InteriorLPRetry", "LeastDistance",
            "LeastDistanceFallback", "PersistentLP"]

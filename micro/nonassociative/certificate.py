@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.roles import INTERIOR_RETRY, InteriorLP
+from micro.backends.roles import INTERIOR_RETRY, InteriorLP, InteriorLPRetry
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
 from micro.nonassociative.config import INTERPENETRATION, TINY
@@ -53,6 +53,12 @@ StateTriple = tuple[FloatArray, FloatArray, float]
 #: feasibility, so optimality to 1e-9 is enough (the tight settings stopped
 #: short on every certificate LP of the Table 7 walls and were retried).
 STATE_CLARABEL = INTERIOR_RETRY
+#: Outcomes of ``InteriorLP`` after which a certificate LP is solved again by ``InteriorLPRetry``
+#: (HiGHS' interior point): numerical trouble, not an answer. On the 60-row base wall with frictionless
+#: head joints Clarabel ended every certificate LP of the vertex sequence "inaccurate" where HiGHS' and
+#: the normal-equations interior points find the band [0.4672949, 0.4673047] around the iterate's
+#: 0.4673045 (``docs/research/``, the page on Set 9's profile, 2026-11-29).
+RETRY_STATUSES = (Status.INACCURATE, Status.ITERATION_LIMIT, Status.SOLVER_ERROR)
 #: Relative slack of the test "the iterate's lambda lies in the mechanism band".
 BAND_SLACK = 1e-7
 
@@ -141,8 +147,9 @@ class Certificate:
     def state_lp(self, v: FloatArray, sense: float, time_limit: float = math.inf) -> tuple[StateTriple | None, Outcome]:
         """Minimise ``sense * lambda`` over the collapse states compatible
         with the mechanism ``v``: the generator LP without the columns
-        :meth:`pattern` excludes, by Clarabel's interior point (the user's
-        ``time_limit`` in seconds, ``inf``: none).
+        :meth:`pattern` excludes, by Clarabel's interior point, and by HiGHS'
+        where Clarabel ends in numerical trouble (:data:`RETRY_STATUSES`; the
+        user's ``time_limit`` in seconds per solve, ``inf``: none).
 
         Returns:
             ``((n, s, lambda) or None, outcome)``: ``None`` unless the
@@ -156,6 +163,10 @@ class Certificate:
         tl = None if not math.isfinite(time_limit) else float(time_limit)
         direction = -d if sense > 0 else d  # InteriorLP maximises direction * lambda_column
         out = InteriorLP(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)
+        if out.status in RETRY_STATUSES:
+            again = InteriorLPRetry(restricted, algorithm="ipm", time_limit=tl).solve(direction)
+            out = dataclasses.replace(again.plus_seconds(out.seconds),
+                                      ipm_iterations=again.ipm_iterations + out.ipm_iterations)
         if out.status is not Status.OPTIMAL or out.n is None or out.s is None:
             return None, out
         return (np.asarray(out.n), np.asarray(out.s), d * (out.load_factor * direction)), out
