@@ -88,3 +88,38 @@ def test_certificate_only_ends_the_sequence_earlier(table7_default: list[micro.N
         k = cert.iterations
         cert_lambdas = [h.load_factor for h in cert.sequence.history]
         assert [h.load_factor for h in plain.sequence.history[: k + 1]] == cert_lambdas
+
+
+@pytest.mark.parametrize("trouble", ["inaccurate", "iteration_limit", "solver_error", "infeasible"])
+def test_a_certificate_lp_in_numerical_trouble_is_solved_again(
+        trouble: str, table7_default: list[micro.NonAssociativeResult], monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where Clarabel ends a certificate LP in numerical trouble, HiGHS' interior point solves it again and
+    gives the same band (on the 60-row base wall with frictionless head joints every Clarabel try had ended
+    "inaccurate"); an answer (infeasible) is not solved again."""
+    from micro.backends.base import Outcome, Status
+    from micro.nonassociative import certificate as cert_module
+
+    w = wall(1.0, 1.0)
+    r = table7_default[3]  # solve_nonassociative(w), shared (conftest.py)
+    lp = micro.assemble(w)
+    v = np.asarray(r.governing.mechanism.velocities).ravel()
+    lo, hi = r.mechanism_band
+
+    class Troubled:
+        def __init__(self, *args: object, **kwargs: object) -> None:
+            pass
+
+        def solve(self, direction: int) -> Outcome:
+            return Outcome(Status(trouble), "forced by the test", seconds=0.25)
+
+    monkeypatch.setattr(cert_module, "InteriorLP", Troubled)
+    low, out = Certificate(lp, 1, "a").state_lp(v, 1.0)
+    high, _ = Certificate(lp, 1, "a").state_lp(v, -1.0)
+    if trouble == "infeasible":
+        assert low is None and high is None and out.status is Status.INFEASIBLE
+        return
+    assert low is not None and high is not None and out.status is Status.OPTIMAL
+    assert low[2] == pytest.approx(lo, rel=1e-6) and high[2] == pytest.approx(hi, rel=1e-6)
+    assert out.seconds >= 0.25  # the failed try's time counts
+    found = Certificate(lp, 1, "a").certify(v, 0.5 * (lo + hi)).forces
+    assert found is not None
