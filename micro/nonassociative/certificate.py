@@ -55,9 +55,10 @@ StateTriple = tuple[FloatArray, FloatArray, float]
 STATE_CLARABEL = INTERIOR_RETRY
 #: Outcomes of ``InteriorLP`` after which a certificate LP is solved again by ``InteriorLPRetry``
 #: (HiGHS' interior point): numerical trouble, not an answer. On the 60-row base wall with frictionless
-#: head joints Clarabel ended every certificate LP of the vertex sequence "inaccurate" where HiGHS' and
-#: the normal-equations interior points find the band [0.4672949, 0.4673047] around the iterate's
-#: 0.4673045 (``docs/research/``, the page on Set 9's profile, 2026-11-29).
+#: head joints Clarabel ended both certificate LPs of the vertex sequence's last mechanism "inaccurate"
+#: (the wall had no value) where HiGHS' and the normal-equations interior points find the band
+#: [0.4672949, 0.4673047] around the iterate's 0.4673045 (``docs/research/``, the page on Set 9's profile,
+#: 2026-11-29).
 RETRY_STATUSES = (Status.INACCURATE, Status.ITERATION_LIMIT, Status.SOLVER_ERROR)
 #: Relative slack of the test "the iterate's lambda lies in the mechanism band".
 BAND_SLACK = 1e-7
