@@ -54,11 +54,10 @@ StateTriple = tuple[FloatArray, FloatArray, float]
 #: short on every certificate LP of the Table 7 walls and were retried).
 STATE_CLARABEL = INTERIOR_RETRY
 #: Outcomes of ``InteriorLP`` after which a certificate LP is solved again by ``InteriorLPRetry``
-#: (HiGHS' interior point): numerical trouble, not an answer. On the 60-row base wall with frictionless
-#: head joints Clarabel ended both certificate LPs of the vertex sequence's last mechanism "inaccurate"
-#: (the wall had no value) where HiGHS' and the normal-equations interior points find the band
-#: [0.4672949, 0.4673047] around the iterate's 0.4673045 (``docs/research/``, the page on Set 9's profile,
-#: 2026-11-29).
+#: (HiGHS' interior point): numerical trouble, not an answer. Read as "no state", such an outcome hides a
+#: band that exists, and the sequence runs on past a certified state (walls that slide at lambda = f, whose
+#: band is one point; a wall with frictionless head joints that had no value at all: the research page on
+#: Set 9's profile, ``docs/research/``).
 RETRY_STATUSES = (Status.INACCURATE, Status.ITERATION_LIMIT, Status.SOLVER_ERROR)
 #: Relative slack of the test "the iterate's lambda lies in the mechanism band".
 BAND_SLACK = 1e-7
