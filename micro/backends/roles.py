@@ -11,8 +11,10 @@ package; this module says which back end fills it. Five roles:
                      Filled by Clarabel (:class:`~micro.backends.clarabel.ClarabelStaticBackend`):
                      a point near the centre of the optimal face, which the
                      scheme's fixed point needs.
-``InteriorLPRetry``  the certificate's restricted LP again where ``InteriorLP`` ends
-                     inaccurate, at an iteration limit or with a solver error.
+``InteriorLPRetry``  an LP of ``InteriorLP`` solved again where it failed: the
+                     associative start on any failure but the user's time limit,
+                     the certificate's restricted LP where it ends inaccurate, at
+                     an iteration limit or with a solver error.
                      Filled by HiGHS' interior point without crossover
                      (:class:`~micro.backends.highs.HighsBackend`, ``algorithm="ipm"``;
                      no BLAS, so the path stays independent of the BLAS kernel).

@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.roles import InteriorLP, PersistentLP
+from micro.backends.roles import InteriorLP, InteriorLPRetry, PersistentLP
 from micro.limit_result import DIR_NAME, DirectionResult
 from micro.lp import LimitLP
 from micro.nonassociative import final_checks
@@ -110,8 +110,9 @@ class LPSequence:
         """The associative LP (iterate 0): ``"interior"`` by the interior-point role (Clarabel, tight
         tolerances; faster than HiGHS IPM: the research page on the re-cut of the non-associative package,
         ``docs/research/``),
-        HiGHS IPM if Clarabel fails; ``"vertex"`` by HiGHS IPM + crossover +
-        dual simplex (a basic optimal solution).
+        HiGHS IPM (the certificate's retry, :data:`~micro.backends.roles.InteriorLPRetry`, with its
+        re-check) if Clarabel fails other than at the user's time limit; ``"vertex"`` by HiGHS IPM +
+        crossover + dual simplex (a basic optimal solution).
 
         Returns:
             ``(outcome, algorithm, x)`` with ``x`` in the iteration model's
@@ -119,12 +120,15 @@ class LPSequence:
         """
         lp, P = self.lp, self.lp.n_points
         if self.resolved.tuning.start == "interior":
-            out = InteriorLP(lp, time_limit=self.resolved.options.time_limit).solve(self.d)
+            limit = self.resolved.options.time_limit
+            out, algo = InteriorLP(lp, time_limit=limit).solve(self.d), "clarabel"
+            if not out.ok and out.status is not Status.TIME_LIMIT:  # the user's limit ends the run (run)
+                again = InteriorLPRetry(lp, algorithm="ipm", time_limit=limit).solve(self.d)
+                out, algo = again.plus_seconds(out.seconds), "ipm"
             if out.ok and out.n is not None and out.s is not None:
-                return out, "clarabel", np.concatenate([out.n, out.s, [out.load_factor * self.d]])
-            out, algo = self._associative_model().run(), "ipm"
-        else:
-            out, algo = restart(self._associative_model()), COLD
+                return out, algo, np.concatenate([out.n, out.s, [out.load_factor * self.d]])
+            return out, algo, None
+        out, algo = restart(self._associative_model()), COLD
         if out.x is None:
             return out, algo, None
         n, s = lp.forces(out.x[: 2 * P])
@@ -145,6 +149,9 @@ class LPSequence:
         out, algo0, x = self.iterate0
         if x is None:
             self._record(0, NAN, NAN, NAN, NAN, 0.0, out, algo0)
+            if out.status is Status.TIME_LIMIT:
+                return self._fail("time_limit", f"the associative LP hit the time limit of "
+                                  f"{self.resolved.options.time_limit:g} s", t_start, NAN, None, TIME_LIMIT)
             return self._fail("associative_failed", f"the associative LP failed ({out.native_status})",
                               t_start, NAN)
         lam_assoc = float(x[2 * self.lp.n_points]) * self.d

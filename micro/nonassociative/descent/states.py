@@ -215,7 +215,9 @@ class PersistentRuns:
                 a primal simplex from it, capped at :data:`PRIMAL_ITERATIONS`
                 per row.
             primal: a primal simplex from the current basis (which the caller
-                knows to be primal feasible, or nearly) instead of the dual one.
+                set or knows to be primal feasible, or nearly) instead of the
+                dual one; it runs warm even when the last run failed, since the
+                caller vouches for the basis (a failed run leaves none).
             cold: redo a warm or primal run that fails cold; ``False``: return
                 its failure (for an LP the caller can do without).
         """
@@ -225,7 +227,7 @@ class PersistentRuns:
         if start is not None:
             self.model.set_basis_arrays(*start)
             primal = True
-        if start is not None or not self.cold:
+        if start is not None or primal or not self.cold:
             out = self._capped(primal)
             if out.status in (Status.OPTIMAL, Status.INFEASIBLE):
                 return self._book(out, "simplex-primal" if primal else "simplex-warm")

@@ -251,6 +251,31 @@ def test_a_lower_end_from_the_carried_over_basis_is_the_cold_one() -> None:
     assert f_warm.load_factor == pytest.approx(r.mechanism_band[0], rel=1e-6)
 
 
+def test_a_primal_run_from_a_set_basis_stays_warm_after_a_failed_run(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The band's upper end (``Descent._band``) sets the lowest state's basis and asks for the primal
+    simplex: it runs from that basis even when the model's last run failed (a capped warm run before it
+    had sent it to the interior point + crossover), and reaches the optimum of the same LP solved from
+    scratch."""
+    w = wall(1.0, 1 / 2)
+    lp = micro.assemble(w)
+    r = solve_nonassociative(w, lowest=False)
+    restricted = restricted_columns(lp, r.governing.mechanism.velocities.ravel())
+    assert restricted is not None
+    runs = ForceLP(lp, 1)
+    low = runs.solve(restricted)
+    assert low is not None and low.basis is not None
+    runs.cold = True  # as a failed warm run leaves it
+    colds: list[int] = []
+    cold_run = runs._cold
+    monkeypatch.setattr(runs, "_cold", lambda: colds.append(1) or cold_run())
+    runs.model.set_basis(low.basis)
+    top = runs.solve(restricted, sense=-1.0, primal=True)
+    top_cold = ForceLP(lp, 1).solve(restricted, sense=-1.0)
+    assert colds == [] and top is not None and top_cold is not None
+    assert top.load_factor == pytest.approx(top_cold.load_factor, rel=1e-9)
+    assert top.load_factor == pytest.approx(r.mechanism_band[1], rel=1e-6)
+
+
 def test_the_descent_runs_by_default_on_a_wall_of_any_size() -> None:
     """No size switch: a two-storey wall of 342 blocks gets its lowest state by default."""
     w = WallSpec.from_paper(t=2.0, m=1 / 2, rows=36, f=0.7, p=0, storeys=2).to_micro()

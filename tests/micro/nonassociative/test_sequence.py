@@ -13,6 +13,7 @@ import pytest
 
 import micro
 from comparison.domain.wall import WallSpec
+from micro.backends.base import Outcome, Status
 from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, TIME_LIMIT, Tuning, solve_nonassociative
 from micro.nonassociative.final_checks import COLD_CHECKED_STOPS
 
@@ -187,6 +188,38 @@ def test_vertex_start() -> None:
     assert abs(r.sequence.last_load_factor / 0.68 - 1) <= 0.05
 
 
+class _FailingInterior:
+    """Clarabel's role in the iterated LP's start, ending in numerical trouble."""
+
+    def __init__(self, lp: object, **_: object) -> None:
+        pass
+
+    def solve(self, direction: int) -> Outcome:
+        return Outcome(Status.INACCURATE, "forced")
+
+
+def test_a_start_clarabel_fails_is_solved_by_the_retry(monkeypatch: pytest.MonkeyPatch) -> None:
+    # the associative LP of iterate 0 again by HiGHS' interior point (the certificate's retry, re-checked)
+    import micro.nonassociative.iteration as iteration
+
+    w = wall(1.0, 1 / 3)
+    default = solve_nonassociative(w)
+    monkeypatch.setattr(iteration, "InteriorLP", _FailingInterior)
+    r = solve_nonassociative(w)
+    assert r.sequence.history[0].algorithm == "ipm"
+    assert r.associative_load_factor == pytest.approx(default.associative_load_factor, rel=1e-7)
+    assert r.status == default.status and r.load_factor == pytest.approx(default.load_factor, rel=1e-6)
+
+
+def test_a_start_both_interior_points_fail_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    import micro.nonassociative.iteration as iteration
+
+    monkeypatch.setattr(iteration, "InteriorLP", _FailingInterior)
+    monkeypatch.setattr(iteration, "InteriorLPRetry", lambda lp, **_: _FailingInterior(lp))
+    r = solve_nonassociative(wall(1.0, 1 / 3))
+    assert math.isnan(r.load_factor) and r.sequence.stop_reason == "associative_failed"
+
+
 def test_time_budget_is_its_own_status() -> None:
     # a wall-clock stop is no final answer: status time_limit, never max_iterations
     r = solve_nonassociative(wall(1.0, 1.0), tuning=Tuning(relaxation=1.0), max_seconds=1e-3)
@@ -199,6 +232,8 @@ def test_time_budget_is_its_own_status() -> None:
 def test_lp_time_limit_is_its_own_status() -> None:
     r = solve_nonassociative(wall(1.0, 1 / 3, rows=24), time_limit=1e-9)
     assert r.status == TIME_LIMIT and math.isnan(r.load_factor)
+    # the associative start itself is stopped: no retry beyond the user's limit
+    assert r.sequence.stop_reason == "time_limit" and len(r.sequence.history) == 1
 
 
 def test_work_budget_is_deterministic() -> None:
