@@ -17,6 +17,15 @@ computation), with what the iterated LP reached (status, LPs, lambda).
 * ``ratio-3630`` (``slow``): Set 10 (3,630 blocks, m = 1; the fused wall with
   the continuation), one round.
 
+* ``ratio-per-wall`` (``slow``): every wall of the full report that runs both
+  methods (36 walls: Table 5 up to Set 10, Table 7's walls in their four
+  bonds, the rows and sensitivity sweeps of the base wall), each pair timed
+  in CPU seconds (``time.process_time``), interleaved, five rounds on walls of
+  at most :data:`ROUNDS_UP_TO` blocks (their associative LP takes
+  hundredths of a second, where one run's timing is noise) and one round
+  above; records the median ratio per wall and the median, 90th percentile
+  and largest over the walls (issue 55's per-wall target).
+
 Run them apart (the fast suite deselects them)::
 
     pytest -m "benchmark and not slow" --benchmark-enable tests/benchmarks/test_nonassoc_ratio_bench.py
@@ -105,3 +114,58 @@ def test_bench_ratio_slow(benchmark: Any, monkeypatch: pytest.MonkeyPatch, case:
     """Sets 2 and 9 (the vertex sequence cycles, the proximal one certifies) and Set 10 (the fused
     wall with the continuation), one round each."""
     _ratio(benchmark, monkeypatch, case, 1)
+
+
+#: Walls of at most this many blocks are timed in :data:`PER_WALL_ROUNDS` rounds (``ratio-per-wall``).
+ROUNDS_UP_TO = 500
+PER_WALL_ROUNDS = 5
+
+
+@pytest.mark.slow
+@pytest.mark.benchmark(group="ratio-per-wall")
+def test_bench_ratio_per_wall(benchmark: Any) -> None:
+    """The report's walls with both methods, each pair interleaved in CPU seconds (module docstring)."""
+    import numpy as np
+
+    from comparison.report.plan import build_plan
+
+    pairs: dict[tuple[Any, str, str], dict[str, Any]] = {}
+    for item in build_plan().items():
+        m = item.method
+        if item.skip:
+            continue
+        role = ("assoc" if m.kind == "micro-assoc" and m.solver == micro.DEFAULT_SOLVER
+                else "nonassoc" if m.kind == "micro-nonassoc" and not m.tuning else None)
+        if role is not None:
+            pairs.setdefault((item.spec, m.first_course, m.head_joints), {})[role] = m
+    walls = [(key, methods) for key, methods in pairs.items() if len(methods) == 2]
+    compute(case("12").spec(), walls[0][1]["nonassoc"])  # imports and compiled kernels, untimed
+
+    def cpu(spec: Any, method: Any) -> float:
+        t0 = time.process_time()
+        rec = compute(spec, method)[0]
+        assert not rec.skipped and rec.result is not None, rec.message
+        assert rec.result.status in {"optimal", "converged"}, (spec.name, rec.result.status)
+        return time.process_time() - t0
+
+    def all_walls() -> list[tuple[str, int, float, float]]:
+        rows = []
+        for (spec, first, heads), methods in walls:
+            blocks = spec.to_micro(first_course=first, head_joints=heads).n_blocks
+            a, n = [], []
+            for _ in range(PER_WALL_ROUNDS if blocks <= ROUNDS_UP_TO else 1):
+                a.append(cpu(spec, methods["assoc"]))
+                n.append(cpu(spec, methods["nonassoc"]))
+            rows.append((f"{spec.name} ({first}, {heads})", blocks, statistics.median(a), statistics.median(n)))
+        return rows
+
+    rows = benchmark.pedantic(all_walls, rounds=1, iterations=1, warmup_rounds=0)
+    ratios = sorted((n / a, name) for name, _, a, n in rows)
+    median, p90 = np.quantile([r for r, _ in ratios], [0.5, 0.9])
+    benchmark.extra_info.update(
+        walls=len(rows), median_ratio=float(median), p90_ratio=float(p90), largest=ratios[-1],
+        sum_ratio=sum(n for *_, n in rows) / sum(a for *_, a, _ in rows),
+        per_wall={name: {"blocks": b, "assoc_cpu": a, "nonassoc_cpu": n, "ratio": n / a} for name, b, a, n in rows},
+    )
+    assert len(rows) == 36, len(rows)
+    assert all(a > 0 and n > 0 for *_, a, n in rows)
