@@ -126,6 +126,9 @@ class Certificate:
 
     def __init__(self, lp: LimitLP, direction: int, scheme: str) -> None:
         self.lp, self.d, self.scheme = lp, direction, scheme
+        #: the answers of :meth:`state_lp` by pattern and sense: a sequence that settles on one
+        #: mechanism tries the same restricted LP again at each later iterate, and its answer is the same
+        self._answers: dict[tuple[bytes, float], tuple[StateTriple | None, Outcome]] = {}
 
     def pattern(self, v: FloatArray) -> tuple[FloatArray, FloatArray] | None:
         """Generator bounds of the collapse states compatible with the
@@ -149,7 +152,10 @@ class Certificate:
         with the mechanism ``v``: the generator LP without the columns
         :meth:`pattern` excludes, by Clarabel's interior point, and by HiGHS'
         where Clarabel ends in numerical trouble (:data:`RETRY_STATUSES`; the
-        user's ``time_limit`` in seconds per solve, ``inf``: none).
+        user's ``time_limit`` in seconds per solve, ``inf``: none). The
+        answer is kept per pattern and sense: the same LP asked again (a
+        sequence settled on one mechanism, tried at each later iterate) is
+        answered at no cost (``seconds`` and iterations 0).
 
         Returns:
             ``((n, s, lambda) or None, outcome)``: ``None`` unless the
@@ -158,6 +164,19 @@ class Certificate:
         pattern = self.pattern(v)
         if pattern is None:
             return None, Outcome(Status.INFEASIBLE, "mechanism interpenetrates")
+        key = (np.packbits(np.concatenate(pattern) == 0.0).tobytes(), float(sense))
+        if key in self._answers:  # the same LP: its answer, at no cost
+            state, out = self._answers[key]
+            return state, dataclasses.replace(out, seconds=0.0, simplex_iterations=0, ipm_iterations=0,
+                                              crossover_iterations=0)
+        state, out = self._solve(pattern, sense, time_limit)
+        if out.status is not Status.TIME_LIMIT:  # a run the user's limit stopped may end otherwise next time
+            self._answers[key] = state, out
+        return state, out
+
+    def _solve(self, pattern: tuple[FloatArray, FloatArray], sense: float, time_limit: float
+               ) -> tuple[StateTriple | None, Outcome]:
+        """:meth:`state_lp` for ``pattern``, solved."""
         lp, d = self.lp, self.d
         restricted = dataclasses.replace(lp, col_upper=np.concatenate([*pattern, [np.inf]]))
         tl = None if not math.isfinite(time_limit) else float(time_limit)

@@ -123,3 +123,48 @@ def test_a_certificate_lp_in_numerical_trouble_is_solved_again(
     assert out.seconds >= 0.25  # the failed try's time counts
     found = Certificate(lp, 1, "a").certify(v, 0.5 * (lo + hi)).forces
     assert found is not None
+
+
+def test_the_same_restricted_lp_is_answered_once(table7_default: list[micro.NonAssociativeResult],
+                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    """A settled sequence asks about the same mechanism at each later iterate (Set 14 with frictionless
+    head joints: four tries, one pattern): the LP of a pattern already solved is answered from its first
+    solve (the same state, no time), another sense is solved, and a solve the user's time limit stopped is
+    not kept."""
+    from micro.backends.base import Outcome, Status
+    from micro.nonassociative import certificate as cert_module
+
+    r = table7_default[3]  # solve_nonassociative(wall(1.0, 1.0)), shared (conftest.py)
+    lp = micro.assemble(wall(1.0, 1.0))
+    v = np.asarray(r.governing.mechanism.velocities).ravel()
+    calls: list[int] = []
+    real = cert_module.InteriorLP
+
+    class Counting(real):  # type: ignore[misc, valid-type]
+        def solve(self, direction: int) -> Outcome:
+            calls.append(direction)
+            return super().solve(direction)
+
+    monkeypatch.setattr(cert_module, "InteriorLP", Counting)
+    cert = Certificate(lp, 1, "a")
+    first, out = cert.state_lp(v, 1.0)
+    again, out_again = cert.state_lp(v.copy(), 1.0)
+    assert first is not None and again is not None and len(calls) == 1
+    assert again[2] == first[2] and np.array_equal(again[0], first[0]) and np.array_equal(again[1], first[1])
+    assert out.seconds > 0 and out_again.seconds == 0 and out_again.status is Status.OPTIMAL
+    high, _ = cert.state_lp(v, -1.0)
+    assert len(calls) == 2 and high is not None and high[2] >= first[2]
+    assert cert.certify(v, 0.5 * (first[2] + high[2])).forces is not None and len(calls) == 2
+
+    class Stopped:
+        def __init__(self, *args: object, **kwargs: object) -> None:
+            pass
+
+        def solve(self, direction: int) -> Outcome:
+            calls.append(direction)
+            return Outcome(Status.TIME_LIMIT, "stopped by the test")
+
+    monkeypatch.setattr(cert_module, "InteriorLP", Stopped)
+    stopped = Certificate(lp, 1, "a")
+    assert stopped.state_lp(v, 1.0, 1.0)[0] is None and stopped.state_lp(v, 1.0, 1.0)[0] is None
+    assert len(calls) == 4
