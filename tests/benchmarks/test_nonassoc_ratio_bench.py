@@ -24,7 +24,9 @@ computation), with what the iterated LP reached (status, LPs, lambda).
   at most :data:`ROUNDS_UP_TO` blocks (their associative LP takes
   hundredths of a second, where one run's timing is noise) and one round
   above; records the median ratio per wall and the median, 90th percentile
-  and largest over the walls (issue 55's per-wall target).
+  and largest over the walls (issue 55's per-wall target), and, with the
+  report's other computations of either method timed once, the ratio of the
+  sums over the report (``report_sum_ratio``).
 
 Run them apart (the fast suite deselects them)::
 
@@ -148,7 +150,9 @@ def test_bench_ratio_per_wall(benchmark: Any) -> None:
         assert rec.result.status in {"optimal", "converged"}, (spec.name, rec.result.status)
         return time.process_time() - t0
 
-    def all_walls() -> list[tuple[str, int, float, float]]:
+    singles = [(key[0], m) for key, methods in pairs.items() if len(methods) == 1 for m in methods.values()]
+
+    def all_walls() -> tuple[list[tuple[str, int, float, float]], dict[str, float]]:
         rows = []
         for (spec, first, heads), methods in walls:
             blocks = spec.to_micro(first_course=first, head_joints=heads).n_blocks
@@ -157,15 +161,24 @@ def test_bench_ratio_per_wall(benchmark: Any) -> None:
                 a.append(cpu(spec, methods["assoc"]))
                 n.append(cpu(spec, methods["nonassoc"]))
             rows.append((f"{spec.name} ({first}, {heads})", blocks, statistics.median(a), statistics.median(n)))
-        return rows
+        # the report's other computations of either method (Table 9's and the speed walls' associative LPs,
+        # the rows sweep's bonds' non-associative ones), once each, for the sum over the report
+        alone = {"micro-assoc": 0.0, "micro-nonassoc": 0.0}
+        for spec, m in singles:
+            alone[m.kind] += cpu(spec, m)
+        return rows, alone
 
-    rows = benchmark.pedantic(all_walls, rounds=1, iterations=1, warmup_rounds=0)
+    rows, alone = benchmark.pedantic(all_walls, rounds=1, iterations=1, warmup_rounds=0)
     ratios = sorted((n / a, name) for name, _, a, n in rows)
     median, p90 = np.quantile([r for r, _ in ratios], [0.5, 0.9])
+    sum_a, sum_n = sum(a for *_, a, _ in rows), sum(n for *_, n in rows)
     benchmark.extra_info.update(
         walls=len(rows), median_ratio=float(median), p90_ratio=float(p90), largest=ratios[-1],
-        sum_ratio=sum(n for *_, n in rows) / sum(a for *_, a, _ in rows),
+        sum_ratio=sum_n / sum_a,
+        report_computations=[len(rows) + sum(m.kind == "micro-nonassoc" for _, m in singles),
+                             len(rows) + sum(m.kind == "micro-assoc" for _, m in singles)],
+        report_sum_ratio=(sum_n + alone["micro-nonassoc"]) / (sum_a + alone["micro-assoc"]),
         per_wall={name: {"blocks": b, "assoc_cpu": a, "nonassoc_cpu": n, "ratio": n / a} for name, b, a, n in rows},
     )
-    assert len(rows) == 36, len(rows)
+    assert len(rows) == 36 and benchmark.extra_info["report_computations"] == [51, 42], (len(rows), len(singles))
     assert all(a > 0 and n > 0 for *_, a, n in rows)
