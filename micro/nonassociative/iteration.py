@@ -122,7 +122,7 @@ class LPSequence:
         if self.resolved.tuning.start == "interior":
             limit = self.resolved.options.time_limit
             out, algo = InteriorLP(lp, time_limit=limit).solve(self.d), "clarabel"
-            if not out.ok and out.status is not Status.TIME_LIMIT:  # the user's limit ends the run (run)
+            if not out.ok and out.status is not Status.TIME_LIMIT:  # the user's limit ends the run (see run)
                 again = InteriorLPRetry(lp, algorithm="ipm", time_limit=limit).solve(self.d)
                 out, algo = again.plus_seconds(out.seconds), "ipm"
             if out.ok and out.n is not None and out.s is not None:
