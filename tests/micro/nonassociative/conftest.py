@@ -4,10 +4,13 @@ results' immutability keeps as solved."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import pytest
 
 import micro
 from comparison.domain.wall import WallSpec
+from micro.backends.base import Outcome, Status
 from micro.nonassociative import solve_nonassociative
 
 #: Table 7 of the paper, micro column (Orduna): sets 11-14, single storey, 12 rows, f = 0.75: (t, m, lambda).
@@ -19,3 +22,26 @@ def table7_default() -> list[micro.NonAssociativeResult]:
     """``solve_nonassociative`` with no options on Sets 11-14, in :data:`TABLE7`'s order."""
     return [solve_nonassociative(WallSpec.from_paper(t=t, m=m, rows=12, f=0.75, p=0, storeys=1).to_micro())
             for t, m, _ in TABLE7]  # fmt: skip
+
+
+def _failing_solver(status: Status, seconds: float = 0.0, calls: list[int] | None = None) -> type:
+    """A stand-in for an interior-point role (``InteriorLP``, ``InteriorLPRetry``): built with any
+    arguments, its every solve ends with ``status`` after ``seconds``, each direction asked appended to
+    ``calls``."""
+
+    class Failing:
+        def __init__(self, *args: object, **kwargs: object) -> None:
+            pass
+
+        def solve(self, direction: int) -> Outcome:
+            if calls is not None:
+                calls.append(direction)
+            return Outcome(status, "forced by the test", seconds=seconds)
+
+    return Failing
+
+
+@pytest.fixture
+def failing_solver() -> Callable[..., type]:
+    """:func:`_failing_solver`, for the tests that make a solver role fail."""
+    return _failing_solver

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 
@@ -92,11 +94,12 @@ def test_certificate_only_ends_the_sequence_earlier(table7_default: list[micro.N
 
 @pytest.mark.parametrize("trouble", ["inaccurate", "iteration_limit", "solver_error", "infeasible"])
 def test_a_certificate_lp_in_numerical_trouble_is_solved_again(
-        trouble: str, table7_default: list[micro.NonAssociativeResult], monkeypatch: pytest.MonkeyPatch) -> None:
+        trouble: str, table7_default: list[micro.NonAssociativeResult], monkeypatch: pytest.MonkeyPatch,
+        failing_solver: Callable[..., type]) -> None:
     """Where Clarabel ends a certificate LP in numerical trouble, HiGHS' interior point solves it again and
     gives the same band (on the 60-row base wall with frictionless head joints every Clarabel try had ended
     "inaccurate"); an answer (infeasible) is not solved again."""
-    from micro.backends.base import Outcome, Status
+    from micro.backends.base import Status
     from micro.nonassociative import certificate as cert_module
 
     w = wall(1.0, 1.0)
@@ -105,14 +108,7 @@ def test_a_certificate_lp_in_numerical_trouble_is_solved_again(
     v = np.asarray(r.governing.mechanism.velocities).ravel()
     lo, hi = r.mechanism_band
 
-    class Troubled:
-        def __init__(self, *args: object, **kwargs: object) -> None:
-            pass
-
-        def solve(self, direction: int) -> Outcome:
-            return Outcome(Status(trouble), "forced by the test", seconds=0.25)
-
-    monkeypatch.setattr(cert_module, "InteriorLP", Troubled)
+    monkeypatch.setattr(cert_module, "InteriorLP", failing_solver(Status(trouble), seconds=0.25))
     low, out = Certificate(lp, 1, "a").state_lp(v, 1.0)
     high, _ = Certificate(lp, 1, "a").state_lp(v, -1.0)
     if trouble == "infeasible":
@@ -126,7 +122,8 @@ def test_a_certificate_lp_in_numerical_trouble_is_solved_again(
 
 
 def test_the_same_restricted_lp_is_answered_once(table7_default: list[micro.NonAssociativeResult],
-                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+                                                 monkeypatch: pytest.MonkeyPatch,
+                                                 failing_solver: Callable[..., type]) -> None:
     """A settled sequence asks about the same mechanism at each later iterate (Set 14 with frictionless
     head joints: four tries, one pattern): the LP of a pattern already solved is answered from its first
     solve (the same state, no time), another sense is solved, and a solve the user's time limit stopped is
@@ -156,15 +153,7 @@ def test_the_same_restricted_lp_is_answered_once(table7_default: list[micro.NonA
     assert len(calls) == 2 and high is not None and high[2] >= first[2]
     assert cert.certify(v, 0.5 * (first[2] + high[2])).forces is not None and len(calls) == 2
 
-    class Stopped:
-        def __init__(self, *args: object, **kwargs: object) -> None:
-            pass
-
-        def solve(self, direction: int) -> Outcome:
-            calls.append(direction)
-            return Outcome(Status.TIME_LIMIT, "stopped by the test")
-
-    monkeypatch.setattr(cert_module, "InteriorLP", Stopped)
+    monkeypatch.setattr(cert_module, "InteriorLP", failing_solver(Status.TIME_LIMIT, calls=calls))
     stopped = Certificate(lp, 1, "a")
     assert stopped.state_lp(v, 1.0, 1.0)[0] is None and stopped.state_lp(v, 1.0, 1.0)[0] is None
     assert len(calls) == 4

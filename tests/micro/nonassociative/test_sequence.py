@@ -6,6 +6,7 @@ import csv
 import json
 import math
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +14,7 @@ import pytest
 
 import micro
 from comparison.domain.wall import WallSpec
-from micro.backends.base import Outcome, Status
+from micro.backends.base import Status
 from micro.nonassociative import CONVERGED, CYCLING, MAX_ITERATIONS, STATUSES, TIME_LIMIT, Tuning, solve_nonassociative
 from micro.nonassociative.final_checks import COLD_CHECKED_STOPS
 
@@ -188,34 +189,26 @@ def test_vertex_start() -> None:
     assert abs(r.sequence.last_load_factor / 0.68 - 1) <= 0.05
 
 
-class _FailingInterior:
-    """Clarabel's role in the iterated LP's start, ending in numerical trouble."""
-
-    def __init__(self, lp: object, **_: object) -> None:
-        pass
-
-    def solve(self, direction: int) -> Outcome:
-        return Outcome(Status.INACCURATE, "forced")
-
-
-def test_a_start_clarabel_fails_is_solved_by_the_retry(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_start_clarabel_fails_is_solved_by_the_retry(
+        monkeypatch: pytest.MonkeyPatch, failing_solver: Callable[..., type]) -> None:
     # the associative LP of iterate 0 again by HiGHS' interior point (the certificate's retry, re-checked)
     import micro.nonassociative.iteration as iteration
 
     w = wall(1.0, 1 / 3)
     default = solve_nonassociative(w)
-    monkeypatch.setattr(iteration, "InteriorLP", _FailingInterior)
+    monkeypatch.setattr(iteration, "InteriorLP", failing_solver(Status.INACCURATE))
     r = solve_nonassociative(w)
     assert r.sequence.history[0].algorithm == "ipm"
     assert r.associative_load_factor == pytest.approx(default.associative_load_factor, rel=1e-7)
     assert r.status == default.status and r.load_factor == pytest.approx(default.load_factor, rel=1e-6)
 
 
-def test_a_start_both_interior_points_fail_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_start_both_interior_points_fail_says_so(
+        monkeypatch: pytest.MonkeyPatch, failing_solver: Callable[..., type]) -> None:
     import micro.nonassociative.iteration as iteration
 
-    monkeypatch.setattr(iteration, "InteriorLP", _FailingInterior)
-    monkeypatch.setattr(iteration, "InteriorLPRetry", lambda lp, **_: _FailingInterior(lp))
+    monkeypatch.setattr(iteration, "InteriorLP", failing_solver(Status.INACCURATE))
+    monkeypatch.setattr(iteration, "InteriorLPRetry", failing_solver(Status.INACCURATE))
     r = solve_nonassociative(wall(1.0, 1 / 3))
     assert math.isnan(r.load_factor) and r.sequence.stop_reason == "associative_failed"
 
