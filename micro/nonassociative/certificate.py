@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.roles import INTERIOR_RETRY, InteriorLP, InteriorLPRetry
+from micro.backends.roles import INTERIOR_RETRY, NUMERICAL_TROUBLE, solve_interior
 from micro.lp import LimitLP
 from micro.mechanism import STATE_TOL
 from micro.nonassociative.config import INTERPENETRATION, TINY
@@ -58,7 +58,7 @@ STATE_CLARABEL = INTERIOR_RETRY
 #: band that exists, and the sequence runs on past a certified state (walls that slide at lambda = f, whose
 #: band is one point; a wall with frictionless head joints that had no value at all: the research page on
 #: Set 9's profile, ``docs/research/``).
-RETRY_STATUSES = (Status.INACCURATE, Status.ITERATION_LIMIT, Status.SOLVER_ERROR)
+RETRY_STATUSES = NUMERICAL_TROUBLE
 #: Relative slack of the test "the iterate's lambda lies in the mechanism band".
 BAND_SLACK = 1e-7
 
@@ -181,11 +181,8 @@ class Certificate:
         restricted = dataclasses.replace(lp, col_upper=np.concatenate([*pattern, [np.inf]]))
         tl = None if not math.isfinite(time_limit) else float(time_limit)
         direction = -d if sense > 0 else d  # InteriorLP maximises direction * lambda_column
-        out = InteriorLP(restricted, time_limit=tl, settings=STATE_CLARABEL).solve(direction)
-        if out.status in RETRY_STATUSES:
-            again = InteriorLPRetry(restricted, algorithm="ipm", time_limit=tl).solve(direction)
-            out = dataclasses.replace(again.plus_seconds(out.seconds),
-                                      ipm_iterations=again.ipm_iterations + out.ipm_iterations)
+        out, _ = solve_interior(restricted, direction, retry_on=RETRY_STATUSES, time_limit=tl,
+                                settings=STATE_CLARABEL)
         if out.status is not Status.OPTIMAL or out.n is None or out.s is None:
             return None, out
         return (np.asarray(out.n), np.asarray(out.s), d * (out.load_factor * direction)), out

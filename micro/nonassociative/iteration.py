@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from micro.backends.base import Outcome, Status
-from micro.backends.roles import InteriorLP, InteriorLPRetry, PersistentLP
+from micro.backends.roles import ANY_FAILURE, PersistentLP, solve_interior
 from micro.limit_result import DIR_NAME, DirectionResult
 from micro.lp import LimitLP
 from micro.nonassociative import final_checks
@@ -110,8 +110,8 @@ class LPSequence:
         """The associative LP (iterate 0): ``"interior"`` by the interior-point role (Clarabel, tight
         tolerances; faster than HiGHS IPM: the research page on the re-cut of the non-associative package,
         ``docs/research/``),
-        HiGHS IPM (the certificate's retry, :data:`~micro.backends.roles.InteriorLPRetry`, with its
-        re-check) if Clarabel fails other than at the user's time limit; ``"vertex"`` by HiGHS IPM +
+        HiGHS IPM (:func:`~micro.backends.roles.solve_interior`, the certificate's fallback, with the back
+        end's re-check) if Clarabel fails other than at the user's time limit; ``"vertex"`` by HiGHS IPM +
         crossover + dual simplex (a basic optimal solution).
 
         Returns:
@@ -121,10 +121,8 @@ class LPSequence:
         lp, P = self.lp, self.lp.n_points
         if self.resolved.tuning.start == "interior":
             limit = self.resolved.options.time_limit
-            out, algo = InteriorLP(lp, time_limit=limit).solve(self.d), "clarabel"
-            if not out.ok and out.status is not Status.TIME_LIMIT:  # the user's limit ends the run (see run)
-                again = InteriorLPRetry(lp, algorithm="ipm", time_limit=limit).solve(self.d)
-                out, algo = again.plus_seconds(out.seconds), "ipm"
+            # the user's time limit is no failure to retry: it ends the run (see run)
+            out, algo = solve_interior(lp, self.d, retry_on=ANY_FAILURE, time_limit=limit)
             if out.ok and out.n is not None and out.s is not None:
                 return out, algo, np.concatenate([out.n, out.s, [out.load_factor * self.d]])
             return out, algo, None

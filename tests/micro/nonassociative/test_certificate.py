@@ -99,8 +99,8 @@ def test_a_certificate_lp_in_numerical_trouble_is_solved_again(
     """Where Clarabel ends a certificate LP in numerical trouble, HiGHS' interior point solves it again and
     gives the same band (on the 60-row base wall with frictionless head joints every Clarabel try had ended
     "inaccurate"); an answer (infeasible) is not solved again."""
+    from micro.backends import roles  # the interior-point roles the certificate's LPs use
     from micro.backends.base import Status
-    from micro.nonassociative import certificate as cert_module
 
     w = wall(1.0, 1.0)
     r = table7_default[3]  # solve_nonassociative(w), shared (conftest.py)
@@ -108,7 +108,7 @@ def test_a_certificate_lp_in_numerical_trouble_is_solved_again(
     v = np.asarray(r.governing.mechanism.velocities).ravel()
     lo, hi = r.mechanism_band
 
-    monkeypatch.setattr(cert_module, "InteriorLP", failing_solver(Status(trouble), seconds=0.25))
+    monkeypatch.setattr(roles, "InteriorLP", failing_solver(Status(trouble), seconds=0.25))
     low, out = Certificate(lp, 1, "a").state_lp(v, 1.0)
     high, _ = Certificate(lp, 1, "a").state_lp(v, -1.0)
     if trouble == "infeasible":
@@ -128,21 +128,21 @@ def test_the_same_restricted_lp_is_answered_once(table7_default: list[micro.NonA
     head joints: four tries, one pattern): the LP of a pattern already solved is answered from its first
     solve (the same state, no time), another sense is solved, and a solve the user's time limit stopped is
     not kept."""
+    from micro.backends import roles  # the interior-point roles the certificate's LPs use
     from micro.backends.base import Outcome, Status
-    from micro.nonassociative import certificate as cert_module
 
     r = table7_default[3]  # solve_nonassociative(wall(1.0, 1.0)), shared (conftest.py)
     lp = micro.assemble(wall(1.0, 1.0))
     v = np.asarray(r.governing.mechanism.velocities).ravel()
     calls: list[int] = []
-    real = cert_module.InteriorLP
+    real = roles.InteriorLP
 
     class Counting(real):  # type: ignore[misc, valid-type]
         def solve(self, direction: int) -> Outcome:
             calls.append(direction)
             return super().solve(direction)
 
-    monkeypatch.setattr(cert_module, "InteriorLP", Counting)
+    monkeypatch.setattr(roles, "InteriorLP", Counting)
     cert = Certificate(lp, 1, "a")
     first, out = cert.state_lp(v, 1.0)
     again, out_again = cert.state_lp(v.copy(), 1.0)
@@ -153,7 +153,7 @@ def test_the_same_restricted_lp_is_answered_once(table7_default: list[micro.NonA
     assert len(calls) == 2 and high is not None and high[2] >= first[2]
     assert cert.certify(v, 0.5 * (first[2] + high[2])).forces is not None and len(calls) == 2
 
-    monkeypatch.setattr(cert_module, "InteriorLP", failing_solver(Status.TIME_LIMIT, calls=calls))
+    monkeypatch.setattr(roles, "InteriorLP", failing_solver(Status.TIME_LIMIT, calls=calls))
     stopped = Certificate(lp, 1, "a")
     assert stopped.state_lp(v, 1.0, 1.0)[0] is None and stopped.state_lp(v, 1.0, 1.0)[0] is None
     assert len(calls) == 4

@@ -191,12 +191,13 @@ def test_vertex_start() -> None:
 
 def test_a_start_clarabel_fails_is_solved_by_the_retry(
         monkeypatch: pytest.MonkeyPatch, failing_solver: Callable[..., type]) -> None:
-    # the associative LP of iterate 0 again by HiGHS' interior point (the certificate's retry, re-checked)
-    import micro.nonassociative.iteration as iteration
+    # the associative LP of iterate 0 again by HiGHS' interior point (the certificate's retry, re-checked;
+    # the certificate's LPs are retried too)
+    import micro.backends.roles as roles
 
     w = wall(1.0, 1 / 3)
     default = solve_nonassociative(w)
-    monkeypatch.setattr(iteration, "InteriorLP", failing_solver(Status.INACCURATE))
+    monkeypatch.setattr(roles, "InteriorLP", failing_solver(Status.INACCURATE))
     r = solve_nonassociative(w)
     assert r.sequence.history[0].algorithm == "ipm"
     assert r.associative_load_factor == pytest.approx(default.associative_load_factor, rel=1e-7)
@@ -205,10 +206,10 @@ def test_a_start_clarabel_fails_is_solved_by_the_retry(
 
 def test_a_start_both_interior_points_fail_says_so(
         monkeypatch: pytest.MonkeyPatch, failing_solver: Callable[..., type]) -> None:
-    import micro.nonassociative.iteration as iteration
+    import micro.backends.roles as roles
 
-    monkeypatch.setattr(iteration, "InteriorLP", failing_solver(Status.INACCURATE))
-    monkeypatch.setattr(iteration, "InteriorLPRetry", failing_solver(Status.INACCURATE))
+    monkeypatch.setattr(roles, "InteriorLP", failing_solver(Status.INACCURATE))
+    monkeypatch.setattr(roles, "InteriorLPRetry", failing_solver(Status.INACCURATE))
     r = solve_nonassociative(wall(1.0, 1 / 3))
     assert math.isnan(r.load_factor) and r.sequence.stop_reason == "associative_failed"
 
