@@ -29,14 +29,17 @@ def _server(answer: Callable[[socket.socket], None]) -> Iterator[int]:
     server.bind(("127.0.0.1", 0))
     server.listen()
 
-    def serve() -> None:
-        while True:
+    def one(conn: socket.socket) -> None:
+        with conn, contextlib.suppress(OSError):
+            answer(conn)
+
+    def serve() -> None:  # each connection in a thread of its own, as a real server: a client's connection
+        while True:       # left open must not hold up the next (the HTTP probe waited behind Dask's, under load)
             try:
                 conn = server.accept()[0]
             except OSError:
                 return
-            with conn, contextlib.suppress(OSError):
-                answer(conn)
+            threading.Thread(target=one, args=(conn,), daemon=True).start()
 
     threading.Thread(target=serve, daemon=True).start()
     yield server.getsockname()[1]
