@@ -1,14 +1,15 @@
 """The proximal sequence with each LP by a box-bounded interior point on the normal equations, a vertex only
 where the certificate is tried (the page of the same name).
 
-    .venv/bin/python docs/research/2026-11-29-interior-proximal.py WALL MAX_LPS [BETA] [EVERY]
+    .venv/bin/python docs/research/2026-11-29-interior-proximal.py WALL MAX_LPS [BETA] [EVERY] [--warm]
 
 ``WALL`` is a case of the paper (``Ref``, ``9``); ``BETA`` the relaxation (0.6, the package's); ``EVERY``: the
 certificate is tried at every ``EVERY``-th LP from the 10th. Per LP: the scheme-(a) LP at the current ``nbar``
 (``|s| <= mu nbar``) by ``BoxIPM`` of the 2026-11-26 research script (tolerances 1e-8; HiGHS' interior point
 where it does not converge) for its ``lambda``, then the package's proximal projection, and ``nbar`` moved by
 ``BETA`` towards it. A certificate try solves the same LP by HiGHS' dual simplex from no basis (a vertex and
-its mechanism) and runs the package's certificate on that mechanism. Run it with one BLAS/OpenMP thread.
+its mechanism), or with ``--warm`` by the dual simplex from the last try's basis, and runs the package's
+certificate on that mechanism. Run it with one BLAS/OpenMP thread.
 """
 
 from __future__ import annotations
@@ -29,6 +30,8 @@ from micro.nonassociative.certificate import Certificate
 from micro.nonassociative.model import IterationModel
 from micro.nonassociative.proximal import Projection
 
+#: Certificate tries warm from the last try's basis (``--warm``), or each from no basis.
+WARM = "--warm" in sys.argv
 #: The interior point's tolerances: at its default 1e-9 it ended "not finite" on Ref's first LP.
 TOLERANCE = 1e-8
 
@@ -61,6 +64,7 @@ def main(name: str, max_lps: int, beta: float, every: int) -> None:
                     primal_tol=TOLERANCE, dual_tol=TOLERANCE)
     projection = Projection(lp, d)
     x = None
+    vertex_model: IterationModel | None = None  # with WARM: one model, each try warm from the last try's basis
     spent = {"lp": 0.0, "qp": 0.0, "certificate": 0.0}
     for k in range(1, max_lps + 1):
         t1 = time.process_time()
@@ -80,7 +84,13 @@ def main(name: str, max_lps: int, beta: float, every: int) -> None:
         if step.normal is None:
             break
         if k >= 10 and k % every == 0:
-            m, out = scheme_a_model(lp, d, nbar, "simplex")
+            if WARM and vertex_model is not None:
+                m = vertex_model
+                m.set_capacity(nbar, 0.0, 0.0, 0.0)
+                out = m.model.run()
+            else:
+                m, out = scheme_a_model(lp, d, nbar, "simplex")
+                vertex_model = m
             vertex = m.load_factor(out.x)
             cert = Certificate(lp, d, "a").certify(out.duals[: lp.n_eq], vertex)
             spent["certificate"] += time.process_time() - t3
@@ -95,5 +105,6 @@ def main(name: str, max_lps: int, beta: float, every: int) -> None:
 
 
 if __name__ == "__main__":
+    sys.argv = [a for a in sys.argv if a != "--warm"]
     main(sys.argv[1], int(sys.argv[2]), float(sys.argv[3]) if len(sys.argv) > 3 else 0.6,
          int(sys.argv[4]) if len(sys.argv) > 4 else 5)
