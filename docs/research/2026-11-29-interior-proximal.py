@@ -9,7 +9,8 @@ certificate is tried at every ``EVERY``-th LP from the 10th. Per LP: the scheme-
 where it does not converge) for its ``lambda``, then the package's proximal projection, and ``nbar`` moved by
 ``BETA`` towards it. A certificate try solves the same LP by HiGHS' dual simplex from no basis (a vertex and
 its mechanism), or with ``--warm`` by the dual simplex from the last try's basis, and runs the package's
-certificate on that mechanism. Run it with one BLAS/OpenMP thread.
+certificate on that mechanism; where it certifies, the band's lower end is checked as the descent checks a
+state (``is_exact``). Run it with one BLAS/OpenMP thread.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from comparison.domain.cases import case
 from micro.backends.roles import InteriorLP
 from micro.lp import LimitLP, assemble
 from micro.nonassociative.certificate import Certificate
+from micro.nonassociative.descent.lowest import is_exact
 from micro.nonassociative.model import IterationModel
 from micro.nonassociative.proximal import Projection
 
@@ -98,6 +100,13 @@ def main(name: str, max_lps: int, beta: float, every: int) -> None:
                   f"{'certified, band ' + str(cert.band) if cert.forces is not None else 'no state'} "
                   f"({time.process_time() - t3:.2f} s)", flush=True)
             if cert.forces is not None:
+                certificate = Certificate(lp, d, "a")
+                low, _ = certificate.state_lp(out.duals[: lp.n_eq], 1.0)
+                if low is not None:
+                    exact = is_exact(lp, d, low[2], low[0], low[1], out.duals[: lp.n_eq])
+                    print(f"  the band's lower end {low[2]!r}: "
+                          f"{'passes' if exact else 'does not pass'} the descent's check (verify_collapse_state)",
+                          flush=True)
                 break
         nbar = nbar + beta * (step.normal - nbar)
     print(f"in all {time.process_time() - t0:.1f} s: LPs {spent['lp']:.1f} s, projections {spent['qp']:.1f} s, "
