@@ -197,9 +197,10 @@ def test_a_start_clarabel_fails_is_solved_by_the_retry(
 
     w = wall(1.0, 1 / 3)
     default = solve_nonassociative(w)
-    monkeypatch.setattr(roles, "InteriorLP", failing_solver(Status.INACCURATE))
+    monkeypatch.setattr(roles, "InteriorLP", failing_solver(Status.INACCURATE, seconds=0.25))
     r = solve_nonassociative(w)
     assert r.sequence.history[0].algorithm == "ipm"
+    assert r.sequence.history[0].seconds >= 0.25  # the failed try's time counts
     assert r.associative_load_factor == pytest.approx(default.associative_load_factor, rel=1e-7)
     assert r.status == default.status and r.load_factor == pytest.approx(default.load_factor, rel=1e-6)
 
