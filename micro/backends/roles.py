@@ -13,9 +13,10 @@ package; this module says which back end fills it. Five roles:
                      scheme's fixed point needs.
 ``InteriorLPRetry``  an LP of ``InteriorLP`` solved again where it failed
                      (:func:`solve_interior`, the one place that writes it): the
-                     associative start on any failure but the user's time limit,
-                     the certificate's restricted LP where it ends inaccurate, at
-                     an iteration limit or with a solver error.
+                     associative start (of the wall's sequences, of the fused wall
+                     and of the reduced wall) on any failure but the user's time
+                     limit, the certificate's restricted LP where it ends
+                     inaccurate, at an iteration limit or with a solver error.
                      Filled by HiGHS' interior point without crossover
                      (:class:`~micro.backends.highs.HighsBackend`, ``algorithm="ipm"``;
                      no BLAS, so the path stays independent of the BLAS kernel).
@@ -73,7 +74,8 @@ def solve_interior(lp: LimitLP, direction: int, *, retry_on: Collection[Status],
                    settings: dict[str, Any] | None = None) -> tuple[Outcome, str]:
     """One static LP by ``InteriorLP``, solved again by ``InteriorLPRetry`` where it ends with a status of
     ``retry_on`` (:data:`NUMERICAL_TROUBLE` or :data:`ANY_FAILURE`); the one place that writes this
-    fallback, for the iterated LP's start and the certificate's restricted LPs.
+    fallback, for the associative starts (the iterated LP's, the fused wall's, the reduced wall's) and the
+    certificate's restricted LPs.
 
     Returns:
         ``(outcome, algorithm)``: the outcome that stands, with the seconds and interior-point

@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from scipy.sparse.csgraph import connected_components
 
 from micro.backends.base import Outcome
-from micro.backends.roles import InteriorLP
+from micro.backends.roles import ANY_FAILURE, solve_interior
 from micro.limit_result import DirectionResult
 from micro.lp import LimitLP, generator_form
 from micro.mechanism import mechanism_from_duals
@@ -178,13 +178,15 @@ def fuse(lp: LimitLP, body: IntArray, n_bodies: int) -> FusedLP:
 
 def fused_wall(lp: LimitLP, direction: int, resolved: Resolved) -> tuple[FusedLP, Outcome] | None:
     """The fused wall of one direction: the associative LP of the whole wall
-    (Clarabel) gives the mechanism whose rigid bodies are fused.
+    (``InteriorLP``, and ``InteriorLPRetry`` where it fails, as the iterated LP's
+    start: :func:`~micro.backends.roles.solve_interior`) gives the mechanism whose
+    rigid bodies are fused.
 
     Returns:
         ``(the fused LP, the associative outcome)``, or ``None`` where the
         associative LP fails or nothing moves (the wall itself must run).
     """
-    assoc = InteriorLP(lp, time_limit=resolved.options.time_limit).solve(direction)
+    assoc, _ = solve_interior(lp, direction, retry_on=ANY_FAILURE, time_limit=resolved.options.time_limit)
     if not assoc.ok or assoc.duals is None:
         return None
     body, n_bodies = rigid_bodies(lp, np.asarray(assoc.duals[: lp.n_eq]))

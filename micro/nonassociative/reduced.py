@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from micro.backends.roles import InteriorLP
+from micro.backends.roles import ANY_FAILURE, solve_interior
 from micro.limit_result import DIR_NAME, DirectionResult
 from micro.lp import LimitLP
 from micro.nonassociative import final_checks
@@ -199,7 +199,7 @@ def solve_reduced(lp: LimitLP, direction: int, resolved: Resolved) -> DirectionR
         part or no mechanism lifted: the wall's own chain runs instead.
     """
     t0 = time.perf_counter()
-    assoc = InteriorLP(lp, time_limit=resolved.options.time_limit).solve(direction)
+    assoc, _ = solve_interior(lp, direction, retry_on=ANY_FAILURE, time_limit=resolved.options.time_limit)
     if not assoc.ok or assoc.duals is None:
         return None
     v_assoc = np.asarray(assoc.duals[: lp.n_eq])

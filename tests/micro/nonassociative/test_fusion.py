@@ -20,7 +20,7 @@ from micro.nonassociative import (
     verify_collapse_state,
 )
 from micro.nonassociative.certificate import Certificate, CertificateResult
-from micro.nonassociative.config import Resolved
+from micro.nonassociative.config import Resolved, resolve
 from micro.nonassociative.fusion import fuse, rigid_bodies
 
 EXACT = ("equilibrium", "coulomb", "interpenetration", "dilatancy", "slip_off_yield", "energy")
@@ -241,3 +241,23 @@ def test_the_fallback_chain_runs_each_stage_where_the_ones_before_failed(
     resolved = resolve(10, micro.NonAssociativeOptions(tuning=tuning))
     result, _ = pipeline.run_stages(micro.assemble(wall(0.5)), 1, resolved, fused_retry=fused_retry)
     assert ran == expected and result.status == statuses[len(expected) - 1] and not left
+
+
+def test_the_fused_walls_start_is_retried_where_clarabel_fails(
+        monkeypatch: pytest.MonkeyPatch, failing_solver: Any) -> None:
+    """The fused wall's associative LP goes through ``solve_interior`` as the iterated LP's start does: where
+    ``InteriorLP`` fails, HiGHS' interior point gives the mechanism, and the fused wall is the same one (its
+    bodies are read at a tolerance far above the two solvers' difference); the failed try's seconds count."""
+    import micro.backends.roles as roles
+
+    lp = micro.assemble(wall())
+    resolved = resolve(lp.wall.n_blocks, micro.NonAssociativeOptions(tuning=Tuning(fuse=True)))
+    made = fusion.fused_wall(lp, 1, resolved)
+    assert made is not None
+    monkeypatch.setattr(roles, "InteriorLP", failing_solver(micro.backends.base.Status.INACCURATE, seconds=0.25))
+    again = fusion.fused_wall(lp, 1, resolved)
+    assert again is not None, "the fused wall gave up where HiGHS' interior point would have solved its start"
+    assert again[1].seconds >= 0.25 and again[1].load_factor == pytest.approx(made[1].load_factor, rel=1e-6)
+    assert again[0].n_bodies == made[0].n_bodies and np.array_equal(again[0].points, made[0].points)
+    monkeypatch.setattr(roles, "InteriorLPRetry", failing_solver(micro.backends.base.Status.INACCURATE))
+    assert fusion.fused_wall(lp, 1, resolved) is None  # both fail: the wall itself runs

@@ -3,12 +3,16 @@ part, states found on models of its rigid parts and lifted onto the wall; elsewh
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 import pytest
 
 import micro
 from comparison.domain.wall import WallSpec
 from comparison.report.tables import selection_cell
+from micro.backends.base import Status
 from micro.backends.roles import InteriorLP
 from micro.nonassociative.config import REDUCE_BLOCKS, resolve
 from micro.nonassociative.final_checks import verify_collapse_state
@@ -95,3 +99,38 @@ def test_a_lifted_state_is_kept_only_when_it_passes_the_descents_checks() -> Non
     assert search.exact(v, state)
     noise = np.random.default_rng(0).standard_normal(v.size) * 1e-4 * float(np.max(np.abs(v)))
     assert not search.exact(v + noise, state)
+
+
+def test_the_reduced_walls_start_is_retried_where_clarabel_fails(
+        monkeypatch: pytest.MonkeyPatch, failing_solver: Callable[..., type]) -> None:
+    """The reduced wall's associative LP goes through ``solve_interior``: where ``InteriorLP`` fails on it,
+    HiGHS' interior point names the parts, and Set 13 still gets its reduced state (the same one: its parts
+    are read at tolerances far above the two solvers' difference); with both failing the wall's own chain
+    runs. Only the wall's own LP fails here: the certificate's restricted LPs are solved as always."""
+    import micro.backends.roles as roles
+
+    wall = SET13.to_micro()
+    lp = micro.assemble(wall)
+    resolved = resolve(wall.n_blocks, micro.NonAssociativeOptions(tuning=REDUCE))
+    d = solve_reduced(lp, 1, resolved)
+    assert d is not None
+    real: Any = roles.InteriorLP
+    real_retry: Any = roles.InteriorLPRetry
+    failing = failing_solver(Status.INACCURATE)
+    retried: list[object] = []
+
+    def interior(model: object, *args: object, **kwargs: object) -> object:
+        return (failing if model is lp else real)(model, *args, **kwargs)
+
+    def retry(model: object, *args: object, **kwargs: object) -> object:
+        retried.append(model)
+        return real_retry(model, *args, **kwargs)
+
+    monkeypatch.setattr(roles, "InteriorLP", interior)
+    monkeypatch.setattr(roles, "InteriorLPRetry", retry)
+    again = solve_reduced(lp, 1, resolved)
+    assert retried and retried[0] is lp, "the reduced wall's start was not solved through solve_interior"
+    assert again is not None, "the reduced wall gave up where HiGHS' interior point would have solved its start"
+    assert again.load_factor == pytest.approx(d.load_factor, rel=1e-6)
+    monkeypatch.setattr(roles, "InteriorLPRetry", failing)
+    assert solve_reduced(lp, 1, resolved) is None
