@@ -18,7 +18,7 @@ Steps:
 
 from __future__ import annotations
 
-import importlib.util
+import runpy
 import sys
 import time
 from pathlib import Path
@@ -35,17 +35,13 @@ from micro.nonassociative.proximal import Projection
 
 
 def main(name: str, path: str, eps: float, method: str) -> None:
-    script = Path(__file__).with_name("2026-11-26-shared-interior-point.py")
-    spec = importlib.util.spec_from_file_location("shared_interior_point", script)
-    assert spec is not None and spec.loader is not None
-    sip = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(sip)
+    box_ipm = runpy.run_path(str(Path(__file__).with_name("2026-11-26-shared-interior-point.py")))["BoxIPM"]
     lp = assemble(case(name).spec().to_micro())
     P, neq, d = lp.n_points, lp.n_eq, 1
     nbar = np.load(path)
     cap = lp.mu * nbar
-    box = sip.BoxIPM(sp.hstack([lp.Bn, lp.Bs], format="csc"), lp.live, gap_tol=1e-8, primal_tol=1e-5,
-                     dual_tol=1e-8, max_iter=250)
+    box = box_ipm(sp.hstack([lp.Bn, lp.Bs], format="csc"), lp.live, gap_tol=1e-8, primal_tol=1e-5,
+                  dual_tol=1e-8, max_iter=250)
     t0 = time.process_time()
     _, lam, _, status, its, _ = box.solve(0.0, np.zeros(2 * P), lp.rhs, np.concatenate([np.zeros(P), -cap]),
                                           np.concatenate([np.full(P, np.inf), cap]), d=1.0)

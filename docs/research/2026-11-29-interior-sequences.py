@@ -29,7 +29,7 @@ at the LP its name gives). Run it with one BLAS/OpenMP thread.
 
 from __future__ import annotations
 
-import importlib.util
+import runpy
 import sys
 import time
 from pathlib import Path
@@ -73,12 +73,7 @@ FALLBACK = option("fallback") or "crossover"
 
 def box_ipm() -> Any:
     """``BoxIPM`` of the 2026-11-26 research script (box bounds, the free column by a bordered solve)."""
-    path = Path(__file__).with_name("2026-11-26-shared-interior-point.py")
-    spec = importlib.util.spec_from_file_location("shared_interior_point", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.BoxIPM
+    return runpy.run_path(str(Path(__file__).with_name("2026-11-26-shared-interior-point.py")))["BoxIPM"]
 
 
 def vertex_run(lp: LimitLP, d: int, nbar: np.ndarray, model: IterationModel | None,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -11,6 +12,7 @@ import pytest
 
 import micro
 from comparison.domain.wall import WallSpec
+from micro.backends.base import Status
 from micro.backends.clarabel import ClarabelStaticBackend
 from micro.nonassociative import (
     Tuning,
@@ -244,7 +246,7 @@ def test_the_fallback_chain_runs_each_stage_where_the_ones_before_failed(
 
 
 def test_the_fused_walls_start_is_retried_where_clarabel_fails(
-        monkeypatch: pytest.MonkeyPatch, failing_solver: Any) -> None:
+        monkeypatch: pytest.MonkeyPatch, failing_solver: Callable[..., type]) -> None:
     """The fused wall's associative LP goes through ``solve_interior`` as the iterated LP's start does: where
     ``InteriorLP`` fails, HiGHS' interior point gives the mechanism, and the fused wall is the same one (its
     bodies are read at a tolerance far above the two solvers' difference); the failed try's seconds count."""
@@ -254,10 +256,10 @@ def test_the_fused_walls_start_is_retried_where_clarabel_fails(
     resolved = resolve(lp.wall.n_blocks, micro.NonAssociativeOptions(tuning=Tuning(fuse=True)))
     made = fusion.fused_wall(lp, 1, resolved)
     assert made is not None
-    monkeypatch.setattr(roles, "InteriorLP", failing_solver(micro.backends.base.Status.INACCURATE, seconds=0.25))
+    monkeypatch.setattr(roles, "InteriorLP", failing_solver(Status.INACCURATE, seconds=0.25))
     again = fusion.fused_wall(lp, 1, resolved)
     assert again is not None, "the fused wall gave up where HiGHS' interior point would have solved its start"
     assert again[1].seconds >= 0.25 and again[1].load_factor == pytest.approx(made[1].load_factor, rel=1e-6)
     assert again[0].n_bodies == made[0].n_bodies and np.array_equal(again[0].points, made[0].points)
-    monkeypatch.setattr(roles, "InteriorLPRetry", failing_solver(micro.backends.base.Status.INACCURATE))
+    monkeypatch.setattr(roles, "InteriorLPRetry", failing_solver(Status.INACCURATE))
     assert fusion.fused_wall(lp, 1, resolved) is None  # both fail: the wall itself runs
